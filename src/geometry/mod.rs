@@ -1,0 +1,8 @@
+//! Domains, walls, disks and the geometric predicates the packer relies on.
+
+mod disk;
+mod domain;
+pub mod predicates;
+
+pub use disk::{Disk, Point};
+pub use domain::{Domain, GeometryError, Shape, Wall, WallMode};

@@ -1,0 +1,1 @@
+//! Geometric predicates and tolerances (to come).

@@ -1,0 +1,26 @@
+//! gapack: dense 2D disk packings for Discrete Element Method (DEM) simulations.
+//!
+//! The data flows one way: a TOML [`config`] becomes a validated [`Scene`]
+//! (domain, grading, packer settings, seed); [`pack`] turns the scene into a
+//! [`Packing`] with zero overlaps; [`measure`] reports porosity, grading
+//! fidelity and contact statistics; the binary writes the outputs.
+//!
+//! Library modules do no file or terminal I/O; only `output` and the binary do.
+#![deny(missing_docs)]
+#![forbid(unsafe_code)]
+
+pub mod config;
+pub mod ga;
+pub mod geometry;
+pub mod grading;
+pub mod output;
+pub mod packer;
+mod scene;
+
+pub use geometry::{Disk, Domain, GeometryError, Point, Shape, Wall, WallMode};
+pub use grading::{Basis, Grading, GradingError, Interpolation};
+pub use packer::{
+    Contacts, FrontRules, IndexKind, Metrics, PackError, PackStats, PackerSettings, Packing,
+    measure, pack,
+};
+pub use scene::Scene;

@@ -1,0 +1,1 @@
+//! Spatial indexes for the neighbour search (to come).

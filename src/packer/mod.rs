@@ -1,0 +1,26 @@
+//! Packing generators, spatial indexes and packing metrics.
+
+mod advancing_front;
+pub mod index;
+mod metrics;
+mod packing;
+mod settings;
+
+pub use advancing_front::pack;
+pub use metrics::{Metrics, measure};
+pub use packing::{PackError, PackStats, Packing};
+pub use settings::{Contacts, FrontRules, IndexKind, PackerSettings};
+
+use crate::geometry::Domain;
+use crate::grading::Grading;
+
+/// Upper bound of the packer's peak memory per disk (bytes), checked by `gapack bench`.
+pub const PEAK_BYTES_PER_DISK: f64 = 100.0;
+
+/// Estimated peak memory (bytes) to pack `domain` with `grading`.
+///
+/// Counts disks as if the domain were filled solid with disks of the
+/// grading's mean area (an upper bound), times [`PEAK_BYTES_PER_DISK`].
+pub fn estimated_peak_bytes(domain: &Domain, grading: &Grading) -> f64 {
+    domain.area() / grading.mean_disk_area() * PEAK_BYTES_PER_DISK
+}

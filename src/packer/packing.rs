@@ -1,0 +1,59 @@
+//! The one `Packing` type every generator returns and every metric and writer takes.
+
+use crate::geometry::{Disk, Domain, WallMode};
+
+/// A packing: the domain, the packed disks and, for `walls = "disks"`, the wall disks.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Packing {
+    /// The domain that was filled.
+    pub domain: Domain,
+    /// How the walls were modelled.
+    pub walls: WallMode,
+    /// Wall disks (empty for exact walls); not counted as solid.
+    pub boundary: Vec<Disk>,
+    /// The packed disks, in placement order.
+    pub disks: Vec<Disk>,
+    /// Counters of the generator's work.
+    pub stats: PackStats,
+}
+
+/// Counters of the generator's work, for reports and benchmarks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct PackStats {
+    /// Sizes drawn from the grading.
+    pub sizes_drawn: u64,
+    /// Sizes put aside because they fitted nowhere when drawn.
+    pub sizes_deferred: u64,
+    /// Deferred sizes that were never placed.
+    pub sizes_unplaced: u64,
+    /// Front attempts (placements tried around a front).
+    pub front_attempts: u64,
+}
+
+/// Why a scene cannot be packed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum PackError {
+    /// No disk of the grading fits inside the domain.
+    #[error(
+        "the domain is too narrow: its largest inscribed disk has diameter {inscribed:.4} mm, smaller than the smallest disk ({d_min:.4} mm)"
+    )]
+    DomainTooNarrow {
+        /// Diameter of the largest inscribed disk (mm).
+        inscribed: f64,
+        /// Smallest diameter of the grading (mm).
+        d_min: f64,
+    },
+    /// The scene would need more memory than allowed.
+    #[error(
+        "the scene needs an estimated {estimate_mb:.0} MB ({disks:.3e} disks), over the limit of {limit_mb:.0} MB"
+    )]
+    TooLarge {
+        /// Estimated disks.
+        disks: f64,
+        /// Estimated peak memory (MB).
+        estimate_mb: f64,
+        /// The limit (MB).
+        limit_mb: f64,
+    },
+}
