@@ -30,13 +30,19 @@ fn packing(c: &mut Criterion) {
     let mut group = c.benchmark_group("pack");
     group.sample_size(10);
     for n in [1e4, 1e5, 1e6] {
-        for (name, index) in [("mx-quadtree", IndexKind::MxQuadtree), ("grid", IndexKind::Grid)] {
+        for (name, index) in [
+            ("mx-quadtree", IndexKind::MxQuadtree),
+            ("grid", IndexKind::Grid),
+        ] {
             let scene = Scene {
                 domain: Domain::rectangle(side_for(n), side_for(n)).expect("valid side"),
                 walls: WallMode::Exact,
                 wall_disk_diameter: None,
                 grading: table_3_4(),
-                packer: PackerSettings { index, ..PackerSettings::default() },
+                packer: PackerSettings {
+                    index,
+                    ..PackerSettings::default()
+                },
                 seed: 1,
             };
             let disks = pack(&scene).expect("packs").disks.len() as u64;

@@ -16,7 +16,8 @@ const MAX_HOLE_DMAX: f64 = 2.0;
 fn domain_strategy() -> impl Strategy<Value = Domain> {
     prop_oneof![
         (4.0..40.0f64, 4.0..40.0f64).prop_map(|(w, h)| Domain::rectangle(w, h).unwrap()),
-        (3.0..18.0f64, -5.0..5.0f64).prop_map(|(r, x)| Domain::circle(Point::new(x, 1.0), r).unwrap()),
+        (3.0..18.0f64, -5.0..5.0f64)
+            .prop_map(|(r, x)| Domain::circle(Point::new(x, 1.0), r).unwrap()),
         (4.0..30.0f64, 4.0..30.0f64, 4.0..30.0f64)
             .prop_map(|(b, t, h)| Domain::trapezoid(b, t, h).unwrap()),
         // Star-shaped polygons: simple, usually concave.
@@ -47,8 +48,12 @@ fn frac(s: u64, i: usize) -> f64 {
 fn grading_strategy() -> impl Strategy<Value = Grading> {
     prop_oneof![
         (0.6..2.0f64).prop_map(|d| Grading::constant(d).unwrap()),
-        (0.4..1.5f64, 1.0..10.0f64)
-            .prop_map(|(a, k)| Grading::uniform(a, a * k, Default::default()).unwrap()),
+        (0.4..1.5f64, 1.0..10.0f64).prop_map(|(a, k)| Grading::uniform(
+            a,
+            a * k,
+            Default::default()
+        )
+        .unwrap()),
         Just(common::table_3_4()),
         // A wide three-part grading shaped like the thesis' Table 4.1.
         (0.3..0.8f64).prop_map(|a| {
@@ -68,15 +73,23 @@ fn scene_strategy() -> impl Strategy<Value = Scene> {
         prop_oneof![3 => Just(FrontRules::Robust), 1 => Just(FrontRules::Thesis)],
         any::<u64>(),
     )
-        .prop_filter("the largest disk must fit", |(d, g, ..)| 2.0 * d.inradius() > 2.0 * g.d_max())
-        .prop_map(|(domain, grading, walls, contacts, index, rules, seed)| Scene {
-            domain,
-            walls,
-            wall_disk_diameter: None,
-            grading,
-            packer: PackerSettings { index, contacts, rules },
-            seed,
+        .prop_filter("the largest disk must fit", |(d, g, ..)| {
+            2.0 * d.inradius() > 2.0 * g.d_max()
         })
+        .prop_map(
+            |(domain, grading, walls, contacts, index, rules, seed)| Scene {
+                domain,
+                walls,
+                wall_disk_diameter: None,
+                grading,
+                packer: PackerSettings {
+                    index,
+                    contacts,
+                    rules,
+                },
+                seed,
+            },
+        )
 }
 
 proptest! {
@@ -102,15 +115,31 @@ proptest! {
 
 #[test]
 fn same_seed_same_packing_other_seed_other_packing() {
-    let s = |seed| common::scene(Domain::rectangle(30.0, 30.0).unwrap(), Grading::uniform(1.0, 3.0, Default::default()).unwrap(), WallMode::Exact, seed);
-    let (a, b, c) = (pack(&s(5)).unwrap(), pack(&s(5)).unwrap(), pack(&s(6)).unwrap());
+    let s = |seed| {
+        common::scene(
+            Domain::rectangle(30.0, 30.0).unwrap(),
+            Grading::uniform(1.0, 3.0, Default::default()).unwrap(),
+            WallMode::Exact,
+            seed,
+        )
+    };
+    let (a, b, c) = (
+        pack(&s(5)).unwrap(),
+        pack(&s(5)).unwrap(),
+        pack(&s(6)).unwrap(),
+    );
     assert_eq!(a.disks, b.disks);
     assert_ne!(a.disks, c.disks);
 }
 
 #[test]
 fn quadtree_and_grid_give_the_same_packing() {
-    let mut s = common::scene(Domain::rectangle(40.0, 25.0).unwrap(), common::table_3_4(), WallMode::Disks, 3);
+    let mut s = common::scene(
+        Domain::rectangle(40.0, 25.0).unwrap(),
+        common::table_3_4(),
+        WallMode::Disks,
+        3,
+    );
     let a = pack(&s).unwrap();
     s.packer.index = IndexKind::Grid;
     let b = pack(&s).unwrap();
@@ -126,14 +155,29 @@ fn robust_rules_fill_where_thesis_rules_stop_early() {
     let mut worst_thesis: f64 = 0.0;
     let mut worst_robust: f64 = 0.0;
     for seed in 0..8 {
-        let mut s = common::scene(Domain::rectangle(40.0, 40.0).unwrap(), g.clone(), WallMode::Exact, seed);
+        let mut s = common::scene(
+            Domain::rectangle(40.0, 40.0).unwrap(),
+            g.clone(),
+            WallMode::Exact,
+            seed,
+        );
         let robust = measure(&pack(&s).unwrap(), &g);
         s.packer.rules = FrontRules::Thesis;
         let thesis = measure(&pack(&s).unwrap(), &g);
         worst_thesis = worst_thesis.max(thesis.largest_hole);
         worst_robust = worst_robust.max(robust.largest_hole);
-        assert!(robust.psd_ks < 0.1, "robust rules bent the grading: KS {}", robust.psd_ks);
+        assert!(
+            robust.psd_ks < 0.1,
+            "robust rules bent the grading: KS {}",
+            robust.psd_ks
+        );
     }
-    assert!(worst_robust <= MAX_HOLE_DMAX * 6.0, "robust hole {worst_robust}");
-    assert!(worst_thesis > worst_robust, "thesis {worst_thesis} vs robust {worst_robust}");
+    assert!(
+        worst_robust <= MAX_HOLE_DMAX * 6.0,
+        "robust hole {worst_robust}"
+    );
+    assert!(
+        worst_thesis > worst_robust,
+        "thesis {worst_thesis} vs robust {worst_robust}"
+    );
 }

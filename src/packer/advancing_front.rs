@@ -42,8 +42,10 @@ use crate::geometry::{Disk, Domain, Point, Wall, WallMode};
 /// a gap that refuses such a disk has no room for any size of the grading worth a retry.
 const RETIRE_RATIO: f64 = 1.1;
 
-/// Deferred sizes waiting for a place; beyond this the oldest is given up (counted unplaced).
-const DEFERRED_CAPACITY: usize = 64;
+/// Deferred sizes waiting for a place. When one more size fits nowhere with the
+/// queue full the domain is full for this grading and the run stops: going on
+/// would fill the last gaps with small sizes only and bend the grading.
+const DEFERRED_CAPACITY: usize = 8;
 
 /// Retries of one deferred size before it is given up.
 const DEFERRED_RETRIES: u32 = 32;
@@ -101,6 +103,13 @@ pub fn pack_sizes(scene: &Scene, sizes: impl Iterator<Item = f64>) -> Result<Pac
     if inscribed < d_min {
         return Err(PackError::DomainTooNarrow { inscribed, d_min });
     }
+    let diameter = scene.wall_disk();
+    if scene.walls == WallMode::Disks && scene.domain.boundary_disk_count(diameter).is_none() {
+        return Err(PackError::TooManyWallDisks {
+            diameter,
+            max: Domain::MAX_BOUNDARY_DISKS,
+        });
+    }
     match scene.packer.index {
         IndexKind::MxQuadtree => Front::<MxQuadtree>::new(scene).run(sizes),
         IndexKind::Grid => Front::<Grid>::new(scene).run(sizes),
@@ -137,10 +146,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let domain = &scene.domain;
         let grading = &scene.grading;
         let (mut obs, walls) = match scene.walls {
-            WallMode::Disks => {
-                let d = scene.wall_disk_diameter.unwrap_or_else(|| grading.d_min());
-                (domain.boundary_disks(d), Vec::new())
-            }
+            WallMode::Disks => (domain.boundary_disks(scene.wall_disk()), Vec::new()),
             WallMode::Exact => {
                 let corners = domain.reflex_vertices().iter();
                 (
@@ -193,8 +199,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
     fn run(mut self, mut sizes: impl Iterator<Item = f64>) -> Result<Packing, PackError> {
         if self.scene.walls == WallMode::Exact {
             // The first disk sits in the lowest corner; retry smaller sizes if it does not fit.
-            loop {
-                let Some(d) = sizes.next() else { break };
+            for d in sizes.by_ref() {
                 self.stats.sizes_drawn += 1;
                 if self.seed(d / 2.0) {
                     break;
@@ -233,11 +238,10 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             }
             if tries >= DEFERRED_RETRIES {
                 self.stats.sizes_unplaced += 1;
+            } else if self.deferred.len() == DEFERRED_CAPACITY {
+                self.stats.sizes_unplaced += 1;
+                break;
             } else {
-                if self.deferred.len() == DEFERRED_CAPACITY {
-                    self.deferred.pop_front();
-                    self.stats.sizes_unplaced += 1;
-                }
                 self.deferred.push_back((r, tries + 1));
             }
         }

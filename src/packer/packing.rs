@@ -44,6 +44,16 @@ pub enum PackError {
         /// Smallest diameter of the grading (mm).
         d_min: f64,
     },
+    /// The wall disks would be too many (`walls = "disks"` with a tiny wall-disk diameter).
+    #[error(
+        "walls = \"disks\" with wall disks of {diameter:.4} mm would need more than {max} disks on the boundary; use larger wall disks or walls = \"exact\""
+    )]
+    TooManyWallDisks {
+        /// The wall-disk diameter (mm).
+        diameter: f64,
+        /// The most wall disks allowed.
+        max: usize,
+    },
     /// The scene would need more memory than allowed.
     #[error(
         "the scene needs an estimated {estimate_mb:.0} MB ({disks:.3e} disks), over the limit of {limit_mb:.0} MB"
