@@ -1,0 +1,40 @@
+//! Why an output could not be written.
+
+use std::io;
+use std::path::PathBuf;
+
+/// Why an output could not be written.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum OutputError {
+    /// The output directory could not be created.
+    #[error("cannot create directory {}: {source}", .path.display())]
+    CreateDir {
+        /// The directory.
+        path: PathBuf,
+        /// The I/O error.
+        source: io::Error,
+    },
+    /// A file could not be written (its temporary file was removed).
+    #[error("cannot write {}: {source}", .path.display())]
+    Write {
+        /// The file that was to be written.
+        path: PathBuf,
+        /// The I/O error.
+        source: io::Error,
+    },
+    /// A written temporary file could not be renamed into place.
+    #[error("cannot replace {}: {source}", .path.display())]
+    Rename {
+        /// The file that was to be replaced.
+        path: PathBuf,
+        /// The I/O error.
+        source: io::Error,
+    },
+    /// The CSV writer failed.
+    #[error("cannot format CSV: {0}")]
+    Csv(#[from] ::csv::Error),
+    /// The JSON serialiser failed.
+    #[error("cannot format JSON: {0}")]
+    Json(#[from] serde_json::Error),
+}
