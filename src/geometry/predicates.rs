@@ -1,1 +1,257 @@
-//! Geometric predicates and tolerances (to come).
+//! Every geometric test the packer relies on, under one tolerance policy.
+//!
+//! Candidate centres are intersections of halos; rounding puts them a few
+//! ulps off the exact tangent point. The policy: a candidate may sit at most
+//! [`FEASIBLE_REL`] (relative to the radii sum) inside another halo and still
+//! count as tangent, which keeps every accepted overlap far below the
+//! [`OVERLAP_REL`] that the metrics and tests treat as an overlap. Nearly
+//! tangent halos (gap within [`TANGENT_REL`]) are treated as touching, so a
+//! disk that exactly fits a gap is not lost to rounding.
+
+use super::Point;
+
+/// Largest overlap, relative to the sum of the radii, that counts as no overlap (metrics, tests).
+pub const OVERLAP_REL: f64 = 1e-9;
+
+/// Largest penetration, relative to the sum of the radii, a candidate may have and stay feasible.
+pub const FEASIBLE_REL: f64 = 1e-11;
+
+/// Relative gap under which two halos count as tangent (one intersection point).
+pub const TANGENT_REL: f64 = 1e-12;
+
+/// Relative gap under which two disks count as in contact (coordination number).
+pub const CONTACT_REL: f64 = 1e-6;
+
+/// Intersections of the circles (`c1`, `r1`) and (`c2`, `r2`).
+///
+/// # Returns
+/// `None` when the circles are apart, nested, or concentric. Near-tangent
+/// circles (gap within [`TANGENT_REL`]) give the tangent point twice.
+///
+/// # Example
+/// ```
+/// use gapack::{Point, geometry::predicates::intersect_circle_circle};
+/// let [p, q] = intersect_circle_circle(Point::new(0.0, 0.0), 1.0, Point::new(2.0, 0.0), 1.0).unwrap();
+/// assert!((p - Point::new(1.0, 0.0)).norm() < 1e-6 && (q - p).norm() < 1e-6);
+/// ```
+#[inline]
+pub fn intersect_circle_circle(c1: Point, r1: f64, c2: Point, r2: f64) -> Option<[Point; 2]> {
+    let dx = c2.x - c1.x;
+    let dy = c2.y - c1.y;
+    let d2 = dx * dx + dy * dy;
+    if d2 == 0.0 {
+        return None;
+    }
+    let a = (r1 * r1 - r2 * r2 + d2) / (2.0 * d2); // fraction of the centre line
+    let h2 = r1 * r1 / d2 - a * a; // (half chord / d)²
+    let h = if h2 >= 0.0 {
+        h2.sqrt()
+    } else if h2 > -TANGENT_REL * r1 * r1 / d2 {
+        0.0
+    } else {
+        return None;
+    };
+    let mx = c1.x + a * dx;
+    let my = c1.y + a * dy;
+    Some([
+        Point::new(mx - h * dy, my + h * dx),
+        Point::new(mx + h * dy, my - h * dx),
+    ])
+}
+
+/// Intersections of the circle (`c`, `r`) with the line through `q` of unit direction `(ux, uy)`,
+/// as parameters `t` along the line (`q + t·u`), smaller first.
+///
+/// A near-tangent line (gap within [`TANGENT_REL`]) gives the tangent point twice.
+#[inline]
+pub fn intersect_circle_line(c: Point, r: f64, q: Point, ux: f64, uy: f64) -> Option<[f64; 2]> {
+    let wx = c.x - q.x;
+    let wy = c.y - q.y;
+    let t0 = wx * ux + wy * uy;
+    let dist2 = wx * wx + wy * wy - t0 * t0;
+    let h2 = r * r - dist2;
+    let h = if h2 >= 0.0 {
+        h2.sqrt()
+    } else if h2 > -TANGENT_REL * r * r {
+        0.0
+    } else {
+        return None;
+    };
+    Some([t0 - h, t0 + h])
+}
+
+/// Whether a disk of radius `r` at `p` stays clear of the disk (`c`, `rc`), within [`FEASIBLE_REL`].
+#[inline]
+pub fn clear_disk_disk(p: Point, r: f64, c: Point, rc: f64) -> bool {
+    let dx = p.x - c.x;
+    let dy = p.y - c.y;
+    let s = (r + rc) * (1.0 - FEASIBLE_REL);
+    dx * dx + dy * dy >= s * s
+}
+
+/// Overlap of two disks relative to the sum of their radii (negative when apart).
+#[inline]
+pub fn overlap_disk_disk(c1: Point, r1: f64, c2: Point, r2: f64) -> f64 {
+    let d = (c1 - c2).norm();
+    (r1 + r2 - d) / (r1 + r2)
+}
+
+/// Distance from `p` to the segment `a`–`b`.
+#[inline]
+pub fn distance_point_segment(p: Point, a: Point, b: Point) -> f64 {
+    let ab = b - a;
+    let len2 = ab.norm_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(&ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p - (a + ab * t)).norm()
+}
+
+/// Area of the disk (`c`, `r`) inside the axis-aligned box `[x0, x1] × [y0, y1]`, exactly.
+///
+/// # Behavior
+/// Integrates the disk's vertical chord clipped to the box piece by piece
+/// between the abscissae where the clipping changes, each piece in closed form.
+pub fn area_disk_box(c: Point, r: f64, x0: f64, x1: f64, y0: f64, y1: f64) -> f64 {
+    let lo = x0.max(c.x - r);
+    let hi = x1.min(c.x + r);
+    if lo >= hi || y0 >= y1 || c.y - r >= y1 || c.y + r <= y0 {
+        return 0.0;
+    }
+    // Breakpoints where the chord ends cross the box's horizontal sides.
+    let mut xs = [lo, hi, lo, lo, lo, lo];
+    let mut n = 2;
+    for k in [y0 - c.y, y1 - c.y] {
+        if k.abs() < r {
+            let s = (r * r - k * k).sqrt();
+            for x in [c.x - s, c.x + s] {
+                if x > lo && x < hi {
+                    xs[n] = x;
+                    n += 1;
+                }
+            }
+        }
+    }
+    let xs = &mut xs[..n];
+    xs.sort_by(f64::total_cmp);
+    // Antiderivative of the half chord h(t) = sqrt(r² − t²), t = x − c.x.
+    let big_h = |t: f64| {
+        let t = t.clamp(-r, r);
+        0.5 * (t * (r * r - t * t).max(0.0).sqrt() + r * r * (t / r).asin())
+    };
+    let mut area = 0.0;
+    for w in xs.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        if b <= a {
+            continue;
+        }
+        let tm = 0.5 * (a + b) - c.x;
+        let hm = (r * r - tm * tm).max(0.0).sqrt();
+        let top_is_chord = c.y + hm < y1;
+        let bottom_is_chord = c.y - hm > y0;
+        let top = if top_is_chord { c.y + hm } else { y1 };
+        let bottom = if bottom_is_chord { c.y - hm } else { y0 };
+        if top <= bottom {
+            continue;
+        }
+        let chord = big_h(b - c.x) - big_h(a - c.x); // ∫ h dx over the piece
+        let width = b - a;
+        let upper = if top_is_chord {
+            c.y * width + chord
+        } else {
+            y1 * width
+        };
+        let lower = if bottom_is_chord {
+            c.y * width - chord
+        } else {
+            y0 * width
+        };
+        area += upper - lower;
+    }
+    area
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn circles_apart_nested_and_concentric_do_not_intersect() {
+        let o = Point::new(0.0, 0.0);
+        assert!(intersect_circle_circle(o, 1.0, Point::new(3.0, 0.0), 1.0).is_none());
+        assert!(intersect_circle_circle(o, 3.0, Point::new(0.5, 0.0), 1.0).is_none());
+        assert!(intersect_circle_circle(o, 1.0, o, 1.0).is_none());
+    }
+
+    #[test]
+    fn intersections_lie_on_both_circles() {
+        let (c1, r1, c2, r2) = (Point::new(1.0, 2.0), 1.3, Point::new(2.1, 2.7), 0.9);
+        let pts = intersect_circle_circle(c1, r1, c2, r2).unwrap();
+        for p in pts {
+            assert!(((p - c1).norm() - r1).abs() < 1e-12);
+            assert!(((p - c2).norm() - r2).abs() < 1e-12);
+        }
+        assert!((pts[0] - pts[1]).norm() > 0.1);
+    }
+
+    #[test]
+    fn near_tangent_circles_give_the_tangent_point() {
+        let c1 = Point::new(0.0, 0.0);
+        let c2 = Point::new(2.0 * (1.0 + 1e-14), 0.0);
+        let [p, q] = intersect_circle_circle(c1, 1.0, c2, 1.0).expect("tangent point kept");
+        assert!((p - q).norm() < 1e-12 && (p.x - 1.0).abs() < 1e-12);
+        // A real gap is not papered over.
+        let c3 = Point::new(2.0 * (1.0 + 1e-9), 0.0);
+        assert!(intersect_circle_circle(c1, 1.0, c3, 1.0).is_none());
+    }
+
+    #[test]
+    fn line_intersections_are_on_the_circle() {
+        let c = Point::new(1.0, 1.0);
+        let [t0, t1] = intersect_circle_line(c, 2.0, Point::new(0.0, 0.5), 1.0, 0.0).unwrap();
+        for t in [t0, t1] {
+            let p = Point::new(t, 0.5);
+            assert!(((p - c).norm() - 2.0).abs() < 1e-12);
+        }
+        assert!(intersect_circle_line(c, 0.4, Point::new(0.0, 0.5), 1.0, 0.0).is_none());
+    }
+
+    #[test]
+    fn clearance_follows_the_tolerance_policy() {
+        let o = Point::new(0.0, 0.0);
+        assert!(clear_disk_disk(Point::new(2.0, 0.0), 1.0, o, 1.0));
+        assert!(clear_disk_disk(Point::new(2.0 - 1e-13, 0.0), 1.0, o, 1.0));
+        assert!(!clear_disk_disk(Point::new(2.0 - 1e-9, 0.0), 1.0, o, 1.0));
+    }
+
+    #[test]
+    fn disk_box_area_matches_cases_and_sampling() {
+        let c = Point::new(0.0, 0.0);
+        let full = area_disk_box(c, 1.0, -2.0, 2.0, -2.0, 2.0);
+        assert!((full - PI).abs() < 1e-12);
+        let half = area_disk_box(c, 1.0, 0.0, 2.0, -2.0, 2.0);
+        assert!((half - PI / 2.0).abs() < 1e-12);
+        let quarter = area_disk_box(c, 1.0, 0.0, 2.0, 0.0, 2.0);
+        assert!((quarter - PI / 4.0).abs() < 1e-12);
+        assert_eq!(area_disk_box(c, 1.0, 1.0, 2.0, 1.0, 2.0), 0.0);
+        // Awkward box cutting the disk on all sides, against a fine midpoint grid.
+        let (x0, x1, y0, y1) = (-0.7, 0.4, -0.9, 0.95);
+        let n = 2000;
+        let mut hits = 0u64;
+        for i in 0..n {
+            for j in 0..n {
+                let x = x0 + (x1 - x0) * (i as f64 + 0.5) / n as f64;
+                let y = y0 + (y1 - y0) * (j as f64 + 0.5) / n as f64;
+                if x * x + y * y < 1.0 {
+                    hits += 1;
+                }
+            }
+        }
+        let sampled = hits as f64 / (n * n) as f64 * (x1 - x0) * (y1 - y0);
+        let exact = area_disk_box(c, 1.0, x0, x1, y0, y1);
+        assert!((exact - sampled).abs() < 1e-4, "{exact} vs {sampled}");
+    }
+}

@@ -1,9 +1,587 @@
-//! The advancing-front generator (DESIGN §3). STUB: body to come.
+//! The advancing-front generator (DESIGN §3): each new disk is placed tangent
+//! to the current front and to one more obstacle, at the lowest feasible spot.
+//!
+//! # Behavior
+//! 1. Obstacles: wall disks (`walls = "disks"`) or exact walls plus the
+//!    polygon's reflex corners as zero-radius point obstacles (`"exact"`).
+//! 2. Fronts: a stack. Wall disks start it, lowest then leftmost on top; with
+//!    exact walls the first disk is seeded at the lowest wall–wall tangency.
+//! 3. For the front on top and a new radius `r`, the neighbours come from one
+//!    box query of half side `r_front + 1.1·d_new + r_max`.
+//! 4. Candidates are the intersections of the front's halo (radius
+//!    `r_front + r`) with each neighbour's halo and each wall offset by `r`.
+//! 5. A candidate is feasible when it is inside the domain and in no other halo.
+//! 6. The lowest feasible candidate (then the leftmost) wins; the new disk
+//!    goes on top of the stack.
+//! 7. A front with no feasible candidate leaves the stack and the same size
+//!    goes to the next front; one with fewer than two leaves after placing.
+//! 8. The run stops when the sizes (`ceil(area / smallest disk area)` of
+//!    them) or the fronts run out.
+//!
+//! With [`FrontRules::Robust`] (default) step 7 parks a failing front with the
+//! radius it failed for and wakes it when a smaller size comes, and a size
+//! that fits at no front is deferred and retried after later placements
+//! instead of emptying the stack (the thesis' weak spot with wide gradings).
+//! With [`Contacts::One`] the new disk touches the front only, at a random
+//! angle drawn uniformly over the free arcs of the front's halo.
 
+use rand::{Rng, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use std::collections::VecDeque;
+use std::f64::consts::TAU;
+
+use super::index::{Grid, MxQuadtree, SpatialIndex};
+use super::{Contacts, FrontRules, IndexKind, PackError, PackStats, Packing};
 use crate::Scene;
-use crate::packer::{PackError, Packing};
+use crate::geometry::predicates::{
+    FEASIBLE_REL, clear_disk_disk, intersect_circle_circle, intersect_circle_line,
+};
+use crate::geometry::{Disk, Domain, Point, Wall, WallMode};
 
-/// Pack a scene with the advancing-front generator.
+/// Fronts that fail for a radius within this factor of the smallest are retired, not parked:
+/// a gap that refuses such a disk has no room for any size of the grading worth a retry.
+const RETIRE_RATIO: f64 = 1.1;
+
+/// Deferred sizes waiting for a place; beyond this the oldest is given up (counted unplaced).
+const DEFERRED_CAPACITY: usize = 64;
+
+/// Retries of one deferred size before it is given up.
+const DEFERRED_RETRIES: u32 = 32;
+
+/// Random angles tried on the free arcs before a one-contact placement falls back to two contacts.
+const ONE_CONTACT_TRIES: usize = 16;
+
+/// Leaf (cell) side of the spatial index, in largest diameters.
+const BUCKET_DIAMETERS: f64 = 1.0;
+
+/// Stream offset so one-contact angles never share random numbers with the sizes.
+const ANGLE_STREAM: u64 = 0x9E37_79B9_7F4A_7C15;
+
+/// Number of sizes the thesis draws: `ceil(domain area / area of the smallest disk)`.
+pub fn size_count(domain: &Domain, d_min: f64) -> u64 {
+    let a_min = std::f64::consts::PI * d_min * d_min / 4.0;
+    (domain.area() / a_min).ceil() as u64
+}
+
+/// Pack a scene with the advancing-front generator, sizes drawn from its grading.
+///
+/// # Returns
+/// A packing with zero overlaps and every disk inside the domain, or an error
+/// when no disk of the grading fits in the domain.
+///
+/// # Example
+/// ```
+/// use gapack::{Domain, Grading, Scene, PackerSettings, WallMode, pack};
+/// let scene = Scene {
+///     domain: Domain::rectangle(10.0, 10.0).unwrap(),
+///     walls: WallMode::Exact,
+///     wall_disk_diameter: None,
+///     grading: Grading::constant(1.0).unwrap(),
+///     packer: PackerSettings::default(),
+///     seed: 1,
+/// };
+/// let packing = pack(&scene).unwrap();
+/// assert!(packing.disks.len() > 80);
+/// ```
 pub fn pack(scene: &Scene) -> Result<Packing, PackError> {
-    todo!("{scene:?}")
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(scene.seed);
+    let count = size_count(&scene.domain, scene.grading.d_min());
+    let grading = &scene.grading;
+    let sizes = (0..count).map(move |_| grading.sample(rng.r#gen::<f64>()));
+    pack_sizes(scene, sizes)
+}
+
+/// Pack a scene with the given sequence of diameters (mm), in order.
+///
+/// This is the fitness kernel's entry: a caller that evolves the sizes (grading
+/// genes mapped through the inverse CDF) passes them here.
+pub fn pack_sizes(scene: &Scene, sizes: impl Iterator<Item = f64>) -> Result<Packing, PackError> {
+    let d_min = scene.grading.d_min();
+    let inscribed = 2.0 * scene.domain.inradius();
+    if inscribed < d_min {
+        return Err(PackError::DomainTooNarrow { inscribed, d_min });
+    }
+    match scene.packer.index {
+        IndexKind::MxQuadtree => Front::<MxQuadtree>::new(scene).run(sizes),
+        IndexKind::Grid => Front::<Grid>::new(scene).run(sizes),
+    }
+}
+
+/// The generator's state while packing.
+struct Front<'a, I> {
+    scene: &'a Scene,
+    /// Walls the candidates must respect exactly (empty with wall disks).
+    walls: Vec<Wall>,
+    /// Obstacles by id: wall disks or reflex corners first, then packed disks.
+    obs: Vec<Disk>,
+    first_packed: usize,
+    index: I,
+    r_max: f64,
+    r_retire: f64,
+    /// Front stack; the top is the last element.
+    fronts: Vec<u32>,
+    /// Fronts that failed for a radius, waiting for a smaller one.
+    parked: Vec<(f64, u32)>,
+    /// Sizes that fitted nowhere, with their retry counts.
+    deferred: VecDeque<(f64, u32)>,
+    angles: Xoshiro256PlusPlus,
+    stats: PackStats,
+    // Scratch buffers reused by every attempt.
+    near: Vec<u32>,
+    cands: Vec<Point>,
+    arcs: Vec<(f64, f64)>,
+}
+
+impl<'a, I: SpatialIndex> Front<'a, I> {
+    fn new(scene: &'a Scene) -> Self {
+        let domain = &scene.domain;
+        let grading = &scene.grading;
+        let (mut obs, walls) = match scene.walls {
+            WallMode::Disks => {
+                let d = scene.wall_disk_diameter.unwrap_or_else(|| grading.d_min());
+                (domain.boundary_disks(d), Vec::new())
+            }
+            WallMode::Exact => {
+                let corners = domain.reflex_vertices().iter();
+                (
+                    corners.map(|&c| Disk { c, r: 0.0 }).collect(),
+                    domain.walls().to_vec(),
+                )
+            }
+        };
+        let first_packed = obs.len();
+        let wall_r = obs.iter().fold(0.0f64, |m, o| m.max(o.r));
+        let r_max = (grading.d_max() / 2.0).max(wall_r);
+        let expected = (domain.area() / grading.mean_disk_area()).ceil() as usize;
+        obs.reserve(expected);
+        let (lo, hi) = domain.bounds();
+        let margin = Point::new(r_max, r_max).coords;
+        let mut index = I::new(lo - margin, hi + margin, BUCKET_DIAMETERS * 2.0 * r_max);
+        for (id, o) in obs.iter().enumerate() {
+            index.insert(id as u32, o.c);
+        }
+        // Wall disks start the front list: lowest, then leftmost, on top.
+        let mut fronts: Vec<u32> = if scene.walls == WallMode::Disks {
+            (0..first_packed as u32).collect()
+        } else {
+            Vec::new()
+        };
+        fronts.sort_by(|&a, &b| lowest_first(obs[b as usize].c, obs[a as usize].c));
+        Front {
+            scene,
+            walls,
+            obs,
+            first_packed,
+            index,
+            r_max,
+            r_retire: grading.d_min() / 2.0 * RETIRE_RATIO,
+            fronts,
+            parked: Vec::new(),
+            deferred: VecDeque::new(),
+            angles: Xoshiro256PlusPlus::seed_from_u64(scene.seed ^ ANGLE_STREAM),
+            stats: PackStats::default(),
+            near: Vec::new(),
+            cands: Vec::new(),
+            arcs: Vec::new(),
+        }
+    }
+
+    fn robust(&self) -> bool {
+        self.scene.packer.rules == FrontRules::Robust
+    }
+
+    fn run(mut self, mut sizes: impl Iterator<Item = f64>) -> Result<Packing, PackError> {
+        if self.scene.walls == WallMode::Exact {
+            // The first disk sits in the lowest corner; retry smaller sizes if it does not fit.
+            loop {
+                let Some(d) = sizes.next() else { break };
+                self.stats.sizes_drawn += 1;
+                if self.seed(d / 2.0) {
+                    break;
+                }
+                self.stats.sizes_deferred += 1;
+                self.stats.sizes_unplaced += 1;
+            }
+        }
+        let mut retry_deferred = false;
+        loop {
+            let (r, tries) = match (retry_deferred, self.deferred.pop_front()) {
+                (true, Some(entry)) => entry,
+                (_, entry) => {
+                    if let Some(entry) = entry {
+                        self.deferred.push_front(entry);
+                    }
+                    let Some(d) = sizes.next() else { break };
+                    self.stats.sizes_drawn += 1;
+                    (d / 2.0, 0)
+                }
+            };
+            if self.place_size(r) {
+                retry_deferred = !self.deferred.is_empty();
+                continue;
+            }
+            retry_deferred = false;
+            if !self.robust() {
+                break;
+            }
+            let exhausted = self.fronts.is_empty() && self.parked.is_empty();
+            if exhausted && r <= self.r_retire {
+                break;
+            }
+            if tries == 0 {
+                self.stats.sizes_deferred += 1;
+            }
+            if tries >= DEFERRED_RETRIES {
+                self.stats.sizes_unplaced += 1;
+            } else {
+                if self.deferred.len() == DEFERRED_CAPACITY {
+                    self.deferred.pop_front();
+                    self.stats.sizes_unplaced += 1;
+                }
+                self.deferred.push_back((r, tries + 1));
+            }
+        }
+        self.stats.sizes_unplaced += self.deferred.len() as u64;
+        let boundary: Vec<Disk> = match self.scene.walls {
+            WallMode::Disks => self.obs.drain(..self.first_packed).collect(),
+            WallMode::Exact => {
+                self.obs.drain(..self.first_packed);
+                Vec::new()
+            }
+        };
+        Ok(Packing {
+            domain: self.scene.domain.clone(),
+            walls: self.scene.walls,
+            boundary,
+            disks: self.obs,
+            stats: self.stats,
+        })
+    }
+
+    /// Place one disk of radius `r` at some front; `false` if it fits at none.
+    fn place_size(&mut self, r: f64) -> bool {
+        loop {
+            while let Some(&f) = self.fronts.last() {
+                self.stats.front_attempts += 1;
+                match self.attempt(f, r) {
+                    Some((p, feasible)) => {
+                        if feasible < 2 {
+                            self.fronts.pop();
+                            self.park(f, r);
+                        }
+                        self.place(p, r);
+                        return true;
+                    }
+                    None => {
+                        self.fronts.pop();
+                        self.park(f, r);
+                    }
+                }
+            }
+            if !self.robust() || !self.wake(r) {
+                break;
+            }
+        }
+        self.robust() && self.seed(r)
+    }
+
+    /// A front that failed for `r`: parked for smaller sizes (robust rules) or dropped.
+    fn park(&mut self, f: u32, r: f64) {
+        if self.robust() && r > self.r_retire {
+            self.parked.push((r, f));
+        }
+    }
+
+    /// Move the parked fronts that failed only for sizes larger than `r` back on the stack.
+    fn wake(&mut self, r: f64) -> bool {
+        let before = self.fronts.len();
+        let fronts = &mut self.fronts;
+        self.parked.retain(|&(failed, f)| {
+            let wakes = failed > r;
+            if wakes {
+                fronts.push(f);
+            }
+            !wakes
+        });
+        self.fronts.len() > before
+    }
+
+    fn place(&mut self, p: Point, r: f64) {
+        let id = self.obs.len() as u32;
+        self.obs.push(Disk { c: p, r });
+        self.index.insert(id, p);
+        self.fronts.push(id);
+    }
+
+    /// Try to place a disk of radius `r` around front `f`: the position and
+    /// how many feasible candidates there were (capped at 2).
+    fn attempt(&mut self, f: u32, r: f64) -> Option<(Point, usize)> {
+        self.gather_neighbours(f, r);
+        let one_contact = self.scene.packer.contacts == Contacts::One;
+        if one_contact && let Some(p) = self.free_angle(f, r) {
+            return Some((p, 2));
+        }
+        self.tangent_candidates(f, r);
+        let mut first = None;
+        let mut count = 0;
+        for i in 0..self.cands.len() {
+            let p = self.cands[i];
+            if self.feasible(p, r) {
+                count += 1;
+                if first.is_none() {
+                    first = Some(p);
+                } else {
+                    break;
+                }
+            }
+        }
+        first.map(|p| (p, count))
+    }
+
+    /// Neighbours of front `f` whose halo meets the front's halo, into `self.near`.
+    fn gather_neighbours(&mut self, f: u32, r: f64) {
+        let front = self.obs[f as usize];
+        let reach = front.r + 2.0 * r; // plus the neighbour's own radius
+        let half = front.r + 2.2 * r + self.r_max;
+        let (lo, hi) = (
+            Point::new(front.c.x - half, front.c.y - half),
+            Point::new(front.c.x + half, front.c.y + half),
+        );
+        self.near.clear();
+        let (obs, near) = (&self.obs, &mut self.near);
+        self.index.visit_box(lo, hi, |id| {
+            let o = obs[id as usize];
+            let s = (reach + o.r) * (1.0 + FEASIBLE_REL);
+            let (dx, dy) = (o.c.x - front.c.x, o.c.y - front.c.y);
+            if id != f && dx * dx + dy * dy < s * s {
+                near.push(id);
+            }
+        });
+    }
+
+    /// Halo intersections around front `f`, sorted lowest then leftmost, into `self.cands`.
+    fn tangent_candidates(&mut self, f: u32, r: f64) {
+        let front = self.obs[f as usize];
+        let rf = front.r + r;
+        self.cands.clear();
+        for &j in &self.near {
+            let o = self.obs[j as usize];
+            if let Some(pts) = intersect_circle_circle(front.c, rf, o.c, o.r + r) {
+                self.cands.extend_from_slice(&pts);
+            }
+        }
+        for wall in &self.walls {
+            wall_candidates(wall, front.c, rf, r, &mut self.cands);
+        }
+        self.cands.sort_unstable_by(|a, b| lowest_first(*a, *b));
+    }
+
+    /// Inside the domain and clear of every neighbour.
+    fn feasible(&self, p: Point, r: f64) -> bool {
+        self.scene.domain.signed_distance(p) >= r * (1.0 - FEASIBLE_REL)
+            && self.near.iter().all(|&j| {
+                let o = &self.obs[j as usize];
+                clear_disk_disk(p, r, o.c, o.r)
+            })
+    }
+
+    /// One-contact placement: a random point of the free arcs of the front's halo.
+    fn free_angle(&mut self, f: u32, r: f64) -> Option<Point> {
+        let front = self.obs[f as usize];
+        let rf = front.r + r;
+        self.arcs.clear();
+        for &j in &self.near {
+            let o = self.obs[j as usize];
+            let (dx, dy) = (o.c.x - front.c.x, o.c.y - front.c.y);
+            let dist = (dx * dx + dy * dy).sqrt();
+            let rj = o.r + r;
+            if dist == 0.0 {
+                return None;
+            }
+            let cos = ((rf * rf + dist * dist - rj * rj) / (2.0 * rf * dist)).clamp(-1.0, 1.0);
+            let half = cos.acos();
+            if half >= std::f64::consts::PI {
+                return None;
+            }
+            let mid = dy.atan2(dx).rem_euclid(TAU);
+            push_arc(&mut self.arcs, mid - half, mid + half);
+        }
+        let free = free_arcs(&mut self.arcs);
+        if free <= 0.0 {
+            return None;
+        }
+        for _ in 0..ONE_CONTACT_TRIES {
+            let theta = arc_point(&self.arcs, self.angles.r#gen::<f64>() * free);
+            let p = Point::new(front.c.x + rf * theta.cos(), front.c.y + rf * theta.sin());
+            if self.feasible(p, r) {
+                return Some(p);
+            }
+        }
+        None
+    }
+
+    /// Exact walls: put a disk of radius `r` at the lowest feasible wall–wall tangency.
+    fn seed(&mut self, r: f64) -> bool {
+        let mut spots = Vec::new();
+        for (i, a) in self.walls.iter().enumerate() {
+            for b in &self.walls[i + 1..] {
+                wall_wall_spots(a, b, r, &mut spots);
+            }
+            if let Wall::Circle { center, radius } = *a {
+                spots.push(Point::new(center.x, center.y - (radius - r)));
+            }
+        }
+        spots.sort_unstable_by(|a, b| lowest_first(*a, *b));
+        for p in spots {
+            let half = r + self.r_max;
+            let (lo, hi) = (
+                Point::new(p.x - half, p.y - half),
+                Point::new(p.x + half, p.y + half),
+            );
+            let mut clear = self.scene.domain.signed_distance(p) >= r * (1.0 - FEASIBLE_REL);
+            let obs = &self.obs;
+            self.index.visit_box(lo, hi, |id| {
+                let o = &obs[id as usize];
+                clear &= clear_disk_disk(p, r, o.c, o.r);
+            });
+            if clear {
+                self.place(p, r);
+                return true;
+            }
+        }
+        false
+    }
+}
+
+/// Order points lowest first, then leftmost (deposition under gravity).
+fn lowest_first(a: Point, b: Point) -> std::cmp::Ordering {
+    a.y.total_cmp(&b.y).then(a.x.total_cmp(&b.x))
+}
+
+/// Centres of disks of radius `r` tangent to `wall` on the domain side, on the circle (`c`, `rf`).
+fn wall_candidates(wall: &Wall, c: Point, rf: f64, r: f64, out: &mut Vec<Point>) {
+    match *wall {
+        Wall::Segment { a, b } => {
+            let len = (b - a).norm();
+            let (ux, uy) = ((b.x - a.x) / len, (b.y - a.y) / len);
+            let q = Point::new(a.x - uy * r, a.y + ux * r); // offset inward (left) by r
+            if let Some(ts) = intersect_circle_line(c, rf, q, ux, uy) {
+                let slack = len * 1e-12;
+                for t in ts {
+                    if t >= -slack && t <= len + slack {
+                        out.push(Point::new(q.x + ux * t, q.y + uy * t));
+                    }
+                }
+            }
+        }
+        Wall::Circle { center, radius } => {
+            if radius > r
+                && let Some(pts) = intersect_circle_circle(c, rf, center, radius - r)
+            {
+                out.extend_from_slice(&pts);
+            }
+        }
+    }
+}
+
+/// Centres of disks of radius `r` tangent to both walls (inside), for seeding.
+fn wall_wall_spots(a: &Wall, b: &Wall, r: f64, out: &mut Vec<Point>) {
+    let offset = |w: &Wall| match *w {
+        Wall::Segment { a, b } => {
+            let len = (b - a).norm();
+            let u = (b - a) / len;
+            Some((Point::new(a.x - u.y * r, a.y + u.x * r), u, len))
+        }
+        Wall::Circle { .. } => None,
+    };
+    let (Some((p, u, lu)), Some((q, v, lv))) = (offset(a), offset(b)) else {
+        return;
+    };
+    let det = u.x * (-v.y) - u.y * (-v.x);
+    if det.abs() < 1e-12 {
+        return;
+    }
+    let w = q - p;
+    let t = (w.x * (-v.y) - w.y * (-v.x)) / det;
+    let s = (u.x * w.y - u.y * w.x) / det;
+    let (ta, sa) = (lu * 1e-12, lv * 1e-12);
+    if t >= -ta && t <= lu + ta && s >= -sa && s <= lv + sa {
+        out.push(p + u * t);
+    }
+}
+
+/// Add the blocked angular interval `[lo, hi]` (radians, `lo` in `[-π, 2π)`), split at 0/2π.
+fn push_arc(arcs: &mut Vec<(f64, f64)>, lo: f64, hi: f64) {
+    if lo < 0.0 {
+        arcs.push((lo + TAU, TAU));
+        arcs.push((0.0, hi));
+    } else if hi > TAU {
+        arcs.push((lo, TAU));
+        arcs.push((0.0, hi - TAU));
+    } else {
+        arcs.push((lo, hi));
+    }
+}
+
+/// Turn blocked intervals into the free intervals of `[0, 2π)`, in place; returns their total length.
+fn free_arcs(arcs: &mut Vec<(f64, f64)>) -> f64 {
+    arcs.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+    let mut free = Vec::with_capacity(arcs.len() + 1);
+    let mut cursor = 0.0;
+    for &(lo, hi) in arcs.iter() {
+        if lo > cursor {
+            free.push((cursor, lo));
+        }
+        cursor = f64::max(cursor, hi);
+    }
+    if cursor < TAU {
+        free.push((cursor, TAU));
+    }
+    *arcs = free;
+    arcs.iter().map(|(lo, hi)| hi - lo).sum()
+}
+
+/// The angle at arc length `s` along the free intervals.
+fn arc_point(free: &[(f64, f64)], mut s: f64) -> f64 {
+    for &(lo, hi) in free {
+        if s <= hi - lo {
+            return lo + s;
+        }
+        s -= hi - lo;
+    }
+    free.last().map_or(0.0, |&(_, hi)| hi)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn free_arcs_complement_the_blocked_ones() {
+        let mut arcs = Vec::new();
+        push_arc(&mut arcs, -0.5, 0.5);
+        push_arc(&mut arcs, 1.0, 2.0);
+        push_arc(&mut arcs, 1.5, 2.5);
+        let free = free_arcs(&mut arcs);
+        assert!((free - (TAU - 1.0 - 1.5)).abs() < 1e-12);
+        assert_eq!(arcs.len(), 2);
+        assert!((arc_point(&arcs, 0.1) - 0.6).abs() < 1e-12);
+        assert!((arc_point(&arcs, 0.6) - 2.6).abs() < 1e-12);
+    }
+
+    #[test]
+    fn corner_spot_is_tangent_to_both_walls() {
+        let bottom = Wall::Segment {
+            a: Point::new(0.0, 0.0),
+            b: Point::new(10.0, 0.0),
+        };
+        let left = Wall::Segment {
+            a: Point::new(0.0, 10.0),
+            b: Point::new(0.0, 0.0),
+        };
+        let mut out = Vec::new();
+        wall_wall_spots(&bottom, &left, 0.5, &mut out);
+        assert_eq!(out.len(), 1);
+        assert!((out[0] - Point::new(0.5, 0.5)).norm() < 1e-12);
+    }
 }

@@ -1,9 +1,13 @@
 //! Packing metrics: porosity, grading fidelity, overlaps, clearance, contacts, uniformity.
-//!
-//! STUB: bodies to come; fields are fixed.
 
+use crate::geometry::predicates::{CONTACT_REL, area_disk_box, overlap_disk_disk};
+use crate::geometry::{Disk, Point};
 use crate::grading::Grading;
 use crate::packer::Packing;
+use crate::packer::index::{Grid, SpatialIndex};
+
+/// Side of the local-porosity windows, in largest diameters.
+const WINDOW_DIAMETERS: f64 = 5.0;
 
 /// What a packing achieved.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -24,13 +28,214 @@ pub struct Metrics {
     pub min_wall_clearance: f64,
     /// Mean number of disk–disk contacts per packed disk (gap within 1e-6 of the radii sum).
     pub coordination: f64,
-    /// Standard deviation of local porosity over square windows of about 5·d_max.
+    /// Standard deviation of local porosity over square windows of about 5·d_max
+    /// that lie wholly inside the domain; NaN when fewer than two fit.
     pub local_porosity_std: f64,
-    /// Diameter of the largest empty circle left in the domain (mm).
+    /// Number of local-porosity windows.
+    pub local_windows: usize,
+    /// Diameter of the largest empty circle left in the domain (mm), found on a
+    /// grid of spacing d_min/2 and refined locally.
     pub largest_hole: f64,
 }
 
 /// Measure a packing against its grading.
+///
+/// # Performance
+/// One grid over the disks serves every neighbour query: O(n) overall.
 pub fn measure(packing: &Packing, grading: &Grading) -> Metrics {
-    todo!("{packing:?}{grading:?}")
+    let disks = &packing.disks;
+    let domain = &packing.domain;
+    let domain_area = domain.area();
+    let solid_area: f64 = disks.iter().map(Disk::area).sum();
+    let diameters: Vec<f64> = disks.iter().map(|d| 2.0 * d.r).collect();
+    let r_max = disks
+        .iter()
+        .chain(&packing.boundary)
+        .fold(0.0f64, |m, d| m.max(d.r));
+
+    // One index over wall disks then packed disks.
+    let all: Vec<Disk> = packing.boundary.iter().chain(disks).copied().collect();
+    let nb = packing.boundary.len();
+    let (lo, hi) = domain.bounds();
+    let bucket = (2.0 * r_max).max(1e-9);
+    let margin = Point::new(2.0 * r_max, 2.0 * r_max).coords;
+    let mut grid = Grid::new(lo - margin, hi + margin, bucket);
+    for (id, d) in all.iter().enumerate() {
+        grid.insert(id as u32, d.c);
+    }
+
+    let mut max_overlap = 0.0f64;
+    let mut contacts = 0usize;
+    let mut min_wall_clearance = f64::INFINITY;
+    for (i, d) in all.iter().enumerate().skip(nb) {
+        min_wall_clearance = min_wall_clearance.min(domain.signed_distance(d.c) - d.r);
+        let half = d.r + r_max;
+        let (qlo, qhi) = (
+            Point::new(d.c.x - half, d.c.y - half),
+            Point::new(d.c.x + half, d.c.y + half),
+        );
+        grid.visit_box(qlo, qhi, |j| {
+            let j = j as usize;
+            // Each packed pair once (j < i); wall disks against every packed disk.
+            if j >= i {
+                return;
+            }
+            let o = all[j];
+            let overlap = overlap_disk_disk(d.c, d.r, o.c, o.r);
+            max_overlap = max_overlap.max(overlap);
+            if j >= nb && overlap >= -CONTACT_REL {
+                contacts += 1;
+            }
+        });
+    }
+    let n = disks.len();
+    let (local_porosity_std, local_windows) = local_porosity(packing, &grid, &all, r_max);
+    Metrics {
+        particles: n,
+        domain_area,
+        solid_area,
+        porosity: 1.0 - solid_area / domain_area,
+        psd_ks: grading.ks_distance(&diameters),
+        max_overlap,
+        min_wall_clearance: if n == 0 { 0.0 } else { min_wall_clearance },
+        coordination: if n == 0 {
+            0.0
+        } else {
+            2.0 * contacts as f64 / n as f64
+        },
+        local_porosity_std,
+        local_windows,
+        largest_hole: largest_hole(packing, &grid, &all, r_max, grading.d_min()),
+    }
+}
+
+/// Standard deviation of porosity over tiled square windows wholly inside the domain.
+fn local_porosity(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64) -> (f64, usize) {
+    let domain = &packing.domain;
+    let nb = packing.boundary.len();
+    let (lo, hi) = domain.bounds();
+    let w = WINDOW_DIAMETERS * 2.0 * r_max;
+    if w <= 0.0 {
+        return (f64::NAN, 0);
+    }
+    let nx = ((hi.x - lo.x) / w).floor() as usize;
+    let ny = ((hi.y - lo.y) / w).floor() as usize;
+    // Centre the tiling in the bounds.
+    let x_start = lo.x + 0.5 * ((hi.x - lo.x) - nx as f64 * w);
+    let y_start = lo.y + 0.5 * ((hi.y - lo.y) - ny as f64 * w);
+    let mut values = Vec::new();
+    for iy in 0..ny {
+        for ix in 0..nx {
+            let (x0, y0) = (x_start + ix as f64 * w, y_start + iy as f64 * w);
+            let (x1, y1) = (x0 + w, y0 + w);
+            let corners = [(x0, y0), (x1, y0), (x0, y1), (x1, y1)];
+            let inside = corners
+                .iter()
+                .all(|&(x, y)| domain.signed_distance(Point::new(x, y)) >= 0.0)
+                && !domain
+                    .reflex_vertices()
+                    .iter()
+                    .any(|v| v.x > x0 && v.x < x1 && v.y > y0 && v.y < y1);
+            if !inside {
+                continue;
+            }
+            let mut solid = 0.0;
+            let (qlo, qhi) = (
+                Point::new(x0 - r_max, y0 - r_max),
+                Point::new(x1 + r_max, y1 + r_max),
+            );
+            grid.visit_box(qlo, qhi, |j| {
+                if j as usize >= nb {
+                    let d = all[j as usize];
+                    solid += area_disk_box(d.c, d.r, x0, x1, y0, y1);
+                }
+            });
+            values.push(1.0 - solid / (w * w));
+        }
+    }
+    if values.len() < 2 {
+        return (f64::NAN, values.len());
+    }
+    let mean = values.iter().sum::<f64>() / values.len() as f64;
+    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (values.len() - 1) as f64;
+    (var.sqrt(), values.len())
+}
+
+/// Clearance at `p`: distance to the nearest disk edge or wall (negative inside a disk).
+fn clearance(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64, p: Point) -> f64 {
+    let wall = packing.domain.signed_distance(p);
+    let mut best = wall;
+    let mut half = (4.0 * r_max).max(1e-9);
+    loop {
+        let mut found = f64::INFINITY;
+        let (lo, hi) = (
+            Point::new(p.x - half, p.y - half),
+            Point::new(p.x + half, p.y + half),
+        );
+        grid.visit_box(lo, hi, |j| {
+            let d = all[j as usize];
+            found = found.min((p - d.c).norm() - d.r);
+        });
+        best = best.min(found);
+        // Disks outside the box are at least `half − r_max` away.
+        if best <= half - r_max || half > 1e9 {
+            return best;
+        }
+        half *= 2.0;
+    }
+}
+
+/// Diameter of the largest empty circle: grid search, then local refinement.
+fn largest_hole(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64, d_min: f64) -> f64 {
+    let (lo, hi) = packing.domain.bounds();
+    let step = (d_min / 2.0).max((hi.x - lo.x).max(hi.y - lo.y) / 4096.0);
+    if step <= 0.0 || !step.is_finite() {
+        return 0.0;
+    }
+    let mut best = (f64::NEG_INFINITY, lo);
+    let nx = ((hi.x - lo.x) / step).ceil() as usize;
+    let ny = ((hi.y - lo.y) / step).ceil() as usize;
+    for iy in 0..=ny {
+        for ix in 0..=nx {
+            let p = Point::new(lo.x + ix as f64 * step, lo.y + iy as f64 * step);
+            if packing.domain.signed_distance(p) <= 0.0 {
+                continue;
+            }
+            let c = clearance(packing, grid, all, r_max, p);
+            if c > best.0 {
+                best = (c, p);
+            }
+        }
+    }
+    if best.0 <= 0.0 {
+        return 0.0;
+    }
+    // Pattern search around the best sample.
+    let (mut value, mut p) = best;
+    let mut h = step / 2.0;
+    while h > d_min * 1e-4 {
+        let mut moved = false;
+        for (dx, dy) in [
+            (1.0, 0.0),
+            (-1.0, 0.0),
+            (0.0, 1.0),
+            (0.0, -1.0),
+            (1.0, 1.0),
+            (-1.0, -1.0),
+            (1.0, -1.0),
+            (-1.0, 1.0),
+        ] {
+            let q = Point::new(p.x + dx * h, p.y + dy * h);
+            let c = clearance(packing, grid, all, r_max, q);
+            if c > value {
+                value = c;
+                p = q;
+                moved = true;
+            }
+        }
+        if !moved {
+            h /= 2.0;
+        }
+    }
+    2.0 * value
 }

@@ -6,7 +6,7 @@ mod metrics;
 mod packing;
 mod settings;
 
-pub use advancing_front::pack;
+pub use advancing_front::{pack, pack_sizes, size_count};
 pub use metrics::{Metrics, measure};
 pub use packing::{PackError, PackStats, Packing};
 pub use settings::{Contacts, FrontRules, IndexKind, PackerSettings};

@@ -1,1 +1,137 @@
-//! Spatial indexes for the neighbour search (to come).
+//! Spatial indexes for the packer's fixed-size range search.
+//!
+//! Items are disk centres with dense ids `0, 1, 2, …` inserted in order. All
+//! indexes keep each bucket as an intrusive singly linked list (`next[id]`),
+//! so an item costs 4 bytes beyond its bucket's head.
+
+mod brute_force;
+mod grid;
+mod mx_quadtree;
+
+pub use brute_force::BruteForce;
+pub use grid::Grid;
+pub use mx_quadtree::MxQuadtree;
+
+use crate::geometry::Point;
+
+/// End-of-list marker in the intrusive bucket lists.
+pub(crate) const NIL: u32 = u32::MAX;
+
+/// A spatial index of points for box queries.
+///
+/// # Behavior
+/// [`visit_box`](SpatialIndex::visit_box) visits every item whose point lies in
+/// the closed box, and may also visit items of the buckets the box touches
+/// (no farther than one bucket side outside it): callers filter by exact
+/// distance anyway, so the index does not test points twice.
+pub trait SpatialIndex {
+    /// An empty index over `min`–`max` with buckets of about `bucket` side (mm).
+    fn new(min: Point, max: Point, bucket: f64) -> Self
+    where
+        Self: Sized;
+    /// Add item `id` at `p` (inside the index's bounds); ids must come in order 0, 1, 2, …
+    fn insert(&mut self, id: u32, p: Point);
+    /// Call `f` with the id of every item in the box `min`–`max` (and perhaps a few beyond).
+    fn visit_box(&self, min: Point, max: Point, f: impl FnMut(u32));
+    /// Bytes held on the heap, for memory reports.
+    fn heap_bytes(&self) -> usize;
+}
+
+/// Buckets `lo..=hi` covered by the interval `[a, b]` along one axis, or `None` if it misses `0..n`.
+#[inline]
+pub(crate) fn bucket_span(
+    a: f64,
+    b: f64,
+    origin: f64,
+    inv_side: f64,
+    n: u32,
+) -> Option<(u32, u32)> {
+    let ka = ((a - origin) * inv_side).floor();
+    let kb = ((b - origin) * inv_side).floor();
+    if kb < 0.0 || ka > (n - 1) as f64 || ka.is_nan() || kb.is_nan() {
+        return None;
+    }
+    Some((ka.max(0.0) as u32, kb.min((n - 1) as f64) as u32))
+}
+
+/// Bucket coordinate of `v` along one axis, clamped to `0..n`.
+#[inline]
+pub(crate) fn bucket_of(v: f64, origin: f64, inv_side: f64, n: u32) -> u32 {
+    let k = ((v - origin) * inv_side).floor();
+    if k <= 0.0 {
+        0
+    } else if k >= (n - 1) as f64 {
+        n - 1
+    } else {
+        k as u32
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_xoshiro::Xoshiro256PlusPlus;
+    use std::collections::BTreeSet;
+
+    /// Compare an index against the brute-force scan on seeded random points and boxes.
+    fn check_against_brute_force<I: SpatialIndex>(bucket: f64, w: f64, h: f64) {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(11);
+        let (min, max) = (Point::new(-1.0, 2.0), Point::new(-1.0 + w, 2.0 + h));
+        let mut index = I::new(min, max, bucket);
+        let mut brute = BruteForce::new(min, max, bucket);
+        let mut pts = Vec::new();
+        // The empty index visits nothing.
+        let mut none = 0;
+        index.visit_box(min, max, |_| none += 1);
+        assert_eq!(none, 0);
+        for id in 0..3000u32 {
+            let p = Point::new(rng.gen_range(min.x..max.x), rng.gen_range(min.y..max.y));
+            index.insert(id, p);
+            brute.insert(id, p);
+            pts.push(p);
+        }
+        for _ in 0..500 {
+            let c = Point::new(
+                rng.gen_range(min.x - 2.0..max.x + 2.0),
+                rng.gen_range(min.y - 2.0..max.y + 2.0),
+            );
+            let half = rng.gen_range(0.0..3.0 * bucket);
+            let (lo, hi) = (
+                Point::new(c.x - half, c.y - half),
+                Point::new(c.x + half, c.y + half),
+            );
+            let mut want = BTreeSet::new();
+            brute.visit_box(lo, hi, |id| {
+                want.insert(id);
+            });
+            let mut got = BTreeSet::new();
+            index.visit_box(lo, hi, |id| {
+                assert!(got.insert(id), "item {id} visited twice");
+            });
+            assert!(got.is_superset(&want), "missed items");
+            let slack = bucket * 1.000001;
+            for &id in &got {
+                let p = pts[id as usize];
+                assert!(
+                    p.x >= lo.x - slack
+                        && p.x <= hi.x + slack
+                        && p.y >= lo.y - slack
+                        && p.y <= hi.y + slack
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn mx_quadtree_matches_brute_force() {
+        check_against_brute_force::<MxQuadtree>(1.3, 40.0, 40.0);
+        check_against_brute_force::<MxQuadtree>(0.7, 8.6, 62.5);
+    }
+
+    #[test]
+    fn grid_matches_brute_force() {
+        check_against_brute_force::<Grid>(1.3, 40.0, 40.0);
+        check_against_brute_force::<Grid>(0.7, 8.6, 62.5);
+    }
+}

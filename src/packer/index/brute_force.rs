@@ -1,0 +1,33 @@
+//! Brute-force scan: the reference the real indexes are tested against.
+
+use super::SpatialIndex;
+use crate::geometry::Point;
+
+/// Every item in one list; a query tests them all. Exact: visits only items in the box.
+#[derive(Debug, Clone, Default)]
+pub struct BruteForce {
+    points: Vec<Point>,
+}
+
+impl SpatialIndex for BruteForce {
+    fn new(_min: Point, _max: Point, _bucket: f64) -> Self {
+        BruteForce::default()
+    }
+
+    fn insert(&mut self, id: u32, p: Point) {
+        debug_assert_eq!(id as usize, self.points.len());
+        self.points.push(p);
+    }
+
+    fn visit_box(&self, min: Point, max: Point, mut f: impl FnMut(u32)) {
+        for (id, p) in self.points.iter().enumerate() {
+            if p.x >= min.x && p.x <= max.x && p.y >= min.y && p.y <= max.y {
+                f(id as u32);
+            }
+        }
+    }
+
+    fn heap_bytes(&self) -> usize {
+        self.points.capacity() * std::mem::size_of::<Point>()
+    }
+}

@@ -1,0 +1,65 @@
+//! Uniform grid: the simplest index, kept to compare the MX quadtree against.
+
+use super::{NIL, SpatialIndex, bucket_of, bucket_span};
+use crate::geometry::Point;
+
+/// A dense grid of square cells over the domain's bounds, each cell a linked list.
+#[derive(Debug, Clone)]
+pub struct Grid {
+    origin: Point,
+    inv_side: f64,
+    nx: u32,
+    ny: u32,
+    head: Vec<u32>,
+    next: Vec<u32>,
+}
+
+impl SpatialIndex for Grid {
+    fn new(min: Point, max: Point, bucket: f64) -> Self {
+        let cells = |extent: f64| ((extent / bucket).ceil() as u32).max(1);
+        let (nx, ny) = (cells(max.x - min.x), cells(max.y - min.y));
+        Grid {
+            origin: min,
+            inv_side: 1.0 / bucket,
+            nx,
+            ny,
+            head: vec![NIL; nx as usize * ny as usize],
+            next: Vec::new(),
+        }
+    }
+
+    fn insert(&mut self, id: u32, p: Point) {
+        debug_assert_eq!(id as usize, self.next.len());
+        let ix = bucket_of(p.x, self.origin.x, self.inv_side, self.nx);
+        let iy = bucket_of(p.y, self.origin.y, self.inv_side, self.ny);
+        let cell = (iy * self.nx + ix) as usize;
+        self.next.push(self.head[cell]);
+        self.head[cell] = id;
+    }
+
+    #[inline]
+    fn visit_box(&self, min: Point, max: Point, mut f: impl FnMut(u32)) {
+        let Some((x0, x1)) = bucket_span(min.x, max.x, self.origin.x, self.inv_side, self.nx)
+        else {
+            return;
+        };
+        let Some((y0, y1)) = bucket_span(min.y, max.y, self.origin.y, self.inv_side, self.ny)
+        else {
+            return;
+        };
+        for iy in y0..=y1 {
+            let row = (iy * self.nx) as usize;
+            for ix in x0..=x1 {
+                let mut id = self.head[row + ix as usize];
+                while id != NIL {
+                    f(id);
+                    id = self.next[id as usize];
+                }
+            }
+        }
+    }
+
+    fn heap_bytes(&self) -> usize {
+        (self.head.capacity() + self.next.capacity()) * 4
+    }
+}

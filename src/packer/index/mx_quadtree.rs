@@ -1,0 +1,129 @@
+//! MX quadtree (Samet): a region quadtree over a square of 2^N × 2^N leaf cells.
+
+use super::{NIL, SpatialIndex, bucket_of, bucket_span};
+use crate::geometry::Point;
+
+/// MX quadtree: regular subdivision at each node's centre down to 2^N leaf
+/// cells per side; only leaves hold data (item lists), so the tree's shape
+/// does not depend on insertion order.
+///
+/// # Performance
+/// Nodes live in one arena and are created on demand, so a long thin domain
+/// (a fracture metres high and millimetres wide) costs nodes only along the
+/// strip it occupies. A query descends only into children whose square meets
+/// the box: a box of a few leaves visits O(N + leaves) nodes.
+#[derive(Debug, Clone)]
+pub struct MxQuadtree {
+    origin: Point,
+    inv_side: f64,
+    /// N: the root square is 2^N leaves on a side.
+    depth: u32,
+    /// Internal nodes; `nodes[0]` is the root. Children are node indices, or
+    /// leaf indices at the last internal level; `NIL` when empty.
+    nodes: Vec<[u32; 4]>,
+    /// Head of each leaf's item list.
+    leaf_head: Vec<u32>,
+    /// Next item in the same leaf.
+    next: Vec<u32>,
+}
+
+impl MxQuadtree {
+    fn leaves_per_side(&self) -> u32 {
+        1 << self.depth
+    }
+}
+
+impl SpatialIndex for MxQuadtree {
+    fn new(min: Point, max: Point, bucket: f64) -> Self {
+        let cells = ((max.x - min.x).max(max.y - min.y) / bucket)
+            .ceil()
+            .max(2.0);
+        let depth = (cells.log2().ceil() as u32).clamp(1, 30);
+        MxQuadtree {
+            origin: min,
+            inv_side: 1.0 / bucket,
+            depth,
+            nodes: vec![[NIL; 4]],
+            leaf_head: Vec::new(),
+            next: Vec::new(),
+        }
+    }
+
+    fn insert(&mut self, id: u32, p: Point) {
+        debug_assert_eq!(id as usize, self.next.len());
+        let n = self.leaves_per_side();
+        let ix = bucket_of(p.x, self.origin.x, self.inv_side, n);
+        let iy = bucket_of(p.y, self.origin.y, self.inv_side, n);
+        let mut node = 0usize;
+        for level in 0..self.depth {
+            let bit = self.depth - 1 - level;
+            let q = (((ix >> bit) & 1) | (((iy >> bit) & 1) << 1)) as usize;
+            let child = self.nodes[node][q];
+            if level + 1 == self.depth {
+                let leaf = if child == NIL {
+                    self.leaf_head.push(NIL);
+                    let leaf = (self.leaf_head.len() - 1) as u32;
+                    self.nodes[node][q] = leaf;
+                    leaf
+                } else {
+                    child
+                } as usize;
+                self.next.push(self.leaf_head[leaf]);
+                self.leaf_head[leaf] = id;
+                return;
+            }
+            node = if child == NIL {
+                self.nodes.push([NIL; 4]);
+                let created = (self.nodes.len() - 1) as u32;
+                self.nodes[node][q] = created;
+                created
+            } else {
+                child
+            } as usize;
+        }
+    }
+
+    #[inline]
+    fn visit_box(&self, min: Point, max: Point, mut f: impl FnMut(u32)) {
+        let n = self.leaves_per_side();
+        let Some((x0, x1)) = bucket_span(min.x, max.x, self.origin.x, self.inv_side, n) else {
+            return;
+        };
+        let Some((y0, y1)) = bucket_span(min.y, max.y, self.origin.y, self.inv_side, n) else {
+            return;
+        };
+        // Depth-first over (node, level, lower-left leaf of the node's square).
+        let mut stack = [(0u32, 0u32, 0u32, 0u32); 128];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let (node, level, bx, by) = stack[top];
+            let half = 1u32 << (self.depth - level - 1);
+            let leaf_level = level + 1 == self.depth;
+            for (q, &child) in self.nodes[node as usize].iter().enumerate() {
+                if child == NIL {
+                    continue;
+                }
+                let cx = bx + (q as u32 & 1) * half;
+                let cy = by + (q as u32 >> 1) * half;
+                if cx > x1 || cx + half - 1 < x0 || cy > y1 || cy + half - 1 < y0 {
+                    continue;
+                }
+                if leaf_level {
+                    let mut id = self.leaf_head[child as usize];
+                    while id != NIL {
+                        f(id);
+                        id = self.next[id as usize];
+                    }
+                } else {
+                    stack[top] = (child, level + 1, cx, cy);
+                    top += 1;
+                }
+            }
+        }
+    }
+
+    fn heap_bytes(&self) -> usize {
+        self.nodes.capacity() * 16 + (self.leaf_head.capacity() + self.next.capacity()) * 4
+    }
+}
