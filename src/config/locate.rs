@@ -33,10 +33,16 @@ pub(crate) fn from_toml_error(err: &toml::de::Error, text: &str, origin: &str) -
             .map(|n| n.path.as_str())
             .next()
             .unwrap_or("");
+        // Every required top-level key is a table.
+        let message = if table.is_empty() {
+            format!("missing table [{field}]")
+        } else {
+            "missing key".to_owned()
+        };
         return ConfigError::Schema {
             at,
             key: join(table, field),
-            message: "missing key".to_owned(),
+            message,
         };
     }
     let key = innermost(&nodes, span.start).unwrap_or("").to_owned();
