@@ -47,6 +47,8 @@ impl fmt::Display for Location {
 /// Every variant knows its [`Location`] and, but for some syntax errors, the
 /// key path at fault (`domain.width`, `grading.table[3]`). `Display` gives one
 /// line: `configs/bad.toml:4:9: domain.width: must be a positive finite number, got -1`.
+/// The message is complete in itself: wrapped errors are part of it, not a
+/// separate `source()`.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum ConfigError {
@@ -125,35 +127,35 @@ pub enum ConfigError {
         reason: String,
     },
     /// The domain constructor refused the values.
-    #[error("{at}: {key}: {source}")]
+    #[error("{at}: {key}: {error}")]
     Geometry {
         /// Where.
         at: Location,
         /// Key path at fault.
         key: String,
         /// The geometry error.
-        source: GeometryError,
+        error: GeometryError,
     },
     /// The grading constructor refused the values.
-    #[error("{at}: {key}: {source}")]
+    #[error("{at}: {key}: {error}")]
     Grading {
         /// Where.
         at: Location,
         /// Key path at fault.
         key: String,
         /// The grading error.
-        source: GradingError,
+        error: GradingError,
     },
     /// Domain and grading are valid apiece but the scene cannot be packed
     /// (domain narrower than the smallest disk, or over the memory limit).
-    #[error("{at}: {key}: {source}{hint}")]
+    #[error("{at}: {key}: {error}{hint}")]
     Scene {
         /// Where.
         at: Location,
         /// Key path at fault.
         key: String,
         /// Why the scene cannot be packed.
-        source: PackError,
+        error: PackError,
         /// What to change, starting with "; " (may be empty).
         hint: String,
     },

@@ -440,7 +440,7 @@ fn builds_self_crossing_polygon_refused() {
         matches!(
             e,
             ConfigError::Geometry {
-                source: crate::geometry::GeometryError::SelfIntersecting { .. },
+                error: crate::geometry::GeometryError::SelfIntersecting { .. },
                 ..
             }
         ),

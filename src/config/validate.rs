@@ -101,10 +101,10 @@ impl GradingPlan {
             Curve::Constant(d) => Grading::constant(*d),
             Curve::Preset(name) => Grading::preset(name, interpolation, basis),
         }
-        .map_err(|source| ConfigError::Grading {
+        .map_err(|error| ConfigError::Grading {
             at: self.at,
             key: self.key,
-            source,
+            error,
         })
     }
 }
@@ -339,7 +339,7 @@ impl Validator<'_> {
     }
 
     /// Wrap a domain constructor's error with the key and position it concerns.
-    fn geometry_error(&self, source: GeometryError, d: &RawDomain) -> ConfigError {
+    fn geometry_error(&self, error: GeometryError, d: &RawDomain) -> ConfigError {
         let vertex = |i: usize| {
             d.vertices
                 .as_ref()
@@ -347,7 +347,7 @@ impl Validator<'_> {
                 .map(Spanned::span)
         };
         let whole_vertices = d.vertices.as_ref().map(Spanned::span);
-        let place = match &source {
+        let place = match &error {
             GeometryError::BadSize { what, .. } => size_key_spans(d)
                 .into_iter()
                 .find(|(k, _)| what.contains(k))
@@ -364,7 +364,7 @@ impl Validator<'_> {
         ConfigError::Geometry {
             at: self.at(&span),
             key,
-            source,
+            error,
         }
     }
 
@@ -502,7 +502,7 @@ impl Validator<'_> {
         Err(ConfigError::Scene {
             at: self.at(&width_key.span),
             key: width_key.key.clone(),
-            source: PackError::DomainTooNarrow { inscribed, d_min },
+            error: PackError::DomainTooNarrow { inscribed, d_min },
             hint: String::new(),
         })
     }
@@ -535,7 +535,7 @@ impl Validator<'_> {
         Err(ConfigError::Scene {
             at: self.at(&blame.span),
             key: blame.key,
-            source: PackError::TooLarge {
+            error: PackError::TooLarge {
                 disks: bytes / PEAK_BYTES_PER_DISK,
                 estimate_mb,
                 limit_mb,

@@ -1,4 +1,7 @@
 //! Why an output could not be written.
+//!
+//! `Display` gives this layer's part of the message; the I/O cause is the
+//! error's `source()` (printed after it by the CLI).
 
 use std::io;
 use std::path::PathBuf;
@@ -8,7 +11,7 @@ use std::path::PathBuf;
 #[non_exhaustive]
 pub enum OutputError {
     /// The output directory could not be created.
-    #[error("cannot create directory {}: {source}", .path.display())]
+    #[error("cannot create directory {}", .path.display())]
     CreateDir {
         /// The directory.
         path: PathBuf,
@@ -16,7 +19,7 @@ pub enum OutputError {
         source: io::Error,
     },
     /// A file could not be written (its temporary file was removed).
-    #[error("cannot write {}: {source}", .path.display())]
+    #[error("cannot write {}", .path.display())]
     Write {
         /// The file that was to be written.
         path: PathBuf,
@@ -24,7 +27,7 @@ pub enum OutputError {
         source: io::Error,
     },
     /// A written temporary file could not be renamed into place.
-    #[error("cannot replace {}: {source}", .path.display())]
+    #[error("cannot replace {}", .path.display())]
     Rename {
         /// The file that was to be replaced.
         path: PathBuf,
@@ -32,9 +35,9 @@ pub enum OutputError {
         source: io::Error,
     },
     /// The CSV writer failed.
-    #[error("cannot format CSV: {0}")]
+    #[error("cannot format CSV")]
     Csv(#[from] ::csv::Error),
     /// The JSON serialiser failed.
-    #[error("cannot format JSON: {0}")]
+    #[error("cannot format JSON")]
     Json(#[from] serde_json::Error),
 }

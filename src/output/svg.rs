@@ -13,7 +13,7 @@ pub const PACKING_SVG: &str = "packing.svg";
 const WIDTH_PX: f64 = 800.0;
 /// Segments used to draw a circular domain.
 const CIRCLE_SEGMENTS: usize = 256;
-/// Margin around the drawing, as a fraction of its larger side.
+/// Margin around the drawing, as a fraction of its shorter side.
 const MARGIN: f64 = 0.03;
 /// Stroke width in pixels.
 const STROKE_PX: f64 = 0.5;
@@ -31,7 +31,7 @@ const DARK: [f64; 3] = [8.0, 48.0, 107.0];
 pub fn packing_svg(packing: &Packing, grading: &Grading) -> String {
     let outline = packing.domain.outline(CIRCLE_SEGMENTS);
     let (lo, hi) = extent(&outline, packing);
-    let margin = MARGIN * (hi.x - lo.x).max(hi.y - lo.y);
+    let margin = MARGIN * (hi.x - lo.x).min(hi.y - lo.y);
     let (x0, y0) = (lo.x - margin, lo.y - margin);
     let (w, h) = (hi.x - lo.x + 2.0 * margin, hi.y - lo.y + 2.0 * margin);
     let height_px = (WIDTH_PX * h / w).round();
@@ -143,6 +143,55 @@ fn num(v: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::{Domain, WallMode};
+    use crate::packer::PackStats;
+
+    fn packing(boundary: Vec<Disk>) -> Packing {
+        Packing {
+            domain: Domain::rectangle(10.0, 20.0).expect("valid rectangle"),
+            walls: WallMode::Exact,
+            boundary,
+            disks: vec![Disk::new(1.0, 1.0, 1.0), Disk::new(5.0, 18.0, 2.0)],
+            stats: PackStats::default(),
+        }
+    }
+
+    #[test]
+    fn draws_to_scale_with_y_up() {
+        let grading = Grading::uniform(2.0, 4.0, crate::grading::Basis::Number).expect("grading");
+        let svg = packing_svg(&packing(Vec::new()), &grading);
+        // Margin 3 % of the shorter side (10 mm): 0.3 mm.
+        assert!(
+            svg.contains(r#"width="800" height="1555" viewBox="-0.3 -0.3 10.6 20.6""#),
+            "{svg}"
+        );
+        // y = 1 is drawn at 20 − 1 = 19, the smallest disk lightest, the largest darkest.
+        assert!(
+            svg.contains(r##"<circle cx="1" cy="19" r="1" fill="#c6dbef"/>"##),
+            "{svg}"
+        );
+        assert!(
+            svg.contains(r##"<circle cx="5" cy="2" r="2" fill="#08306b"/>"##),
+            "{svg}"
+        );
+        assert!(
+            !svg.contains("#d9d9d9"),
+            "no wall-disk group without wall disks"
+        );
+        assert_eq!(svg, packing_svg(&packing(Vec::new()), &grading));
+    }
+
+    #[test]
+    fn draws_wall_disks_in_grey() {
+        let grading = Grading::constant(2.0).expect("grading");
+        let svg = packing_svg(&packing(vec![Disk::new(0.0, 0.0, 0.5)]), &grading);
+        assert!(svg.contains(r##"<g fill="#d9d9d9""##), "{svg}");
+        // The wall disk widens the box to y = −0.5, so y = 0 is drawn at 19.5.
+        assert!(
+            svg.contains(r#"<circle cx="0" cy="19.5" r="0.5"/>"#),
+            "{svg}"
+        );
+    }
 
     #[test]
     fn numbers_are_short_and_stable() {
