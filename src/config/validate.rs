@@ -1,11 +1,12 @@
 //! Stage two: check the meaning of a [`RawConfig`] and build the [`Scene`].
 //!
-//! Checks run in file order of the tables: domain, grading, packer, limits,
-//! then the scene as a whole (domain wide enough, memory within the limit).
-//! Values are checked here first (positive, finite, known names, keys that
-//! apply to the shape); the structure of polygons and grading tables is left
-//! to [`Domain`] and [`Grading`], whose typed errors are wrapped with the key
-//! and position.
+//! Three steps, the first fault ends the run:
+//! 1. the values of `[domain]`, `[grading]`, `[packer]`, `[limits]`, in that
+//!    order: positive, finite, known names, keys that apply to the shape;
+//! 2. the [`Domain`] and [`Grading`] constructors, which check the structure
+//!    of polygons and grading tables; their typed errors are wrapped with
+//!    the key and position;
+//! 3. the scene as a whole: domain wide enough, memory within the limit.
 
 use std::ops::Range;
 
