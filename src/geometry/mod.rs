@@ -2,6 +2,8 @@
 
 mod disk;
 mod domain;
+mod inscribed;
+mod polygon;
 pub mod predicates;
 
 pub use disk::{Disk, Point};

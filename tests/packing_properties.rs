@@ -1,0 +1,139 @@
+//! Invariants of every packing, over a few hundred random scenes (proptest):
+//! zero overlaps, every disk inside, termination, the domain filled.
+
+mod common;
+
+use gapack::geometry::predicates::OVERLAP_REL;
+use gapack::{
+    Contacts, Domain, FrontRules, Grading, IndexKind, PackerSettings, Point, Scene, WallMode,
+    measure, pack,
+};
+use proptest::prelude::*;
+
+/// Largest empty circle allowed, in largest diameters, for the robust rules.
+const MAX_HOLE_DMAX: f64 = 2.0;
+
+fn domain_strategy() -> impl Strategy<Value = Domain> {
+    prop_oneof![
+        (4.0..40.0f64, 4.0..40.0f64).prop_map(|(w, h)| Domain::rectangle(w, h).unwrap()),
+        (3.0..18.0f64, -5.0..5.0f64).prop_map(|(r, x)| Domain::circle(Point::new(x, 1.0), r).unwrap()),
+        (4.0..30.0f64, 4.0..30.0f64, 4.0..30.0f64)
+            .prop_map(|(b, t, h)| Domain::trapezoid(b, t, h).unwrap()),
+        // Star-shaped polygons: simple, usually concave.
+        (5usize..10, 8.0..20.0f64, any::<u64>()).prop_map(|(n, r, s)| {
+            let mut angles: Vec<f64> = (0..n)
+                .map(|i| (i as f64 + 0.2 + 0.6 * frac(s, i)) * std::f64::consts::TAU / n as f64)
+                .collect();
+            angles.sort_by(f64::total_cmp);
+            let v: Vec<Point> = angles
+                .iter()
+                .enumerate()
+                .map(|(i, a)| {
+                    let rr = r * (0.55 + 0.45 * frac(s, i + 17));
+                    Point::new(rr * a.cos(), rr * a.sin())
+                })
+                .collect();
+            Domain::polygon(&v).unwrap()
+        }),
+    ]
+}
+
+/// A deterministic number in [0, 1) from a seed and an index.
+fn frac(s: u64, i: usize) -> f64 {
+    let x = s.wrapping_add(i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    ((x ^ (x >> 29)).wrapping_mul(0xBF58_476D_1CE4_E5B9) >> 11) as f64 / (1u64 << 53) as f64
+}
+
+fn grading_strategy() -> impl Strategy<Value = Grading> {
+    prop_oneof![
+        (0.6..2.0f64).prop_map(|d| Grading::constant(d).unwrap()),
+        (0.4..1.5f64, 1.0..10.0f64)
+            .prop_map(|(a, k)| Grading::uniform(a, a * k, Default::default()).unwrap()),
+        Just(common::table_3_4()),
+        // A wide three-part grading shaped like the thesis' Table 4.1.
+        (0.3..0.8f64).prop_map(|a| {
+            let t = [(a, 0.0), (2.0 * a, 10.0), (2.0 * a, 90.0), (5.0 * a, 100.0)];
+            Grading::from_table(&t, Default::default(), Default::default()).unwrap()
+        }),
+    ]
+}
+
+fn scene_strategy() -> impl Strategy<Value = Scene> {
+    (
+        domain_strategy(),
+        grading_strategy(),
+        prop_oneof![Just(WallMode::Exact), Just(WallMode::Disks)],
+        prop_oneof![Just(Contacts::Two), Just(Contacts::One)],
+        prop_oneof![Just(IndexKind::MxQuadtree), Just(IndexKind::Grid)],
+        prop_oneof![3 => Just(FrontRules::Robust), 1 => Just(FrontRules::Thesis)],
+        any::<u64>(),
+    )
+        .prop_filter("the largest disk must fit", |(d, g, ..)| 2.0 * d.inradius() > 2.0 * g.d_max())
+        .prop_map(|(domain, grading, walls, contacts, index, rules, seed)| Scene {
+            domain,
+            walls,
+            wall_disk_diameter: None,
+            grading,
+            packer: PackerSettings { index, contacts, rules },
+            seed,
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 400, ..ProptestConfig::default() })]
+
+    #[test]
+    fn packings_have_no_overlap_stay_inside_and_fill(scene in scene_strategy()) {
+        let packing = pack(&scene).unwrap();
+        let m = measure(&packing, &scene.grading);
+        let d_max = scene.grading.d_max();
+        prop_assert!(m.particles > 0);
+        prop_assert!(m.max_overlap <= OVERLAP_REL, "overlap {}", m.max_overlap);
+        prop_assert!(m.min_wall_clearance >= -OVERLAP_REL * d_max, "outside by {}", m.min_wall_clearance);
+        prop_assert!(m.porosity > 0.0 && m.porosity < 1.0);
+        if scene.packer.rules == FrontRules::Robust {
+            prop_assert!(
+                m.largest_hole <= MAX_HOLE_DMAX * d_max,
+                "hole {} mm = {} d_max", m.largest_hole, m.largest_hole / d_max
+            );
+        }
+    }
+}
+
+#[test]
+fn same_seed_same_packing_other_seed_other_packing() {
+    let s = |seed| common::scene(Domain::rectangle(30.0, 30.0).unwrap(), Grading::uniform(1.0, 3.0, Default::default()).unwrap(), WallMode::Exact, seed);
+    let (a, b, c) = (pack(&s(5)).unwrap(), pack(&s(5)).unwrap(), pack(&s(6)).unwrap());
+    assert_eq!(a.disks, b.disks);
+    assert_ne!(a.disks, c.disks);
+}
+
+#[test]
+fn quadtree_and_grid_give_the_same_packing() {
+    let mut s = common::scene(Domain::rectangle(40.0, 25.0).unwrap(), common::table_3_4(), WallMode::Disks, 3);
+    let a = pack(&s).unwrap();
+    s.packer.index = IndexKind::Grid;
+    let b = pack(&s).unwrap();
+    assert_eq!(a.disks, b.disks);
+}
+
+/// The thesis' AP-5 weak spot: with the wide Table 4.1 grading the thesis' list
+/// rules can stop with part of the domain empty; the robust rules fill it.
+#[test]
+fn robust_rules_fill_where_thesis_rules_stop_early() {
+    let t = [(1.2, 0.0), (2.4, 10.0), (2.4, 90.0), (6.0, 100.0)];
+    let g = Grading::from_table(&t, Default::default(), Default::default()).unwrap();
+    let mut worst_thesis: f64 = 0.0;
+    let mut worst_robust: f64 = 0.0;
+    for seed in 0..8 {
+        let mut s = common::scene(Domain::rectangle(40.0, 40.0).unwrap(), g.clone(), WallMode::Exact, seed);
+        let robust = measure(&pack(&s).unwrap(), &g);
+        s.packer.rules = FrontRules::Thesis;
+        let thesis = measure(&pack(&s).unwrap(), &g);
+        worst_thesis = worst_thesis.max(thesis.largest_hole);
+        worst_robust = worst_robust.max(robust.largest_hole);
+        assert!(robust.psd_ks < 0.1, "robust rules bent the grading: KS {}", robust.psd_ks);
+    }
+    assert!(worst_robust <= MAX_HOLE_DMAX * 6.0, "robust hole {worst_robust}");
+    assert!(worst_thesis > worst_robust, "thesis {worst_thesis} vs robust {worst_robust}");
+}
