@@ -1,1 +1,20 @@
-//! TOML configuration (to come).
+//! TOML configuration: raw serde stage, then validation into a [`crate::Scene`].
+//!
+//! No I/O here: [`parse`] takes the text and a name for its origin. Every
+//! fault is one [`ConfigError`] naming the origin, line, column and key path.
+//! The keys are documented in `docs/CONFIG.md`.
+
+mod error;
+mod locate;
+mod names;
+mod parse;
+mod raw;
+mod validate;
+
+#[cfg(test)]
+mod tests;
+
+pub use error::{ConfigError, Location};
+pub use names::{ConfigName, METHOD};
+pub use parse::{DEFAULT_CONFIG, DEFAULT_ORIGIN, parse};
+pub use validate::DEFAULT_MAX_MEMORY_MB;

@@ -1,1 +1,19 @@
-//! Writers (to come).
+//! Writers: the only library module that touches files.
+//!
+//! One file per format; each renders to memory first, and
+//! [`write_pack_outputs`] then writes the whole set atomically (all temporary
+//! files first, then all renames), so a failure leaves no new output behind.
+
+mod atomic;
+mod csv;
+mod error;
+mod json;
+mod run;
+mod svg;
+
+pub use atomic::{write_all_atomic, write_atomic};
+pub use csv::{PACKING_CSV, packing_csv};
+pub use error::OutputError;
+pub use json::{SUMMARY_JSON, summary_json};
+pub use run::{RunInfo, write_pack_outputs};
+pub use svg::{PACKING_SVG, packing_svg};

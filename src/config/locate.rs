@@ -1,0 +1,161 @@
+//! Turning a TOML parser or serde error into one [`ConfigError`] naming the key at fault.
+
+use std::ops::Range;
+
+use toml::Spanned;
+use toml::de::{DeTable, DeValue};
+
+use super::error::{ConfigError, Location};
+
+/// The config error for a failed `toml::from_str`, with line, column and key path.
+pub(crate) fn from_toml_error(err: &toml::de::Error, text: &str, origin: &str) -> ConfigError {
+    let span = err.span().unwrap_or(0..0);
+    let at = Location::at(origin, text, span.start);
+    let (tree, _) = DeTable::parse_recoverable(text);
+    let mut nodes = Vec::new();
+    collect_table(tree.get_ref(), "", &mut nodes);
+    let message = err.message();
+
+    if DeTable::parse(text).is_err() {
+        return ConfigError::Syntax {
+            at,
+            key: innermost(&nodes, span.start)
+                .map(str::to_owned)
+                .or_else(|| key_on_line(text, span.start, &nodes)),
+            message: message.to_owned(),
+        };
+    }
+    if let Some(field) = quoted_after(message, "missing field ") {
+        // The span is the table that lacks the key (empty at the top level).
+        let table = nodes
+            .iter()
+            .filter(|n| n.is_table && !span.is_empty() && n.span.start == span.start)
+            .map(|n| n.path.as_str())
+            .next()
+            .unwrap_or("");
+        // Every required top-level key is a table.
+        let message = if table.is_empty() {
+            format!("missing table [{field}]")
+        } else {
+            "missing key".to_owned()
+        };
+        return ConfigError::Schema {
+            at,
+            key: join(table, field),
+            message,
+        };
+    }
+    let key = innermost(&nodes, span.start).unwrap_or("").to_owned();
+    let message = match quoted_after(message, "unknown field ") {
+        Some(field) => {
+            let rest = message
+                .split_once(", ")
+                .map_or(String::new(), |(_, r)| format!(", {r}"));
+            format!("unknown key `{field}`{rest}")
+        }
+        None => plain_types(message),
+    };
+    ConfigError::Schema { at, key, message }
+}
+
+/// A key or value of the parsed tree, with its path (`domain.vertices[2]`).
+struct Node {
+    span: Range<usize>,
+    path: String,
+    is_table: bool,
+}
+
+fn collect_table(table: &DeTable<'_>, path: &str, out: &mut Vec<Node>) {
+    for (key, value) in table.iter() {
+        let path = join(path, key.get_ref());
+        out.push(Node {
+            span: key.span(),
+            path: path.clone(),
+            is_table: false,
+        });
+        collect_value(value, path, out);
+    }
+}
+
+fn collect_value(value: &Spanned<DeValue<'_>>, path: String, out: &mut Vec<Node>) {
+    match value.get_ref() {
+        DeValue::Table(table) => collect_table(table, &path, out),
+        DeValue::Array(items) => {
+            for (i, item) in items.iter().enumerate() {
+                collect_value(item, format!("{path}[{i}]"), out);
+            }
+        }
+        _ => {}
+    }
+    out.push(Node {
+        span: value.span(),
+        path,
+        is_table: matches!(value.get_ref(), DeValue::Table(_)),
+    });
+}
+
+/// The path of the smallest key or value whose span holds `pos` (end included,
+/// so an error just after a value still names it).
+fn innermost(nodes: &[Node], pos: usize) -> Option<&str> {
+    nodes
+        .iter()
+        .filter(|n| n.span.start <= pos && pos <= n.span.end)
+        .min_by_key(|n| n.span.end - n.span.start)
+        .map(|n| n.path.as_str())
+}
+
+/// For an error the parsed tree does not cover (a duplicate key, say): the
+/// bare key written at the start of the error's line, under the last table
+/// header before it.
+fn key_on_line(text: &str, pos: usize, nodes: &[Node]) -> Option<String> {
+    let before = text.get(..pos)?;
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    let line = text.get(line_start..)?.lines().next()?;
+    let key = line.split_once('=')?.0.trim();
+    let bare = |c: char| c.is_ascii_alphanumeric() || "_-.".contains(c);
+    if key.is_empty() || !key.chars().all(bare) {
+        return None;
+    }
+    let header = nodes
+        .iter()
+        .filter(|n| n.is_table && n.span.end <= line_start)
+        .filter(|n| text.get(n.span.start..).is_some_and(|t| t.starts_with('[')))
+        .max_by_key(|n| n.span.start)
+        .map_or("", |n| n.path.as_str());
+    Some(join(header, key))
+}
+
+fn join(path: &str, key: &str) -> String {
+    if path.is_empty() {
+        key.to_owned()
+    } else {
+        format!("{path}.{key}")
+    }
+}
+
+/// `x` in a message `"{prefix}`x`..."`.
+fn quoted_after<'m>(message: &'m str, prefix: &str) -> Option<&'m str> {
+    let rest = message.strip_prefix(prefix)?.strip_prefix('`')?;
+    rest.split_once('`').map(|(name, _)| name)
+}
+
+/// serde's Rust type names in words an engineer reads.
+fn plain_types(message: &str) -> String {
+    const WORDS: [(&str, &str); 7] = [
+        ("expected f64", "expected a number"),
+        ("expected u64", "expected a whole number >= 0"),
+        ("expected i64", "expected a whole number"),
+        ("expected a sequence", "expected an array"),
+        ("invalid type: sequence", "invalid type: array"),
+        ("invalid type: map", "invalid type: table"),
+        ("expected struct ", "expected a table, not "),
+    ];
+    let mut message = message.to_owned();
+    for (from, to) in WORDS {
+        message = message.replace(from, to);
+    }
+    if let Some(i) = message.find("expected a table, not ") {
+        message.truncate(i + "expected a table".len());
+    }
+    message
+}

@@ -1,0 +1,196 @@
+//! The names users write for each choice, in one table per choice (LAMMPS style):
+//! the parser looks names up here, and reports print them from here.
+
+use crate::geometry::{Shape, WallMode};
+use crate::grading::{Basis, Interpolation};
+use crate::packer::{Contacts, FrontRules, IndexKind};
+
+/// The packing method; `packer.method` must name it. It is the only one so far.
+pub const METHOD: &str = "advancing-front";
+
+/// A table of the names of one choice.
+pub(crate) struct Names<T: 'static> {
+    /// What is being named, for messages ("shape", "index").
+    pub what: &'static str,
+    /// Name as written in the config, value; the first entry is the default.
+    pub entries: &'static [(&'static str, T)],
+}
+
+impl<T: Copy + PartialEq> Names<T> {
+    /// The value of `name`, if it is one of the table's.
+    pub fn get(&self, name: &str) -> Option<T> {
+        self.entries.iter().find(|(n, _)| *n == name).map(|e| e.1)
+    }
+
+    /// The name of `value`.
+    pub fn name_of(&self, value: T) -> &'static str {
+        self.entries
+            .iter()
+            .find(|(_, v)| *v == value)
+            .map_or("unnamed", |e| e.0)
+    }
+
+    /// All valid names, in table order.
+    pub fn valid(&self) -> Box<[&'static str]> {
+        self.entries.iter().map(|e| e.0).collect()
+    }
+}
+
+/// Kinds of domain shape, without their sizes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum ShapeKind {
+    Rectangle,
+    Polygon,
+    Circle,
+    Trapezoid,
+}
+
+impl ShapeKind {
+    /// The keys of `[domain]` that give this shape its size, required ones first.
+    pub fn size_keys(self) -> (&'static [&'static str], &'static [&'static str]) {
+        match self {
+            ShapeKind::Rectangle => (&["width", "height"], &[]),
+            ShapeKind::Polygon => (&["vertices"], &[]),
+            ShapeKind::Circle => (&["radius"], &["center"]),
+            ShapeKind::Trapezoid => (&["bottom", "top", "height"], &[]),
+        }
+    }
+}
+
+pub(crate) const SHAPES: Names<ShapeKind> = Names {
+    what: "shape",
+    entries: &[
+        ("rectangle", ShapeKind::Rectangle),
+        ("polygon", ShapeKind::Polygon),
+        ("circle", ShapeKind::Circle),
+        ("trapezoid", ShapeKind::Trapezoid),
+    ],
+};
+
+pub(crate) const WALLS: Names<WallMode> = Names {
+    what: "wall model",
+    entries: &[("exact", WallMode::Exact), ("disks", WallMode::Disks)],
+};
+
+pub(crate) const INTERPOLATIONS: Names<Interpolation> = Names {
+    what: "interpolation",
+    entries: &[
+        ("log", Interpolation::Log),
+        ("linear", Interpolation::Linear),
+    ],
+};
+
+pub(crate) const BASES: Names<Basis> = Names {
+    what: "basis",
+    entries: &[
+        ("number", Basis::Number),
+        ("mass", Basis::Mass),
+        ("mass3d", Basis::Mass3d),
+    ],
+};
+
+pub(crate) const METHODS: Names<()> = Names {
+    what: "method",
+    entries: &[(METHOD, ())],
+};
+
+pub(crate) const INDEXES: Names<IndexKind> = Names {
+    what: "index",
+    entries: &[
+        ("mx-quadtree", IndexKind::MxQuadtree),
+        ("grid", IndexKind::Grid),
+    ],
+};
+
+pub(crate) const RULES: Names<FrontRules> = Names {
+    what: "front rules",
+    entries: &[
+        ("robust", FrontRules::Robust),
+        ("thesis", FrontRules::Thesis),
+    ],
+};
+
+/// `packer.contacts` is written as a number.
+pub(crate) const CONTACTS: Names<Contacts> = Names {
+    what: "contact count",
+    entries: &[("2", Contacts::Two), ("1", Contacts::One)],
+};
+
+/// The name a choice is written with in a config (`"mx-quadtree"`, `"exact"`, `"2"`).
+///
+/// Reports use it so that they speak the user's language.
+pub trait ConfigName {
+    /// The config name of this value.
+    fn config_name(&self) -> &'static str;
+}
+
+impl ConfigName for WallMode {
+    fn config_name(&self) -> &'static str {
+        WALLS.name_of(*self)
+    }
+}
+
+impl ConfigName for Interpolation {
+    fn config_name(&self) -> &'static str {
+        INTERPOLATIONS.name_of(*self)
+    }
+}
+
+impl ConfigName for Basis {
+    fn config_name(&self) -> &'static str {
+        BASES.name_of(*self)
+    }
+}
+
+impl ConfigName for IndexKind {
+    fn config_name(&self) -> &'static str {
+        INDEXES.name_of(*self)
+    }
+}
+
+impl ConfigName for FrontRules {
+    fn config_name(&self) -> &'static str {
+        RULES.name_of(*self)
+    }
+}
+
+impl ConfigName for Contacts {
+    fn config_name(&self) -> &'static str {
+        CONTACTS.name_of(*self)
+    }
+}
+
+impl ConfigName for Shape {
+    fn config_name(&self) -> &'static str {
+        SHAPES.name_of(match self {
+            Shape::Rectangle { .. } => ShapeKind::Rectangle,
+            Shape::Polygon { .. } => ShapeKind::Polygon,
+            Shape::Circle { .. } => ShapeKind::Circle,
+            Shape::Trapezoid { .. } => ShapeKind::Trapezoid,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip() {
+        for (name, value) in INDEXES.entries {
+            assert_eq!(INDEXES.get(name), Some(*value));
+            assert_eq!(value.config_name(), *name);
+        }
+        assert_eq!(Contacts::One.config_name(), "1");
+        assert_eq!(WallMode::Disks.config_name(), "disks");
+        assert_eq!(Basis::Mass3d.config_name(), "mass3d");
+        assert_eq!(FrontRules::Thesis.config_name(), "thesis");
+        assert_eq!(Interpolation::Linear.config_name(), "linear");
+        assert_eq!(SHAPES.get("hexagon"), None);
+        let circle = Shape::Circle {
+            center: crate::geometry::Point::new(0.0, 0.0),
+            radius: 1.0,
+        };
+        assert_eq!(circle.config_name(), "circle");
+    }
+}

@@ -1,0 +1,34 @@
+//! The entry point: TOML text in, validated [`Scene`] or one [`ConfigError`] out.
+
+use super::error::ConfigError;
+use super::locate::from_toml_error;
+use super::raw::RawConfig;
+use super::validate::Validator;
+use crate::Scene;
+
+/// The embedded default scene: the thesis' proppant fracture (8.6 × 62.5 mm,
+/// grading of its Table 3.4, exact walls, seed 0).
+pub const DEFAULT_CONFIG: &str = include_str!("../../configs/default.toml");
+
+/// What [`parse`] is told the origin is when the text is [`DEFAULT_CONFIG`].
+pub const DEFAULT_ORIGIN: &str = "embedded default";
+
+/// Parse and validate a config.
+///
+/// `origin` names the text in error messages (a file path, or a label such
+/// as [`DEFAULT_ORIGIN`]); nothing is read from disk.
+///
+/// # Errors
+/// The first fault found, with `origin:line:column` and the key path, e.g.
+/// `bad.toml:4:9: domain.width: must be a positive finite number, got -1`.
+///
+/// # Example
+/// ```no_run
+/// let scene = gapack::config::parse(gapack::config::DEFAULT_CONFIG, "embedded default")?;
+/// assert_eq!(scene.seed, 0);
+/// # Ok::<(), gapack::config::ConfigError>(())
+/// ```
+pub fn parse(text: &str, origin: &str) -> Result<Scene, ConfigError> {
+    let raw: RawConfig = toml::from_str(text).map_err(|e| from_toml_error(&e, text, origin))?;
+    Validator { text, origin }.scene(raw)
+}

@@ -1,0 +1,66 @@
+//! Stage one: the config as written, every value with its place in the text.
+//!
+//! Only TOML syntax, key names and value types are checked here (by serde);
+//! meaning is checked in `validate.rs`.
+
+use serde::Deserialize;
+use toml::Spanned;
+
+/// A pair of numbers such as `[x, y]` or a grading row `[d, passing]`.
+pub(crate) type Pair = Spanned<[f64; 2]>;
+
+/// The whole file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawConfig {
+    pub seed: Option<Spanned<u64>>,
+    pub domain: Spanned<RawDomain>,
+    pub grading: Spanned<RawGrading>,
+    pub packer: Option<RawPacker>,
+    pub limits: Option<RawLimits>,
+}
+
+/// `[domain]`: one shape and the keys that size it, plus the wall model.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawDomain {
+    pub shape: Spanned<String>,
+    pub width: Option<Spanned<f64>>,
+    pub height: Option<Spanned<f64>>,
+    pub vertices: Option<Spanned<Vec<Pair>>>,
+    pub radius: Option<Spanned<f64>>,
+    pub center: Option<Pair>,
+    pub bottom: Option<Spanned<f64>>,
+    pub top: Option<Spanned<f64>>,
+    pub walls: Option<Spanned<String>>,
+    pub wall_disk: Option<Spanned<f64>>,
+}
+
+/// `[grading]`: exactly one of `table`, `uniform`, `constant`, `preset`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawGrading {
+    pub table: Option<Spanned<Vec<Pair>>>,
+    pub uniform: Option<Pair>,
+    pub constant: Option<Spanned<f64>>,
+    pub preset: Option<Spanned<String>>,
+    pub interpolation: Option<Spanned<String>>,
+    pub basis: Option<Spanned<String>>,
+}
+
+/// `[packer]`: method and its settings.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawPacker {
+    pub method: Option<Spanned<String>>,
+    pub index: Option<Spanned<String>>,
+    pub contacts: Option<Spanned<i64>>,
+    pub rules: Option<Spanned<String>>,
+}
+
+/// `[limits]`: guards against scenes too large for the machine.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawLimits {
+    pub max_memory_mb: Option<Spanned<f64>>,
+}

@@ -1,0 +1,489 @@
+//! Tests of config parsing and validation: one per rule, checking the whole
+//! one-line message (origin, line, column, key path, reason).
+//!
+//! The tests marked "builds" call the `Domain`/`Grading` constructors and the
+//! scene checks; the others fail before any of them is called.
+
+use super::*;
+use crate::geometry::{Point, Shape, WallMode};
+use crate::grading::Basis;
+use crate::packer::{Contacts, FrontRules, IndexKind};
+
+/// The error `text` gives; fails the test if it parses.
+fn err(text: &str) -> ConfigError {
+    match parse(text, "t.toml") {
+        Err(e) => e,
+        Ok(scene) => panic!("accepted:\n{text}\nas {scene:?}"),
+    }
+}
+
+/// Asserts the full message of the error `text` gives.
+fn fails_with(text: &str, message: &str) {
+    assert_eq!(err(text).to_string(), message, "for:\n{text}");
+}
+
+/// A rectangle scene with `domain` lines and `rest` appended after the grading.
+fn rect(domain: &str, rest: &str) -> String {
+    format!("[domain]\nshape = \"rectangle\"\n{domain}\n[grading]\nconstant = 1.2\n{rest}")
+}
+
+// ---- TOML syntax, unknown keys, types, missing keys -------------------------
+
+#[test]
+fn syntax_error_names_line_column_and_key() {
+    let e = err(&rect("width = 2e\nheight = 3", ""));
+    assert!(matches!(e, ConfigError::Syntax { .. }), "{e}");
+    assert_eq!(e.key(), Some("domain.width"));
+    assert_eq!((e.location().line, e.location().column), (3, 11));
+    assert!(
+        e.to_string()
+            .starts_with("t.toml:3:11: domain.width: TOML syntax error: "),
+        "{e}"
+    );
+}
+
+#[test]
+fn duplicate_key_is_a_syntax_error() {
+    let e = err(&rect("width = 2\nwidth = 3\nheight = 3", ""));
+    assert!(matches!(e, ConfigError::Syntax { .. }), "{e}");
+    assert_eq!(e.key(), Some("domain.width"));
+    assert_eq!(e.location().line, 4);
+}
+
+#[test]
+fn unknown_key_is_named_with_the_valid_ones() {
+    let e = err(&rect("widht = 20\nheight = 30", ""));
+    assert_eq!(e.key(), Some("domain.widht"));
+    let message = e.to_string();
+    assert!(
+        message.starts_with(
+            "t.toml:3:1: domain.widht: unknown key `widht`, expected one of `shape`, `width`"
+        ),
+        "{message}"
+    );
+}
+
+#[test]
+fn unknown_table_is_named() {
+    let e = err(&rect("width = 20\nheight = 30", "[bogus]\nx = 1\n"));
+    assert_eq!(e.key(), Some("bogus"));
+    assert_eq!((e.location().line, e.location().column), (7, 2));
+}
+
+#[test]
+fn unknown_key_in_inline_table_and_other_tables() {
+    let e =
+        err("domain = { shape = \"circle\", radius = 5, colour = 1 }\n[grading]\nconstant = 1\n");
+    assert_eq!(e.key(), Some("domain.colour"));
+    let e = err(&rect(
+        "width = 20\nheight = 30",
+        "[limits]\nmax_memory = 10\n",
+    ));
+    assert_eq!(e.key(), Some("limits.max_memory"));
+    let e = err(&rect("width = 20\nheight = 30", "[packer]\ncontact = 2\n"));
+    assert_eq!(e.key(), Some("packer.contact"));
+    let e = err(&rect("width = 20\nheight = 30", "interpolaton = \"log\"\n"));
+    assert_eq!(e.key(), Some("grading.interpolaton"));
+}
+
+#[test]
+fn wrong_type_names_key_and_position() {
+    fails_with(
+        &rect("width = \"20\"\nheight = 30", ""),
+        "t.toml:3:9: domain.width: invalid type: string \"20\", expected a number",
+    );
+    let e = err(&rect(
+        "width = 20\nheight = 30",
+        "[packer]\ncontacts = \"two\"\n",
+    ));
+    assert_eq!(e.key(), Some("packer.contacts"));
+    assert_eq!(e.location().line, 8);
+    let e = err("seed = -1\n");
+    assert_eq!(e.key(), Some("seed"));
+    assert!(
+        e.to_string().contains("expected a whole number >= 0"),
+        "{e}"
+    );
+    let e = err("domain = 5\n");
+    assert_eq!(e.key(), Some("domain"));
+    assert!(e.to_string().contains("expected a table"), "{e}");
+}
+
+#[test]
+fn wrong_array_shapes_name_the_element() {
+    let e = err(
+        "[domain]\nshape = \"polygon\"\nvertices = [[0, 0], [1], [0, 1]]\n[grading]\nconstant = 1\n",
+    );
+    assert_eq!(e.key(), Some("domain.vertices[1]"));
+    assert_eq!((e.location().line, e.location().column), (3, 21));
+    let e = err(&rect("width = 20\nheight = 30", "")
+        .replace("constant = 1.2", "table = [[1, 0], [2, \"x\"]]"));
+    assert_eq!(e.key(), Some("grading.table[1][1]"));
+}
+
+#[test]
+fn missing_tables_and_keys_are_named() {
+    fails_with("", "t.toml:1:1: domain: missing table [domain]");
+    fails_with(
+        "seed = 3\n[grading]\nconstant = 1\n",
+        "t.toml:1:1: domain: missing table [domain]",
+    );
+    fails_with(
+        "[domain]\nwidth = 20\n[grading]\nconstant = 1\n",
+        "t.toml:1:1: domain.shape: missing key",
+    );
+    fails_with(
+        "seed = 1\n\n[domain]\nshape = \"circle\"\nradius = 3\n",
+        "t.toml:1:1: grading: missing table [grading]",
+    );
+}
+
+// ---- Domain values ----------------------------------------------------------
+
+#[test]
+fn bad_sizes_are_refused_with_the_value() {
+    let text = "seed = 7\n[domain]\nshape = \"rectangle\"\nwidth = -1\nheight = 30\n[grading]\nconstant = 1.2\n";
+    fails_with(
+        text,
+        "t.toml:4:9: domain.width: must be a positive finite number, got -1",
+    );
+    for (value, shown) in [
+        ("0", "0"),
+        ("-0.0", "-0"),
+        ("nan", "NaN"),
+        ("inf", "inf"),
+        ("-inf", "-inf"),
+        ("+nan", "NaN"),
+    ] {
+        fails_with(
+            &rect(&format!("width = 20\nheight = {value}"), ""),
+            &format!("t.toml:4:10: domain.height: must be a positive finite number, got {shown}"),
+        );
+    }
+    let circle = "[domain]\nshape = \"circle\"\nradius = nan\n[grading]\nconstant = 1\n";
+    fails_with(
+        circle,
+        "t.toml:3:10: domain.radius: must be a positive finite number, got NaN",
+    );
+    let trapezoid = "[domain]\nshape = \"trapezoid\"\nbottom = 20\ntop = 0\nheight = 5\n[grading]\nconstant = 1\n";
+    fails_with(
+        trapezoid,
+        "t.toml:4:7: domain.top: must be a positive finite number, got 0",
+    );
+}
+
+#[test]
+fn missing_domain_size_is_named() {
+    fails_with(
+        &rect("width = 20", ""),
+        "t.toml:2:9: domain.height: missing; shape \"rectangle\" needs width, height",
+    );
+    fails_with(
+        "[domain]\nshape = \"circle\"\n[grading]\nconstant = 1\n",
+        "t.toml:2:9: domain.radius: missing; shape \"circle\" needs radius",
+    );
+    fails_with(
+        "[domain]\nshape = \"polygon\"\n[grading]\nconstant = 1\n",
+        "t.toml:2:9: domain.vertices: missing; shape \"polygon\" needs vertices = [[x, y], ...]",
+    );
+    fails_with(
+        "[domain]\nshape = \"trapezoid\"\nbottom = 2\nheight = 3\n[grading]\nconstant = 1\n",
+        "t.toml:2:9: domain.top: missing; shape \"trapezoid\" needs bottom, top, height",
+    );
+}
+
+#[test]
+fn key_of_another_shape_is_refused() {
+    fails_with(
+        &rect("width = 20\nheight = 30\nradius = 5", ""),
+        "t.toml:5:10: domain.radius: not a key of shape \"rectangle\", which takes width, height",
+    );
+    // The first stray key in the file is named, whatever the field order.
+    let e = err(
+        "[domain]\nshape = \"circle\"\ntop = 3\nradius = 5\nwidth = 2\n[grading]\nconstant = 1\n",
+    );
+    assert_eq!(e.key(), Some("domain.top"));
+    assert!(e.to_string().ends_with("which takes radius, center"), "{e}");
+    let e = err(&rect("width = 20\nheight = 30\ncenter = [0, 0]", ""));
+    assert_eq!(e.key(), Some("domain.center"));
+}
+
+#[test]
+fn unknown_shape_lists_the_valid_ones() {
+    fails_with(
+        "[domain]\nshape = \"hexagon\"\n[grading]\nconstant = 1\n",
+        "t.toml:2:9: domain.shape: unknown shape \"hexagon\"; valid: rectangle, polygon, circle, trapezoid",
+    );
+}
+
+#[test]
+fn walls_and_wall_disk() {
+    fails_with(
+        &rect("width = 20\nheight = 30\nwalls = \"soft\"", ""),
+        "t.toml:5:9: domain.walls: unknown wall model \"soft\"; valid: exact, disks",
+    );
+    fails_with(
+        &rect("width = 20\nheight = 30\nwall_disk = 1", ""),
+        "t.toml:5:13: domain.wall_disk: applies only with walls = \"disks\"",
+    );
+    fails_with(
+        &rect(
+            "width = 20\nheight = 30\nwalls = \"disks\"\nwall_disk = -2",
+            "",
+        ),
+        "t.toml:6:13: domain.wall_disk: must be a positive finite number, got -2",
+    );
+}
+
+#[test]
+fn non_finite_coordinates_are_refused() {
+    fails_with(
+        "[domain]\nshape = \"polygon\"\nvertices = [[0, 0], [nan, 0], [0, 1]]\n[grading]\nconstant = 1\n",
+        "t.toml:3:21: domain.vertices[1]: must be a finite number, got NaN",
+    );
+    fails_with(
+        "[domain]\nshape = \"circle\"\nradius = 4\ncenter = [0, inf]\n[grading]\nconstant = 1\n",
+        "t.toml:4:10: domain.center: must be a finite number, got inf",
+    );
+}
+
+// ---- Grading values ---------------------------------------------------------
+
+#[test]
+fn grading_needs_exactly_one_curve() {
+    fails_with(
+        &rect("width = 20\nheight = 30", "").replace("constant = 1.2\n", "basis = \"mass\"\n"),
+        "t.toml:5:1: grading.table: missing; [grading] needs exactly one of table, uniform, constant, preset",
+    );
+    fails_with(
+        &rect("width = 20\nheight = 30", "uniform = [1, 2]\n"),
+        "t.toml:7:11: grading.uniform: give only one of table, uniform, constant, preset (`constant` is given too)",
+    );
+}
+
+#[test]
+fn curve_keys_that_do_not_apply() {
+    fails_with(
+        &rect("width = 20\nheight = 30", "interpolation = \"log\"\n"),
+        "t.toml:7:17: grading.interpolation: applies only to a table or a preset",
+    );
+    fails_with(
+        &rect("width = 20\nheight = 30", "basis = \"mass\"\n"),
+        "t.toml:7:9: grading.basis: does not apply to a constant size",
+    );
+}
+
+#[test]
+fn unknown_grading_names_list_the_valid_ones() {
+    let table = |extra: &str| {
+        rect("width = 20\nheight = 30", "").replace(
+            "constant = 1.2\n",
+            &format!("table = [[1, 0], [2, 100]]\n{extra}\n"),
+        )
+    };
+    fails_with(
+        &table("interpolation = \"cubic\""),
+        "t.toml:7:17: grading.interpolation: unknown interpolation \"cubic\"; valid: log, linear",
+    );
+    fails_with(
+        &table("basis = \"volume\""),
+        "t.toml:7:9: grading.basis: unknown basis \"volume\"; valid: number, mass, mass3d",
+    );
+}
+
+#[test]
+fn bad_grading_values_are_refused() {
+    let with = |curve: &str| rect("width = 20\nheight = 30", "").replace("constant = 1.2", curve);
+    fails_with(
+        &with("constant = -1.2"),
+        "t.toml:6:12: grading.constant: must be a positive finite number, got -1.2",
+    );
+    fails_with(
+        &with("uniform = [1.2, inf]"),
+        "t.toml:6:11: grading.uniform: must be a positive finite number, got inf",
+    );
+    fails_with(
+        &with("table = [[1.2, 0], [nan, 100]]"),
+        "t.toml:6:20: grading.table[1]: must be a finite number, got NaN",
+    );
+}
+
+// ---- Packer and limits --------------------------------------------------------
+
+#[test]
+fn unknown_packer_names_list_the_valid_ones() {
+    let packer = |line: &str| rect("width = 20\nheight = 30", &format!("[packer]\n{line}\n"));
+    fails_with(
+        &packer("method = \"drop-and-roll\""),
+        "t.toml:8:10: packer.method: unknown method \"drop-and-roll\"; valid: advancing-front",
+    );
+    fails_with(
+        &packer("index = \"kd-tree\""),
+        "t.toml:8:9: packer.index: unknown index \"kd-tree\"; valid: mx-quadtree, grid",
+    );
+    fails_with(
+        &packer("contacts = 3"),
+        "t.toml:8:12: packer.contacts: unknown contact count \"3\"; valid: 2, 1",
+    );
+    fails_with(
+        &packer("rules = \"strict\""),
+        "t.toml:8:9: packer.rules: unknown front rules \"strict\"; valid: robust, thesis",
+    );
+}
+
+#[test]
+fn memory_limit_must_be_positive() {
+    fails_with(
+        &rect("width = 20\nheight = 30", "[limits]\nmax_memory_mb = 0\n"),
+        "t.toml:8:17: limits.max_memory_mb: must be a positive finite number, got 0",
+    );
+}
+
+// ---- Builds: these call the Domain and Grading constructors ------------------
+
+#[test]
+fn builds_default_config() {
+    let scene = parse(DEFAULT_CONFIG, DEFAULT_ORIGIN).expect("the default config parses");
+    assert_eq!(
+        scene.domain.shape(),
+        &Shape::Rectangle {
+            width: 8.6,
+            height: 62.5
+        }
+    );
+    assert_eq!(scene.walls, WallMode::Exact);
+    assert_eq!(scene.wall_disk_diameter, None);
+    assert_eq!(scene.seed, 0);
+    assert_eq!(scene.grading.d_min(), 1.2);
+    assert_eq!(scene.grading.d_max(), 1.295);
+    assert_eq!(scene.grading.basis(), Basis::Number);
+    assert_eq!(scene.packer, crate::packer::PackerSettings::default());
+}
+
+#[test]
+fn builds_with_integers_for_floats_and_all_settings() {
+    let text = "seed = 7\n[domain]\nshape = \"polygon\"\nvertices = [[0,0],[20,0],[20,8],[8,8],[8,20],[0,20]]\nwalls = \"disks\"\nwall_disk = 1\n\
+                [grading]\nuniform = [1, 2]\nbasis = \"mass3d\"\n\
+                [packer]\nmethod = \"advancing-front\"\nindex = \"grid\"\ncontacts = 1\nrules = \"thesis\"\n\
+                [limits]\nmax_memory_mb = 100\n";
+    let scene = parse(text, "t.toml").expect("valid config");
+    assert_eq!(scene.seed, 7);
+    assert_eq!(scene.walls, WallMode::Disks);
+    assert_eq!(scene.wall_disk_diameter, Some(1.0));
+    assert_eq!(scene.grading.basis(), Basis::Mass3d);
+    assert_eq!(scene.packer.index, IndexKind::Grid);
+    assert_eq!(scene.packer.contacts, Contacts::One);
+    assert_eq!(scene.packer.rules, FrontRules::Thesis);
+    assert!((scene.domain.area() - 256.0).abs() < 1e-9);
+}
+
+#[test]
+fn builds_circle_with_default_center() {
+    let scene = parse(
+        "[domain]\nshape = \"circle\"\nradius = 10\n[grading]\nconstant = 1\n",
+        "t",
+    )
+    .expect("valid config");
+    assert_eq!(
+        scene.domain.shape(),
+        &Shape::Circle {
+            center: Point::new(0.0, 0.0),
+            radius: 10.0
+        }
+    );
+}
+
+#[test]
+fn builds_decreasing_table_refused() {
+    let e = err(&rect("width = 20\nheight = 30", "").replace(
+        "constant = 1.2",
+        "table = [[1.2, 0], [1.1, 50], [1.3, 100]]",
+    ));
+    assert!(matches!(e, ConfigError::Grading { .. }), "{e}");
+    assert_eq!(e.key(), Some("grading.table"));
+    assert_eq!((e.location().line, e.location().column), (6, 9));
+}
+
+#[test]
+fn builds_table_not_ending_at_100_refused() {
+    let e = err(&rect("width = 20\nheight = 30", "")
+        .replace("constant = 1.2", "table = [[1.2, 0], [1.3, 90]]"));
+    assert!(matches!(e, ConfigError::Grading { .. }), "{e}");
+    assert_eq!(e.key(), Some("grading.table"));
+}
+
+#[test]
+fn builds_unknown_preset_refused() {
+    let e =
+        err(&rect("width = 20\nheight = 30", "").replace("constant = 1.2", "preset = \"7/11\""));
+    assert!(matches!(e, ConfigError::Grading { .. }), "{e}");
+    assert_eq!(e.key(), Some("grading.preset"));
+    assert_eq!((e.location().line, e.location().column), (6, 10));
+}
+
+#[test]
+fn builds_polygon_with_two_vertices_refused() {
+    let e = err(
+        "[domain]\nshape = \"polygon\"\nvertices = [[0, 0], [10, 0]]\n[grading]\nconstant = 1\n",
+    );
+    assert!(matches!(e, ConfigError::Geometry { .. }), "{e}");
+    assert_eq!(e.key(), Some("domain.vertices"));
+    assert_eq!(e.location().line, 3);
+}
+
+#[test]
+fn builds_self_crossing_polygon_refused() {
+    let e = err(
+        "[domain]\nshape = \"polygon\"\nvertices = [[0, 0], [10, 10], [10, 0], [0, 10]]\n[grading]\nconstant = 1\n",
+    );
+    assert!(
+        matches!(
+            e,
+            ConfigError::Geometry {
+                error: crate::geometry::GeometryError::SelfIntersecting { .. },
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert_eq!(e.key(), Some("domain.vertices"));
+    assert_eq!(e.location().line, 3);
+}
+
+#[test]
+fn builds_domain_narrower_than_smallest_disk_refused() {
+    let e = err(&rect("width = 1\nheight = 30", ""));
+    let message = e.to_string();
+    assert!(matches!(e, ConfigError::Scene { .. }), "{e}");
+    assert!(
+        message.starts_with("t.toml:3:9: domain.width: the domain is too narrow"),
+        "{message}"
+    );
+    assert!(
+        message.contains("1.0000 mm") && message.contains("1.2000 mm"),
+        "{message}"
+    );
+    let e = err("[domain]\nshape = \"circle\"\nradius = 0.5\n[grading]\nconstant = 1.2\n");
+    assert_eq!(e.key(), Some("domain.radius"));
+}
+
+#[test]
+fn builds_scene_over_the_memory_limit_refused() {
+    let big = rect("width = 10000\nheight = 10000", "").replace("constant = 1.2", "constant = 0.2");
+    let e = err(&big);
+    let message = e.to_string();
+    assert!(matches!(e, ConfigError::Scene { .. }), "{e}");
+    assert_eq!(e.key(), Some("domain.width"));
+    assert!(message.contains("over the limit of 4096 MB"), "{message}");
+    assert!(message.contains("limits.max_memory_mb"), "{message}");
+    // The same scene with a small explicit limit blames the limit.
+    let e = err(&rect(
+        "width = 100\nheight = 100",
+        "[limits]\nmax_memory_mb = 0.001\n",
+    ));
+    assert_eq!(e.key(), Some("limits.max_memory_mb"));
+    assert_eq!(e.location().line, 8);
+    // And a limit high enough lets it through.
+    let ok = format!("{big}[limits]\nmax_memory_mb = 1e9\n");
+    assert!(parse(&ok, "t").is_ok());
+}

@@ -1,0 +1,563 @@
+//! Stage two: check the meaning of a [`RawConfig`] and build the [`Scene`].
+//!
+//! Three steps, the first fault ends the run:
+//! 1. the values of `[domain]`, `[grading]`, `[packer]`, `[limits]`, in that
+//!    order: positive, finite, known names, keys that apply to the shape;
+//! 2. the [`Domain`] and [`Grading`] constructors, which check the structure
+//!    of polygons and grading tables; their typed errors are wrapped with
+//!    the key and position;
+//! 3. the scene as a whole: domain wide enough, memory within the limit.
+
+use std::ops::Range;
+
+use toml::Spanned;
+
+use super::error::{ConfigError, Location};
+use super::names::{
+    BASES, CONTACTS, INDEXES, INTERPOLATIONS, METHODS, Names, RULES, SHAPES, ShapeKind, WALLS,
+};
+use super::raw::{Pair, RawConfig, RawDomain, RawGrading, RawLimits, RawPacker};
+use crate::Scene;
+use crate::geometry::{Domain, GeometryError, Point, WallMode};
+use crate::grading::{Basis, Grading, Interpolation};
+use crate::packer::{PEAK_BYTES_PER_DISK, PackError, PackerSettings, estimated_peak_bytes};
+
+/// `limits.max_memory_mb` when not given.
+pub const DEFAULT_MAX_MEMORY_MB: f64 = 4096.0;
+
+/// Bytes in one MB as `limits.max_memory_mb` counts them (2^20).
+const BYTES_PER_MB: f64 = 1024.0 * 1024.0;
+
+/// The four ways to give a grading, in the order messages list them.
+const GRADING_SOURCES: &str = "table, uniform, constant, preset";
+
+/// The one key of `[grading]` that gives the curve.
+#[derive(Clone, Copy)]
+enum Source<'r> {
+    Table(&'r Spanned<Vec<Pair>>),
+    Uniform(&'r Pair),
+    Constant(&'r Spanned<f64>),
+    Preset(&'r Spanned<String>),
+}
+
+impl Source<'_> {
+    fn key(self) -> &'static str {
+        match self {
+            Source::Table(_) => "table",
+            Source::Uniform(_) => "uniform",
+            Source::Constant(_) => "constant",
+            Source::Preset(_) => "preset",
+        }
+    }
+}
+
+/// The key of a config and where its value is.
+struct KeyAt {
+    key: String,
+    span: Range<usize>,
+}
+
+/// A checked `[domain]`, not yet built.
+struct DomainPlan {
+    shape: ShapePlan,
+    walls: WallMode,
+    wall_disk: Option<f64>,
+    /// The key that sets how wide the domain is (blamed when it is too narrow).
+    width_key: KeyAt,
+}
+
+/// Checked shape sizes (mm).
+enum ShapePlan {
+    Rectangle { width: f64, height: f64 },
+    Polygon(Vec<Point>),
+    Circle { center: Point, radius: f64 },
+    Trapezoid { bottom: f64, top: f64, height: f64 },
+}
+
+/// A checked `[grading]`, not yet built.
+struct GradingPlan {
+    curve: Curve,
+    interpolation: Interpolation,
+    basis: Basis,
+    /// Where the curve was given (`grading.table`), blamed for the constructor's errors.
+    key: String,
+    at: Location,
+}
+
+/// The curve as given, values checked.
+enum Curve {
+    Table(Vec<(f64, f64)>),
+    Uniform(f64, f64),
+    Constant(f64),
+    Preset(String),
+}
+
+impl GradingPlan {
+    /// Build the grading; its constructor checks the curve's structure.
+    fn build(self) -> Result<Grading, ConfigError> {
+        let (interpolation, basis) = (self.interpolation, self.basis);
+        match &self.curve {
+            Curve::Table(rows) => Grading::from_table(rows, interpolation, basis),
+            Curve::Uniform(a, b) => Grading::uniform(*a, *b, basis),
+            Curve::Constant(d) => Grading::constant(*d),
+            Curve::Preset(name) => Grading::preset(name, interpolation, basis),
+        }
+        .map_err(|error| ConfigError::Grading {
+            at: self.at,
+            key: self.key,
+            error,
+        })
+    }
+}
+
+/// Validates one config text; knows the text and its origin to report positions.
+pub(crate) struct Validator<'a> {
+    pub text: &'a str,
+    pub origin: &'a str,
+}
+
+impl Validator<'_> {
+    /// Check `raw` and build the scene.
+    pub fn scene(&self, raw: RawConfig) -> Result<Scene, ConfigError> {
+        // Values first, in file order; then the constructors; then the whole.
+        let domain = self.domain(&raw.domain)?;
+        let grading = self.grading(&raw.grading)?;
+        let packer = self.packer(raw.packer.as_ref())?;
+        let limit = self.limit(raw.limits.as_ref())?;
+        let built = self.build_domain(&domain, raw.domain.get_ref())?;
+        let grading = grading.build()?;
+        self.check_width(&built, &domain.width_key, &grading)?;
+        self.check_memory(&built, &domain.width_key, &grading, limit)?;
+        Ok(Scene {
+            domain: built,
+            walls: domain.walls,
+            wall_disk_diameter: domain.wall_disk,
+            grading,
+            packer,
+            seed: raw.seed.map_or(0, Spanned::into_inner),
+        })
+    }
+
+    fn at(&self, span: &Range<usize>) -> Location {
+        Location::at(self.origin, self.text, span.start)
+    }
+
+    /// A value that must be a positive finite number.
+    fn positive(&self, key: &str, value: &Spanned<f64>) -> Result<f64, ConfigError> {
+        let v = *value.get_ref();
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(ConfigError::NotPositive {
+                at: self.at(&value.span()),
+                key: key.to_owned(),
+                value: v,
+            })
+        }
+    }
+
+    /// A pair of numbers that must both be finite.
+    fn finite_pair(&self, key: &str, pair: &Pair) -> Result<[f64; 2], ConfigError> {
+        let p = *pair.get_ref();
+        match p.iter().find(|v| !v.is_finite()) {
+            None => Ok(p),
+            Some(&value) => Err(ConfigError::NotFinite {
+                at: self.at(&pair.span()),
+                key: key.to_owned(),
+                value,
+            }),
+        }
+    }
+
+    /// A name looked up in its table; the type's default when the key is absent.
+    fn name<T: Copy + PartialEq + Default>(
+        &self,
+        names: &Names<T>,
+        key: &str,
+        value: Option<&Spanned<String>>,
+    ) -> Result<T, ConfigError> {
+        let Some(value) = value else {
+            return Ok(T::default());
+        };
+        names
+            .get(value.get_ref())
+            .ok_or_else(|| ConfigError::UnknownName {
+                at: self.at(&value.span()),
+                key: key.to_owned(),
+                what: names.what,
+                given: format!("{:?}", value.get_ref()),
+                valid: names.valid(),
+            })
+    }
+
+    fn domain(&self, raw: &Spanned<RawDomain>) -> Result<DomainPlan, ConfigError> {
+        let d = raw.get_ref();
+        let kind = SHAPES
+            .get(d.shape.get_ref())
+            .ok_or_else(|| ConfigError::UnknownName {
+                at: self.at(&d.shape.span()),
+                key: "domain.shape".to_owned(),
+                what: SHAPES.what,
+                given: format!("{:?}", d.shape.get_ref()),
+                valid: SHAPES.valid(),
+            })?;
+        let shape_name = d.shape.get_ref();
+        let (required, optional) = kind.size_keys();
+        let takes = required
+            .iter()
+            .chain(optional)
+            .copied()
+            .collect::<Vec<_>>()
+            .join(", ");
+
+        // A size key of another shape, the first one in the file.
+        let stray = size_key_spans(d)
+            .into_iter()
+            .filter(|(k, _)| !required.contains(k) && !optional.contains(k))
+            .min_by_key(|(_, span)| span.start);
+        if let Some((key, span)) = stray {
+            return Err(ConfigError::NotApplicable {
+                at: self.at(&span),
+                key: format!("domain.{key}"),
+                reason: format!("not a key of shape {shape_name:?}, which takes {takes}"),
+            });
+        }
+
+        let shape_span = d.shape.span();
+        let size = |key: &str, value: &Option<Spanned<f64>>| match value {
+            Some(v) => self.positive(&format!("domain.{key}"), v),
+            None => Err(ConfigError::Missing {
+                at: self.at(&shape_span),
+                key: format!("domain.{key}"),
+                reason: format!("shape {shape_name:?} needs {}", required.join(", ")),
+            }),
+        };
+        let key_at = |key: &str, value: &Option<Spanned<f64>>| KeyAt {
+            key: format!("domain.{key}"),
+            span: value.as_ref().map_or(shape_span.clone(), Spanned::span),
+        };
+
+        let (shape, width_key) = match kind {
+            ShapeKind::Rectangle => {
+                let width = size("width", &d.width)?;
+                let height = size("height", &d.height)?;
+                let width_key = if width <= height {
+                    key_at("width", &d.width)
+                } else {
+                    key_at("height", &d.height)
+                };
+                (ShapePlan::Rectangle { width, height }, width_key)
+            }
+            ShapeKind::Polygon => {
+                let Some(vertices) = &d.vertices else {
+                    return Err(ConfigError::Missing {
+                        at: self.at(&shape_span),
+                        key: "domain.vertices".to_owned(),
+                        reason: "shape \"polygon\" needs vertices = [[x, y], ...]".to_owned(),
+                    });
+                };
+                let points = vertices
+                    .get_ref()
+                    .iter()
+                    .enumerate()
+                    .map(|(i, v)| {
+                        let [x, y] = self.finite_pair(&format!("domain.vertices[{i}]"), v)?;
+                        Ok(Point::new(x, y))
+                    })
+                    .collect::<Result<Vec<_>, ConfigError>>()?;
+                let width_key = KeyAt {
+                    key: "domain.vertices".to_owned(),
+                    span: vertices.span(),
+                };
+                (ShapePlan::Polygon(points), width_key)
+            }
+            ShapeKind::Circle => {
+                let radius = size("radius", &d.radius)?;
+                let [x, y] = match &d.center {
+                    Some(c) => self.finite_pair("domain.center", c)?,
+                    None => [0.0, 0.0],
+                };
+                let center = Point::new(x, y);
+                (
+                    ShapePlan::Circle { center, radius },
+                    key_at("radius", &d.radius),
+                )
+            }
+            ShapeKind::Trapezoid => {
+                let bottom = size("bottom", &d.bottom)?;
+                let top = size("top", &d.top)?;
+                let height = size("height", &d.height)?;
+                let width_key = if height <= bottom.max(top) {
+                    key_at("height", &d.height)
+                } else if bottom >= top {
+                    key_at("bottom", &d.bottom)
+                } else {
+                    key_at("top", &d.top)
+                };
+                (
+                    ShapePlan::Trapezoid {
+                        bottom,
+                        top,
+                        height,
+                    },
+                    width_key,
+                )
+            }
+        };
+        let walls = self.name(&WALLS, "domain.walls", d.walls.as_ref())?;
+        let wall_disk = match &d.wall_disk {
+            None => None,
+            Some(v) if walls == WallMode::Disks => Some(self.positive("domain.wall_disk", v)?),
+            Some(v) => {
+                return Err(ConfigError::NotApplicable {
+                    at: self.at(&v.span()),
+                    key: "domain.wall_disk".to_owned(),
+                    reason: "applies only with walls = \"disks\"".to_owned(),
+                });
+            }
+        };
+        Ok(DomainPlan {
+            shape,
+            walls,
+            wall_disk,
+            width_key,
+        })
+    }
+
+    /// Build the domain; its constructor checks the shape's structure.
+    fn build_domain(&self, plan: &DomainPlan, raw: &RawDomain) -> Result<Domain, ConfigError> {
+        match &plan.shape {
+            ShapePlan::Rectangle { width, height } => Domain::rectangle(*width, *height),
+            ShapePlan::Polygon(points) => Domain::polygon(points),
+            ShapePlan::Circle { center, radius } => Domain::circle(*center, *radius),
+            ShapePlan::Trapezoid {
+                bottom,
+                top,
+                height,
+            } => Domain::trapezoid(*bottom, *top, *height),
+        }
+        .map_err(|e| self.geometry_error(e, raw))
+    }
+
+    /// Wrap a domain constructor's error with the key and position it concerns.
+    fn geometry_error(&self, error: GeometryError, d: &RawDomain) -> ConfigError {
+        let vertex = |i: usize| {
+            d.vertices
+                .as_ref()
+                .and_then(|v| v.get_ref().get(i))
+                .map(Spanned::span)
+        };
+        let whole_vertices = d.vertices.as_ref().map(Spanned::span);
+        let place = match &error {
+            GeometryError::BadSize { what, .. } => size_key_spans(d)
+                .into_iter()
+                .find(|(k, _)| what.contains(k))
+                .map(|(k, span)| (format!("domain.{k}"), span)),
+            GeometryError::NonFiniteVertex { index } => {
+                vertex(*index).map(|span| (format!("domain.vertices[{index}]"), span))
+            }
+            GeometryError::SelfIntersecting { first_from, .. } => vertex(*first_from)
+                .or(whole_vertices)
+                .map(|span| ("domain.vertices".to_owned(), span)),
+            _ => whole_vertices.map(|span| ("domain.vertices".to_owned(), span)),
+        };
+        let (key, span) = place.unwrap_or_else(|| ("domain.shape".to_owned(), d.shape.span()));
+        ConfigError::Geometry {
+            at: self.at(&span),
+            key,
+            error,
+        }
+    }
+
+    fn grading(&self, raw: &Spanned<RawGrading>) -> Result<GradingPlan, ConfigError> {
+        let g = raw.get_ref();
+        let mut sources = [
+            g.table.as_ref().map(|v| (v.span(), Source::Table(v))),
+            g.uniform.as_ref().map(|v| (v.span(), Source::Uniform(v))),
+            g.constant.as_ref().map(|v| (v.span(), Source::Constant(v))),
+            g.preset.as_ref().map(|v| (v.span(), Source::Preset(v))),
+        ]
+        .into_iter()
+        .flatten()
+        .collect::<Vec<_>>();
+        sources.sort_by_key(|(span, _)| span.start);
+        let (span, source) = match sources.as_slice() {
+            [] => {
+                return Err(ConfigError::Missing {
+                    at: self.at(&raw.span()),
+                    key: "grading.table".to_owned(),
+                    reason: format!("[grading] needs exactly one of {GRADING_SOURCES}"),
+                });
+            }
+            [(span, source)] => (span.clone(), *source),
+            [(_, first), (span, second), ..] => {
+                return Err(ConfigError::NotApplicable {
+                    at: self.at(span),
+                    key: format!("grading.{}", second.key()),
+                    reason: format!(
+                        "give only one of {GRADING_SOURCES} (`{}` is given too)",
+                        first.key()
+                    ),
+                });
+            }
+        };
+
+        if let (Some(v), Source::Uniform(_) | Source::Constant(_)) = (&g.interpolation, source) {
+            return Err(ConfigError::NotApplicable {
+                at: self.at(&v.span()),
+                key: "grading.interpolation".to_owned(),
+                reason: "applies only to a table or a preset".to_owned(),
+            });
+        }
+        if let (Some(v), Source::Constant(_)) = (&g.basis, source) {
+            return Err(ConfigError::NotApplicable {
+                at: self.at(&v.span()),
+                key: "grading.basis".to_owned(),
+                reason: "does not apply to a constant size".to_owned(),
+            });
+        }
+        let interpolation = self.name(
+            &INTERPOLATIONS,
+            "grading.interpolation",
+            g.interpolation.as_ref(),
+        )?;
+        let basis = self.name(&BASES, "grading.basis", g.basis.as_ref())?;
+
+        let curve = match source {
+            Source::Table(table) => Curve::Table(
+                table
+                    .get_ref()
+                    .iter()
+                    .enumerate()
+                    .map(|(i, row)| {
+                        let [d, p] = self.finite_pair(&format!("grading.table[{i}]"), row)?;
+                        Ok((d, p))
+                    })
+                    .collect::<Result<Vec<_>, ConfigError>>()?,
+            ),
+            Source::Uniform(range) => {
+                let [a, b] = *range.get_ref();
+                for value in [a, b] {
+                    self.positive("grading.uniform", &Spanned::new(span.clone(), value))?;
+                }
+                Curve::Uniform(a, b)
+            }
+            Source::Constant(d) => Curve::Constant(self.positive("grading.constant", d)?),
+            Source::Preset(name) => Curve::Preset(name.get_ref().clone()),
+        };
+        Ok(GradingPlan {
+            curve,
+            interpolation,
+            basis,
+            key: format!("grading.{}", source.key()),
+            at: self.at(&span),
+        })
+    }
+
+    fn packer(&self, raw: Option<&RawPacker>) -> Result<PackerSettings, ConfigError> {
+        let Some(p) = raw else {
+            return Ok(PackerSettings::default());
+        };
+        self.name(&METHODS, "packer.method", p.method.as_ref())?;
+        let contacts = p
+            .contacts
+            .as_ref()
+            .map(|c| Spanned::new(c.span(), c.get_ref().to_string()));
+        Ok(PackerSettings {
+            index: self.name(&INDEXES, "packer.index", p.index.as_ref())?,
+            contacts: self.name(&CONTACTS, "packer.contacts", contacts.as_ref())?,
+            rules: self.name(&RULES, "packer.rules", p.rules.as_ref())?,
+        })
+    }
+
+    /// The memory limit in MB and the key that set it, if given.
+    fn limit(&self, raw: Option<&RawLimits>) -> Result<(f64, Option<KeyAt>), ConfigError> {
+        match raw.and_then(|l| l.max_memory_mb.as_ref()) {
+            None => Ok((DEFAULT_MAX_MEMORY_MB, None)),
+            Some(v) => {
+                let key = "limits.max_memory_mb";
+                let mb = self.positive(key, v)?;
+                Ok((
+                    mb,
+                    Some(KeyAt {
+                        key: key.to_owned(),
+                        span: v.span(),
+                    }),
+                ))
+            }
+        }
+    }
+
+    /// Refuse a domain whose largest inscribed disk is smaller than the smallest disk.
+    fn check_width(
+        &self,
+        domain: &Domain,
+        width_key: &KeyAt,
+        grading: &Grading,
+    ) -> Result<(), ConfigError> {
+        let inscribed = 2.0 * domain.inradius();
+        let d_min = grading.d_min();
+        if inscribed >= d_min {
+            return Ok(());
+        }
+        Err(ConfigError::Scene {
+            at: self.at(&width_key.span),
+            key: width_key.key.clone(),
+            error: PackError::DomainTooNarrow { inscribed, d_min },
+            hint: String::new(),
+        })
+    }
+
+    /// Refuse a scene whose estimated peak memory is over the limit.
+    fn check_memory(
+        &self,
+        domain: &Domain,
+        width_key: &KeyAt,
+        grading: &Grading,
+        (limit_mb, limit_key): (f64, Option<KeyAt>),
+    ) -> Result<(), ConfigError> {
+        let bytes = estimated_peak_bytes(domain, grading);
+        let estimate_mb = bytes / BYTES_PER_MB;
+        if estimate_mb <= limit_mb {
+            return Ok(());
+        }
+        let (blame, hint) = match limit_key {
+            Some(k) => (k, "; raise it to allow this scene".to_owned()),
+            None => (
+                KeyAt {
+                    key: width_key.key.clone(),
+                    span: width_key.span.clone(),
+                },
+                format!(
+                    "; set limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB}) to raise the limit"
+                ),
+            ),
+        };
+        Err(ConfigError::Scene {
+            at: self.at(&blame.span),
+            key: blame.key,
+            error: PackError::TooLarge {
+                disks: bytes / PEAK_BYTES_PER_DISK,
+                estimate_mb,
+                limit_mb,
+            },
+            hint,
+        })
+    }
+}
+
+/// The size keys of `[domain]` that are present, with the spans of their values.
+fn size_key_spans(d: &RawDomain) -> Vec<(&'static str, Range<usize>)> {
+    [
+        ("width", d.width.as_ref().map(Spanned::span)),
+        ("height", d.height.as_ref().map(Spanned::span)),
+        ("vertices", d.vertices.as_ref().map(Spanned::span)),
+        ("radius", d.radius.as_ref().map(Spanned::span)),
+        ("center", d.center.as_ref().map(Spanned::span)),
+        ("bottom", d.bottom.as_ref().map(Spanned::span)),
+        ("top", d.top.as_ref().map(Spanned::span)),
+    ]
+    .into_iter()
+    .filter_map(|(k, span)| span.map(|s| (k, s)))
+    .collect()
+}

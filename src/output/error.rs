@@ -1,0 +1,43 @@
+//! Why an output could not be written.
+//!
+//! `Display` gives this layer's part of the message; the I/O cause is the
+//! error's `source()` (printed after it by the CLI).
+
+use std::io;
+use std::path::PathBuf;
+
+/// Why an output could not be written.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum OutputError {
+    /// The output directory could not be created.
+    #[error("cannot create directory {}", .path.display())]
+    CreateDir {
+        /// The directory.
+        path: PathBuf,
+        /// The I/O error.
+        source: io::Error,
+    },
+    /// A file could not be written (its temporary file was removed).
+    #[error("cannot write {}", .path.display())]
+    Write {
+        /// The file that was to be written.
+        path: PathBuf,
+        /// The I/O error.
+        source: io::Error,
+    },
+    /// A written temporary file could not be renamed into place.
+    #[error("cannot replace {}", .path.display())]
+    Rename {
+        /// The file that was to be replaced.
+        path: PathBuf,
+        /// The I/O error.
+        source: io::Error,
+    },
+    /// The CSV writer failed.
+    #[error("cannot format CSV")]
+    Csv(#[from] ::csv::Error),
+    /// The JSON serialiser failed.
+    #[error("cannot format JSON")]
+    Json(#[from] serde_json::Error),
+}

@@ -1,0 +1,97 @@
+//! `summary.json`: what was packed, how, and how well.
+
+use serde::Serialize;
+
+use super::error::OutputError;
+use super::run::RunInfo;
+use crate::config::{ConfigName, METHOD};
+use crate::packer::{Contacts, Metrics, PackStats, Packing};
+
+/// File name of the run summary.
+pub const SUMMARY_JSON: &str = "summary.json";
+
+/// The summary, key order as written.
+#[derive(Serialize)]
+struct Summary<'a> {
+    gapack_version: &'static str,
+    config: &'a str,
+    seed: u64,
+    shape: &'static str,
+    walls: &'static str,
+    wall_disks: usize,
+    method: &'static str,
+    index: &'static str,
+    contacts: u8,
+    rules: &'static str,
+    grading: GradingSummary,
+    #[serde(flatten)]
+    metrics: &'a Metrics,
+    seconds: f64,
+    stats: StatsSummary,
+}
+
+#[derive(Serialize)]
+struct GradingSummary {
+    d_min: f64,
+    d_max: f64,
+    basis: &'static str,
+}
+
+#[derive(Serialize)]
+struct StatsSummary {
+    sizes_drawn: u64,
+    sizes_deferred: u64,
+    sizes_unplaced: u64,
+    front_attempts: u64,
+}
+
+impl From<PackStats> for StatsSummary {
+    fn from(s: PackStats) -> Self {
+        StatsSummary {
+            sizes_drawn: s.sizes_drawn,
+            sizes_deferred: s.sizes_deferred,
+            sizes_unplaced: s.sizes_unplaced,
+            front_attempts: s.front_attempts,
+        }
+    }
+}
+
+/// The run summary as pretty-printed JSON (keys listed in `docs/CONFIG.md`).
+///
+/// `seconds` is the packing time alone; non-finite metrics are `null`.
+///
+/// # Errors
+/// [`OutputError::Json`] if serialisation fails (it does not for these types).
+pub fn summary_json(
+    packing: &Packing,
+    metrics: &Metrics,
+    run: &RunInfo<'_>,
+) -> Result<Vec<u8>, OutputError> {
+    let scene = run.scene;
+    let summary = Summary {
+        gapack_version: env!("CARGO_PKG_VERSION"),
+        config: run.config,
+        seed: scene.seed,
+        shape: packing.domain.shape().config_name(),
+        walls: packing.walls.config_name(),
+        wall_disks: packing.boundary.len(),
+        method: METHOD,
+        index: scene.packer.index.config_name(),
+        contacts: match scene.packer.contacts {
+            Contacts::Two => 2,
+            Contacts::One => 1,
+        },
+        rules: scene.packer.rules.config_name(),
+        grading: GradingSummary {
+            d_min: scene.grading.d_min(),
+            d_max: scene.grading.d_max(),
+            basis: scene.grading.basis().config_name(),
+        },
+        metrics,
+        seconds: run.seconds,
+        stats: packing.stats.into(),
+    };
+    let mut bytes = serde_json::to_vec_pretty(&summary)?;
+    bytes.push(b'\n');
+    Ok(bytes)
+}

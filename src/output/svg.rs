@@ -1,0 +1,213 @@
+//! `packing.svg`: the packing drawn to scale, for a first look.
+
+use std::fmt::Write;
+
+use crate::geometry::{Disk, Point};
+use crate::grading::Grading;
+use crate::packer::Packing;
+
+/// File name of the drawing.
+pub const PACKING_SVG: &str = "packing.svg";
+
+/// Width of the drawing in pixels; the height follows the domain's aspect.
+const WIDTH_PX: f64 = 800.0;
+/// Segments used to draw a circular domain.
+const CIRCLE_SEGMENTS: usize = 256;
+/// Margin around the drawing, as a fraction of its shorter side.
+const MARGIN: f64 = 0.03;
+/// Stroke width in pixels.
+const STROKE_PX: f64 = 0.5;
+/// Fill of the smallest and of the largest disks (light to dark blue).
+const LIGHT: [f64; 3] = [198.0, 219.0, 239.0];
+const DARK: [f64; 3] = [8.0, 48.0, 107.0];
+
+/// The packing as an SVG document: the domain outline, wall disks in light
+/// grey, packed disks filled light to dark from the grading's smallest to
+/// its largest diameter.
+///
+/// The `viewBox` is in mm with y pointing up (flipped), plus a small margin;
+/// the drawing is 800 px wide. Numbers are written with 4 decimals (0.1 µm),
+/// so the same packing always gives the same text.
+pub fn packing_svg(packing: &Packing, grading: &Grading) -> String {
+    let outline = packing.domain.outline(CIRCLE_SEGMENTS);
+    let (lo, hi) = extent(&outline, packing);
+    let margin = MARGIN * (hi.x - lo.x).min(hi.y - lo.y);
+    let (x0, y0) = (lo.x - margin, lo.y - margin);
+    let (w, h) = (hi.x - lo.x + 2.0 * margin, hi.y - lo.y + 2.0 * margin);
+    let height_px = (WIDTH_PX * h / w).round();
+    let stroke = num(STROKE_PX * w / WIDTH_PX);
+    // y up: a point at height y is drawn at lo.y + hi.y − y, inside the same box.
+    let flip = |y: f64| lo.y + hi.y - y;
+
+    let mut svg = String::new();
+    // Writing to a String cannot fail.
+    let _ = writeln!(svg, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
+    let _ = writeln!(
+        svg,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{}" height="{}" viewBox="{} {} {} {}">"#,
+        WIDTH_PX,
+        height_px,
+        num(x0),
+        num(y0),
+        num(w),
+        num(h)
+    );
+    let _ = writeln!(
+        svg,
+        "<title>gapack: {} disks, {} wall disks (mm, y up)</title>",
+        packing.disks.len(),
+        packing.boundary.len()
+    );
+    let points: Vec<String> = outline
+        .iter()
+        .map(|p| format!("{},{}", num(p.x), num(flip(p.y))))
+        .collect();
+    let _ = writeln!(
+        svg,
+        r#"<polygon points="{}" fill="white" stroke="black" stroke-width="{stroke}"/>"#,
+        points.join(" ")
+    );
+    if !packing.boundary.is_empty() {
+        let _ = writeln!(
+            svg,
+            r##"<g fill="#d9d9d9" stroke="#a6a6a6" stroke-width="{stroke}">"##
+        );
+        for disk in &packing.boundary {
+            let _ = writeln!(svg, "{}/>", circle(disk, flip(disk.c.y)));
+        }
+        let _ = writeln!(svg, "</g>");
+    }
+    let _ = writeln!(svg, r##"<g stroke="#1a1a1a" stroke-width="{stroke}">"##);
+    for disk in &packing.disks {
+        let fill = colour(2.0 * disk.r, grading.d_min(), grading.d_max());
+        let _ = writeln!(svg, r#"{} fill="{fill}"/>"#, circle(disk, flip(disk.c.y)));
+    }
+    let _ = writeln!(svg, "</g>");
+    let _ = writeln!(svg, "</svg>");
+    svg
+}
+
+/// Bounding box of the outline and of every disk.
+fn extent(outline: &[Point], packing: &Packing) -> (Point, Point) {
+    let (mut lo, mut hi) = packing.domain.bounds();
+    let boxes =
+        outline
+            .iter()
+            .map(|p| (*p, *p))
+            .chain(packing.boundary.iter().chain(&packing.disks).map(|d| {
+                (
+                    Point::new(d.c.x - d.r, d.c.y - d.r),
+                    Point::new(d.c.x + d.r, d.c.y + d.r),
+                )
+            }));
+    for (a, b) in boxes {
+        lo = Point::new(lo.x.min(a.x), lo.y.min(a.y));
+        hi = Point::new(hi.x.max(b.x), hi.y.max(b.y));
+    }
+    (lo, hi)
+}
+
+/// `<circle cx=".." cy=".." r=".."` (unclosed, for attributes to follow).
+fn circle(disk: &Disk, y: f64) -> String {
+    format!(
+        r#"<circle cx="{}" cy="{}" r="{}""#,
+        num(disk.c.x),
+        num(y),
+        num(disk.r)
+    )
+}
+
+/// `#rrggbb` from light (`d_min`) to dark (`d_max`); mid-tone for a single size.
+fn colour(d: f64, d_min: f64, d_max: f64) -> String {
+    let t = if d_max > d_min {
+        ((d - d_min) / (d_max - d_min)).clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
+    let t = if t.is_nan() { 0.5 } else { t };
+    let [r, g, b] = [0, 1, 2].map(|i| (LIGHT[i] + t * (DARK[i] - LIGHT[i])).round() as u8);
+    format!("#{r:02x}{g:02x}{b:02x}")
+}
+
+/// A number with at most 4 decimals, trailing zeros and `-0` dropped.
+fn num(v: f64) -> String {
+    let s = format!("{v:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".to_owned()
+    } else {
+        s.to_owned()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Domain, WallMode};
+    use crate::packer::PackStats;
+
+    fn packing(boundary: Vec<Disk>) -> Packing {
+        Packing {
+            domain: Domain::rectangle(10.0, 20.0).expect("valid rectangle"),
+            walls: WallMode::Exact,
+            boundary,
+            disks: vec![Disk::new(1.0, 1.0, 1.0), Disk::new(5.0, 18.0, 2.0)],
+            stats: PackStats::default(),
+        }
+    }
+
+    #[test]
+    fn draws_to_scale_with_y_up() {
+        let grading = Grading::uniform(2.0, 4.0, crate::grading::Basis::Number).expect("grading");
+        let svg = packing_svg(&packing(Vec::new()), &grading);
+        // Margin 3 % of the shorter side (10 mm): 0.3 mm.
+        assert!(
+            svg.contains(r#"width="800" height="1555" viewBox="-0.3 -0.3 10.6 20.6""#),
+            "{svg}"
+        );
+        // y = 1 is drawn at 20 − 1 = 19, the smallest disk lightest, the largest darkest.
+        assert!(
+            svg.contains(r##"<circle cx="1" cy="19" r="1" fill="#c6dbef"/>"##),
+            "{svg}"
+        );
+        assert!(
+            svg.contains(r##"<circle cx="5" cy="2" r="2" fill="#08306b"/>"##),
+            "{svg}"
+        );
+        assert!(
+            !svg.contains("#d9d9d9"),
+            "no wall-disk group without wall disks"
+        );
+        assert_eq!(svg, packing_svg(&packing(Vec::new()), &grading));
+    }
+
+    #[test]
+    fn draws_wall_disks_in_grey() {
+        let grading = Grading::constant(2.0).expect("grading");
+        let svg = packing_svg(&packing(vec![Disk::new(0.0, 0.0, 0.5)]), &grading);
+        assert!(svg.contains(r##"<g fill="#d9d9d9""##), "{svg}");
+        // The wall disk widens the box to y = −0.5, so y = 0 is drawn at 19.5.
+        assert!(
+            svg.contains(r#"<circle cx="0" cy="19.5" r="0.5"/>"#),
+            "{svg}"
+        );
+    }
+
+    #[test]
+    fn numbers_are_short_and_stable() {
+        assert_eq!(num(1.0), "1");
+        assert_eq!(num(-0.00001), "0");
+        assert_eq!(num(2.50), "2.5");
+        assert_eq!(num(1.234_567), "1.2346");
+        assert_eq!(num(100.0), "100");
+    }
+
+    #[test]
+    fn colours_run_light_to_dark() {
+        assert_eq!(colour(1.0, 1.0, 2.0), "#c6dbef");
+        assert_eq!(colour(2.0, 1.0, 2.0), "#08306b");
+        assert_eq!(colour(9.0, 1.0, 2.0), "#08306b");
+        assert_eq!(colour(1.2, 1.2, 1.2), colour(1.5, 1.0, 2.0));
+        assert_eq!(colour(f64::NAN, 1.0, 2.0), colour(1.5, 1.0, 2.0));
+    }
+}

@@ -1,0 +1,391 @@
+//! The `gapack` binary end to end: bad inputs fail cleanly, good ones write
+//! the three outputs, and the same seed gives the same bytes.
+//!
+//! Every test runs in its own scratch directory under `target/`; the tests
+//! named `packs_*` and `shipped_configs_parse` need the packer, domains and
+//! gradings, the others fail before those are called.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// A fresh, empty scratch directory for one test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("cli-{name}"));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).expect("create scratch dir");
+    dir
+}
+
+/// Run `gapack` with `args` in `dir`.
+fn gapack(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_gapack"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run gapack")
+}
+
+/// Write `config` as `bad.toml` in a scratch dir, run `gapack pack bad.toml`,
+/// and check it fails with exit code 2, one `error:` line naming `key` and
+/// `line:column`, no panic and no output at all.
+fn refuses(name: &str, config: &str, key: &str, line_col: &str) {
+    let dir = scratch(name);
+    fs::write(dir.join("bad.toml"), config).expect("write config");
+    let out = gapack(&dir, &["pack", "bad.toml"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{name}: {stderr}");
+    assert!(!stderr.contains("panicked"), "{name}: {stderr}");
+    assert_eq!(
+        stderr.lines().count(),
+        1,
+        "{name}: one line expected: {stderr}"
+    );
+    let expected = format!("error: bad.toml:{line_col}: {key}: ");
+    assert!(
+        stderr.starts_with(&expected),
+        "{name}: expected {expected:?}, got {stderr}"
+    );
+    assert!(out.stdout.is_empty(), "{name}: stdout {:?}", out.stdout);
+    assert!(
+        !dir.join("out").exists(),
+        "{name}: an output directory was created"
+    );
+    let _ = fs::remove_dir_all(&dir);
+}
+
+fn rect(size: &str, grading: &str) -> String {
+    format!("[domain]\nshape = \"rectangle\"\n{size}\n[grading]\n{grading}\n")
+}
+
+#[test]
+fn refuses_unknown_key() {
+    refuses(
+        "unknown-key",
+        &rect("width = 20\nheight = 30\ncolour = 1", "constant = 1.2"),
+        "domain.colour",
+        "5:1",
+    );
+}
+
+#[test]
+fn refuses_wrong_type() {
+    refuses(
+        "wrong-type",
+        &rect("width = \"wide\"\nheight = 30", "constant = 1.2"),
+        "domain.width",
+        "3:9",
+    );
+}
+
+#[test]
+fn refuses_toml_syntax_error() {
+    refuses(
+        "syntax",
+        &rect("width = 20\nheight = 30 mm", "constant = 1.2"),
+        "domain.height",
+        "4:10",
+    );
+}
+
+#[test]
+fn refuses_missing_domain_size() {
+    refuses(
+        "missing-size",
+        &rect("width = 20", "constant = 1.2"),
+        "domain.height",
+        "2:9",
+    );
+}
+
+#[test]
+fn refuses_bad_sizes() {
+    for (i, value) in ["0", "-5", "nan", "inf", "-inf"].iter().enumerate() {
+        refuses(
+            &format!("bad-size-{i}"),
+            &rect(&format!("width = {value}\nheight = 30"), "constant = 1.2"),
+            "domain.width",
+            "3:9",
+        );
+    }
+}
+
+#[test]
+fn refuses_unknown_name_listing_valid_ones() {
+    let dir = scratch("unknown-name");
+    fs::write(
+        dir.join("bad.toml"),
+        rect(
+            "width = 20\nheight = 30",
+            "constant = 1.2\n[packer]\nindex = \"octree\"",
+        ),
+    )
+    .expect("write config");
+    let out = gapack(&dir, &["pack", "bad.toml"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("packer.index") && stderr.contains("valid: mx-quadtree, grid"),
+        "{stderr}"
+    );
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn refuses_missing_config_file() {
+    let dir = scratch("missing-file");
+    let out = gapack(&dir, &["pack", "nowhere.toml"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.starts_with("error: cannot read nowhere.toml"),
+        "{stderr}"
+    );
+    assert!(!dir.join("out").exists());
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn refuses_bad_arguments() {
+    let dir = scratch("bad-args");
+    let out = gapack(&dir, &["pack", "--seed", "minus-one"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(!dir.join("out").exists());
+    let out = gapack(&dir, &["unpack"]);
+    assert_eq!(out.status.code(), Some(2));
+    let _ = fs::remove_dir_all(&dir);
+}
+
+// ---- These need the Domain and Grading constructors --------------------------
+
+#[test]
+fn refuses_decreasing_grading_table() {
+    refuses(
+        "table-decreasing",
+        &rect(
+            "width = 20\nheight = 30",
+            "table = [[1.2, 0], [1.4, 60], [1.3, 100]]",
+        ),
+        "grading.table",
+        "6:9",
+    );
+}
+
+#[test]
+fn refuses_grading_table_not_ending_at_100() {
+    refuses(
+        "table-short",
+        &rect("width = 20\nheight = 30", "table = [[1.2, 0], [1.4, 60]]"),
+        "grading.table",
+        "6:9",
+    );
+}
+
+#[test]
+fn refuses_polygon_with_two_vertices() {
+    refuses(
+        "polygon-two",
+        "[domain]\nshape = \"polygon\"\nvertices = [[0, 0], [10, 0]]\n[grading]\nconstant = 1.2\n",
+        "domain.vertices",
+        "3:12",
+    );
+}
+
+#[test]
+fn refuses_self_crossing_polygon() {
+    let dir = scratch("polygon-crossing");
+    let config = "[domain]\nshape = \"polygon\"\nvertices = [[0, 0], [10, 10], [10, 0], [0, 10]]\n[grading]\nconstant = 1.2\n";
+    fs::write(dir.join("bad.toml"), config).expect("write config");
+    let out = gapack(&dir, &["pack", "bad.toml"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.starts_with("error: bad.toml:3:") && stderr.contains("domain.vertices: "),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(!dir.join("out").exists());
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn refuses_domain_narrower_than_smallest_disk() {
+    refuses(
+        "narrow",
+        &rect("width = 1\nheight = 30", "constant = 1.2"),
+        "domain.width",
+        "3:9",
+    );
+}
+
+#[test]
+fn refuses_scene_over_memory_limit() {
+    // 10 m × 10 m of 0.2 mm disks: billions of disks.
+    refuses(
+        "too-large",
+        &rect("width = 10000\nheight = 10000", "constant = 0.2"),
+        "domain.width",
+        "3:9",
+    );
+}
+
+#[test]
+fn shipped_configs_parse() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs");
+    let mut count = 0;
+    for entry in fs::read_dir(&dir).expect("configs/ exists") {
+        let path = entry.expect("dir entry").path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let text = fs::read_to_string(&path).expect("read config");
+            if let Err(e) = gapack::config::parse(&text, &path.display().to_string()) {
+                panic!("{e}");
+            }
+            count += 1;
+        }
+    }
+    assert!(count >= 7, "only {count} configs found");
+}
+
+// ---- These need the packer ----------------------------------------------------
+
+#[test]
+fn packs_default_scene() {
+    let dir = scratch("default");
+    let out = gapack(&dir, &["pack", "--out", "result"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.starts_with("result: ") && stdout.contains(" disks, porosity "),
+        "{stdout}"
+    );
+    assert_eq!(stdout.lines().count(), 1, "{stdout}");
+
+    let csv = fs::read_to_string(dir.join("result/packing.csv")).expect("packing.csv");
+    assert!(csv.starts_with("id,x,y,r\n0,"), "{csv}");
+    let rows = csv.lines().count() - 1;
+    assert!(rows > 100, "{rows} disks");
+
+    let summary = fs::read_to_string(dir.join("result/summary.json")).expect("summary.json");
+    let summary: serde_json::Value = serde_json::from_str(&summary).expect("valid JSON");
+    for key in [
+        "particles",
+        "porosity",
+        "domain_area",
+        "solid_area",
+        "psd_ks",
+        "max_overlap",
+        "min_wall_clearance",
+        "coordination",
+        "local_porosity_std",
+        "largest_hole",
+        "seconds",
+        "seed",
+        "method",
+        "index",
+        "contacts",
+        "rules",
+        "walls",
+        "shape",
+        "config",
+        "gapack_version",
+        "stats",
+        "grading",
+    ] {
+        assert!(summary.get(key).is_some(), "summary.json lacks {key}");
+    }
+    assert_eq!(summary["particles"].as_u64(), Some(rows as u64));
+    assert_eq!(summary["config"], "embedded default");
+    // Tangent disks: zero overlap up to rounding.
+    let overlap = summary["max_overlap"]
+        .as_f64()
+        .expect("max_overlap is a number");
+    assert!(overlap < 1e-9, "max_overlap {overlap}");
+
+    let svg = fs::read_to_string(dir.join("result/packing.svg")).expect("packing.svg");
+    assert!(
+        svg.contains("<svg") && svg.matches("<circle").count() == rows,
+        "{rows} disks"
+    );
+    // Nothing else, in particular no leftover temporary file.
+    assert_eq!(
+        fs::read_dir(dir.join("result"))
+            .expect("read result")
+            .count(),
+        3
+    );
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn packs_into_default_directories_quietly() {
+    let dir = scratch("default-dirs");
+    let out = gapack(&dir, &["pack", "--quiet"]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out.stdout.is_empty());
+    assert!(dir.join("out/default/packing.csv").is_file());
+    fs::write(
+        dir.join("mine.toml"),
+        rect("width = 10\nheight = 10", "constant = 1.2"),
+    )
+    .expect("write config");
+    let out = gapack(&dir, &["pack", "mine.toml", "--quiet"]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(dir.join("out/mine/summary.json").is_file());
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn packs_same_seed_to_same_bytes() {
+    let dir = scratch("seeds");
+    let csv = |out: &str, seed: &str| {
+        let run = gapack(&dir, &["pack", "--quiet", "--out", out, "--seed", seed]);
+        assert_eq!(
+            run.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        fs::read(dir.join(out).join("packing.csv")).expect("packing.csv")
+    };
+    let a = csv("a", "11");
+    let b = csv("b", "11");
+    let c = csv("c", "12");
+    assert!(a == b, "same seed, different packing.csv");
+    assert!(a != c, "different seeds, same packing.csv");
+    let summary = fs::read_to_string(dir.join("c/summary.json")).expect("summary.json");
+    assert!(summary.contains("\"seed\": 12"), "{summary}");
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn packs_but_write_failure_leaves_no_new_output() {
+    let dir = scratch("write-failure");
+    // A directory where packing.csv should go: its rename fails.
+    fs::create_dir_all(dir.join("result/packing.csv")).expect("create blocker");
+    let out = gapack(&dir, &["pack", "--out", "result"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.starts_with("error: cannot write the outputs: cannot replace result"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(out.stdout.is_empty());
+    let left: Vec<_> = fs::read_dir(dir.join("result"))
+        .expect("read result")
+        .map(|e| e.expect("entry").file_name())
+        .collect();
+    assert_eq!(left, ["packing.csv"], "only the blocker may remain");
+    let _ = fs::remove_dir_all(&dir);
+}
