@@ -104,13 +104,19 @@ pub fn run(targets: &[u64], repeats: usize, mut progress: impl FnMut(&Row)) -> V
             sides.push(1000.0); // the thesis' own largest square (670,000 disks in 37 s)
         }
         for side in sides {
-            for (name, index) in [("mx-quadtree", IndexKind::MxQuadtree), ("grid", IndexKind::Grid)] {
+            for (name, index) in [
+                ("mx-quadtree", IndexKind::MxQuadtree),
+                ("grid", IndexKind::Grid),
+            ] {
                 let scene = Scene {
                     domain: Domain::rectangle(side, side).expect("positive side"),
                     walls: WallMode::Exact,
                     wall_disk_diameter: None,
                     grading: grading.clone(),
-                    packer: PackerSettings { index, ..PackerSettings::default() },
+                    packer: PackerSettings {
+                        index,
+                        ..PackerSettings::default()
+                    },
                     seed: 1,
                 };
                 let mut best = f64::INFINITY;

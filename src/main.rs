@@ -4,6 +4,8 @@
 //!
 //! Adding a subcommand = one variant of [`Command`] + one `run_*` function.
 
+mod bench;
+
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -14,6 +16,10 @@ use clap::{Args, Parser, Subcommand};
 use gapack::config::{self, DEFAULT_CONFIG, DEFAULT_ORIGIN};
 use gapack::output::{RunInfo, write_pack_outputs};
 use gapack::{Scene, measure, pack};
+
+/// Counts heap bytes so that `gapack bench` can report peak memory per disk.
+#[global_allocator]
+static ALLOCATOR: bench::PeakAlloc = bench::PeakAlloc;
 
 /// Dense 2D disk packings for DEM simulations.
 #[derive(Parser)]
@@ -27,6 +33,22 @@ struct Cli {
 enum Command {
     /// Pack a scene and write packing.csv, summary.json and packing.svg.
     Pack(PackArgs),
+    /// Measure disks per second and peak memory per disk (MX quadtree vs grid)
+    /// on square domains with the thesis' Table 3.4 grading; writes bench.csv.
+    Bench(BenchArgs),
+}
+
+#[derive(Args)]
+struct BenchArgs {
+    /// Largest disk count measured: 10⁴, 10⁵ and 10⁶ up to this.
+    #[arg(long, default_value_t = 1_000_000, value_name = "N")]
+    max: u64,
+    /// Runs per configuration; the fastest is kept.
+    #[arg(long, default_value_t = 3, value_name = "N")]
+    repeats: usize,
+    /// Output directory for bench.csv.
+    #[arg(long, value_name = "DIR", default_value = "out/bench")]
+    out: PathBuf,
 }
 
 #[derive(Args)]
@@ -56,6 +78,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Pack(args) => run_pack(&args),
+        Command::Bench(args) => run_bench(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -111,6 +134,56 @@ fn run_pack(args: &PackArgs) -> Result<(), Failure> {
         // A closed stdout (e.g. `| head -0`) is no reason to fail a finished run.
         let _ = writeln!(std::io::stdout(), "{line}");
     }
+    Ok(())
+}
+
+/// `gapack bench`: print one table row per measured configuration, then write bench.csv.
+fn run_bench(args: &BenchArgs) -> Result<(), Failure> {
+    let targets: Vec<u64> = [10_000, 100_000, 1_000_000]
+        .into_iter()
+        .filter(|&n| n <= args.max)
+        .collect();
+    if targets.is_empty() {
+        return Err(Failure::Input(anyhow::anyhow!(
+            "--max {} is below the smallest benchmark (10000 disks)",
+            args.max
+        )));
+    }
+    println!(
+        "{:>9} {:>9} {:>12} {:>9} {:>9} {:>9} {:>12} {:>10}",
+        "target", "side_mm", "index", "disks", "porosity", "seconds", "disks/s", "bytes/disk"
+    );
+    let rows = bench::run(&targets, args.repeats, |r| {
+        println!(
+            "{:>9} {:>9.1} {:>12} {:>9} {:>9.4} {:>9.3} {:>12.0} {:>10.1}",
+            r.target,
+            r.side_mm,
+            r.index,
+            r.disks,
+            r.porosity,
+            r.seconds,
+            r.disks_per_second,
+            r.peak_bytes_per_disk
+        );
+    });
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for row in &rows {
+        w.serialize(row)
+            .context("cannot format bench.csv")
+            .map_err(Failure::Run)?;
+    }
+    let bytes = w
+        .into_inner()
+        .context("cannot format bench.csv")
+        .map_err(Failure::Run)?;
+    let path = args.out.join("bench.csv");
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("cannot create {}", args.out.display()))
+        .map_err(Failure::Run)?;
+    gapack::output::write_atomic(&path, &bytes)
+        .context("cannot write bench.csv")
+        .map_err(Failure::Run)?;
+    println!("{}", path.display());
     Ok(())
 }
 

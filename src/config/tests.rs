@@ -347,8 +347,8 @@ fn builds_default_config() {
     assert_eq!(
         scene.domain.shape(),
         &Shape::Rectangle {
-            width: 8.6,
-            height: 62.5
+            width: 62.5,
+            height: 8.6
         }
     );
     assert_eq!(scene.walls, WallMode::Exact);

@@ -53,8 +53,8 @@ const DEFERRED_RETRIES: u32 = 32;
 /// Random angles tried on the free arcs before a one-contact placement falls back to two contacts.
 const ONE_CONTACT_TRIES: usize = 16;
 
-/// Leaf (cell) side of the spatial index, in largest diameters.
-const BUCKET_DIAMETERS: f64 = 1.0;
+/// Relative margin on the reach of a front's halo when deciding that no wall is near.
+const WALL_MARGIN_REL: f64 = 1e-9;
 
 /// Stream offset so one-contact angles never share random numbers with the sizes.
 const ANGLE_STREAM: u64 = 0x9E37_79B9_7F4A_7C15;
@@ -116,6 +116,14 @@ pub fn pack_sizes(scene: &Scene, sizes: impl Iterator<Item = f64>) -> Result<Pac
     }
 }
 
+/// A neighbour of the current front, with its squared clearance for the new radius
+/// (`clear_disk_disk` in one comparison).
+#[derive(Clone, Copy)]
+struct Near {
+    disk: Disk,
+    clear2: f64,
+}
+
 /// The generator's state while packing.
 struct Front<'a, I> {
     scene: &'a Scene,
@@ -136,8 +144,9 @@ struct Front<'a, I> {
     angles: Xoshiro256PlusPlus,
     stats: PackStats,
     // Scratch buffers reused by every attempt.
-    near: Vec<u32>,
+    near: Vec<Near>,
     cands: Vec<Point>,
+    spots: Vec<Point>,
     arcs: Vec<(f64, f64)>,
 }
 
@@ -162,7 +171,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         obs.reserve(expected);
         let (lo, hi) = domain.bounds();
         let margin = Point::new(r_max, r_max).coords;
-        let mut index = I::new(lo - margin, hi + margin, BUCKET_DIAMETERS * 2.0 * r_max);
+        let mut index = I::new(lo - margin, hi + margin, I::BUCKET_DIAMETERS * 2.0 * r_max);
         for (id, o) in obs.iter().enumerate() {
             index.insert(id as u32, o.c);
         }
@@ -188,6 +197,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             stats: PackStats::default(),
             near: Vec::new(),
             cands: Vec::new(),
+            spots: Vec::new(),
             arcs: Vec::new(),
         }
     }
@@ -325,21 +335,38 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         if one_contact && let Some(p) = self.free_angle(f, r) {
             return Some((p, 2));
         }
-        self.tangent_candidates(f, r);
-        let mut first = None;
-        let mut count = 0;
+        // Every candidate lies on the front's halo; when the front is deeper
+        // inside than the halo plus a radius reaches, no wall is in play.
+        let front = self.obs[f as usize];
+        let reach = (front.r + 2.0 * r) * (1.0 + WALL_MARGIN_REL);
+        let near_wall = self.scene.domain.signed_distance(front.c) <= reach;
+        self.tangent_candidates(f, r, near_wall);
+        // The lowest feasible candidate, and whether the front keeps room:
+        // thesis rules, a second feasible candidate; robust rules, a second
+        // one still clear of the disk about to be placed (so a front with no
+        // room left leaves now instead of costing one more failed attempt).
+        self.spots.clear();
+        let mut best: Option<Point> = None;
         for i in 0..self.cands.len() {
             let p = self.cands[i];
-            if self.feasible(p, r) {
-                count += 1;
-                if first.is_none() {
-                    first = Some(p);
-                } else {
-                    break;
-                }
+            if !self.feasible(p, r, near_wall) {
+                continue;
+            }
+            self.spots.push(p);
+            if best.is_none_or(|b| lowest_first(p, b).is_lt()) {
+                best = Some(p);
             }
         }
-        first.map(|p| (p, count))
+        let best = best?;
+        let room = if self.robust() {
+            let clear = (2.0 * r * (1.0 - FEASIBLE_REL)).powi(2);
+            self.spots
+                .iter()
+                .any(|q| (q - best).norm_squared() >= clear)
+        } else {
+            self.spots.len() >= 2
+        };
+        Some((best, if room { 2 } else { 1 }))
     }
 
     /// Neighbours of front `f` whose halo meets the front's halo, into `self.near`.
@@ -353,39 +380,45 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         );
         self.near.clear();
         let (obs, near) = (&self.obs, &mut self.near);
+        let clear = 1.0 - FEASIBLE_REL;
         self.index.visit_box(lo, hi, |id| {
             let o = obs[id as usize];
             let s = (reach + o.r) * (1.0 + FEASIBLE_REL);
             let (dx, dy) = (o.c.x - front.c.x, o.c.y - front.c.y);
             if id != f && dx * dx + dy * dy < s * s {
-                near.push(id);
+                let c = (r + o.r) * clear;
+                near.push(Near {
+                    disk: o,
+                    clear2: c * c,
+                });
             }
         });
     }
 
-    /// Halo intersections around front `f`, sorted lowest then leftmost, into `self.cands`.
-    fn tangent_candidates(&mut self, f: u32, r: f64) {
+    /// Halo intersections around front `f` (with the walls only when `near_wall`), into `self.cands`.
+    fn tangent_candidates(&mut self, f: u32, r: f64, near_wall: bool) {
         let front = self.obs[f as usize];
         let rf = front.r + r;
         self.cands.clear();
-        for &j in &self.near {
-            let o = self.obs[j as usize];
+        for n in &self.near {
+            let o = n.disk;
             if let Some(pts) = intersect_circle_circle(front.c, rf, o.c, o.r + r) {
                 self.cands.extend_from_slice(&pts);
             }
         }
-        for wall in &self.walls {
-            wall_candidates(wall, front.c, rf, r, &mut self.cands);
+        if near_wall {
+            for wall in &self.walls {
+                wall_candidates(wall, front.c, rf, r, &mut self.cands);
+            }
         }
-        self.cands.sort_unstable_by(|a, b| lowest_first(*a, *b));
     }
 
-    /// Inside the domain and clear of every neighbour.
-    fn feasible(&self, p: Point, r: f64) -> bool {
-        self.scene.domain.signed_distance(p) >= r * (1.0 - FEASIBLE_REL)
-            && self.near.iter().all(|&j| {
-                let o = &self.obs[j as usize];
-                clear_disk_disk(p, r, o.c, o.r)
+    /// Inside the domain (checked only when `near_wall`) and clear of every neighbour.
+    fn feasible(&self, p: Point, r: f64, near_wall: bool) -> bool {
+        (!near_wall || self.scene.domain.signed_distance(p) >= r * (1.0 - FEASIBLE_REL))
+            && self.near.iter().all(|n| {
+                let (dx, dy) = (p.x - n.disk.c.x, p.y - n.disk.c.y);
+                dx * dx + dy * dy >= n.clear2
             })
     }
 
@@ -394,8 +427,8 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let front = self.obs[f as usize];
         let rf = front.r + r;
         self.arcs.clear();
-        for &j in &self.near {
-            let o = self.obs[j as usize];
+        for n in &self.near {
+            let o = n.disk;
             let (dx, dy) = (o.c.x - front.c.x, o.c.y - front.c.y);
             let dist = (dx * dx + dy * dy).sqrt();
             let rj = o.r + r;
@@ -417,7 +450,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         for _ in 0..ONE_CONTACT_TRIES {
             let theta = arc_point(&self.arcs, self.angles.r#gen::<f64>() * free);
             let p = Point::new(front.c.x + rf * theta.cos(), front.c.y + rf * theta.sin());
-            if self.feasible(p, r) {
+            if self.feasible(p, r, true) {
                 return Some(p);
             }
         }

@@ -10,6 +10,9 @@ pub struct BruteForce {
 }
 
 impl SpatialIndex for BruteForce {
+    /// Unused: brute force has no buckets.
+    const BUCKET_DIAMETERS: f64 = 1.0;
+
     fn new(_min: Point, _max: Point, _bucket: f64) -> Self {
         BruteForce::default()
     }

@@ -15,6 +15,9 @@ pub struct Grid {
 }
 
 impl SpatialIndex for Grid {
+    /// Cells of one diameter: a query visits about 5 × 5 cells, each one load.
+    const BUCKET_DIAMETERS: f64 = 1.0;
+
     fn new(min: Point, max: Point, bucket: f64) -> Self {
         let cells = |extent: f64| ((extent / bucket).ceil() as u32).max(1);
         let (nx, ny) = (cells(max.x - min.x), cells(max.y - min.y));

@@ -25,6 +25,9 @@ pub(crate) const NIL: u32 = u32::MAX;
 /// (no farther than one bucket side outside it): callers filter by exact
 /// distance anyway, so the index does not test points twice.
 pub trait SpatialIndex {
+    /// Bucket (leaf or cell) side that suits the packer's queries, in largest
+    /// diameters: measured with `gapack bench`.
+    const BUCKET_DIAMETERS: f64;
     /// An empty index over `min`–`max` with buckets of about `bucket` side (mm).
     fn new(min: Point, max: Point, bucket: f64) -> Self
     where

@@ -11,7 +11,9 @@ use crate::geometry::Point;
 /// Nodes live in one arena and are created on demand, so a long thin domain
 /// (a fracture metres high and millimetres wide) costs nodes only along the
 /// strip it occupies. A query descends only into children whose square meets
-/// the box: a box of a few leaves visits O(N + leaves) nodes.
+/// the box: one root-to-node path down to the smallest node that holds the
+/// whole box, then each leaf of the box by its own short path below that node
+/// (a box of k × k leaves under a node of side 2^b costs N + k²·b steps).
 #[derive(Debug, Clone)]
 pub struct MxQuadtree {
     origin: Point,
@@ -34,6 +36,9 @@ impl MxQuadtree {
 }
 
 impl SpatialIndex for MxQuadtree {
+    /// Leaves of two diameters: a query then visits 3 × 3 leaves, and each leaf costs a path below the common node.
+    const BUCKET_DIAMETERS: f64 = 2.0;
+
     fn new(min: Point, max: Point, bucket: f64) -> Self {
         let cells = ((max.x - min.x).max(max.y - min.y) / bucket)
             .ceil()
@@ -92,32 +97,46 @@ impl SpatialIndex for MxQuadtree {
         let Some((y0, y1)) = bucket_span(min.y, max.y, self.origin.y, self.inv_side, n) else {
             return;
         };
-        // Depth-first over (node, level, lower-left leaf of the node's square).
-        let mut stack = [(0u32, 0u32, 0u32, 0u32); 128];
-        let mut top = 1;
-        while top > 0 {
-            top -= 1;
-            let (node, level, bx, by) = stack[top];
-            let half = 1u32 << (self.depth - level - 1);
-            let leaf_level = level + 1 == self.depth;
-            for (q, &child) in self.nodes[node as usize].iter().enumerate() {
-                if child == NIL {
-                    continue;
+        // Descend straight to the smallest node whose square holds the whole
+        // box: its side is 2^b leaves, b = the highest bit where the box's
+        // corner leaves differ.
+        let b = 32 - ((x0 ^ x1) | (y0 ^ y1)).leading_zeros();
+        let mut node = 0u32;
+        let mut level = 0;
+        while level + b < self.depth {
+            let bit = self.depth - 1 - level;
+            let q = (((x0 >> bit) & 1) | (((y0 >> bit) & 1) << 1)) as usize;
+            let child = self.nodes[node as usize][q];
+            if child == NIL {
+                return;
+            }
+            if level + 1 == self.depth {
+                // The box lies in one leaf.
+                let mut id = self.leaf_head[child as usize];
+                while id != NIL {
+                    f(id);
+                    id = self.next[id as usize];
                 }
-                let cx = bx + (q as u32 & 1) * half;
-                let cy = by + (q as u32 >> 1) * half;
-                if cx > x1 || cx + half - 1 < x0 || cy > y1 || cy + half - 1 < y0 {
-                    continue;
-                }
-                if leaf_level {
-                    let mut id = self.leaf_head[child as usize];
-                    while id != NIL {
-                        f(id);
-                        id = self.next[id as usize];
+                return;
+            }
+            node = child;
+            level += 1;
+        }
+        // Below that node every leaf of the box is b steps down its own path.
+        for iy in y0..=y1 {
+            'leaf: for ix in x0..=x1 {
+                let mut child = node;
+                for bit in (0..self.depth - level).rev() {
+                    let q = (((ix >> bit) & 1) | (((iy >> bit) & 1) << 1)) as usize;
+                    child = self.nodes[child as usize][q];
+                    if child == NIL {
+                        continue 'leaf;
                     }
-                } else {
-                    stack[top] = (child, level + 1, cx, cy);
-                    top += 1;
+                }
+                let mut id = self.leaf_head[child as usize];
+                while id != NIL {
+                    f(id);
+                    id = self.next[id as usize];
                 }
             }
         }
