@@ -21,6 +21,10 @@ fn fracture_case_matches_thesis() {
         );
         let p = pack(&s).unwrap();
         let phi = common::porosity(&p);
+        println!(
+            "fracture 62.5 x 8.6, seed {seed}: {} disks, porosity {phi:.4}",
+            p.disks.len()
+        );
         assert!((phi - 0.225).abs() <= 0.02, "seed {seed}: porosity {phi}");
         assert!(
             (320..=355).contains(&p.disks.len()),
@@ -60,6 +64,7 @@ fn square_domains_match_thesis() {
             })
             .sum::<f64>()
             / seeds as f64;
+        println!("square {side} mm: ours {ours:.4}, thesis {thesis_mean:.4}");
         assert!(
             (ours - thesis_mean).abs() <= 0.03,
             "side {side}: ours {ours:.4}, thesis {thesis_mean:.4}"

@@ -22,6 +22,10 @@
 //! radius it failed for and wakes it when a smaller size comes, and a size
 //! that fits at no front is deferred and retried after later placements
 //! instead of emptying the stack (the thesis' weak spot with wide gradings).
+//! The run then stops when [`DEFERRED_CAPACITY`] deferred sizes still fit
+//! nowhere: the domain is full for this grading. A front also leaves after a
+//! placement when no other feasible spot stays clear of the new disk (the
+//! thesis keeps it for one more, failing, attempt).
 //! With [`Contacts::One`] the new disk touches the front only, at a random
 //! angle drawn uniformly over the free arcs of the front's halo.
 
