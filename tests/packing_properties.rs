@@ -199,3 +199,30 @@ fn robust_rules_fill_where_thesis_rules_stop_early() {
         );
     }
 }
+
+/// Equal disks meet in exactly tangent and coincident halos at every step; a
+/// lost or spurious candidate would break the perfect hexagonal arrangement
+/// that the lowest-first rule builds in a square of whole diameters:
+/// 22 rows of 20 and 19 disks (1 + ⌊19 / (√3/2)⌋ rows) = 429 disks.
+#[test]
+fn equal_disks_build_the_perfect_hexagonal_packing() {
+    let g = Grading::constant(1.0).unwrap();
+    for index in [IndexKind::MxQuadtree, IndexKind::Grid] {
+        let mut s = common::scene(
+            Domain::rectangle(20.0, 20.0).unwrap(),
+            g.clone(),
+            WallMode::Exact,
+            0,
+        );
+        s.packer.index = index;
+        let p = pack(&s).unwrap();
+        let m = measure(&p, &g);
+        assert_eq!(m.particles, 429, "{index:?}");
+        assert!(
+            m.max_overlap <= 1e-9,
+            "{index:?}: overlap {}",
+            m.max_overlap
+        );
+        assert!(m.min_wall_clearance >= -1e-9, "{index:?}");
+    }
+}
