@@ -6,19 +6,12 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use gapack::{Domain, Grading, IndexKind, PackerSettings, Scene, WallMode, pack};
 
 fn table_3_4() -> Grading {
-    let t = [
-        (1.200, 0.0),
-        (1.215, 11.0),
-        (1.225, 21.0),
-        (1.235, 31.0),
-        (1.245, 43.0),
-        (1.255, 54.0),
-        (1.265, 65.0),
-        (1.275, 77.0),
-        (1.285, 89.0),
-        (1.295, 100.0),
-    ];
-    Grading::from_table(&t, Default::default(), Default::default()).expect("valid table")
+    Grading::from_table(
+        gapack::grading::THESIS_TABLE_3_4,
+        Default::default(),
+        Default::default(),
+    )
+    .expect("valid table")
 }
 
 /// Side of the square holding about `n` disks of Table 3.4 at the bulk porosity 0.18.

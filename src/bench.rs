@@ -71,32 +71,22 @@ pub struct Row {
     pub peak_bytes_per_disk: f64,
 }
 
-/// Table 3.4 of the thesis.
-fn table_3_4() -> Grading {
-    let t = [
-        (1.200, 0.0),
-        (1.215, 11.0),
-        (1.225, 21.0),
-        (1.235, 31.0),
-        (1.245, 43.0),
-        (1.255, 54.0),
-        (1.265, 65.0),
-        (1.275, 77.0),
-        (1.285, 89.0),
-        (1.295, 100.0),
-    ];
-    Grading::from_table(&t, Default::default(), Default::default())
-        .expect("Table 3.4 is a valid grading")
-}
-
 /// Square side (mm) for a target disk count; 10⁶ maps to the thesis' 1000 mm square scaled up.
 fn side_for(target: u64, grading: &Grading) -> f64 {
     (target as f64 * grading.mean_disk_area() / 0.82).sqrt()
 }
 
 /// Measure every (size, index) pair; `targets` are disk counts.
-pub fn run(targets: &[u64], repeats: usize, mut progress: impl FnMut(&Row)) -> Vec<Row> {
-    let grading = table_3_4();
+pub fn run(
+    targets: &[u64],
+    repeats: usize,
+    mut progress: impl FnMut(&Row),
+) -> anyhow::Result<Vec<Row>> {
+    let grading = Grading::from_table(
+        gapack::grading::THESIS_TABLE_3_4,
+        Default::default(),
+        Default::default(),
+    )?;
     let mut rows = Vec::new();
     for &target in targets {
         let mut sides = vec![side_for(target, &grading)];
@@ -109,7 +99,7 @@ pub fn run(targets: &[u64], repeats: usize, mut progress: impl FnMut(&Row)) -> V
                 ("grid", IndexKind::Grid),
             ] {
                 let scene = Scene {
-                    domain: Domain::rectangle(side, side).expect("positive side"),
+                    domain: Domain::rectangle(side, side)?,
                     walls: WallMode::Exact,
                     wall_disk_diameter: None,
                     grading: grading.clone(),
@@ -121,18 +111,19 @@ pub fn run(targets: &[u64], repeats: usize, mut progress: impl FnMut(&Row)) -> V
                 };
                 let mut best = f64::INFINITY;
                 let mut peak = 0usize;
-                let mut result = None;
+                let mut packing = None;
                 for _ in 0..repeats.max(1) {
-                    drop(result.take());
+                    drop(packing.take());
                     let base = CURRENT.load(Ordering::Relaxed);
                     PEAK.store(base, Ordering::Relaxed);
                     let start = Instant::now();
-                    let packing = pack(&scene).expect("bench scenes pack");
+                    let p = pack(&scene)?;
                     best = best.min(start.elapsed().as_secs_f64());
-                    peak = peak.max(PEAK.load(Ordering::Relaxed) - base);
-                    result = Some(packing);
+                    peak = peak.max(PEAK.load(Ordering::Relaxed).saturating_sub(base));
+                    packing = Some(p);
                 }
-                let packing = result.expect("at least one repeat");
+                // At least one repeat ran, so the packing is there.
+                let Some(packing) = packing else { continue };
                 let disks = packing.disks.len();
                 let solid: f64 = packing.disks.iter().map(|d| d.area()).sum();
                 let row = Row {
@@ -150,5 +141,5 @@ pub fn run(targets: &[u64], repeats: usize, mut progress: impl FnMut(&Row)) -> V
             }
         }
     }
-    rows
+    Ok(rows)
 }

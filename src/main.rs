@@ -165,7 +165,9 @@ fn run_bench(args: &BenchArgs) -> Result<(), Failure> {
             r.disks_per_second,
             r.peak_bytes_per_disk
         );
-    });
+    })
+    .context("cannot run the benchmark")
+    .map_err(Failure::Run)?;
     let mut w = csv::Writer::from_writer(Vec::new());
     for row in &rows {
         w.serialize(row)

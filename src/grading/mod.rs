@@ -16,3 +16,19 @@ mod test_tables;
 
 pub use curve::{Basis, Grading, Interpolation};
 pub use error::GradingError;
+
+/// The thesis' Table 3.4 (Pinto 2009), `(diameter mm, percent passing by
+/// number)`: the proppant grading of its fracture case and square domains,
+/// used by the reproduction tests and `gapack bench`.
+pub const THESIS_TABLE_3_4: &[(f64, f64)] = &[
+    (1.200, 0.0),
+    (1.215, 11.0),
+    (1.225, 21.0),
+    (1.235, 31.0),
+    (1.245, 43.0),
+    (1.255, 54.0),
+    (1.265, 65.0),
+    (1.275, 77.0),
+    (1.285, 89.0),
+    (1.295, 100.0),
+];

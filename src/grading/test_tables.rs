@@ -9,18 +9,7 @@ pub(super) const TABLE_3_1: &[(f64, f64)] =
     &[(1.275, 0.0), (1.8, 35.0), (2.55, 95.0), (3.54, 100.0)];
 
 /// Thesis Table 3.4 (proppant, fracture case).
-pub(super) const TABLE_3_4: &[(f64, f64)] = &[
-    (1.200, 0.0),
-    (1.215, 11.0),
-    (1.225, 21.0),
-    (1.235, 31.0),
-    (1.245, 43.0),
-    (1.255, 54.0),
-    (1.265, 65.0),
-    (1.275, 77.0),
-    (1.285, 89.0),
-    (1.295, 100.0),
-];
+pub(super) use super::THESIS_TABLE_3_4 as TABLE_3_4;
 
 /// Thesis Table 4.1 (AP-5 three-part grading with a step at 2.4 mm).
 pub(super) const TABLE_4_1: &[(f64, f64)] = &[(1.2, 0.0), (2.4, 10.0), (2.4, 90.0), (6.0, 100.0)];
