@@ -22,6 +22,11 @@ pub const TANGENT_REL: f64 = 1e-12;
 /// Relative gap under which two disks count as in contact (coordination number).
 pub const CONTACT_REL: f64 = 1e-6;
 
+/// Relative slack when a front's remembered free spot is checked again: a spot
+/// still counts as free unless it is blocked by more than this. Generous on
+/// purpose, since a spot judged free only costs a full (exact) attempt.
+pub const WITNESS_REL: f64 = 1e-6;
+
 /// Intersections of the circles (`c1`, `r1`) and (`c2`, `r2`).
 ///
 /// # Returns
@@ -87,6 +92,31 @@ pub fn clear_disk_disk(p: Point, r: f64, c: Point, rc: f64) -> bool {
     let dy = p.y - c.y;
     let s = (r + rc) * (1.0 - FEASIBLE_REL);
     dx * dx + dy * dy >= s * s
+}
+
+/// Largest radius ρ of a disk centred at `t + ρ·u` (so touching the point `t`,
+/// `u` a unit vector) that stays clear of the disk (`c`, `rc`).
+///
+/// # Returns
+/// `f64::INFINITY` when no radius is blocked (the ray leaves the disk's side),
+/// and 0 or less when `t` itself is inside the disk. Clearance is linear in ρ:
+/// |t − c + ρu|² ≥ (rc + ρ)² ⇔ |t − c|² − rc² ≥ 2ρ(rc − (t − c)·u).
+///
+/// # Example
+/// ```
+/// use gapack::{Point, geometry::predicates::max_radius_ray_disk};
+/// // From the origin along +x towards a unit disk centred at (3, 0): ρ = 1.
+/// let rho = max_radius_ray_disk(Point::new(0.0, 0.0), [1.0, 0.0], Point::new(3.0, 0.0), 1.0);
+/// assert!((rho - 1.0).abs() < 1e-12);
+/// ```
+#[inline]
+pub fn max_radius_ray_disk(t: Point, u: [f64; 2], c: Point, rc: f64) -> f64 {
+    let (wx, wy) = (t.x - c.x, t.y - c.y);
+    let toward = rc - (wx * u[0] + wy * u[1]);
+    if toward <= 0.0 {
+        return f64::INFINITY;
+    }
+    (wx * wx + wy * wy - rc * rc) / (2.0 * toward)
 }
 
 /// Overlap of two disks relative to the sum of their radii (negative when apart).
@@ -217,6 +247,19 @@ mod tests {
             assert!(((p - c).norm() - 2.0).abs() < 1e-12);
         }
         assert!(intersect_circle_line(c, 0.4, Point::new(0.0, 0.5), 1.0, 0.0).is_none());
+    }
+
+    #[test]
+    fn ray_radius_is_the_tangent_radius() {
+        let t = Point::new(0.5, -0.25);
+        let (c, rc) = (Point::new(1.7, 1.1), 0.6);
+        for u in [[0.6, 0.8], [1.0, 0.0], [0.0, 1.0]] {
+            let rho = max_radius_ray_disk(t, u, c, rc);
+            let p = Point::new(t.x + rho * u[0], t.y + rho * u[1]);
+            assert!(((p - c).norm() - (rc + rho)).abs() < 1e-12, "{u:?}: {rho}");
+        }
+        // Pointing away from the disk: any radius fits.
+        assert_eq!(max_radius_ray_disk(t, [-1.0, 0.0], c, rc), f64::INFINITY);
     }
 
     #[test]

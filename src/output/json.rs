@@ -43,6 +43,7 @@ struct StatsSummary {
     sizes_deferred: u64,
     sizes_unplaced: u64,
     front_attempts: u64,
+    witness_checks: u64,
 }
 
 impl From<PackStats> for StatsSummary {
@@ -52,6 +53,7 @@ impl From<PackStats> for StatsSummary {
             sizes_deferred: s.sizes_deferred,
             sizes_unplaced: s.sizes_unplaced,
             front_attempts: s.front_attempts,
+            witness_checks: s.witness_checks,
         }
     }
 }

@@ -28,6 +28,8 @@ pub struct PackStats {
     pub sizes_unplaced: u64,
     /// Front attempts (placements tried around a front).
     pub front_attempts: u64,
+    /// Witness checks: a returning front's remembered spot tested instead of a full attempt.
+    pub witness_checks: u64,
 }
 
 /// Why a scene cannot be packed.
