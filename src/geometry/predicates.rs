@@ -24,8 +24,9 @@ pub const CONTACT_REL: f64 = 1e-6;
 
 /// Relative slack when a front's remembered free spot is checked again: a spot
 /// still counts as free unless it is blocked by more than this. Generous on
-/// purpose, since a spot judged free only costs a full (exact) attempt.
-pub const WITNESS_REL: f64 = 1e-6;
+/// purpose (20 times the rounding of a stored direction), since a spot judged
+/// free only costs a full, exact attempt.
+pub const WITNESS_REL: f64 = 1e-3;
 
 /// Intersections of the circles (`c1`, `r1`) and (`c2`, `r2`).
 ///

@@ -2,6 +2,7 @@
 
 use super::SpatialIndex;
 use crate::geometry::Point;
+use std::ops::ControlFlow;
 
 /// Every item in one list; a query tests them all. Exact: visits only items in the box.
 #[derive(Debug, Clone, Default)]
@@ -22,12 +23,18 @@ impl SpatialIndex for BruteForce {
         self.points.push(p);
     }
 
-    fn visit_box(&self, min: Point, max: Point, mut f: impl FnMut(u32)) {
+    fn try_visit_box(
+        &self,
+        min: Point,
+        max: Point,
+        mut f: impl FnMut(u32) -> ControlFlow<()>,
+    ) -> ControlFlow<()> {
         for (id, p) in self.points.iter().enumerate() {
             if p.x >= min.x && p.x <= max.x && p.y >= min.y && p.y <= max.y {
-                f(id as u32);
+                f(id as u32)?;
             }
         }
+        ControlFlow::Continue(())
     }
 
     fn heap_bytes(&self) -> usize {

@@ -2,6 +2,7 @@
 
 use super::{NIL, SpatialIndex, bucket_of, bucket_span};
 use crate::geometry::Point;
+use std::ops::ControlFlow;
 
 /// A dense grid of square cells over the domain's bounds, each cell a linked list.
 #[derive(Debug, Clone)]
@@ -41,25 +42,31 @@ impl SpatialIndex for Grid {
     }
 
     #[inline]
-    fn visit_box(&self, min: Point, max: Point, mut f: impl FnMut(u32)) {
+    fn try_visit_box(
+        &self,
+        min: Point,
+        max: Point,
+        mut f: impl FnMut(u32) -> ControlFlow<()>,
+    ) -> ControlFlow<()> {
         let Some((x0, x1)) = bucket_span(min.x, max.x, self.origin.x, self.inv_side, self.nx)
         else {
-            return;
+            return ControlFlow::Continue(());
         };
         let Some((y0, y1)) = bucket_span(min.y, max.y, self.origin.y, self.inv_side, self.ny)
         else {
-            return;
+            return ControlFlow::Continue(());
         };
         for iy in y0..=y1 {
             let row = (iy * self.nx) as usize;
             for ix in x0..=x1 {
                 let mut id = self.head[row + ix as usize];
                 while id != NIL {
-                    f(id);
+                    f(id)?;
                     id = self.next[id as usize];
                 }
             }
         }
+        ControlFlow::Continue(())
     }
 
     fn heap_bytes(&self) -> usize {

@@ -13,6 +13,7 @@ pub use grid::Grid;
 pub use mx_quadtree::MxQuadtree;
 
 use crate::geometry::Point;
+use std::ops::ControlFlow;
 
 /// End-of-list marker in the intrusive bucket lists.
 pub(crate) const NIL: u32 = u32::MAX;
@@ -20,7 +21,7 @@ pub(crate) const NIL: u32 = u32::MAX;
 /// A spatial index of points for box queries.
 ///
 /// # Behavior
-/// [`visit_box`](SpatialIndex::visit_box) visits every item whose point lies in
+/// [`try_visit_box`](SpatialIndex::try_visit_box) visits every item whose point lies in
 /// the closed box, and may also visit items of the buckets the box touches
 /// (no farther than one bucket side outside it): callers filter by exact
 /// distance anyway, so the index does not test points twice.
@@ -34,13 +35,47 @@ pub trait SpatialIndex {
         Self: Sized;
     /// Add item `id` at `p` (inside the index's bounds); ids must come in order 0, 1, 2, …
     fn insert(&mut self, id: u32, p: Point);
+    /// Call `f` with the id of every item in the box `min`–`max` (and perhaps a
+    /// few beyond) until it breaks; returns whether it broke.
+    fn try_visit_box(
+        &self,
+        min: Point,
+        max: Point,
+        f: impl FnMut(u32) -> ControlFlow<()>,
+    ) -> ControlFlow<()>;
+
     /// Call `f` with the id of every item in the box `min`–`max` (and perhaps a few beyond).
-    fn visit_box(&self, min: Point, max: Point, f: impl FnMut(u32));
+    #[inline]
+    fn visit_box(&self, min: Point, max: Point, mut f: impl FnMut(u32)) {
+        let _ = self.try_visit_box(min, max, |id| {
+            f(id);
+            ControlFlow::Continue(())
+        });
+    }
+
+    /// Whether `pred` holds for some item in the box `min`–`max` (or a few
+    /// beyond), stopping at the first that does.
+    #[inline]
+    fn any_in_box(&self, min: Point, max: Point, mut pred: impl FnMut(u32) -> bool) -> bool {
+        self.try_visit_box(min, max, |id| {
+            if pred(id) {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        })
+        .is_break()
+    }
     /// Bytes held on the heap, for memory reports.
     fn heap_bytes(&self) -> usize;
 }
 
 /// Buckets `lo..=hi` covered by the interval `[a, b]` along one axis, or `None` if it misses `0..n`.
+///
+/// # Performance
+/// Truncation instead of `floor` (a library call on baseline x86-64): the
+/// bucket coordinates it converts are checked non-negative first, and
+/// `as u32` saturates. NaN misses.
 #[inline]
 pub(crate) fn bucket_span(
     a: f64,
@@ -49,25 +84,20 @@ pub(crate) fn bucket_span(
     inv_side: f64,
     n: u32,
 ) -> Option<(u32, u32)> {
-    let ka = ((a - origin) * inv_side).floor();
-    let kb = ((b - origin) * inv_side).floor();
-    if kb < 0.0 || ka > (n - 1) as f64 || ka.is_nan() || kb.is_nan() {
+    let ka = (a - origin) * inv_side;
+    let kb = (b - origin) * inv_side;
+    if !(kb >= 0.0 && ka < f64::from(n)) {
         return None;
     }
-    Some((ka.max(0.0) as u32, kb.min((n - 1) as f64) as u32))
+    let lo = if ka > 0.0 { ka as u32 } else { 0 };
+    Some((lo, (kb as u32).min(n - 1)))
 }
 
-/// Bucket coordinate of `v` along one axis, clamped to `0..n`.
+/// Bucket coordinate of `v` along one axis, clamped to `0..n` (NaN gives 0).
 #[inline]
 pub(crate) fn bucket_of(v: f64, origin: f64, inv_side: f64, n: u32) -> u32 {
-    let k = ((v - origin) * inv_side).floor();
-    if k <= 0.0 {
-        0
-    } else if k >= (n - 1) as f64 {
-        n - 1
-    } else {
-        k as u32
-    }
+    let k = (v - origin) * inv_side;
+    if k > 0.0 { (k as u32).min(n - 1) } else { 0 }
 }
 
 #[cfg(test)]
@@ -113,6 +143,17 @@ mod tests {
                 assert!(got.insert(id), "item {id} visited twice");
             });
             assert!(got.is_superset(&want), "missed items");
+            // The early-exit query finds an item of the box that matches, if there is one.
+            let pick = |id: u32| id % 5 == 2;
+            let mut hit = None;
+            let any = index.any_in_box(lo, hi, |id| {
+                hit = Some(id);
+                pick(id)
+            });
+            assert_eq!(any, hit.is_some_and(pick));
+            if want.iter().any(|&id| pick(id)) {
+                assert!(any, "early exit missed a matching item");
+            }
             let slack = bucket * 1.000001;
             for &id in &got {
                 let p = pts[id as usize];

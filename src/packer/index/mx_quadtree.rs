@@ -2,6 +2,7 @@
 
 use super::{NIL, SpatialIndex, bucket_of, bucket_span};
 use crate::geometry::Point;
+use std::ops::ControlFlow;
 
 /// MX quadtree: regular subdivision at each node's centre down to 2^N leaf
 /// cells per side; only leaves hold data (item lists), so the tree's shape
@@ -89,13 +90,18 @@ impl SpatialIndex for MxQuadtree {
     }
 
     #[inline]
-    fn visit_box(&self, min: Point, max: Point, mut f: impl FnMut(u32)) {
+    fn try_visit_box(
+        &self,
+        min: Point,
+        max: Point,
+        mut f: impl FnMut(u32) -> ControlFlow<()>,
+    ) -> ControlFlow<()> {
         let n = self.leaves_per_side();
         let Some((x0, x1)) = bucket_span(min.x, max.x, self.origin.x, self.inv_side, n) else {
-            return;
+            return ControlFlow::Continue(());
         };
         let Some((y0, y1)) = bucket_span(min.y, max.y, self.origin.y, self.inv_side, n) else {
-            return;
+            return ControlFlow::Continue(());
         };
         // Descend straight to the smallest node whose square holds the whole
         // box: its side is 2^b leaves, b = the highest bit where the box's
@@ -108,16 +114,16 @@ impl SpatialIndex for MxQuadtree {
             let q = (((x0 >> bit) & 1) | (((y0 >> bit) & 1) << 1)) as usize;
             let child = self.nodes[node as usize][q];
             if child == NIL {
-                return;
+                return ControlFlow::Continue(());
             }
             if level + 1 == self.depth {
                 // The box lies in one leaf.
                 let mut id = self.leaf_head[child as usize];
                 while id != NIL {
-                    f(id);
+                    f(id)?;
                     id = self.next[id as usize];
                 }
-                return;
+                return ControlFlow::Continue(());
             }
             node = child;
             level += 1;
@@ -135,11 +141,12 @@ impl SpatialIndex for MxQuadtree {
                 }
                 let mut id = self.leaf_head[child as usize];
                 while id != NIL {
-                    f(id);
+                    f(id)?;
                     id = self.next[id as usize];
                 }
             }
         }
+        ControlFlow::Continue(())
     }
 
     fn heap_bytes(&self) -> usize {
