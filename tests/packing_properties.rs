@@ -132,6 +132,49 @@ fn same_seed_same_packing_other_seed_other_packing() {
     assert_ne!(a.disks, c.disks);
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// The index only finds neighbours: every choice the packer makes is
+    /// independent of the order it visits them in.
+    #[test]
+    fn quadtree_and_grid_agree_on_random_scenes(scene in scene_strategy()) {
+        let mut s = scene;
+        s.packer.index = IndexKind::MxQuadtree;
+        let a = pack(&s).unwrap();
+        s.packer.index = IndexKind::Grid;
+        let b = pack(&s).unwrap();
+        prop_assert_eq!(a.disks, b.disks);
+    }
+}
+
+/// Closed fronts leave without a full attempt (witness spots; a smallest-size
+/// test after a failure): about one full attempt per disk with a narrow
+/// grading, a few with a wide one. Making one failing attempt per buried disk,
+/// as the thesis does, costs 2 per disk and 9–28 on the wide grading.
+#[test]
+fn closed_fronts_cost_no_full_attempt() {
+    let table_3_1 = [(1.275, 0.0), (1.8, 35.0), (2.55, 95.0), (3.54, 100.0)];
+    let wide = Grading::from_table(&table_3_1, Default::default(), Default::default()).unwrap();
+    for (grading, side, limit) in [(common::table_3_4(), 60.0, 1.02), (wide, 100.0, 5.0)] {
+        for seed in 1..4 {
+            let s = common::scene(
+                Domain::rectangle(side, side).unwrap(),
+                grading.clone(),
+                WallMode::Exact,
+                seed,
+            );
+            let p = pack(&s).unwrap();
+            let per_disk = p.stats.front_attempts as f64 / p.disks.len() as f64;
+            println!("side {side} seed {seed}: {per_disk:.3} full attempts per disk");
+            assert!(
+                per_disk <= limit,
+                "side {side} seed {seed}: {per_disk} attempts per disk"
+            );
+        }
+    }
+}
+
 #[test]
 fn quadtree_and_grid_give_the_same_packing() {
     let mut s = common::scene(

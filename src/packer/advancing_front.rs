@@ -426,11 +426,12 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             let clear = (2.0 * r * (1.0 - FEASIBLE_REL)).powi(2);
             let c = self.obs[f as usize].c;
             let mut kept = NO_WITNESS;
-            let spots = self
-                .spots
-                .iter()
-                .filter(|q| (*q - best).norm_squared() >= clear);
-            for (slot, q) in kept.iter_mut().zip(spots) {
+            self.spots.retain(|q| (q - best).norm_squared() >= clear);
+            if self.spots.len() > WITNESSES {
+                // The lowest ones, whatever order the index gave them in.
+                self.spots.sort_unstable_by(|a, b| lowest_first(*a, *b));
+            }
+            for (slot, q) in kept.iter_mut().zip(&self.spots) {
                 let (dx, dy) = (q.x - c.x, q.y - c.y);
                 let k = WITNESS_SCALE / (dx * dx + dy * dy).sqrt();
                 *slot = [(dx * k).round() as i16, (dy * k).round() as i16];
@@ -478,10 +479,13 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                     Point::new(px + half, py + half),
                 );
                 let (obs, blocked) = (&self.obs, r * (1.0 - WITNESS_REL));
-                self.index.any_in_box(lo, hi, |id| {
+                let blocks = |id: u32| {
                     let o = obs[id as usize];
                     id != f && max_radius_ray_disk(t, u, o.c, o.r) < blocked
-                })
+                };
+                // The disk that took the spot usually has its centre in the spot's own bucket.
+                let p = Point::new(px, py);
+                self.index.any_in_box(p, p, blocks) || self.index.any_in_box(lo, hi, blocks)
             })
     }
 
