@@ -187,6 +187,7 @@ struct Front<'a, I> {
     fronts: Vec<u32>,
     /// Per obstacle id: the free spots that kept it on the stack, or [`NO_WITNESS`].
     witness: Vec<Witnesses>,
+    /// Smallest radius of the grading: a front that cannot take it is closed.
     r_min: f64,
     /// Fronts that failed for a radius, waiting for a smaller one.
     parked: Vec<(f64, u32)>,
@@ -454,8 +455,8 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
     /// One query of half side `r_min + r_max` per spot, stopping at the first
     /// obstacle that blocks it, and at the first spot that is still free:
     /// every obstacle that blocks the smallest disk touching `f` in the spot's
-    /// direction is in that box. Walls are not
-    /// checked: the spot was inside for the size that found it.
+    /// direction is in that box. Walls are not checked: the spot was inside
+    /// for the size that found it.
     fn witnesses_closed(&mut self, f: u32) -> bool {
         let witnesses = self.witness[f as usize];
         if witnesses[0] == [0, 0] {
