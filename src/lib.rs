@@ -20,7 +20,7 @@ mod scene;
 pub use geometry::{Disk, Domain, GeometryError, Point, Shape, Wall, WallMode};
 pub use grading::{Basis, Grading, GradingError, Interpolation};
 pub use packer::{
-    Contacts, FrontRules, IndexKind, Metrics, PackError, PackStats, PackerSettings, Packing,
+    FrontRules, IndexKind, MAX_GAP, Metrics, PackError, PackStats, PackerSettings, Packing,
     measure, pack,
 };
 pub use scene::Scene;

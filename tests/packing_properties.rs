@@ -5,12 +5,12 @@ mod common;
 
 use gapack::geometry::predicates::OVERLAP_REL;
 use gapack::{
-    Contacts, Domain, FrontRules, Grading, IndexKind, PackerSettings, Point, Scene, WallMode,
-    measure, pack,
+    Domain, FrontRules, Grading, IndexKind, PackerSettings, Point, Scene, WallMode, measure, pack,
 };
 use proptest::prelude::*;
 
-/// Largest empty circle allowed, in largest diameters, for the robust rules.
+/// Largest empty circle allowed, in largest diameters, for the robust rules
+/// with dense placements; loose ones add two diameters per radius of gap.
 const MAX_HOLE_DMAX: f64 = 2.0;
 
 fn domain_strategy() -> impl Strategy<Value = Domain> {
@@ -68,7 +68,9 @@ fn scene_strategy() -> impl Strategy<Value = Scene> {
         domain_strategy(),
         grading_strategy(),
         prop_oneof![Just(WallMode::Exact), Just(WallMode::Disks)],
-        prop_oneof![Just(Contacts::Two), Just(Contacts::One)],
+        // One-contact share: dense, loose, mixed; gap: none or up to the largest.
+        prop_oneof![2 => Just(0.0), 1 => Just(1.0), 1 => 0.0..1.0f64],
+        prop_oneof![2 => Just(0.0), 1 => 0.0..=gapack::MAX_GAP],
         prop_oneof![Just(IndexKind::MxQuadtree), Just(IndexKind::Grid)],
         prop_oneof![3 => Just(FrontRules::Robust), 1 => Just(FrontRules::Thesis)],
         any::<u64>(),
@@ -77,14 +79,15 @@ fn scene_strategy() -> impl Strategy<Value = Scene> {
             2.0 * d.inradius() > 2.0 * g.d_max()
         })
         .prop_map(
-            |(domain, grading, walls, contacts, index, rules, seed)| Scene {
+            |(domain, grading, walls, one_contact_share, gap, index, rules, seed)| Scene {
                 domain,
                 walls,
                 wall_disk_diameter: None,
                 grading,
                 packer: PackerSettings {
                     index,
-                    contacts,
+                    one_contact_share,
+                    gap,
                     rules,
                 },
                 seed,
@@ -104,9 +107,11 @@ proptest! {
         prop_assert!(m.max_overlap <= OVERLAP_REL, "overlap {}", m.max_overlap);
         prop_assert!(m.min_wall_clearance >= -OVERLAP_REL * d_max, "outside by {}", m.min_wall_clearance);
         prop_assert!(m.porosity > 0.0 && m.porosity < 1.0);
+        prop_assert_eq!(m.isolated, 0, "disks touching no other disk");
         if scene.packer.rules == FrontRules::Robust {
+            let limit = (MAX_HOLE_DMAX + 2.0 * scene.packer.gap) * d_max;
             prop_assert!(
-                m.largest_hole <= MAX_HOLE_DMAX * d_max,
+                m.largest_hole <= limit,
                 "hole {} mm = {} d_max", m.largest_hole, m.largest_hole / d_max
             );
         }

@@ -92,6 +92,18 @@ pub enum ConfigError {
         /// The value given.
         value: f64,
     },
+    /// A number outside the range its key allows.
+    #[error("{at}: {key}: must be {range}, got {value}")]
+    OutOfRange {
+        /// Where.
+        at: Location,
+        /// Key path at fault.
+        key: String,
+        /// The range, in words (`"in [0, 1]"`, `"at least 2"`).
+        range: String,
+        /// The value given.
+        value: f64,
+    },
     /// A name that is not one of the valid ones.
     #[error("{at}: {key}: unknown {what} {given}; valid: {}", .valid.join(", "))]
     UnknownName {
@@ -173,6 +185,7 @@ impl ConfigError {
             | ConfigError::Schema { at, .. }
             | ConfigError::NotPositive { at, .. }
             | ConfigError::NotFinite { at, .. }
+            | ConfigError::OutOfRange { at, .. }
             | ConfigError::UnknownName { at, .. }
             | ConfigError::Missing { at, .. }
             | ConfigError::NotApplicable { at, .. }
@@ -189,6 +202,7 @@ impl ConfigError {
             ConfigError::Schema { key, .. }
             | ConfigError::NotPositive { key, .. }
             | ConfigError::NotFinite { key, .. }
+            | ConfigError::OutOfRange { key, .. }
             | ConfigError::UnknownName { key, .. }
             | ConfigError::Missing { key, .. }
             | ConfigError::NotApplicable { key, .. }

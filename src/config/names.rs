@@ -3,7 +3,7 @@
 
 use crate::geometry::{Shape, WallMode};
 use crate::grading::{Basis, Interpolation};
-use crate::packer::{Contacts, FrontRules, IndexKind};
+use crate::packer::{FrontRules, IndexKind};
 
 /// The packing method; `packer.method` must name it. It is the only one so far.
 pub const METHOD: &str = "advancing-front";
@@ -110,10 +110,10 @@ pub(crate) const RULES: Names<FrontRules> = Names {
     ],
 };
 
-/// `packer.contacts` is written as a number.
-pub(crate) const CONTACTS: Names<Contacts> = Names {
+/// `packer.contacts` is written as a number; it sets the one-contact share.
+pub(crate) const CONTACTS: Names<f64> = Names {
     what: "contact count",
-    entries: &[("2", Contacts::Two), ("1", Contacts::One)],
+    entries: &[("2", 0.0), ("1", 1.0)],
 };
 
 /// The name a choice is written with in a config (`"mx-quadtree"`, `"exact"`, `"2"`).
@@ -154,12 +154,6 @@ impl ConfigName for FrontRules {
     }
 }
 
-impl ConfigName for Contacts {
-    fn config_name(&self) -> &'static str {
-        CONTACTS.name_of(*self)
-    }
-}
-
 impl ConfigName for Shape {
     fn config_name(&self) -> &'static str {
         SHAPES.name_of(match self {
@@ -181,7 +175,7 @@ mod tests {
             assert_eq!(INDEXES.get(name), Some(*value));
             assert_eq!(value.config_name(), *name);
         }
-        assert_eq!(Contacts::One.config_name(), "1");
+        assert_eq!(CONTACTS.get("1"), Some(1.0));
         assert_eq!(WallMode::Disks.config_name(), "disks");
         assert_eq!(Basis::Mass3d.config_name(), "mass3d");
         assert_eq!(FrontRules::Thesis.config_name(), "thesis");

@@ -55,6 +55,8 @@ pub(crate) struct RawPacker {
     pub method: Option<Spanned<String>>,
     pub index: Option<Spanned<String>>,
     pub contacts: Option<Spanned<i64>>,
+    pub one_contact_share: Option<Spanned<f64>>,
+    pub gap: Option<Spanned<f64>>,
     pub rules: Option<Spanned<String>>,
 }
 

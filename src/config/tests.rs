@@ -7,7 +7,7 @@
 use super::*;
 use crate::geometry::{Point, Shape, WallMode};
 use crate::grading::Basis;
-use crate::packer::{Contacts, FrontRules, IndexKind};
+use crate::packer::{FrontRules, IndexKind};
 
 /// The error `text` gives; fails the test if it parses.
 fn err(text: &str) -> ConfigError {
@@ -326,6 +326,22 @@ fn unknown_packer_names_list_the_valid_ones() {
         "t.toml:8:12: packer.contacts: unknown contact count \"3\"; valid: 2, 1",
     );
     fails_with(
+        &packer("one_contact_share = 1.5"),
+        "t.toml:8:21: packer.one_contact_share: must be in [0, 1], got 1.5",
+    );
+    fails_with(
+        &packer("contacts = 1\none_contact_share = 0.5"),
+        "t.toml:9:21: packer.one_contact_share: give packer.contacts or packer.one_contact_share, not both",
+    );
+    fails_with(
+        &packer("gap = -0.1"),
+        "t.toml:8:7: packer.gap: must be in [0, 1], got -0.1",
+    );
+    fails_with(
+        &packer("gap = nan"),
+        "t.toml:8:7: packer.gap: must be in [0, 1], got NaN",
+    );
+    fails_with(
         &packer("rules = \"strict\""),
         "t.toml:8:9: packer.rules: unknown front rules \"strict\"; valid: robust, thesis",
     );
@@ -372,7 +388,7 @@ fn builds_with_integers_for_floats_and_all_settings() {
     assert_eq!(scene.wall_disk_diameter, Some(1.0));
     assert_eq!(scene.grading.basis(), Basis::Mass3d);
     assert_eq!(scene.packer.index, IndexKind::Grid);
-    assert_eq!(scene.packer.contacts, Contacts::One);
+    assert_eq!(scene.packer.one_contact_share, 1.0);
     assert_eq!(scene.packer.rules, FrontRules::Thesis);
     assert!((scene.domain.area() - 256.0).abs() < 1e-9);
 }

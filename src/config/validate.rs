@@ -20,7 +20,9 @@ use super::raw::{Pair, RawConfig, RawDomain, RawGrading, RawLimits, RawPacker};
 use crate::Scene;
 use crate::geometry::{Domain, GeometryError, Point, WallMode};
 use crate::grading::{Basis, Grading, Interpolation};
-use crate::packer::{PEAK_BYTES_PER_DISK, PackError, PackerSettings, estimated_peak_bytes};
+use crate::packer::{
+    MAX_GAP, PEAK_BYTES_PER_DISK, PackError, PackerSettings, estimated_peak_bytes,
+};
 
 /// `limits.max_memory_mb` when not given.
 pub const DEFAULT_MAX_MEMORY_MB: f64 = 4096.0;
@@ -463,11 +465,49 @@ impl Validator<'_> {
             .contacts
             .as_ref()
             .map(|c| Spanned::new(c.span(), c.get_ref().to_string()));
+        let contact_share = self.name(&CONTACTS, "packer.contacts", contacts.as_ref())?;
+        let one_contact_share = match (&p.one_contact_share, &p.contacts) {
+            (None, _) => contact_share,
+            (Some(share), Some(_)) => {
+                return Err(ConfigError::NotApplicable {
+                    at: self.at(&share.span()),
+                    key: "packer.one_contact_share".to_owned(),
+                    reason: "give packer.contacts or packer.one_contact_share, not both".to_owned(),
+                });
+            }
+            (Some(share), None) => self.in_range("packer.one_contact_share", share, 0.0, 1.0)?,
+        };
+        let gap = match &p.gap {
+            None => 0.0,
+            Some(g) => self.in_range("packer.gap", g, 0.0, MAX_GAP)?,
+        };
         Ok(PackerSettings {
             index: self.name(&INDEXES, "packer.index", p.index.as_ref())?,
-            contacts: self.name(&CONTACTS, "packer.contacts", contacts.as_ref())?,
             rules: self.name(&RULES, "packer.rules", p.rules.as_ref())?,
+            one_contact_share,
+            gap,
         })
+    }
+
+    /// A number that must lie in `[lo, hi]`.
+    fn in_range(
+        &self,
+        key: &str,
+        value: &Spanned<f64>,
+        lo: f64,
+        hi: f64,
+    ) -> Result<f64, ConfigError> {
+        let v = *value.get_ref();
+        if (lo..=hi).contains(&v) {
+            Ok(v)
+        } else {
+            Err(ConfigError::OutOfRange {
+                at: self.at(&value.span()),
+                key: key.to_owned(),
+                range: format!("in [{lo}, {hi}]"),
+                value: v,
+            })
+        }
     }
 
     /// The memory limit in MB and the key that set it, if given.

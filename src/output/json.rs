@@ -5,7 +5,7 @@ use serde::Serialize;
 use super::error::OutputError;
 use super::run::RunInfo;
 use crate::config::{ConfigName, METHOD};
-use crate::packer::{Contacts, Metrics, PackStats, Packing};
+use crate::packer::{Metrics, PackStats, Packing};
 
 /// File name of the run summary.
 pub const SUMMARY_JSON: &str = "summary.json";
@@ -21,7 +21,8 @@ struct Summary<'a> {
     wall_disks: usize,
     method: &'static str,
     index: &'static str,
-    contacts: u8,
+    one_contact_share: f64,
+    gap: f64,
     rules: &'static str,
     grading: GradingSummary,
     #[serde(flatten)]
@@ -79,10 +80,8 @@ pub fn summary_json(
         wall_disks: packing.boundary.len(),
         method: METHOD,
         index: scene.packer.index.config_name(),
-        contacts: match scene.packer.contacts {
-            Contacts::Two => 2,
-            Contacts::One => 1,
-        },
+        one_contact_share: scene.packer.one_contact_share,
+        gap: scene.packer.gap,
         rules: scene.packer.rules.config_name(),
         grading: GradingSummary {
             d_min: scene.grading.d_min(),

@@ -52,8 +52,14 @@
 //! size), and a one-contact pack gained 1 of 5,105 (its random angles took
 //! another course).
 //!
-//! With [`Contacts::One`] the new disk touches the front only, at a random
-//! angle drawn uniformly over the free arcs of the front's halo.
+//! A share of the placements ([`PackerSettings::one_contact_share`], drawn
+//! per size from the seeded stream) touch the front only, at a random angle
+//! drawn uniformly over the free arcs of the front's halo, keeping
+//! [`PackerSettings::gap`] radii clear of every other disk (it may rest
+//! against a wall); a front with no such arc left fails for that size.
+//!
+//! [`PackerSettings::one_contact_share`]: super::PackerSettings::one_contact_share
+//! [`PackerSettings::gap`]: super::PackerSettings::gap
 
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
@@ -61,7 +67,7 @@ use std::collections::VecDeque;
 use std::f64::consts::TAU;
 
 use super::index::{Grid, MxQuadtree, SpatialIndex};
-use super::{Contacts, FrontRules, IndexKind, PackError, PackStats, Packing};
+use super::{FrontRules, IndexKind, PackError, PackStats, Packing};
 use crate::Scene;
 use crate::geometry::predicates::{
     FEASIBLE_REL, WITNESS_REL, clear_disk_disk, intersect_circle_circle, intersect_circle_line,
@@ -77,6 +83,10 @@ const RETIRE_RATIO: f64 = 1.1;
 /// queue full the domain is full for this grading and the run stops: going on
 /// would fill the last gaps with small sizes only and bend the grading.
 const DEFERRED_CAPACITY: usize = 8;
+
+/// Precision of the bound a failing front is parked with: the largest radius
+/// it can still take is known to within this factor.
+const BOUND_RATIO: f64 = 1.02;
 
 /// Retries of one deferred size before it is given up.
 const DEFERRED_RETRIES: u32 = 32;
@@ -331,6 +341,9 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
 
     /// Place one disk of radius `r` at some front; `false` if it fits at none.
     fn place_size(&mut self, r: f64) -> bool {
+        // The first disk takes two contacts: with wall disks, one-contact
+        // disks could not keep their gap from the wall disks around them.
+        let one_contact = self.obs.len() > self.first_packed && self.one_contact();
         loop {
             while let Some(&f) = self.fronts.last() {
                 if self.witnesses_closed(f) {
@@ -338,7 +351,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                     continue;
                 }
                 self.stats.front_attempts += 1;
-                match self.attempt(f, r) {
+                match self.attempt(f, r, one_contact) {
                     Some((p, feasible)) => {
                         if feasible < 2 {
                             self.fronts.pop();
@@ -350,8 +363,10 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                     None => {
                         self.witness[f as usize] = NO_WITNESS;
                         self.fronts.pop();
-                        if !(self.robust() && r > self.r_retire && self.closed_for(f, self.r_min)) {
+                        if !self.robust() || r <= self.r_retire {
                             self.park(f, r);
+                        } else if let Some(bound) = self.room_left(f, r, one_contact) {
+                            self.park(f, bound);
                         }
                     }
                 }
@@ -360,7 +375,10 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 break;
             }
         }
-        self.robust() && self.seed(r)
+        // A loose pack grows from its first disk only: a disk seeded later in a
+        // corner could stay touching no other disk.
+        let loose = self.scene.packer.one_contact_share > 0.0;
+        self.robust() && !(loose && self.obs.len() > self.first_packed) && self.seed(r)
     }
 
     /// A front that failed for `r`: parked for smaller sizes (robust rules) or dropped.
@@ -392,13 +410,27 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         self.fronts.push(id);
     }
 
+    /// Whether the next size touches its front only: always, never, or drawn
+    /// with probability `one_contact_share` (the draw only when it is strictly
+    /// between 0 and 1, so dense and loose runs keep their random streams).
+    fn one_contact(&mut self) -> bool {
+        let share = self.scene.packer.one_contact_share;
+        share >= 1.0 || (share > 0.0 && self.angles.r#gen::<f64>() < share)
+    }
+
     /// Try to place a disk of radius `r` around front `f`: the position and
     /// how many feasible candidates there were (capped at 2).
-    fn attempt(&mut self, f: u32, r: f64) -> Option<(Point, usize)> {
-        self.gather_neighbours(f, r);
-        let one_contact = self.scene.packer.contacts == Contacts::One;
-        if one_contact && let Some(p) = self.free_angle(f, r) {
-            return Some((p, 2));
+    fn attempt(&mut self, f: u32, r: f64, one_contact: bool) -> Option<(Point, usize)> {
+        let gap = if one_contact {
+            self.scene.packer.gap
+        } else {
+            0.0
+        };
+        self.gather_neighbours(f, r, gap);
+        if one_contact {
+            // Its spots are not looked for: the front is attempted again in full.
+            self.witness[f as usize] = NO_WITNESS;
+            return self.free_angle(f, r, gap).map(|p| (p, 2));
         }
         // Every candidate lies on the front's halo; when the front is deeper
         // inside than the halo plus a radius reaches, no wall is in play.
@@ -490,28 +522,63 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             })
     }
 
-    /// Whether front `f`, which has just failed for a larger size, has no
-    /// feasible spot for radius `r` either (then it has none for any size:
-    /// a disk that fits touching a front contains the smaller disk touching
-    /// it at the same point).
+    /// After front `f` failed for radius `r` (at one contact or two): an upper
+    /// bound, below `r`, of the radii it can still take in the placements the
+    /// run may make, or `None` when it cannot take even the smallest.
     ///
-    /// Reuses the neighbours gathered for the larger size, a superset of those
-    /// that matter for `r`. A front whose halo meets no other is not closed.
-    fn closed_for(&mut self, f: u32, r: f64) -> bool {
+    /// # Behavior
+    /// Room shrinks with the radius: a disk that fits touching a front
+    /// contains the smaller disk touching it at the same point (and so does
+    /// its gap). So the largest radius that fits is found by bisection between
+    /// `r_min` and `r`, to within [`BOUND_RATIO`]. A front whose halo meets no
+    /// other is taken to fit any size.
+    ///
+    /// # Performance
+    /// No query but at most one: the neighbours gathered for `r` cover every
+    /// smaller radius (gathered again with the gap if `r` was tried at two
+    /// contacts in a run that also makes one-contact placements).
+    fn room_left(&mut self, f: u32, r: f64, one_contact: bool) -> Option<f64> {
+        let (share, gap) = (self.scene.packer.one_contact_share, self.scene.packer.gap);
+        if share > 0.0 && gap > 0.0 && !one_contact {
+            self.gather_neighbours(f, r, gap);
+        }
+        let (mut lo, mut hi) = (self.r_min, r);
+        let mut fits = |rho: f64| {
+            (share < 1.0 && self.fits_two_contacts(f, rho))
+                || (share > 0.0 && self.free_arc_length(f, rho, gap) > 0.0)
+        };
+        if !fits(lo) {
+            return None;
+        }
+        while hi > lo * BOUND_RATIO {
+            let mid = (lo * hi).sqrt();
+            if fits(mid) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        Some(hi)
+    }
+
+    /// Whether a disk of radius `r` has a feasible two-contact spot at front
+    /// `f` with the neighbours in `self.near` (or no candidate to judge by).
+    fn fits_two_contacts(&mut self, f: u32, r: f64) -> bool {
         let clear = 1.0 - FEASIBLE_REL;
         for n in &mut self.near {
             let c = (r + n.disk.r) * clear;
             n.clear2 = c * c;
         }
         self.tangent_candidates(f, r, true);
-        !self.cands.is_empty() && !self.cands.iter().any(|&p| self.feasible(p, r, true))
+        self.cands.is_empty() || self.cands.iter().any(|&p| self.feasible(p, r, true))
     }
 
-    /// Neighbours of front `f` whose halo meets the front's halo, into `self.near`.
-    fn gather_neighbours(&mut self, f: u32, r: f64) {
+    /// Neighbours of front `f` whose halo, widened by `gap` radii, meets the
+    /// front's halo, into `self.near`.
+    fn gather_neighbours(&mut self, f: u32, r: f64, gap: f64) {
         let front = self.obs[f as usize];
-        let reach = front.r + 2.0 * r; // plus the neighbour's own radius
-        let half = front.r + 2.2 * r + self.r_max;
+        let reach = front.r + (2.0 + gap) * r; // plus the neighbour's own radius
+        let half = front.r + (2.2 + gap) * r + self.r_max;
         let (lo, hi) = (
             Point::new(front.c.x - half, front.c.y - half),
             Point::new(front.c.x + half, front.c.y + half),
@@ -560,39 +627,98 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             })
     }
 
-    /// One-contact placement: a random point of the free arcs of the front's halo.
-    fn free_angle(&mut self, f: u32, r: f64) -> Option<Point> {
-        let front = self.obs[f as usize];
-        let rf = front.r + r;
-        self.arcs.clear();
-        for n in &self.near {
-            let o = n.disk;
-            let (dx, dy) = (o.c.x - front.c.x, o.c.y - front.c.y);
-            let dist = (dx * dx + dy * dy).sqrt();
-            let rj = o.r + r;
-            if dist == 0.0 {
-                return None;
-            }
-            let cos = ((rf * rf + dist * dist - rj * rj) / (2.0 * rf * dist)).clamp(-1.0, 1.0);
-            let half = cos.acos();
-            if half >= std::f64::consts::PI {
-                return None;
-            }
-            let mid = dy.atan2(dx).rem_euclid(TAU);
-            push_arc(&mut self.arcs, mid - half, mid + half);
-        }
-        let free = free_arcs(&mut self.arcs);
+    /// One-contact placement: a random point of the free arcs of the front's
+    /// halo, `gap` radii clear of every other disk and inside the domain.
+    fn free_angle(&mut self, f: u32, r: f64, gap: f64) -> Option<Point> {
+        let free = self.free_arc_length(f, r, gap);
         if free <= 0.0 {
             return None;
         }
+        let front = self.obs[f as usize];
+        let rf = front.r + r;
+        let reach = r * (1.0 + gap);
+        let clear = 1.0 - FEASIBLE_REL;
         for _ in 0..ONE_CONTACT_TRIES {
             let theta = arc_point(&self.arcs, self.angles.r#gen::<f64>() * free);
             let p = Point::new(front.c.x + rf * theta.cos(), front.c.y + rf * theta.sin());
-            if self.feasible(p, r, true) {
+            let inside = self.scene.domain.signed_distance(p) >= r * clear;
+            if inside
+                && self.near.iter().all(|n| {
+                    let s = (n.disk.r + reach) * clear;
+                    (p - n.disk.c).norm_squared() >= s * s
+                })
+            {
                 return Some(p);
             }
         }
         None
+    }
+
+    /// The free arcs of front `f`'s halo for a one-contact disk of radius `r`
+    /// with `gap` into `self.arcs`; returns their total angle.
+    ///
+    /// A neighbour blocks the arc where its halo, widened by the gap, covers
+    /// the front's. Walls block the arcs where the disk would stick out: the
+    /// halo's crossings with the walls offset by `r` split it into arcs that
+    /// are wholly inside or wholly outside, told apart by their midpoints
+    /// (wall disks are neighbours like any other).
+    fn free_arc_length(&mut self, f: u32, r: f64, gap: f64) -> f64 {
+        let front = self.obs[f as usize];
+        let rf = front.r + r;
+        let reach = r * (1.0 + gap);
+        self.arcs.clear();
+        // Wall disks, if any, are neighbours; exact walls are blocked here.
+        let near_wall = !self.walls.is_empty()
+            && self.scene.domain.signed_distance(front.c)
+                <= (front.r + 2.0 * r) * (1.0 + WALL_MARGIN_REL);
+        if near_wall && !self.block_walls(front.c, rf, r) {
+            return 0.0;
+        }
+        for n in &self.near {
+            let o = n.disk;
+            let (dx, dy) = (o.c.x - front.c.x, o.c.y - front.c.y);
+            let dist = (dx * dx + dy * dy).sqrt();
+            let rj = o.r + reach;
+            if dist == 0.0 {
+                return 0.0;
+            }
+            let cos = ((rf * rf + dist * dist - rj * rj) / (2.0 * rf * dist)).clamp(-1.0, 1.0);
+            let half = cos.acos();
+            if half >= std::f64::consts::PI {
+                return 0.0;
+            }
+            let mid = dy.atan2(dx).rem_euclid(TAU);
+            push_arc(&mut self.arcs, mid - half, mid + half);
+        }
+        free_arcs(&mut self.arcs)
+    }
+
+    /// Push onto `self.arcs` the arcs of the circle (`c`, `rf`) where a disk of
+    /// radius `r` centred on it would stick out of the domain; `false` if the
+    /// whole circle does.
+    fn block_walls(&mut self, c: Point, rf: f64, r: f64) -> bool {
+        let at = |theta: f64| Point::new(c.x + rf * theta.cos(), c.y + rf * theta.sin());
+        let outside = |p: Point| self.scene.domain.signed_distance(p) < r;
+        self.spots.clear();
+        for wall in &self.walls {
+            wall_candidates(wall, c, rf, r, &mut self.spots);
+        }
+        if self.spots.is_empty() {
+            return !outside(at(0.0));
+        }
+        let mut cuts: Vec<f64> = self
+            .spots
+            .iter()
+            .map(|p| (p.y - c.y).atan2(p.x - c.x).rem_euclid(TAU))
+            .collect();
+        cuts.sort_unstable_by(f64::total_cmp);
+        for (i, &lo) in cuts.iter().enumerate() {
+            let hi = cuts.get(i + 1).copied().unwrap_or(cuts[0] + TAU);
+            if hi > lo && outside(at(0.5 * (lo + hi))) {
+                push_arc(&mut self.arcs, lo, hi);
+            }
+        }
+        true
     }
 
     /// Exact walls: put a disk of radius `r` at the lowest feasible wall–wall tangency.

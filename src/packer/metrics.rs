@@ -28,6 +28,9 @@ pub struct Metrics {
     pub min_wall_clearance: f64,
     /// Mean number of disk–disk contacts per packed disk (gap within 1e-6 of the radii sum).
     pub coordination: f64,
+    /// Packed disks that float: touching no other disk (packed or wall disk)
+    /// and no wall, within the contact gap.
+    pub isolated: usize,
     /// Standard deviation of local porosity over square windows of about 5·d_max
     /// that lie wholly inside the domain; NaN when fewer than two fit.
     pub local_porosity_std: f64,
@@ -66,9 +69,12 @@ pub fn measure(packing: &Packing, grading: &Grading) -> Metrics {
 
     let mut max_overlap = 0.0f64;
     let mut contacts = 0usize;
+    let mut touched = vec![false; all.len()];
     let mut min_wall_clearance = f64::INFINITY;
     for (i, d) in all.iter().enumerate().skip(nb) {
-        min_wall_clearance = min_wall_clearance.min(domain.signed_distance(d.c) - d.r);
+        let clearance = domain.signed_distance(d.c) - d.r;
+        min_wall_clearance = min_wall_clearance.min(clearance);
+        touched[i] |= clearance <= CONTACT_REL * d.r;
         let half = d.r + r_max;
         let (qlo, qhi) = (
             Point::new(d.c.x - half, d.c.y - half),
@@ -83,12 +89,15 @@ pub fn measure(packing: &Packing, grading: &Grading) -> Metrics {
             let o = all[j];
             let overlap = overlap_disk_disk(d.c, d.r, o.c, o.r);
             max_overlap = max_overlap.max(overlap);
-            if j >= nb && overlap >= -CONTACT_REL {
-                contacts += 1;
+            if overlap >= -CONTACT_REL {
+                touched[i] = true;
+                touched[j] = true;
+                contacts += usize::from(j >= nb);
             }
         });
     }
     let n = disks.len();
+    let isolated = touched[nb..].iter().filter(|&&t| !t).count();
     let (local_porosity_std, local_windows) = local_porosity(packing, &grid, &all, r_max);
     Metrics {
         particles: n,
@@ -103,6 +112,7 @@ pub fn measure(packing: &Packing, grading: &Grading) -> Metrics {
         } else {
             2.0 * contacts as f64 / n as f64
         },
+        isolated,
         local_porosity_std,
         local_windows,
         largest_hole: largest_hole(packing, &grid, &all, r_max, grading.d_min()),

@@ -9,7 +9,7 @@ mod settings;
 pub use advancing_front::{pack, pack_sizes, size_count};
 pub use metrics::{Metrics, measure};
 pub use packing::{PackError, PackStats, Packing};
-pub use settings::{Contacts, FrontRules, IndexKind, PackerSettings};
+pub use settings::{FrontRules, IndexKind, MAX_GAP, PackerSettings};
 
 use crate::geometry::Domain;
 use crate::grading::Grading;

@@ -10,25 +10,28 @@ pub enum IndexKind {
     Grid,
 }
 
-/// How many obstacles a new disk must touch.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Contacts {
-    /// Tangent to the front and one more obstacle (dense; default).
-    #[default]
-    Two,
-    /// Tangent to the front only, at a random free angle (loose packs).
-    One,
-}
+/// Largest [`PackerSettings::gap`] accepted, in radii of the new disk. Wider
+/// gaps strangle the chain of one-contact disks instead of loosening it
+/// (measured: gap 1.5 on a 20 mm square of 1.2 mm disks stops at 4 disks;
+/// gap 1 still fills it evenly, porosity 0.62).
+pub const MAX_GAP: f64 = 1.0;
 
 /// Settings of the advancing-front packer.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct PackerSettings {
     /// Neighbour-search structure.
     pub index: IndexKind,
-    /// Contact rule for new disks.
-    pub contacts: Contacts,
     /// What happens to fronts and sizes that fail.
     pub rules: FrontRules,
+    /// Share of placements, in [0, 1], that touch the front only, at a random
+    /// free angle, instead of the front and one more obstacle at the lowest
+    /// spot: 0 = dense (the thesis), 1 = every disk touches one obstacle
+    /// (loose). Each placement draws its kind from the seeded stream.
+    pub one_contact_share: f64,
+    /// Clearance a one-contact disk keeps from every disk it does not touch,
+    /// in its own radii, in [0, [`MAX_GAP`]]: looser packs still, each disk
+    /// touching at least its front (walls get no gap: a disk may rest on one).
+    pub gap: f64,
 }
 
 /// Front-list rules: the thesis' as written, or the robust ones.
