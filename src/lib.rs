@@ -20,7 +20,7 @@ mod scene;
 pub use geometry::{Disk, Domain, GeometryError, Point, Shape, Wall, WallMode};
 pub use grading::{Basis, Grading, GradingError, Interpolation};
 pub use packer::{
-    FrontRules, IndexKind, MAX_GAP, Metrics, PackError, PackStats, PackerSettings, Packing,
-    measure, pack,
+    FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Metrics, PackError, PackStats, PackerSettings,
+    Packing, measure, pack,
 };
 pub use scene::Scene;

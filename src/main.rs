@@ -6,16 +6,20 @@
 
 mod bench;
 
-use std::io::Write;
+use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::Context;
 use clap::{Args, Parser, Subcommand};
-use gapack::config::{self, DEFAULT_CONFIG, DEFAULT_ORIGIN};
-use gapack::output::{RunInfo, write_pack_outputs};
-use gapack::{Scene, measure, pack};
+use gapack::config::{self, Config, DEFAULT_CONFIG, DEFAULT_ORIGIN};
+use gapack::ga::{Limits, PorosityProblem, Search, StopReason};
+use gapack::output::{OptimiseSummary, RunInfo, write_optimise_outputs, write_pack_outputs};
+use gapack::{measure, pack};
+use indicatif::{ProgressBar, ProgressStyle};
 
 /// Counts heap bytes so that `gapack bench` can report peak memory per disk.
 #[global_allocator]
@@ -33,6 +37,11 @@ struct Cli {
 enum Command {
     /// Pack a scene and write packing.csv, summary.json and packing.svg.
     Pack(PackArgs),
+    /// Reach the config's target porosity with the genetic algorithm (needs an
+    /// [optimise] table); writes what `pack` writes plus convergence.csv,
+    /// convergence.svg and convergence.png. Ctrl-C stops and writes the best so far.
+    #[command(alias = "optimize")]
+    Optimise(OptimiseArgs),
     /// Measure disks per second and peak memory per disk (MX quadtree vs grid)
     /// on square domains with the thesis' Table 3.4 grading; writes bench.csv.
     Bench(BenchArgs),
@@ -49,6 +58,21 @@ struct BenchArgs {
     /// Output directory for bench.csv.
     #[arg(long, value_name = "DIR", default_value = "out/bench")]
     out: PathBuf,
+}
+
+#[derive(Args)]
+struct OptimiseArgs {
+    /// Config (TOML) with an [optimise] table.
+    config: PathBuf,
+    /// Output directory [default: out/<config file stem>].
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Seed of the search (and of the packer's random choices), overriding the config's `seed`.
+    #[arg(long, value_name = "N")]
+    seed: Option<u64>,
+    /// Neither progress bar nor result line.
+    #[arg(long)]
+    quiet: bool,
 }
 
 #[derive(Args)]
@@ -78,6 +102,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Pack(args) => run_pack(&args),
+        Command::Optimise(args) => run_optimise(&args),
         Command::Bench(args) => run_bench(&args),
     };
     match result {
@@ -95,7 +120,8 @@ fn main() -> ExitCode {
 
 /// `gapack pack`: read and validate the config, pack, measure, write, report.
 fn run_pack(args: &PackArgs) -> Result<(), Failure> {
-    let (mut scene, origin) = load_scene(args.config.as_deref()).map_err(Failure::Input)?;
+    let (config, origin) = load_config(args.config.as_deref()).map_err(Failure::Input)?;
+    let mut scene = config.scene;
     if let Some(seed) = args.seed {
         scene.seed = seed;
     }
@@ -115,6 +141,7 @@ fn run_pack(args: &PackArgs) -> Result<(), Failure> {
         scene: &scene,
         config: &origin,
         seconds,
+        optimise: None,
     };
     write_pack_outputs(&out, &packing, &metrics, &run)
         .context("cannot write the outputs")
@@ -135,6 +162,127 @@ fn run_pack(args: &PackArgs) -> Result<(), Failure> {
         let _ = writeln!(std::io::stdout(), "{line}");
     }
     Ok(())
+}
+
+/// `gapack optimise`: search for the target porosity, write the best packing
+/// found and the convergence record, report.
+fn run_optimise(args: &OptimiseArgs) -> Result<(), Failure> {
+    let (config, origin) = load_config(Some(&args.config)).map_err(Failure::Input)?;
+    let Some(settings) = config.optimise else {
+        return Err(Failure::Input(anyhow::anyhow!(
+            "{origin}: no [optimise] table: add one with at least target_porosity (see docs/CONFIG.md)"
+        )));
+    };
+    let mut scene = config.scene;
+    if let Some(seed) = args.seed {
+        scene.seed = seed;
+    }
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| default_out(Some(&args.config)));
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = Arc::clone(&stop);
+    // Without a handler (one is already installed) Ctrl-C ends the process:
+    // the outputs are written atomically, so nothing partial is left either way.
+    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));
+
+    let problem = PorosityProblem::new(&scene, settings);
+    let search = Search::start(&problem, Limits::from(&settings), scene.seed);
+    let initial_range = PorosityProblem::range(search.initial());
+    if !problem.feasible(initial_range) && !args.quiet {
+        eprintln!(
+            "note: target porosity {} lies outside the range of the initial population, [{:.4}, {:.4}]; searching beyond it",
+            settings.target_porosity, initial_range[0], initial_range[1]
+        );
+    }
+    let bar = progress_bar(settings.generations, args.quiet);
+    let evolution = search.run(&stop, |g| {
+        bar.set_position(g.index as u64);
+        bar.set_message(format!("best porosity {:.4}", g.best.value));
+    });
+    bar.finish_and_clear();
+
+    let reached = evolution.stop == StopReason::Reached;
+    let range = evolution.explored;
+    let feasible = reached || problem.feasible(range);
+    if !feasible {
+        eprintln!(
+            "warning: target porosity {} is out of reach: the packings that honour the grading span [{:.4}, {:.4}]; the nearest one, {:.4}, is written",
+            settings.target_porosity, range[0], range[1], evolution.best.value
+        );
+    }
+    let Some(packing) = evolution.outcome else {
+        return Err(Failure::Run(anyhow::anyhow!(
+            "no genome could be packed: the domain is too small for the grading"
+        )));
+    };
+    let best_scene = problem.scene_of(&evolution.genes);
+    let metrics = measure(&packing, &best_scene.grading);
+    let summary = OptimiseSummary {
+        target_porosity: settings.target_porosity,
+        tolerance: settings.tolerance,
+        best_porosity: metrics.porosity,
+        error: (metrics.porosity - settings.target_porosity).abs(),
+        max_psd_ks: settings.max_psd_ks,
+        evaluations: evolution.evaluations,
+        generations: evolution.history.len().saturating_sub(1),
+        population: settings.population,
+        feasible,
+        achievable_range: range,
+        initial_range,
+        interrupted: evolution.stop == StopReason::Interrupted,
+        stop: evolution.stop.describe(),
+    };
+    let run = RunInfo {
+        scene: &best_scene,
+        config: &origin,
+        seconds: evolution.seconds,
+        optimise: Some(&summary),
+    };
+    write_optimise_outputs(
+        &out,
+        &packing,
+        &metrics,
+        &run,
+        &evolution.history,
+        settings.target_porosity,
+    )
+    .context("cannot write the outputs")
+    .map_err(Failure::Run)?;
+
+    if !args.quiet {
+        let line = format!(
+            "{}: porosity {:.4} (target {}, error {:.4}), psd_ks {:.3}, {} disks, {} evaluations in {} generations, {} ({})",
+            out.display(),
+            metrics.porosity,
+            settings.target_porosity,
+            summary.error,
+            metrics.psd_ks,
+            metrics.particles,
+            summary.evaluations,
+            summary.generations,
+            duration(evolution.seconds),
+            summary.stop,
+        );
+        let _ = writeln!(std::io::stdout(), "{line}");
+    }
+    Ok(())
+}
+
+/// A progress bar over the generations on stderr, hidden when `quiet` or
+/// when stderr is not a terminal.
+fn progress_bar(generations: usize, quiet: bool) -> ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(generations as u64);
+    if let Ok(style) =
+        ProgressStyle::with_template("generation {pos:>4}/{len} [{bar:30}] {msg} ({elapsed})")
+    {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar
 }
 
 /// `gapack bench`: print one table row per measured configuration, then write bench.csv.
@@ -189,8 +337,8 @@ fn run_bench(args: &BenchArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// The scene and the origin named in messages and in `summary.json`.
-fn load_scene(path: Option<&Path>) -> anyhow::Result<(Scene, String)> {
+/// The config and the origin named in messages and in `summary.json`.
+fn load_config(path: Option<&Path>) -> anyhow::Result<(Config, String)> {
     let Some(path) = path else {
         return Ok((
             config::parse(DEFAULT_CONFIG, DEFAULT_ORIGIN)?,

@@ -71,6 +71,7 @@ fn scene_strategy() -> impl Strategy<Value = Scene> {
         // One-contact share: dense, loose, mixed; gap: none or up to the largest.
         prop_oneof![2 => Just(0.0), 1 => Just(1.0), 1 => 0.0..1.0f64],
         prop_oneof![2 => Just(0.0), 1 => 0.0..=gapack::MAX_GAP],
+        prop_oneof![2 => Just(gapack::MAX_DEFERRED), 1 => 0..=gapack::MAX_DEFERRED],
         prop_oneof![Just(IndexKind::MxQuadtree), Just(IndexKind::Grid)],
         prop_oneof![3 => Just(FrontRules::Robust), 1 => Just(FrontRules::Thesis)],
         any::<u64>(),
@@ -79,18 +80,21 @@ fn scene_strategy() -> impl Strategy<Value = Scene> {
             2.0 * d.inradius() > 2.0 * g.d_max()
         })
         .prop_map(
-            |(domain, grading, walls, one_contact_share, gap, index, rules, seed)| Scene {
-                domain,
-                walls,
-                wall_disk_diameter: None,
-                grading,
-                packer: PackerSettings {
-                    index,
-                    one_contact_share,
-                    gap,
-                    rules,
-                },
-                seed,
+            |(domain, grading, walls, one_contact_share, gap, max_deferred, index, rules, seed)| {
+                Scene {
+                    domain,
+                    walls,
+                    wall_disk_diameter: None,
+                    grading,
+                    packer: PackerSettings {
+                        index,
+                        one_contact_share,
+                        gap,
+                        max_deferred,
+                        rules,
+                    },
+                    seed,
+                }
             },
         )
 }

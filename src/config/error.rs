@@ -104,6 +104,16 @@ pub enum ConfigError {
         /// The value given.
         value: f64,
     },
+    /// A run that would need more memory than the limit allows.
+    #[error("{at}: {key}: {reason}")]
+    Memory {
+        /// Where.
+        at: Location,
+        /// Key path to act on.
+        key: String,
+        /// What needs how much memory against which limit, and how to act.
+        reason: String,
+    },
     /// A name that is not one of the valid ones.
     #[error("{at}: {key}: unknown {what} {given}; valid: {}", .valid.join(", "))]
     UnknownName {
@@ -186,6 +196,7 @@ impl ConfigError {
             | ConfigError::NotPositive { at, .. }
             | ConfigError::NotFinite { at, .. }
             | ConfigError::OutOfRange { at, .. }
+            | ConfigError::Memory { at, .. }
             | ConfigError::UnknownName { at, .. }
             | ConfigError::Missing { at, .. }
             | ConfigError::NotApplicable { at, .. }
@@ -203,6 +214,7 @@ impl ConfigError {
             | ConfigError::NotPositive { key, .. }
             | ConfigError::NotFinite { key, .. }
             | ConfigError::OutOfRange { key, .. }
+            | ConfigError::Memory { key, .. }
             | ConfigError::UnknownName { key, .. }
             | ConfigError::Missing { key, .. }
             | ConfigError::NotApplicable { key, .. }

@@ -1,4 +1,5 @@
-//! TOML configuration: raw serde stage, then validation into a [`crate::Scene`].
+//! TOML configuration: raw serde stage, then validation into a [`Config`]
+//! (a [`crate::Scene`] and what to do with it).
 //!
 //! No I/O here: [`parse`] takes the text and a name for its origin. Every
 //! fault is one [`ConfigError`] naming the origin, line, column and key path.
@@ -16,5 +17,5 @@ mod tests;
 
 pub use error::{ConfigError, Location};
 pub use names::{ConfigName, METHOD};
-pub use parse::{DEFAULT_CONFIG, DEFAULT_ORIGIN, parse};
+pub use parse::{Config, DEFAULT_CONFIG, DEFAULT_ORIGIN, parse};
 pub use validate::DEFAULT_MAX_MEMORY_MB;

@@ -5,6 +5,16 @@ use super::locate::from_toml_error;
 use super::raw::RawConfig;
 use super::validate::Validator;
 use crate::Scene;
+use crate::ga::OptimiseSettings;
+
+/// A validated config: the scene, and what to do with it beyond packing it once.
+#[derive(Debug, Clone)]
+pub struct Config {
+    /// The scene to pack.
+    pub scene: Scene,
+    /// `[optimise]`: a target-porosity run, if the config asks for one.
+    pub optimise: Option<OptimiseSettings>,
+}
 
 /// The embedded default scene: the thesis' proppant fracture (8.6 × 62.5 mm,
 /// grading of its Table 3.4, exact walls, seed 0).
@@ -24,11 +34,12 @@ pub const DEFAULT_ORIGIN: &str = "embedded default";
 ///
 /// # Example
 /// ```no_run
-/// let scene = gapack::config::parse(gapack::config::DEFAULT_CONFIG, "embedded default")?;
-/// assert_eq!(scene.seed, 0);
+/// let config = gapack::config::parse(gapack::config::DEFAULT_CONFIG, "embedded default")?;
+/// assert_eq!(config.scene.seed, 0);
+/// assert!(config.optimise.is_none());
 /// # Ok::<(), gapack::config::ConfigError>(())
 /// ```
-pub fn parse(text: &str, origin: &str) -> Result<Scene, ConfigError> {
+pub fn parse(text: &str, origin: &str) -> Result<Config, ConfigError> {
     let raw: RawConfig = toml::from_str(text).map_err(|e| from_toml_error(&e, text, origin))?;
-    Validator { text, origin }.scene(raw)
+    Validator { text, origin }.config(raw)
 }

@@ -17,6 +17,8 @@ pub(crate) struct RawConfig {
     pub domain: Spanned<RawDomain>,
     pub grading: Spanned<RawGrading>,
     pub packer: Option<RawPacker>,
+    #[serde(alias = "optimize")]
+    pub optimise: Option<Spanned<RawOptimise>>,
     pub limits: Option<RawLimits>,
 }
 
@@ -57,7 +59,21 @@ pub(crate) struct RawPacker {
     pub contacts: Option<Spanned<i64>>,
     pub one_contact_share: Option<Spanned<f64>>,
     pub gap: Option<Spanned<f64>>,
+    pub max_deferred: Option<Spanned<i64>>,
     pub rules: Option<Spanned<String>>,
+}
+
+/// `[optimise]` (or `[optimize]`): a target-porosity run.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawOptimise {
+    pub target_porosity: Option<Spanned<f64>>,
+    pub tolerance: Option<Spanned<f64>>,
+    pub population: Option<Spanned<i64>>,
+    pub generations: Option<Spanned<i64>>,
+    pub stagnation: Option<Spanned<i64>>,
+    pub time_limit_s: Option<Spanned<f64>>,
+    pub max_psd_ks: Option<Spanned<f64>>,
 }
 
 /// `[limits]`: guards against scenes too large for the machine.

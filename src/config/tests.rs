@@ -359,7 +359,9 @@ fn memory_limit_must_be_positive() {
 
 #[test]
 fn builds_default_config() {
-    let scene = parse(DEFAULT_CONFIG, DEFAULT_ORIGIN).expect("the default config parses");
+    let scene = parse(DEFAULT_CONFIG, DEFAULT_ORIGIN)
+        .expect("the default config parses")
+        .scene;
     assert_eq!(
         scene.domain.shape(),
         &Shape::Rectangle {
@@ -382,7 +384,7 @@ fn builds_with_integers_for_floats_and_all_settings() {
                 [grading]\nuniform = [1, 2]\nbasis = \"mass3d\"\n\
                 [packer]\nmethod = \"advancing-front\"\nindex = \"grid\"\ncontacts = 1\nrules = \"thesis\"\n\
                 [limits]\nmax_memory_mb = 100\n";
-    let scene = parse(text, "t.toml").expect("valid config");
+    let scene = parse(text, "t.toml").expect("valid config").scene;
     assert_eq!(scene.seed, 7);
     assert_eq!(scene.walls, WallMode::Disks);
     assert_eq!(scene.wall_disk_diameter, Some(1.0));
@@ -399,7 +401,8 @@ fn builds_circle_with_default_center() {
         "[domain]\nshape = \"circle\"\nradius = 10\n[grading]\nconstant = 1\n",
         "t",
     )
-    .expect("valid config");
+    .expect("valid config")
+    .scene;
     assert_eq!(
         scene.domain.shape(),
         &Shape::Circle {

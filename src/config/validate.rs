@@ -16,12 +16,15 @@ use super::error::{ConfigError, Location};
 use super::names::{
     BASES, CONTACTS, INDEXES, INTERPOLATIONS, METHODS, Names, RULES, SHAPES, ShapeKind, WALLS,
 };
-use super::raw::{Pair, RawConfig, RawDomain, RawGrading, RawLimits, RawPacker};
+use super::parse::Config;
+use super::raw::{Pair, RawConfig, RawDomain, RawGrading, RawLimits, RawOptimise, RawPacker};
 use crate::Scene;
+use crate::ga::{OptimiseSettings, RULE_GENES};
 use crate::geometry::{Domain, GeometryError, Point, WallMode};
 use crate::grading::{Basis, Grading, Interpolation};
 use crate::packer::{
-    MAX_GAP, PEAK_BYTES_PER_DISK, PackError, PackerSettings, estimated_peak_bytes,
+    MAX_DEFERRED, MAX_GAP, PEAK_BYTES_PER_DISK, PackError, PackerSettings, estimated_peak_bytes,
+    size_count,
 };
 
 /// `limits.max_memory_mb` when not given.
@@ -54,6 +57,7 @@ impl Source<'_> {
 }
 
 /// The key of a config and where its value is.
+#[derive(Clone)]
 struct KeyAt {
     key: String,
     span: Range<usize>,
@@ -119,24 +123,156 @@ pub(crate) struct Validator<'a> {
 }
 
 impl Validator<'_> {
-    /// Check `raw` and build the scene.
-    pub fn scene(&self, raw: RawConfig) -> Result<Scene, ConfigError> {
+    /// Check `raw` and build the config.
+    pub fn config(&self, raw: RawConfig) -> Result<Config, ConfigError> {
         // Values first, in file order; then the constructors; then the whole.
         let domain = self.domain(&raw.domain)?;
         let grading = self.grading(&raw.grading)?;
         let packer = self.packer(raw.packer.as_ref())?;
+        let optimise = raw
+            .optimise
+            .as_ref()
+            .map(|o| self.optimise(o))
+            .transpose()?;
         let limit = self.limit(raw.limits.as_ref())?;
         let built = self.build_domain(&domain, raw.domain.get_ref())?;
         let grading = grading.build()?;
         self.check_width(&built, &domain.width_key, &grading)?;
-        self.check_memory(&built, &domain.width_key, &grading, limit)?;
-        Ok(Scene {
+        self.check_memory(&built, &domain.width_key, &grading, limit.clone())?;
+        let scene = Scene {
             domain: built,
             walls: domain.walls,
             wall_disk_diameter: domain.wall_disk,
             grading,
             packer,
             seed: raw.seed.map_or(0, Spanned::into_inner),
+        };
+        if let (Some(settings), Some(table)) = (&optimise, &raw.optimise) {
+            self.check_optimise_memory(&scene, settings, table, limit)?;
+        }
+        Ok(Config { scene, optimise })
+    }
+
+    /// `[optimise]`: every key checked against its range.
+    fn optimise(&self, raw: &Spanned<RawOptimise>) -> Result<OptimiseSettings, ConfigError> {
+        let o = raw.get_ref();
+        let Some(target) = &o.target_porosity else {
+            return Err(ConfigError::Missing {
+                at: self.at(&raw.span()),
+                key: "optimise.target_porosity".to_owned(),
+                reason: "[optimise] needs the porosity to reach, in [0, 1)".to_owned(),
+            });
+        };
+        let mut s = OptimiseSettings::new(self.checked(
+            "optimise.target_porosity",
+            target,
+            "in [0, 1)",
+            |v| (0.0..1.0).contains(&v),
+        )?);
+        if let Some(v) = &o.tolerance {
+            s.tolerance = self.checked("optimise.tolerance", v, "a finite number ≥ 0", |v| {
+                v.is_finite() && v >= 0.0
+            })?;
+        }
+        if let Some(v) = &o.max_psd_ks {
+            s.max_psd_ks = self.checked("optimise.max_psd_ks", v, "in (0, 1]", |v| {
+                v > 0.0 && v <= 1.0
+            })?;
+        }
+        if let Some(v) = &o.time_limit_s {
+            s.time_limit_s = self.positive("optimise.time_limit_s", v)?;
+        }
+        let count = |key: &str, v: &Spanned<i64>, least: i64| {
+            let n = *v.get_ref();
+            if n >= least {
+                Ok(n as usize)
+            } else {
+                Err(ConfigError::OutOfRange {
+                    at: self.at(&v.span()),
+                    key: key.to_owned(),
+                    range: format!("a whole number ≥ {least}"),
+                    value: n as f64,
+                })
+            }
+        };
+        if let Some(v) = &o.population {
+            s.population = count("optimise.population", v, 2)?;
+        }
+        if let Some(v) = &o.generations {
+            s.generations = count("optimise.generations", v, 1)?;
+        }
+        if let Some(v) = &o.stagnation {
+            s.stagnation = count("optimise.stagnation", v, 1)?;
+        }
+        Ok(s)
+    }
+
+    /// A number that must pass `ok`, described as `range` in the message.
+    fn checked(
+        &self,
+        key: &str,
+        value: &Spanned<f64>,
+        range: &str,
+        ok: impl Fn(f64) -> bool,
+    ) -> Result<f64, ConfigError> {
+        let v = *value.get_ref();
+        if ok(v) {
+            Ok(v)
+        } else {
+            Err(ConfigError::OutOfRange {
+                at: self.at(&value.span()),
+                key: key.to_owned(),
+                range: range.to_owned(),
+                value: v,
+            })
+        }
+    }
+
+    /// Refuse an optimisation whose genomes and packings would not fit the memory limit.
+    ///
+    /// A generation holds about four copies of the population's genomes
+    /// (population, offspring, selection, parents) and one packing per child
+    /// evaluated at once, beside the packer's own peak.
+    fn check_optimise_memory(
+        &self,
+        scene: &Scene,
+        settings: &OptimiseSettings,
+        raw: &Spanned<RawOptimise>,
+        (limit_mb, limit_key): (f64, Option<KeyAt>),
+    ) -> Result<(), ConfigError> {
+        let genes = size_count(&scene.domain, scene.grading.d_min()) as f64 + RULE_GENES as f64;
+        let disks = scene.domain.area() / scene.grading.mean_disk_area();
+        let population = settings.population as f64;
+        let bytes = population * (4.0 * genes * 8.0 + disks * 24.0)
+            + estimated_peak_bytes(&scene.domain, &scene.grading);
+        let estimate_mb = bytes / BYTES_PER_MB;
+        if estimate_mb <= limit_mb {
+            return Ok(());
+        }
+        let (key, span, hint) = match (limit_key, &raw.get_ref().population) {
+            (Some(k), _) => (k.key, k.span, "; raise it to allow this run".to_owned()),
+            (None, Some(p)) => (
+                "optimise.population".to_owned(),
+                p.span(),
+                format!(
+                    "; lower it, or set limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB})"
+                ),
+            ),
+            (None, None) => (
+                "optimise".to_owned(),
+                raw.span(),
+                format!(
+                    "; set a smaller optimise.population or limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB})"
+                ),
+            ),
+        };
+        Err(ConfigError::Memory {
+            at: self.at(&span),
+            key,
+            reason: format!(
+                "the optimisation ({} genomes of {genes:.0} genes, {disks:.0} disks each) needs an estimated {estimate_mb:.0} MB, over the limit of {limit_mb:.0} MB{hint}",
+                settings.population
+            ),
         })
     }
 
@@ -481,11 +617,27 @@ impl Validator<'_> {
             None => 0.0,
             Some(g) => self.in_range("packer.gap", g, 0.0, MAX_GAP)?,
         };
+        let max_deferred = match &p.max_deferred {
+            None => MAX_DEFERRED,
+            Some(v) => {
+                let n = *v.get_ref();
+                if !(0..=MAX_DEFERRED as i64).contains(&n) {
+                    return Err(ConfigError::OutOfRange {
+                        at: self.at(&v.span()),
+                        key: "packer.max_deferred".to_owned(),
+                        range: format!("a whole number in [0, {MAX_DEFERRED}]"),
+                        value: n as f64,
+                    });
+                }
+                n as usize
+            }
+        };
         Ok(PackerSettings {
             index: self.name(&INDEXES, "packer.index", p.index.as_ref())?,
             rules: self.name(&RULES, "packer.rules", p.rules.as_ref())?,
             one_contact_share,
             gap,
+            max_deferred,
         })
     }
 

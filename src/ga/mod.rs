@@ -1,2 +1,15 @@
-//! Genetic algorithm over grading and packing-rule genes (to come; the packer
-//! is its fitness kernel and knows nothing of it).
+//! Genetic algorithm: genevo's selection behind our own loop, which evaluates
+//! each new genome once, in parallel (rayon), with results independent of the
+//! number of threads. The packer is its fitness kernel through
+//! [`PorosityProblem`]; the packer knows nothing of the GA.
+
+mod engine;
+mod operators;
+mod porosity;
+mod score;
+mod settings;
+
+pub use engine::{Evaluation, Evolution, Generation, Limits, Problem, Search, StopReason};
+pub use porosity::{PorosityProblem, RULE_GENES};
+pub use score::Score;
+pub use settings::OptimiseSettings;

@@ -1,10 +1,47 @@
-//! `packing.csv`: one row per packed disk, `id,x,y,r` in mm.
+//! CSV tables: `packing.csv` (one row per packed disk, `id,x,y,r` in mm) and
+//! `convergence.csv` (one row per generation of a GA run).
 
 use super::error::OutputError;
+use crate::ga::Generation;
 use crate::packer::Packing;
 
 /// File name of the disk table.
 pub const PACKING_CSV: &str = "packing.csv";
+
+/// File name of the GA's convergence table.
+pub const CONVERGENCE_CSV: &str = "convergence.csv";
+
+/// One row per generation: `generation,best,mean,worst,evaluations,seconds`,
+/// where best, mean and worst are porosities (best: the best genome so far;
+/// mean and worst: of the generation's population) and `evaluations` counts
+/// distinct genomes evaluated so far.
+///
+/// # Errors
+/// [`OutputError::Csv`] if the CSV writer fails (it does not on memory).
+pub fn convergence_csv(history: &[Generation]) -> Result<Vec<u8>, OutputError> {
+    let mut writer = ::csv::Writer::from_writer(Vec::new());
+    writer.write_record([
+        "generation",
+        "best",
+        "mean",
+        "worst",
+        "evaluations",
+        "seconds",
+    ])?;
+    for g in history {
+        writer.write_record([
+            g.index.to_string(),
+            g.best.value.to_string(),
+            g.mean_value.to_string(),
+            g.worst_value.to_string(),
+            g.evaluations.to_string(),
+            g.seconds.to_string(),
+        ])?;
+    }
+    writer
+        .into_inner()
+        .map_err(|e| OutputError::Csv(e.into_error().into()))
+}
 
 /// The packed disks (not the wall disks) as CSV: header `id,x,y,r`, `id` from
 /// 0 in placement order, lengths in mm.

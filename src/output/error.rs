@@ -40,4 +40,7 @@ pub enum OutputError {
     /// The JSON serialiser failed.
     #[error("cannot format JSON")]
     Json(#[from] serde_json::Error),
+    /// A chart could not be drawn or encoded.
+    #[error("cannot draw a chart: {0}")]
+    Plot(String),
 }

@@ -29,6 +29,42 @@ struct Summary<'a> {
     metrics: &'a Metrics,
     seconds: f64,
     stats: StatsSummary,
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    optimise: Option<&'a OptimiseSummary>,
+}
+
+/// What a target-porosity run adds to `summary.json` (keys in `docs/CONFIG.md`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OptimiseSummary {
+    /// The porosity aimed at.
+    pub target_porosity: f64,
+    /// The tolerance the run stopped within, if it did.
+    pub tolerance: f64,
+    /// Porosity of the packing written.
+    pub best_porosity: f64,
+    /// |best_porosity − target_porosity|.
+    pub error: f64,
+    /// The KS limit on the grading.
+    pub max_psd_ks: f64,
+    /// Distinct genomes evaluated (each once).
+    pub evaluations: u64,
+    /// Generations run after the initial one.
+    pub generations: usize,
+    /// Genomes per generation.
+    pub population: usize,
+    /// Whether the target was reached, or lies in the achievable range (± tolerance).
+    pub feasible: bool,
+    /// Porosity range of the packings the search made that honour the
+    /// grading (`max_psd_ks`): what this domain and grading were seen to reach.
+    pub achievable_range: [f64; 2],
+    /// The estimate before the search: the range the initial population
+    /// spanned, from dense to the loosest packing rules.
+    pub initial_range: [f64; 2],
+    /// Whether the run was stopped by Ctrl-C (the best packing so far is written).
+    pub interrupted: bool,
+    /// Why the run stopped: `target reached`, `interrupted`, `generation limit`,
+    /// `stagnation` or `time limit`.
+    pub stop: &'static str,
 }
 
 #[derive(Serialize)]
@@ -61,7 +97,8 @@ impl From<PackStats> for StatsSummary {
 
 /// The run summary as pretty-printed JSON (keys listed in `docs/CONFIG.md`).
 ///
-/// `seconds` is the packing time alone; non-finite metrics are `null`.
+/// `seconds` is the packing time alone (`pack`) or the whole search
+/// (`optimise`); non-finite metrics are `null`.
 ///
 /// # Errors
 /// [`OutputError::Json`] if serialisation fails (it does not for these types).
@@ -91,6 +128,7 @@ pub fn summary_json(
         metrics,
         seconds: run.seconds,
         stats: packing.stats.into(),
+        optimise: run.optimise,
     };
     let mut bytes = serde_json::to_vec_pretty(&summary)?;
     bytes.push(b'\n');

@@ -8,12 +8,16 @@ mod atomic;
 mod csv;
 mod error;
 mod json;
+mod plot;
 mod run;
 mod svg;
 
 pub use atomic::{write_all_atomic, write_atomic};
-pub use csv::{PACKING_CSV, packing_csv};
+pub use csv::{CONVERGENCE_CSV, PACKING_CSV, convergence_csv, packing_csv};
 pub use error::OutputError;
-pub use json::{SUMMARY_JSON, summary_json};
-pub use run::{RunInfo, write_pack_outputs};
+pub use json::{OptimiseSummary, SUMMARY_JSON, summary_json};
+pub use plot::{LineChart, Mark, Series, convergence_chart};
+pub use run::{
+    CONVERGENCE_PNG, CONVERGENCE_SVG, RunInfo, write_optimise_outputs, write_pack_outputs,
+};
 pub use svg::{PACKING_SVG, packing_svg};

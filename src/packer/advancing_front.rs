@@ -22,7 +22,7 @@
 //! radius it failed for and wakes it when a smaller size comes, and a size
 //! that fits at no front is deferred and retried after later placements
 //! instead of emptying the stack (the thesis' weak spot with wide gradings).
-//! The run then stops when [`DEFERRED_CAPACITY`] deferred sizes still fit
+//! The run then stops when `max_deferred` deferred sizes still fit
 //! nowhere: the domain is full for this grading. A front also leaves after a
 //! placement when no other feasible spot stays clear of the new disk (the
 //! thesis keeps it for one more, failing, attempt).
@@ -64,8 +64,8 @@
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use std::collections::VecDeque;
-use std::f64::consts::TAU;
 
+use super::arcs::{Arcs, Measure};
 use super::index::{Grid, MxQuadtree, SpatialIndex};
 use super::{FrontRules, IndexKind, PackError, PackStats, Packing};
 use crate::Scene;
@@ -78,11 +78,6 @@ use crate::geometry::{Disk, Domain, Point, Wall, WallMode};
 /// Fronts that fail for a radius within this factor of the smallest are retired, not parked:
 /// a gap that refuses such a disk has no room for any size of the grading worth a retry.
 const RETIRE_RATIO: f64 = 1.1;
-
-/// Deferred sizes waiting for a place. When one more size fits nowhere with the
-/// queue full the domain is full for this grading and the run stops: going on
-/// would fill the last gaps with small sizes only and bend the grading.
-const DEFERRED_CAPACITY: usize = 8;
 
 /// Precision of the bound a failing front is parked with: the largest radius
 /// it can still take is known to within this factor.
@@ -197,6 +192,9 @@ struct Front<'a, I> {
     fronts: Vec<u32>,
     /// Per obstacle id: the free spots that kept it on the stack, or [`NO_WITNESS`].
     witness: Vec<Witnesses>,
+    /// Per obstacle id: a radius it is known not to take (room only shrinks,
+    /// so the bound stays true); infinite until a failure measures it.
+    bound: Vec<f64>,
     /// Smallest radius of the grading: a front that cannot take it is closed.
     r_min: f64,
     /// Fronts that failed for a radius, waiting for a smaller one.
@@ -209,7 +207,7 @@ struct Front<'a, I> {
     near: Vec<Near>,
     cands: Vec<Point>,
     spots: Vec<Point>,
-    arcs: Vec<(f64, f64)>,
+    arcs: Arcs,
 }
 
 impl<'a, I: SpatialIndex> Front<'a, I> {
@@ -229,11 +227,13 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let first_packed = obs.len();
         let mut witness = Vec::with_capacity(first_packed);
         witness.resize(first_packed, NO_WITNESS);
+        let mut bound = vec![f64::INFINITY; first_packed];
         let wall_r = obs.iter().fold(0.0f64, |m, o| m.max(o.r));
         let r_max = (grading.d_max() / 2.0).max(wall_r);
         let expected = (domain.area() / grading.mean_disk_area()).ceil() as usize;
         obs.reserve(expected);
         witness.reserve(expected);
+        bound.reserve(expected);
         let (lo, hi) = domain.bounds();
         let margin = Point::new(r_max, r_max).coords;
         let mut index = I::new(lo - margin, hi + margin, I::BUCKET_DIAMETERS * 2.0 * r_max);
@@ -254,6 +254,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             first_packed,
             index,
             witness,
+            bound,
             r_min: grading.d_min() / 2.0,
             r_max,
             r_retire: grading.d_min() / 2.0 * RETIRE_RATIO,
@@ -265,7 +266,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             near: Vec::new(),
             cands: Vec::new(),
             spots: Vec::new(),
-            arcs: Vec::new(),
+            arcs: Arcs::new(Measure::Radians),
         }
     }
 
@@ -315,7 +316,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             }
             if tries >= DEFERRED_RETRIES {
                 self.stats.sizes_unplaced += 1;
-            } else if self.deferred.len() == DEFERRED_CAPACITY {
+            } else if self.deferred.len() >= self.scene.packer.max_deferred {
                 self.stats.sizes_unplaced += 1;
                 break;
             } else {
@@ -350,6 +351,13 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                     self.fronts.pop();
                     continue;
                 }
+                let bound = self.bound[f as usize];
+                if r >= bound {
+                    // Measured too small for this size before: no attempt.
+                    self.fronts.pop();
+                    self.park(f, bound);
+                    continue;
+                }
                 self.stats.front_attempts += 1;
                 match self.attempt(f, r, one_contact) {
                     Some((p, feasible)) => {
@@ -366,6 +374,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                         if !self.robust() || r <= self.r_retire {
                             self.park(f, r);
                         } else if let Some(bound) = self.room_left(f, r, one_contact) {
+                            self.bound[f as usize] = bound;
                             self.park(f, bound);
                         }
                     }
@@ -406,6 +415,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let id = self.obs.len() as u32;
         self.obs.push(Disk { c: p, r });
         self.witness.push(NO_WITNESS);
+        self.bound.push(f64::INFINITY);
         self.index.insert(id, p);
         self.fronts.push(id);
     }
@@ -545,7 +555,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let (mut lo, mut hi) = (self.r_min, r);
         let mut fits = |rho: f64| {
             (share < 1.0 && self.fits_two_contacts(f, rho))
-                || (share > 0.0 && self.free_arc_length(f, rho, gap) > 0.0)
+                || (share > 0.0 && self.free_arcs(f, rho, gap, Measure::Pseudo) > 0.0)
         };
         if !fits(lo) {
             return None;
@@ -630,7 +640,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
     /// One-contact placement: a random point of the free arcs of the front's
     /// halo, `gap` radii clear of every other disk and inside the domain.
     fn free_angle(&mut self, f: u32, r: f64, gap: f64) -> Option<Point> {
-        let free = self.free_arc_length(f, r, gap);
+        let free = self.free_arcs(f, r, gap, Measure::Radians);
         if free <= 0.0 {
             return None;
         }
@@ -639,7 +649,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let reach = r * (1.0 + gap);
         let clear = 1.0 - FEASIBLE_REL;
         for _ in 0..ONE_CONTACT_TRIES {
-            let theta = arc_point(&self.arcs, self.angles.r#gen::<f64>() * free);
+            let theta = self.arcs.point(self.angles.r#gen::<f64>() * free);
             let p = Point::new(front.c.x + rf * theta.cos(), front.c.y + rf * theta.sin());
             let inside = self.scene.domain.signed_distance(p) >= r * clear;
             if inside
@@ -655,18 +665,20 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
     }
 
     /// The free arcs of front `f`'s halo for a one-contact disk of radius `r`
-    /// with `gap` into `self.arcs`; returns their total angle.
+    /// with `gap` into `self.arcs`, in `measure`; returns their total measure.
     ///
     /// A neighbour blocks the arc where its halo, widened by the gap, covers
-    /// the front's. Walls block the arcs where the disk would stick out: the
-    /// halo's crossings with the walls offset by `r` split it into arcs that
-    /// are wholly inside or wholly outside, told apart by their midpoints
-    /// (wall disks are neighbours like any other).
-    fn free_arc_length(&mut self, f: u32, r: f64, gap: f64) -> f64 {
+    /// the front's: the arc between the two crossings of the halos, found
+    /// without trigonometry (the cosine of its half-angle from the triangle
+    /// of the centres, then a rotation). Walls block the arcs where the disk
+    /// would stick out: the halo's crossings with the walls offset by `r`
+    /// split it into arcs that are wholly inside or wholly outside, told
+    /// apart by their midpoints (wall disks are neighbours like any other).
+    fn free_arcs(&mut self, f: u32, r: f64, gap: f64, measure: Measure) -> f64 {
         let front = self.obs[f as usize];
         let rf = front.r + r;
         let reach = r * (1.0 + gap);
-        self.arcs.clear();
+        self.arcs.clear(measure);
         // Wall disks, if any, are neighbours; exact walls are blocked here.
         let near_wall = !self.walls.is_empty()
             && self.scene.domain.signed_distance(front.c)
@@ -682,22 +694,32 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             if dist == 0.0 {
                 return 0.0;
             }
-            let cos = ((rf * rf + dist * dist - rj * rj) / (2.0 * rf * dist)).clamp(-1.0, 1.0);
-            let half = cos.acos();
-            if half >= std::f64::consts::PI {
-                return 0.0;
+            let cos = (rf * rf + dist * dist - rj * rj) / (2.0 * rf * dist);
+            if cos >= 1.0 {
+                continue; // the halos do not meet
             }
-            let mid = dy.atan2(dx).rem_euclid(TAU);
-            push_arc(&mut self.arcs, mid - half, mid + half);
+            if cos <= -1.0 {
+                return 0.0; // the front's halo lies inside the neighbour's
+            }
+            let sin = (1.0 - cos * cos).sqrt();
+            let (ux, uy) = (dx / dist, dy / dist);
+            let from = (ux * cos + uy * sin, uy * cos - ux * sin);
+            let to = (ux * cos - uy * sin, uy * cos + ux * sin);
+            self.arcs.block(from, to);
         }
-        free_arcs(&mut self.arcs)
+        self.arcs.free()
     }
 
     /// Push onto `self.arcs` the arcs of the circle (`c`, `rf`) where a disk of
     /// radius `r` centred on it would stick out of the domain; `false` if the
     /// whole circle does.
     fn block_walls(&mut self, c: Point, rf: f64, r: f64) -> bool {
-        let at = |theta: f64| Point::new(c.x + rf * theta.cos(), c.y + rf * theta.sin());
+        let measure = self.arcs.measure();
+        let at = |a: f64| {
+            let (x, y) = measure.direction(a);
+            let len = (x * x + y * y).sqrt();
+            Point::new(c.x + rf * x / len, c.y + rf * y / len)
+        };
         let outside = |p: Point| self.scene.domain.signed_distance(p) < r;
         self.spots.clear();
         for wall in &self.walls {
@@ -709,13 +731,14 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let mut cuts: Vec<f64> = self
             .spots
             .iter()
-            .map(|p| (p.y - c.y).atan2(p.x - c.x).rem_euclid(TAU))
+            .map(|p| measure.of(p.x - c.x, p.y - c.y))
             .collect();
         cuts.sort_unstable_by(f64::total_cmp);
+        let full = measure.full();
         for (i, &lo) in cuts.iter().enumerate() {
-            let hi = cuts.get(i + 1).copied().unwrap_or(cuts[0] + TAU);
+            let hi = cuts.get(i + 1).copied().unwrap_or(cuts[0] + full);
             if hi > lo && outside(at(0.5 * (lo + hi))) {
-                push_arc(&mut self.arcs, lo, hi);
+                self.arcs.block_range(lo, hi);
             }
         }
         true
@@ -811,64 +834,9 @@ fn wall_wall_spots(a: &Wall, b: &Wall, r: f64, out: &mut Vec<Point>) {
     }
 }
 
-/// Add the blocked angular interval `[lo, hi]` (radians, `lo` in `[-π, 2π)`), split at 0/2π.
-fn push_arc(arcs: &mut Vec<(f64, f64)>, lo: f64, hi: f64) {
-    if lo < 0.0 {
-        arcs.push((lo + TAU, TAU));
-        arcs.push((0.0, hi));
-    } else if hi > TAU {
-        arcs.push((lo, TAU));
-        arcs.push((0.0, hi - TAU));
-    } else {
-        arcs.push((lo, hi));
-    }
-}
-
-/// Turn blocked intervals into the free intervals of `[0, 2π)`, in place; returns their total length.
-fn free_arcs(arcs: &mut Vec<(f64, f64)>) -> f64 {
-    arcs.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-    let mut free = Vec::with_capacity(arcs.len() + 1);
-    let mut cursor = 0.0;
-    for &(lo, hi) in arcs.iter() {
-        if lo > cursor {
-            free.push((cursor, lo));
-        }
-        cursor = f64::max(cursor, hi);
-    }
-    if cursor < TAU {
-        free.push((cursor, TAU));
-    }
-    *arcs = free;
-    arcs.iter().map(|(lo, hi)| hi - lo).sum()
-}
-
-/// The angle at arc length `s` along the free intervals.
-fn arc_point(free: &[(f64, f64)], mut s: f64) -> f64 {
-    for &(lo, hi) in free {
-        if s <= hi - lo {
-            return lo + s;
-        }
-        s -= hi - lo;
-    }
-    free.last().map_or(0.0, |&(_, hi)| hi)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn free_arcs_complement_the_blocked_ones() {
-        let mut arcs = Vec::new();
-        push_arc(&mut arcs, -0.5, 0.5);
-        push_arc(&mut arcs, 1.0, 2.0);
-        push_arc(&mut arcs, 1.5, 2.5);
-        let free = free_arcs(&mut arcs);
-        assert!((free - (TAU - 1.0 - 1.5)).abs() < 1e-12);
-        assert_eq!(arcs.len(), 2);
-        assert!((arc_point(&arcs, 0.1) - 0.6).abs() < 1e-12);
-        assert!((arc_point(&arcs, 0.6) - 2.6).abs() < 1e-12);
-    }
 
     #[test]
     fn corner_spot_is_tangent_to_both_walls() {

@@ -1,6 +1,7 @@
 //! Packing generators, spatial indexes and packing metrics.
 
 mod advancing_front;
+mod arcs;
 pub mod index;
 mod metrics;
 mod packing;
@@ -9,7 +10,7 @@ mod settings;
 pub use advancing_front::{pack, pack_sizes, size_count};
 pub use metrics::{Metrics, measure};
 pub use packing::{PackError, PackStats, Packing};
-pub use settings::{FrontRules, IndexKind, MAX_GAP, PackerSettings};
+pub use settings::{FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, PackerSettings};
 
 use crate::geometry::Domain;
 use crate::grading::Grading;

@@ -16,8 +16,11 @@ pub enum IndexKind {
 /// gap 1 still fills it evenly, porosity 0.62).
 pub const MAX_GAP: f64 = 1.0;
 
+/// Largest [`PackerSettings::max_deferred`] accepted, and its default.
+pub const MAX_DEFERRED: usize = 8;
+
 /// Settings of the advancing-front packer.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PackerSettings {
     /// Neighbour-search structure.
     pub index: IndexKind,
@@ -32,6 +35,25 @@ pub struct PackerSettings {
     /// in its own radii, in [0, [`MAX_GAP`]]: looser packs still, each disk
     /// touching at least its front (walls get no gap: a disk may rest on one).
     pub gap: f64,
+    /// Robust rules: sizes that may wait for a place (deferred) while the
+    /// run goes on, in [0, [`MAX_DEFERRED`]]. When one more size fits nowhere
+    /// with this many waiting, the domain is full for the grading and the run
+    /// stops. More fills the last gaps with the smaller sizes that still fit
+    /// (denser, but the placed sizes lean small); 0 stops at the first size
+    /// that fits nowhere (the placed sizes are exactly the ones drawn before it).
+    pub max_deferred: usize,
+}
+
+impl Default for PackerSettings {
+    fn default() -> Self {
+        PackerSettings {
+            index: IndexKind::default(),
+            rules: FrontRules::default(),
+            one_contact_share: 0.0,
+            gap: 0.0,
+            max_deferred: MAX_DEFERRED,
+        }
+    }
 }
 
 /// Front-list rules: the thesis' as written, or the robust ones.

@@ -1,0 +1,590 @@
+//! The generational loop: genevo tournament selection, our crossover and
+//! mutation, parallel evaluation of new genomes only, (μ + λ) reinsertion.
+//!
+//! # Behavior
+//! 1. Generation 0: `population` genomes from [`Problem::initial`], evaluated.
+//! 2. Each generation: genevo's tournament (size 3) picks `population / 2`
+//!    pairs of parents; each pair gives two children ([`Crossover`], then
+//!    [`Mutation`], both confined to the sequence genes the parents' packings
+//!    read); `population / 8` immigrants, fresh from [`Problem::initial`],
+//!    keep the search from settling too early; the children and immigrants
+//!    not seen before are evaluated in parallel; the best `population`
+//!    distinct ones of parents, children and immigrants survive (ties keep
+//!    the older genome).
+//! 3. Stop, checked before each generation, in this order: the best genome
+//!    meets [`Problem::reached`]; the stop flag is set (Ctrl-C); `generations`
+//!    generations ran; `stagnation` generations brought no progress (a best
+//!    that [`Score::improves_on`] the old one); the time limit has passed.
+//!
+//! # Determinism
+//! Every random choice is made on one thread from one seeded stream, and an
+//! evaluation depends on its genome alone; rayon returns results in input
+//! order. So the same seed gives the same result with any number of threads.
+//!
+//! # Performance
+//! A genome is never evaluated twice, nor is any genome whose evaluation is
+//! bound to repeat an earlier one: an evaluation reports how many sequence
+//! genes it read (a packing draws sizes until the domain is full), and a
+//! genome that agrees with an evaluated one on those genes and on every
+//! parameter gene gets its score without an evaluation. Such genomes are one
+//! phenotype and count as duplicates in the population. Scores are kept by a
+//! 128-bit fingerprint (FNV-1a over the bit patterns; two different genomes
+//! sharing one is not a practical concern at 2⁻⁶⁴ odds for billions of
+//! genomes). genevo's own `ElitistReinserter` would re-evaluate every child,
+//! serially: hence this loop.
+
+use std::collections::{BTreeSet, HashMap, HashSet};
+use std::rc::Rc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use genevo::algorithm::EvaluatedPopulation;
+use genevo::operator::{CrossoverOp, MutationOp, SelectionOp};
+use genevo::selection::tournament::TournamentSelector;
+use rand::SeedableRng;
+use rand_xoshiro::Xoshiro256PlusPlus;
+use rayon::prelude::*;
+
+use super::operators::{Crossover, Mutation};
+use super::score::{Fit, Score};
+use super::settings::OptimiseSettings;
+
+/// One immigrant per this many genomes of the population, each generation.
+const IMMIGRANT_SHARE: usize = 8;
+
+/// A problem the GA solves: genomes of [`Problem::genes`] genes in [0, 1].
+pub trait Problem: Sync {
+    /// What an evaluation yields besides its score (a packing); the search
+    /// keeps the best genome's. The default stands for "none yet".
+    type Outcome: Send + Default;
+
+    /// Genes per genome.
+    fn genes(&self) -> usize;
+
+    /// How many genes, from the start, form the sequence part (exchanged by
+    /// segments in crossover); the rest are parameters (blended).
+    fn sequence(&self) -> usize;
+
+    /// The `index`-th of `count` initial genomes, drawing from `rng`.
+    fn initial(&self, index: usize, count: usize, rng: &mut Xoshiro256PlusPlus) -> Vec<f64>;
+
+    /// Score a genome: a pure function of the genes it reads.
+    fn evaluate(&self, genes: &[f64]) -> Evaluation<Self::Outcome>;
+
+    /// Whether a score is good enough to stop the search.
+    fn reached(&self, score: &Score) -> bool;
+}
+
+/// What [`Problem::evaluate`] returns.
+#[derive(Debug, Clone)]
+pub struct Evaluation<O> {
+    /// The genome's score.
+    pub score: Score,
+    /// What else the evaluation made (the packing).
+    pub outcome: O,
+    /// How many leading sequence genes the evaluation read; the others did
+    /// not matter (sizes never drawn).
+    pub read: usize,
+}
+
+/// How long a search may go on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Limits {
+    /// Genomes per generation (at least 2).
+    pub population: usize,
+    /// Most generations after generation 0.
+    pub generations: usize,
+    /// Generations without a better best genome before stopping.
+    pub stagnation: usize,
+    /// Wall-clock budget, checked between generations.
+    pub time_limit: Duration,
+}
+
+impl From<&OptimiseSettings> for Limits {
+    fn from(s: &OptimiseSettings) -> Self {
+        Limits {
+            population: s.population.max(2),
+            generations: s.generations,
+            stagnation: s.stagnation,
+            time_limit: Duration::from_secs_f64(s.time_limit_s.max(0.0)),
+        }
+    }
+}
+
+/// One generation's record, for progress reports and `convergence.csv`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Generation {
+    /// 0 for the initial population.
+    pub index: usize,
+    /// Score of the best genome so far.
+    pub best: Score,
+    /// Mean of the population's values (finite ones).
+    pub mean_value: f64,
+    /// Value of the population's worst genome.
+    pub worst_value: f64,
+    /// Distinct genomes evaluated so far.
+    pub evaluations: u64,
+    /// Wall-clock time since the search started (s).
+    pub seconds: f64,
+}
+
+/// Why a search stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StopReason {
+    /// The best genome met the target.
+    Reached,
+    /// The stop flag was raised (Ctrl-C).
+    Interrupted,
+    /// The generation limit was reached.
+    Generations,
+    /// The best genome stopped improving.
+    Stagnation,
+    /// The time limit passed.
+    TimeLimit,
+}
+
+impl StopReason {
+    /// The reason in a few words, for reports.
+    pub fn describe(self) -> &'static str {
+        match self {
+            StopReason::Reached => "target reached",
+            StopReason::Interrupted => "interrupted",
+            StopReason::Generations => "generation limit",
+            StopReason::Stagnation => "stagnation",
+            StopReason::TimeLimit => "time limit",
+        }
+    }
+}
+
+/// The result of a search.
+#[derive(Debug, Clone)]
+pub struct Evolution<O> {
+    /// The best genome found.
+    pub genes: Vec<f64>,
+    /// Its score.
+    pub best: Score,
+    /// Its outcome (the packing).
+    pub outcome: O,
+    /// One record per generation, generation 0 first.
+    pub history: Vec<Generation>,
+    /// Distinct genomes evaluated.
+    pub evaluations: u64,
+    /// Why the search stopped.
+    pub stop: StopReason,
+    /// Wall-clock time of the whole search (s).
+    pub seconds: f64,
+    /// Smallest and largest value of the feasible genomes evaluated (the
+    /// range the search explored); `[inf, -inf]` if none was feasible.
+    pub explored: [f64; 2],
+}
+
+/// Identity of a phenotype: the sequence genes read and a fingerprint of
+/// them and of the parameter genes.
+type Key = (usize, u128);
+
+/// A genome of the population with its score.
+struct Member {
+    genes: Vec<f64>,
+    key: Key,
+    score: Score,
+}
+
+/// A search under way: generation 0 is evaluated by [`Search::start`], so
+/// that the caller can look at it ([`Search::initial`]) before [`Search::run`].
+pub struct Search<'a, P: Problem> {
+    problem: &'a P,
+    limits: Limits,
+    rng: Xoshiro256PlusPlus,
+    start: Instant,
+    selector: TournamentSelector,
+    crossover: Crossover,
+    mutation: Mutation,
+    /// Sorted best first.
+    population: Vec<Member>,
+    /// Scores of the initial genomes, in [`Problem::initial`] order.
+    initial: Vec<Score>,
+    /// Score of every phenotype evaluated.
+    seen: HashMap<Key, Score>,
+    /// The distinct read lengths in `seen`.
+    lengths: BTreeSet<usize>,
+    /// Genomes evaluated.
+    evaluations: u64,
+    /// Value range of the feasible genomes evaluated.
+    explored: [f64; 2],
+    best: (Vec<f64>, Score, P::Outcome),
+    history: Vec<Generation>,
+    stagnant: usize,
+}
+
+impl<'a, P: Problem> Search<'a, P> {
+    /// Draw and evaluate generation 0 of a search seeded by `seed`.
+    pub fn start(problem: &'a P, limits: Limits, seed: u64) -> Self {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+        let population = limits.population.max(2);
+        let genomes: Vec<Vec<f64>> = (0..population)
+            .map(|i| problem.initial(i, population, &mut rng))
+            .collect();
+        let n = problem.sequence();
+        let mut search = Search {
+            problem,
+            limits,
+            rng,
+            start: Instant::now(),
+            // Half the population in pairs, tournaments of 3, the best always wins.
+            selector: TournamentSelector::new(0.5, 2, 3, 1.0, false),
+            crossover: Crossover {
+                sequence: n,
+                alpha: 0.5,
+            },
+            mutation: Mutation {
+                sequence: n,
+                sequence_rate: 1.0 / n.max(1) as f64,
+                swap_rate: 0.5,
+                tail_rate: 0.5,
+                parameter_rate: 0.5,
+                sigma: 0.05,
+            },
+            population: Vec::new(),
+            initial: Vec::new(),
+            seen: HashMap::new(),
+            lengths: BTreeSet::new(),
+            evaluations: 0,
+            explored: [f64::INFINITY, f64::NEG_INFINITY],
+            best: (Vec::new(), Score::WORST, P::Outcome::default()),
+            history: Vec::new(),
+            stagnant: 0,
+        };
+        let members = search.evaluate(genomes);
+        search.initial = members.iter().map(|m| m.score).collect();
+        search.reinsert(members);
+        search.record(0);
+        search
+    }
+
+    /// Scores of the initial genomes, in [`Problem::initial`] order.
+    pub fn initial(&self) -> &[Score] {
+        &self.initial
+    }
+
+    /// Run generations until a stop rule holds; `stop` is polled between
+    /// generations, `progress` gets generation 0 and then each generation.
+    pub fn run(
+        mut self,
+        stop: &AtomicBool,
+        mut progress: impl FnMut(&Generation),
+    ) -> Evolution<P::Outcome> {
+        if let Some(g) = self.history.last() {
+            progress(g);
+        }
+        let reason = loop {
+            let generation = self.history.len();
+            if self.problem.reached(&self.best.1) {
+                break StopReason::Reached;
+            }
+            if stop.load(Ordering::Relaxed) {
+                break StopReason::Interrupted;
+            }
+            if generation > self.limits.generations {
+                break StopReason::Generations;
+            }
+            if self.stagnant >= self.limits.stagnation {
+                break StopReason::Stagnation;
+            }
+            if self.start.elapsed() >= self.limits.time_limit {
+                break StopReason::TimeLimit;
+            }
+            self.step();
+            self.record(generation);
+            if let Some(g) = self.history.last() {
+                progress(g);
+            }
+        };
+        let (genes, best, outcome) = self.best;
+        Evolution {
+            genes,
+            best,
+            outcome,
+            evaluations: self.evaluations,
+            history: self.history,
+            stop: reason,
+            seconds: self.start.elapsed().as_secs_f64(),
+            explored: self.explored,
+        }
+    }
+
+    /// One generation: select, breed, evaluate the new children, reinsert.
+    fn step(&mut self) {
+        let before = self.best.1;
+        let offspring = {
+            let genomes: Vec<Vec<f64>> = self.population.iter().map(|m| m.genes.clone()).collect();
+            let fits: Vec<Fit> = self.population.iter().map(|m| Fit(m.score)).collect();
+            let (first, last) = (fits[0], fits[fits.len() - 1]);
+            let evaluated = EvaluatedPopulation::new(Rc::new(genomes), fits, first, last, first);
+            let parents = self.selector.select_from(&evaluated, &mut self.rng);
+            let read: HashMap<u128, usize> = self
+                .population
+                .iter()
+                .map(|m| (fingerprint(&m.genes), m.key.0))
+                .collect();
+            let sequence = self.problem.sequence();
+            let mut offspring = Vec::with_capacity(parents.len() * 2);
+            for pair in parents {
+                // Only the genes the parents' packings read can matter.
+                let used = pair
+                    .iter()
+                    .map(|g| read.get(&fingerprint(g)).copied().unwrap_or(sequence))
+                    .max()
+                    .unwrap_or(sequence);
+                let active = used.min(sequence);
+                self.crossover.sequence = active;
+                self.mutation.sequence = active;
+                self.mutation.sequence_rate = 1.0 / active.max(1) as f64;
+                for child in self.crossover.crossover(pair, &mut self.rng) {
+                    offspring.push(self.mutation.mutate(child, &mut self.rng));
+                }
+            }
+            let count = self.population.len();
+            for i in 0..count / IMMIGRANT_SHARE {
+                // Past the pinned ends of the initial population: random rules.
+                let index = count - 1 - i;
+                offspring.push(self.problem.initial(index, count, &mut self.rng));
+            }
+            offspring
+        };
+        let members = self.evaluate(offspring);
+        self.reinsert(members);
+        if self.best.1.improves_on(&before) {
+            self.stagnant = 0;
+        } else {
+            self.stagnant += 1;
+        }
+    }
+
+    /// Score `genomes`: known phenotypes from memory, the others evaluated
+    /// in parallel (each distinct genome once); the best outcome is kept.
+    fn evaluate(&mut self, genomes: Vec<Vec<f64>>) -> Vec<Member> {
+        let known: Vec<Option<Key>> = genomes.iter().map(|g| self.known(g)).collect();
+        let mut fresh = HashSet::new();
+        let todo: Vec<usize> = (0..genomes.len())
+            .filter(|&i| known[i].is_none() && fresh.insert(fingerprint(&genomes[i])))
+            .collect();
+        let problem = self.problem;
+        let results: Vec<Evaluation<P::Outcome>> = todo
+            .par_iter()
+            .map(|&i| problem.evaluate(&genomes[i]))
+            .collect();
+        self.evaluations += results.len() as u64;
+        let mut keys = known;
+        for (&i, e) in todo.iter().zip(results) {
+            let key = self.key(&genomes[i], e.read);
+            self.seen.insert(key, e.score);
+            if e.score.is_feasible() && e.score.value.is_finite() {
+                let [lo, hi] = self.explored;
+                self.explored = [lo.min(e.score.value), hi.max(e.score.value)];
+            }
+            self.lengths.insert(key.0);
+            keys[i] = Some(key);
+            if e.score.cmp_quality(&self.best.1).is_lt() || self.best.0.is_empty() {
+                self.best = (genomes[i].clone(), e.score, e.outcome);
+            }
+        }
+        genomes
+            .into_iter()
+            .zip(keys)
+            .filter_map(|(genes, key)| {
+                // Duplicates within the batch share the first one's key.
+                let key = key.or_else(|| self.known(&genes))?;
+                let score = self.seen.get(&key).copied()?;
+                Some(Member { genes, key, score })
+            })
+            .collect()
+    }
+
+    /// The key of an evaluated phenotype `genes` belongs to, if any.
+    fn known(&self, genes: &[f64]) -> Option<Key> {
+        self.lengths
+            .iter()
+            .map(|&read| self.key(genes, read))
+            .find(|key| self.seen.contains_key(key))
+    }
+
+    /// The phenotype key of `genes` when its evaluation reads `read` sequence genes.
+    fn key(&self, genes: &[f64], read: usize) -> Key {
+        let n = self.problem.sequence().min(genes.len());
+        let read = read.min(n);
+        let head = genes[..read].iter();
+        (read, fingerprint_iter(head.chain(&genes[n..])))
+    }
+
+    /// (μ + λ): the best distinct genomes of the population and `members`.
+    fn reinsert(&mut self, members: Vec<Member>) {
+        let mut pool = std::mem::take(&mut self.population);
+        pool.extend(members);
+        let mut keys = HashSet::new();
+        pool.retain(|m| keys.insert(m.key));
+        // Stable: on equal scores the older genome stays ahead.
+        pool.sort_by(|a, b| a.score.cmp_quality(&b.score));
+        pool.truncate(self.limits.population.max(2));
+        self.population = pool;
+    }
+
+    fn record(&mut self, index: usize) {
+        let values: Vec<f64> = self
+            .population
+            .iter()
+            .map(|m| m.score.value)
+            .filter(|v| v.is_finite())
+            .collect();
+        let mean_value = values.iter().sum::<f64>() / values.len().max(1) as f64;
+        self.history.push(Generation {
+            index,
+            best: self.best.1,
+            mean_value,
+            worst_value: self.population.last().map_or(f64::NAN, |m| m.score.value),
+            evaluations: self.evaluations,
+            seconds: self.start.elapsed().as_secs_f64(),
+        });
+    }
+}
+
+/// 128-bit FNV-1a over the genes' bit patterns.
+fn fingerprint(genes: &[f64]) -> u128 {
+    fingerprint_iter(genes.iter())
+}
+
+/// 128-bit FNV-1a over the bit patterns of a run of genes.
+fn fingerprint_iter<'g>(genes: impl Iterator<Item = &'g f64>) -> u128 {
+    const OFFSET: u128 = 0x6c62_272e_07bb_0142_62b8_2175_6295_c58d;
+    const PRIME: u128 = 0x0000_0000_0100_0000_0000_0000_0000_013b;
+    let mut h = OFFSET;
+    for g in genes {
+        for byte in g.to_bits().to_le_bytes() {
+            h ^= u128::from(byte);
+            h = h.wrapping_mul(PRIME);
+        }
+    }
+    h
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::Rng;
+    use std::sync::Mutex;
+
+    /// Minimise the distance of the mean gene to 0.3; records every evaluation.
+    struct Mean {
+        calls: Mutex<Vec<Vec<f64>>>,
+    }
+
+    impl Problem for Mean {
+        type Outcome = f64;
+        fn genes(&self) -> usize {
+            6
+        }
+        fn sequence(&self) -> usize {
+            4
+        }
+        fn initial(&self, _: usize, _: usize, rng: &mut Xoshiro256PlusPlus) -> Vec<f64> {
+            (0..6).map(|_| rng.r#gen()).collect()
+        }
+        fn evaluate(&self, genes: &[f64]) -> Evaluation<f64> {
+            self.calls.lock().unwrap().push(genes.to_vec());
+            // Reads the first three sequence genes and both parameters.
+            let used: Vec<f64> = genes[..3].iter().chain(&genes[4..]).copied().collect();
+            let mean = used.iter().sum::<f64>() / used.len() as f64;
+            let score = Score {
+                violation: 0.0,
+                error: (mean - 0.3).powi(2),
+                value: mean,
+            };
+            Evaluation {
+                score,
+                outcome: mean,
+                read: 3,
+            }
+        }
+        fn reached(&self, score: &Score) -> bool {
+            score.error < 1e-8
+        }
+    }
+
+    fn limits() -> Limits {
+        Limits {
+            population: 16,
+            generations: 60,
+            stagnation: 60,
+            time_limit: Duration::from_secs(60),
+        }
+    }
+
+    #[test]
+    fn converges_and_never_evaluates_a_genome_twice() {
+        let problem = Mean {
+            calls: Mutex::new(Vec::new()),
+        };
+        let search = Search::start(&problem, limits(), 1);
+        let first = search.initial()[0];
+        let result = search.run(&AtomicBool::new(false), |_| {});
+        assert!(result.best.cmp_quality(&first).is_le());
+        assert!((result.outcome - 0.3).abs() < 0.02, "{}", result.outcome);
+        let calls = problem.calls.into_inner().unwrap();
+        let distinct: HashSet<u128> = calls.iter().map(|g| fingerprint(g)).collect();
+        assert_eq!(distinct.len(), calls.len(), "a genome was evaluated twice");
+        // Nor was a genome differing only in the unread fourth gene.
+        let phenotypes: HashSet<u128> = calls
+            .iter()
+            .map(|g| fingerprint_iter(g[..3].iter().chain(&g[4..])))
+            .collect();
+        assert_eq!(
+            phenotypes.len(),
+            calls.len(),
+            "a phenotype was evaluated twice"
+        );
+        assert_eq!(result.evaluations, calls.len() as u64);
+        // The history is monotone in the best score.
+        for w in result.history.windows(2) {
+            assert!(w[1].best.cmp_quality(&w[0].best).is_le());
+        }
+    }
+
+    #[test]
+    fn stop_flag_and_limits_end_the_search() {
+        let problem = Mean {
+            calls: Mutex::new(Vec::new()),
+        };
+        let stopped = Search::start(&problem, limits(), 2).run(&AtomicBool::new(true), |_| {});
+        assert_eq!(stopped.stop, StopReason::Interrupted);
+        assert_eq!(stopped.history.len(), 1);
+        let short = Limits {
+            generations: 3,
+            ..limits()
+        };
+        let r = Search::start(&problem, short, 2).run(&AtomicBool::new(false), |_| {});
+        assert!(matches!(
+            r.stop,
+            StopReason::Generations | StopReason::Reached
+        ));
+        assert!(r.history.len() <= 4);
+    }
+
+    #[test]
+    fn same_seed_same_search_with_any_thread_count() {
+        let run = |threads: usize| {
+            let problem = Mean {
+                calls: Mutex::new(Vec::new()),
+            };
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                Search::start(&problem, limits(), 9).run(&AtomicBool::new(false), |_| {})
+            })
+        };
+        let (a, b) = (run(1), run(3));
+        assert_eq!(a.genes, b.genes);
+        assert_eq!(a.evaluations, b.evaluations);
+        assert_eq!(a.history.len(), b.history.len());
+    }
+}

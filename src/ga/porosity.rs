@@ -1,0 +1,170 @@
+//! The target-porosity problem (DESIGN §5): grading genes and packing-rule
+//! genes, fitness (porosity − target)², grading held within `max_psd_ks`.
+//!
+//! # Genome
+//! - `n` grading genes, n = ⌈domain area / smallest disk area⌉ (DESIGN §3):
+//!   gene i is the percent passing of the i-th size drawn, a U in [0, 1]
+//!   mapped to a diameter by the curve's inverse CDF, so every gene is a
+//!   size the curve allows. Sizes left over when the domain is full are unused.
+//! - [`RULE_GENES`] packing-rule genes: the share of one-contact placements,
+//!   their gap (× [`MAX_GAP`]), and how many sizes may wait for a place
+//!   before the run stops (× [`MAX_DEFERRED`], rounded; the dense end is
+//!   the most). Dense advancing front cannot go looser than its own
+//!   porosity, and the grading genes alone move it little (the thesis' GA
+//!   stopped at 0.24–0.47 for a target of 0.5). One-contact placements with
+//!   a gap reach porosities up to about 0.6 while every disk still touches at
+//!   least one other and nothing overlaps; the knobs move the porosity
+//!   smoothly and monotonically on average, which is what a GA needs to home
+//!   in. The third matters for the grading: with few, large disks (the
+//!   thesis' AP-4: about 30 disks of 1.2–4.8 mm) the sizes left waiting when
+//!   the domain is full are mostly the large ones, which bends the packed
+//!   grading (measured on AP-4 loose packs: KS ≤ 0.05 in 0 of 400 with 8
+//!   waiting, in 25–87 % with none).
+//!
+//! # Constraint
+//! The KS distance of the packed sizes to the curve (in its basis) above
+//! `max_psd_ks` is the score's violation: a genome within it beats any
+//! genome outside it (see [`Score`]). The initial grading genes are a
+//! low-discrepancy (Kronecker) sequence, so every prefix of them, however
+//! many disks fit, follows the curve closely from the start.
+
+use rand::Rng;
+use rand_xoshiro::Xoshiro256PlusPlus;
+
+use super::engine::{Evaluation, Problem};
+use super::score::Score;
+use super::settings::OptimiseSettings;
+use crate::Scene;
+use crate::packer::{MAX_DEFERRED, MAX_GAP, Packing, pack_sizes, size_count};
+
+/// Packing-rule genes after the grading genes: one-contact share, gap /
+/// [`MAX_GAP`], then 1 − max_deferred / [`MAX_DEFERRED`].
+pub const RULE_GENES: usize = 3;
+
+/// The golden ratio's conjugate: the step of the Kronecker sequence of initial grading genes.
+const GOLDEN: f64 = 0.618_033_988_749_894_9;
+
+/// Initial genomes pinned to the ends of the packing-rule range (dense, then
+/// loosest), two of each, so that generation 0 measures the achievable range.
+const PINNED_ENDS: usize = 2;
+
+/// Hit a target porosity on a scene (see the module documentation).
+#[derive(Debug, Clone)]
+pub struct PorosityProblem<'a> {
+    scene: &'a Scene,
+    settings: OptimiseSettings,
+    sizes: usize,
+}
+
+impl<'a> PorosityProblem<'a> {
+    /// The problem of packing `scene` at `settings.target_porosity`.
+    pub fn new(scene: &'a Scene, settings: OptimiseSettings) -> Self {
+        let sizes = size_count(&scene.domain, scene.grading.d_min()) as usize;
+        PorosityProblem {
+            scene,
+            settings,
+            sizes,
+        }
+    }
+
+    /// Number of grading genes.
+    pub fn sizes(&self) -> usize {
+        self.sizes
+    }
+
+    /// The scene a genome packs: the problem's scene with the genome's packing rules.
+    pub fn scene_of(&self, genes: &[f64]) -> Scene {
+        let mut scene = self.scene.clone();
+        let rules = &genes[self.sizes.min(genes.len())..];
+        let gene = |i: usize| rules.get(i).copied().unwrap_or(0.0);
+        scene.packer.one_contact_share = gene(0);
+        scene.packer.gap = gene(1) * MAX_GAP;
+        scene.packer.max_deferred = ((1.0 - gene(2)) * MAX_DEFERRED as f64).round() as usize;
+        scene
+    }
+
+    /// The porosity range generation 0 spans, `[low, high]`: its genomes run
+    /// from dense to the loosest packing rules, so this estimates before the
+    /// search what the domain and grading can reach. The search refines it
+    /// ([`crate::ga::Evolution::explored`]): ordering the sizes well can pack
+    /// a little denser than the dense end here (measured: 0.01 on a 50 mm
+    /// square of Table 3.1).
+    pub fn range(initial: &[Score]) -> [f64; 2] {
+        initial
+            .iter()
+            .map(|s| s.value)
+            .filter(|v| v.is_finite())
+            .fold([f64::INFINITY, f64::NEG_INFINITY], |[lo, hi], v| {
+                [lo.min(v), hi.max(v)]
+            })
+    }
+
+    /// Whether the target lies in `range`, give or take the tolerance.
+    pub fn feasible(&self, range: [f64; 2]) -> bool {
+        let (t, tol) = (self.settings.target_porosity, self.settings.tolerance);
+        range[0] - tol <= t && t <= range[1] + tol
+    }
+}
+
+impl Problem for PorosityProblem<'_> {
+    type Outcome = Option<Packing>;
+
+    fn genes(&self) -> usize {
+        self.sizes + RULE_GENES
+    }
+
+    fn sequence(&self) -> usize {
+        self.sizes
+    }
+
+    fn initial(&self, index: usize, count: usize, rng: &mut Xoshiro256PlusPlus) -> Vec<f64> {
+        let offset: f64 = rng.r#gen();
+        let mut genes: Vec<f64> = (0..self.sizes)
+            .map(|k| (offset + k as f64 * GOLDEN).fract())
+            .collect();
+        // Two pinned at each end of the rule range, the rest stratified in share.
+        let rules = match index {
+            i if i < PINNED_ENDS => [0.0; RULE_GENES],
+            i if i < 2 * PINNED_ENDS => [1.0; RULE_GENES],
+            i => [
+                (i as f64 + rng.r#gen::<f64>()) / count as f64,
+                rng.r#gen(),
+                rng.r#gen(),
+            ],
+        };
+        genes.extend(rules);
+        genes
+    }
+
+    fn evaluate(&self, genes: &[f64]) -> Evaluation<Option<Packing>> {
+        let scene = self.scene_of(genes);
+        let grading = &scene.grading;
+        let sizes = genes[..self.sizes].iter().map(|&u| grading.sample(u));
+        let Ok(packing) = pack_sizes(&scene, sizes) else {
+            return Evaluation {
+                score: Score::WORST,
+                outcome: None,
+                read: self.sizes,
+            };
+        };
+        let solid: f64 = packing.disks.iter().map(|d| d.area()).sum();
+        let porosity = 1.0 - solid / packing.domain.area();
+        let diameters: Vec<f64> = packing.disks.iter().map(|d| 2.0 * d.r).collect();
+        let ks = grading.ks_distance(&diameters);
+        let score = Score {
+            violation: (ks - self.settings.max_psd_ks).max(0.0),
+            error: (porosity - self.settings.target_porosity).powi(2),
+            value: porosity,
+        };
+        Evaluation {
+            score,
+            read: packing.stats.sizes_drawn as usize,
+            outcome: Some(packing),
+        }
+    }
+
+    fn reached(&self, score: &Score) -> bool {
+        score.is_feasible()
+            && (score.value - self.settings.target_porosity).abs() <= self.settings.tolerance
+    }
+}

@@ -1,0 +1,225 @@
+//! A line chart rendered to SVG text or PNG bytes, in memory (the caller
+//! writes them atomically with the other outputs).
+
+use std::sync::Once;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::output::OutputError;
+
+/// The font every chart uses, bundled (DejaVu Sans, `assets/`): the system's
+/// fonts are not needed, so charts render the same on a bare machine.
+static FONT: &[u8] = include_bytes!("../../../assets/DejaVuSans.ttf");
+static REGISTER: Once = Once::new();
+
+/// Family name the bundled font is registered under.
+const FAMILY: &str = "sans-serif";
+
+/// Pixel size of the charts.
+const SIZE: (u32, u32) = (900, 560);
+
+/// How a series is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mark {
+    /// A solid line through the points.
+    Line,
+    /// A dashed line through the points (targets, references).
+    Dashed,
+    /// A dot at each point (measured values).
+    Dots,
+}
+
+/// One named series of (x, y) points.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Series {
+    /// Legend text.
+    pub name: String,
+    /// The points, in drawing order.
+    pub points: Vec<(f64, f64)>,
+    /// How the series is drawn.
+    pub mark: Mark,
+}
+
+/// A chart: a title, axis labels and series drawn in a palette order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LineChart {
+    /// Caption above the plot.
+    pub title: String,
+    /// Horizontal axis label.
+    pub x_label: String,
+    /// Vertical axis label.
+    pub y_label: String,
+    /// The series.
+    pub series: Vec<Series>,
+}
+
+/// Colours of the series, in order (colour-blind-safe Okabe–Ito).
+const PALETTE: [RGBColor; 6] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(230, 159, 0),
+    RGBColor(86, 180, 233),
+];
+
+impl LineChart {
+    /// The chart as an SVG document.
+    ///
+    /// # Errors
+    /// [`OutputError::Plot`] if plotters fails to draw.
+    pub fn to_svg(&self) -> Result<String, OutputError> {
+        register_font();
+        let mut svg = String::new();
+        {
+            let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+            self.draw(root)
+                .map_err(|e| OutputError::Plot(e.to_string()))?;
+        }
+        Ok(svg)
+    }
+
+    /// The chart as a PNG image.
+    ///
+    /// # Errors
+    /// [`OutputError::Plot`] if plotters fails to draw or the PNG cannot be encoded.
+    pub fn to_png(&self) -> Result<Vec<u8>, OutputError> {
+        register_font();
+        let (w, h) = SIZE;
+        let mut rgb = vec![0u8; w as usize * h as usize * 3];
+        {
+            let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
+            self.draw(root)
+                .map_err(|e| OutputError::Plot(e.to_string()))?;
+        }
+        let mut png = Vec::new();
+        let mut encoder = png::Encoder::new(&mut png, w, h);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        let plot = |e: png::EncodingError| OutputError::Plot(e.to_string());
+        let mut writer = encoder.write_header().map_err(plot)?;
+        writer.write_image_data(&rgb).map_err(plot)?;
+        writer.finish().map_err(plot)?;
+        Ok(png)
+    }
+
+    /// The ranges of the axes: the data's, padded by 5 %, never empty.
+    fn bounds(&self) -> (std::ops::Range<f64>, std::ops::Range<f64>) {
+        let finite = self
+            .series
+            .iter()
+            .flat_map(|s| &s.points)
+            .filter(|(x, y)| x.is_finite() && y.is_finite());
+        let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+        for &(x, y) in finite {
+            (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+        }
+        let pad = |lo: f64, hi: f64| {
+            if lo > hi {
+                (0.0, 1.0)
+            } else {
+                let m = ((hi - lo) * 0.05).max(hi.abs().max(1e-9) * 1e-3);
+                (lo - m, hi + m)
+            }
+        };
+        let ((x0, x1), (y0, y1)) = (pad(x0, x1), pad(y0, y1));
+        (x0..x1, y0..y1)
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, Shift>,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        root.fill(&WHITE)?;
+        let (xs, ys) = self.bounds();
+        let mut chart = ChartBuilder::on(&root)
+            .caption(&self.title, (FAMILY, 22))
+            .margin(14)
+            .x_label_area_size(48)
+            .y_label_area_size(70)
+            .build_cartesian_2d(xs, ys)?;
+        chart
+            .configure_mesh()
+            .x_desc(&self.x_label)
+            .y_desc(&self.y_label)
+            .label_style((FAMILY, 14))
+            .axis_desc_style((FAMILY, 16))
+            .draw()?;
+        for (i, s) in self.series.iter().enumerate() {
+            let colour = PALETTE[i % PALETTE.len()];
+            let style = colour.stroke_width(2);
+            let points = s.points.iter().copied();
+            let drawn = match s.mark {
+                Mark::Line => chart.draw_series(LineSeries::new(points, style))?,
+                Mark::Dashed => chart.draw_series(DashedLineSeries::new(points, 10, 6, style))?,
+                Mark::Dots => {
+                    chart.draw_series(points.map(|p| Circle::new(p, 4, colour.filled())))?
+                }
+            };
+            drawn.label(s.name.as_str()).legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
+            });
+        }
+        chart
+            .configure_series_labels()
+            .label_font((FAMILY, 14))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()?;
+        root.present()
+    }
+}
+
+/// Register the bundled font once per process.
+fn register_font() {
+    REGISTER.call_once(|| {
+        // The bundled bytes are a valid font (checked by the tests below).
+        let _ = plotters::style::register_font(FAMILY, FontStyle::Normal, FONT);
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn chart() -> LineChart {
+        LineChart {
+            title: "test".to_owned(),
+            x_label: "x".to_owned(),
+            y_label: "y".to_owned(),
+            series: vec![
+                Series {
+                    name: "line".to_owned(),
+                    points: vec![(0.0, 0.1), (1.0, 0.3), (2.0, 0.2)],
+                    mark: Mark::Line,
+                },
+                Series {
+                    name: "target".to_owned(),
+                    points: vec![(0.0, 0.25), (2.0, 0.25)],
+                    mark: Mark::Dashed,
+                },
+                Series {
+                    name: "dots".to_owned(),
+                    points: vec![(1.0, f64::NAN), (1.5, 0.15)],
+                    mark: Mark::Dots,
+                },
+            ],
+        }
+    }
+
+    #[test]
+    fn the_bundled_font_loads() {
+        assert!(plotters::style::register_font(FAMILY, FontStyle::Normal, FONT).is_ok());
+    }
+
+    #[test]
+    fn renders_svg_with_text_and_png_with_the_png_signature() {
+        let svg = chart().to_svg().unwrap();
+        assert!(svg.starts_with("<svg") && svg.contains("target") && svg.contains("<text"));
+        let png = chart().to_png().unwrap();
+        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+        assert!(png.len() > 2000);
+    }
+}
