@@ -48,5 +48,10 @@ fn packing(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, packing);
+criterion_group! {
+    name = benches;
+    // No report charts: criterion's would need a system font.
+    config = Criterion::default().without_plots();
+    targets = packing
+}
 criterion_main!(benches);

@@ -170,7 +170,7 @@ fn run_optimise(args: &OptimiseArgs) -> Result<(), Failure> {
     let (config, origin) = load_config(Some(&args.config)).map_err(Failure::Input)?;
     let Some(settings) = config.optimise else {
         return Err(Failure::Input(anyhow::anyhow!(
-            "{origin}: no [optimise] table: add one with at least target_porosity (see docs/CONFIG.md)"
+            "{origin}:1:1: optimise: missing table [optimise]; gapack optimise needs one with at least target_porosity (see docs/CONFIG.md)"
         )));
     };
     let mut scene = config.scene;

@@ -5,26 +5,12 @@
 //! named `packs_*` and `shipped_configs_parse` need the packer, domains and
 //! gradings, the others fail before those are called.
 
+mod common;
+
 use std::fs;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
-/// A fresh, empty scratch directory for one test.
-fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("cli-{name}"));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).expect("create scratch dir");
-    dir
-}
-
-/// Run `gapack` with `args` in `dir`.
-fn gapack(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gapack"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run gapack")
-}
+use common::{gapack, scratch};
 
 /// Write `config` as `bad.toml` in a scratch dir, run `gapack pack bad.toml`,
 /// and check it fails with exit code 2, one `error:` line naming `key` and
@@ -285,6 +271,7 @@ fn packs_default_scene() {
         "index",
         "one_contact_share",
         "gap",
+        "max_deferred",
         "isolated",
         "rules",
         "walls",

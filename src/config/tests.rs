@@ -506,3 +506,49 @@ fn builds_scene_over_the_memory_limit_refused() {
     let ok = format!("{big}[limits]\nmax_memory_mb = 1e9\n");
     assert!(parse(&ok, "t").is_ok());
 }
+
+#[test]
+fn builds_optimise_settings_with_defaults_and_refuses_absurd_runs() {
+    let ok = parse(
+        &rect(
+            "width = 20\nheight = 20",
+            "[optimize]\ntarget_porosity = 0.4\npopulation = 16\n",
+        ),
+        "t",
+    )
+    .expect("valid config");
+    let s = ok.optimise.expect("[optimize] read as [optimise]");
+    assert_eq!((s.target_porosity, s.population), (0.4, 16));
+    assert_eq!(
+        (s.tolerance, s.generations, s.max_psd_ks),
+        (0.002, 200, 0.05)
+    );
+    fails_with(
+        &rect("width = 20\nheight = 20", "[optimise]\npopulation = 8\n"),
+        "t.toml:7:1: optimise.target_porosity: missing; [optimise] needs the porosity to reach, in [0, 1)",
+    );
+    fails_with(
+        &rect(
+            "width = 20\nheight = 20",
+            "[optimise]\ntarget_porosity = 1\n",
+        ),
+        "t.toml:8:19: optimise.target_porosity: must be in [0, 1), got 1",
+    );
+    fails_with(
+        &rect(
+            "width = 20\nheight = 20",
+            "[optimise]\ntarget_porosity = 0.3\npopulation = 1\n",
+        ),
+        "t.toml:9:14: optimise.population: must be a whole number ≥ 2, got 1",
+    );
+    // A million genes per genome times 200 genomes: refused with the estimate.
+    let e = err(&rect(
+        "width = 1000\nheight = 1000",
+        "[optimise]\ntarget_porosity = 0.3\npopulation = 200\n",
+    ));
+    assert!(matches!(e, ConfigError::Memory { .. }), "{e}");
+    assert_eq!(e.key(), Some("optimise.population"));
+    let message = e.to_string();
+    assert!(message.contains("needs an estimated"), "{message}");
+    assert!(message.contains("over the limit of 4096 MB"), "{message}");
+}

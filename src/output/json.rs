@@ -23,6 +23,7 @@ struct Summary<'a> {
     index: &'static str,
     one_contact_share: f64,
     gap: f64,
+    max_deferred: usize,
     rules: &'static str,
     grading: GradingSummary,
     #[serde(flatten)]
@@ -119,6 +120,7 @@ pub fn summary_json(
         index: scene.packer.index.config_name(),
         one_contact_share: scene.packer.one_contact_share,
         gap: scene.packer.gap,
+        max_deferred: scene.packer.max_deferred,
         rules: scene.packer.rules.config_name(),
         grading: GradingSummary {
             d_min: scene.grading.d_min(),

@@ -1,7 +1,28 @@
 //! Scene builders shared by the integration tests.
 #![allow(dead_code)]
 
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
 use gapack::{Domain, Grading, PackerSettings, Scene, WallMode};
+
+/// A fresh, empty scratch directory for one test, under `target/`.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("cli-{name}"));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).expect("create scratch dir");
+    dir
+}
+
+/// Run `gapack` with `args` in `dir`.
+pub fn gapack(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_gapack"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run gapack")
+}
 
 /// Table 3.4 of the thesis: the proppant grading of the fracture case.
 pub fn table_3_4() -> Grading {

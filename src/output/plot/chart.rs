@@ -143,6 +143,8 @@ impl LineChart {
             .configure_mesh()
             .x_desc(&self.x_label)
             .y_desc(&self.y_label)
+            .x_label_formatter(&tidy)
+            .y_label_formatter(&tidy)
             .label_style((FAMILY, 14))
             .axis_desc_style((FAMILY, 16))
             .draw()?;
@@ -170,6 +172,12 @@ impl LineChart {
             .draw()?;
         root.present()
     }
+}
+
+/// A tick label: at most six decimals, trailing zeros dropped (`2`, `0.36`).
+fn tidy(v: &f64) -> String {
+    let rounded = (v * 1e6).round() / 1e6;
+    format!("{}", rounded + 0.0)
 }
 
 /// Register the bundled font once per process.
@@ -207,6 +215,13 @@ mod tests {
                 },
             ],
         }
+    }
+
+    #[test]
+    fn tick_labels_are_tidy() {
+        assert_eq!(tidy(&2.0), "2");
+        assert_eq!(tidy(&0.30000000000000004), "0.3");
+        assert_eq!(tidy(&-0.0), "0");
     }
 
     #[test]

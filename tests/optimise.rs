@@ -1,0 +1,315 @@
+//! `gapack optimise` and the target-porosity GA: the thesis' AP runs hit
+//! their target with the grading honoured, the result does not depend on the
+//! number of threads, out-of-reach targets are reported with the range,
+//! Ctrl-C still writes a valid packing, and bad `[optimise]` keys are refused.
+
+mod common;
+
+use std::fs;
+use std::path::Path;
+use std::process::Command;
+use std::sync::atomic::AtomicBool;
+use std::thread;
+use std::time::{Duration, Instant};
+
+use common::{gapack, scratch};
+use gapack::ga::{Limits, PorosityProblem, Search, StopReason};
+use gapack::geometry::predicates::OVERLAP_REL;
+use gapack::{Disk, config, measure};
+
+/// A shipped config's text.
+fn shipped(name: &str) -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("configs")
+        .join(name);
+    fs::read_to_string(path).expect("read shipped config")
+}
+
+/// `summary.json` of an output directory.
+fn summary(dir: &Path) -> serde_json::Value {
+    let text = fs::read_to_string(dir.join("summary.json")).expect("summary.json written");
+    serde_json::from_str(&text).expect("summary.json is JSON")
+}
+
+/// The disks of a `packing.csv`.
+fn disks(dir: &Path) -> Vec<Disk> {
+    let text = fs::read_to_string(dir.join("packing.csv")).expect("packing.csv written");
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("id,x,y,r"));
+    lines
+        .map(|l| {
+            let f: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+            Disk::new(f[1], f[2], f[3])
+        })
+        .collect()
+}
+
+/// Largest pairwise overlap, relative to the sum of radii (brute force).
+fn max_overlap(disks: &[Disk]) -> f64 {
+    let mut worst = f64::NEG_INFINITY;
+    for (i, a) in disks.iter().enumerate() {
+        for b in &disks[..i] {
+            let s = a.r + b.r;
+            worst = worst.max((s - (a.c - b.c).norm()) / s);
+        }
+    }
+    worst
+}
+
+/// The thesis' AP-1…AP-5 (20 mm square, target 0.5): the thesis' GA reached
+/// 0.237–0.467; every run here reaches the target within its tolerance
+/// (0.002), with the grading within max_psd_ks = 0.05, no overlap and no
+/// floating disk.
+#[test]
+fn thesis_ap_runs_reach_the_target_with_the_grading_honoured() {
+    println!("test   porosity  error   KS     disks  evaluations  generations  seconds");
+    for name in ["ap1", "ap2", "ap3", "ap4", "ap5"] {
+        let cfg = config::parse(&shipped(&format!("{name}.toml")), name).unwrap();
+        let settings = cfg.optimise.expect("[optimise] in the AP configs");
+        let scene = cfg.scene;
+        let problem = PorosityProblem::new(&scene, settings);
+        let result = Search::start(&problem, Limits::from(&settings), scene.seed)
+            .run(&AtomicBool::new(false), |_| {});
+        let packing = result.outcome.expect("a packing");
+        let m = measure(&packing, &scene.grading);
+        println!(
+            "{name}    {:.4}    {:.4}  {:.3}  {:5}  {:11}  {:11}  {:.2}",
+            m.porosity,
+            (m.porosity - 0.5).abs(),
+            m.psd_ks,
+            m.particles,
+            result.evaluations,
+            result.history.len() - 1,
+            result.seconds
+        );
+        assert_eq!(result.stop, StopReason::Reached, "{name}");
+        assert!(
+            (m.porosity - 0.5).abs() <= settings.tolerance,
+            "{name}: {}",
+            m.porosity
+        );
+        assert!(m.psd_ks <= settings.max_psd_ks, "{name}: KS {}", m.psd_ks);
+        assert!(
+            m.max_overlap <= OVERLAP_REL,
+            "{name}: overlap {}",
+            m.max_overlap
+        );
+        assert_eq!(m.isolated, 0, "{name}: floating disks");
+    }
+}
+
+/// A tighter grading limit is honoured as well (AP-3 at KS ≤ 0.03).
+#[test]
+fn a_tighter_grading_limit_is_honoured() {
+    let text = shipped("ap3.toml").replace("max_psd_ks = 0.05", "max_psd_ks = 0.03");
+    let cfg = config::parse(&text, "ap3-tight").unwrap();
+    let settings = cfg.optimise.unwrap();
+    let problem = PorosityProblem::new(&cfg.scene, settings);
+    let result =
+        Search::start(&problem, Limits::from(&settings), 2).run(&AtomicBool::new(false), |_| {});
+    let m = measure(&result.outcome.unwrap(), &cfg.scene.grading);
+    assert!(m.psd_ks <= 0.03, "KS {}", m.psd_ks);
+    assert!(
+        (m.porosity - 0.5).abs() <= settings.tolerance,
+        "{}",
+        m.porosity
+    );
+}
+
+/// `RAYON_NUM_THREADS=1` and `=2` give the same best packing, byte for byte,
+/// after the same number of evaluations; the outputs are all there.
+#[test]
+fn same_seed_same_packing_with_one_or_two_threads() {
+    let dir = scratch("optimise-threads");
+    fs::write(dir.join("ap4.toml"), shipped("ap4.toml")).unwrap();
+    let run = |threads: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_gapack"))
+            .args(["optimise", "ap4.toml", "--seed", "3", "--out", threads])
+            .env("RAYON_NUM_THREADS", threads)
+            .current_dir(&dir)
+            .output()
+            .expect("run gapack");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        dir.join(threads)
+    };
+    let (one, two) = (run("1"), run("2"));
+    assert_eq!(
+        fs::read(one.join("packing.csv")).unwrap(),
+        fs::read(two.join("packing.csv")).unwrap()
+    );
+    let (a, b) = (summary(&one), summary(&two));
+    assert_eq!(a["evaluations"], b["evaluations"]);
+    assert_eq!(a["feasible"], true);
+    assert_eq!(a["stop"], "target reached");
+    let convergence = fs::read_to_string(one.join("convergence.csv")).unwrap();
+    assert!(convergence.starts_with("generation,best,mean,worst,evaluations,seconds\n0,"));
+    assert_eq!(
+        &fs::read(one.join("convergence.png")).unwrap()[..4],
+        b"\x89PNG"
+    );
+    assert!(
+        fs::read_to_string(one.join("convergence.svg"))
+            .unwrap()
+            .contains("<svg")
+    );
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// A target no packing of this domain and grading can reach is reported as
+/// such, with the range, and the nearest packing is still written.
+#[test]
+fn an_out_of_reach_target_is_reported_with_its_range() {
+    let dir = scratch("optimise-infeasible");
+    let text = shipped("ap5.toml")
+        .replace("target_porosity = 0.5", "target_porosity = 0.05")
+        .replace("stagnation = 30", "stagnation = 5");
+    fs::write(dir.join("low.toml"), text).unwrap();
+    let out = gapack(&dir, &["optimise", "low.toml", "--out", "o"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("target porosity 0.05 is out of reach"),
+        "{stderr}"
+    );
+    let s = summary(&dir.join("o"));
+    assert_eq!(s["feasible"], false);
+    let range = s["achievable_range"].as_array().unwrap();
+    let low = range[0].as_f64().unwrap();
+    assert!(low > 0.05 && low < 0.35, "range {range:?}");
+    let best = s["best_porosity"].as_f64().unwrap();
+    assert!(
+        (best - low).abs() < 1e-12,
+        "the nearest packing is the densest: {best} vs {low}"
+    );
+    assert!(max_overlap(&disks(&dir.join("o"))) <= OVERLAP_REL);
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// Ctrl-C (SIGINT) stops the search at the next generation and writes the
+/// best packing so far, marked as interrupted.
+#[test]
+fn an_interrupted_run_writes_a_valid_packing() {
+    let dir = scratch("optimise-interrupt");
+    let text = shipped("dense_target.toml").replace(
+        "target_porosity = 0.20",
+        "target_porosity = 0.05\ngenerations = 100000\nstagnation = 100000\ntime_limit_s = 600",
+    );
+    fs::write(dir.join("long.toml"), text).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gapack"))
+        .args(["optimise", "long.toml", "--out", "o", "--quiet"])
+        .current_dir(&dir)
+        .spawn()
+        .expect("start gapack");
+    thread::sleep(Duration::from_millis(1500));
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("send SIGINT");
+    assert!(killed.success());
+    let start = Instant::now();
+    let status = child.wait().expect("gapack ends");
+    assert!(status.success(), "{status}");
+    assert!(start.elapsed() < Duration::from_secs(30), "stopped late");
+    let s = summary(&dir.join("o"));
+    assert_eq!(s["interrupted"], true);
+    assert_eq!(s["stop"], "interrupted");
+    let packed = disks(&dir.join("o"));
+    assert!(packed.len() > 100, "{} disks", packed.len());
+    assert!(max_overlap(&packed) <= OVERLAP_REL);
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// Bad `[optimise]` values: exit code 2, one line naming the key and its
+/// place, nothing written, no panic.
+#[test]
+fn bad_optimise_keys_are_refused() {
+    let base = shipped("ap1.toml");
+    for (name, from, to, key) in [
+        (
+            "target-one",
+            "target_porosity = 0.5",
+            "target_porosity = 1.0",
+            "optimise.target_porosity",
+        ),
+        (
+            "target-negative",
+            "target_porosity = 0.5",
+            "target_porosity = -0.1",
+            "optimise.target_porosity",
+        ),
+        (
+            "population-one",
+            "population = 64",
+            "population = 1",
+            "optimise.population",
+        ),
+        (
+            "generations-zero",
+            "generations = 200",
+            "generations = 0",
+            "optimise.generations",
+        ),
+        (
+            "tolerance-negative",
+            "tolerance = 0.002",
+            "tolerance = -0.001",
+            "optimise.tolerance",
+        ),
+        (
+            "time-negative",
+            "time_limit_s = 60",
+            "time_limit_s = -1",
+            "optimise.time_limit_s",
+        ),
+        (
+            "time-zero",
+            "time_limit_s = 60",
+            "time_limit_s = 0",
+            "optimise.time_limit_s",
+        ),
+        (
+            "ks-zero",
+            "max_psd_ks = 0.05",
+            "max_psd_ks = 0",
+            "optimise.max_psd_ks",
+        ),
+        (
+            "unknown",
+            "stagnation = 30",
+            "stagnant = 30",
+            "optimise.stagnant",
+        ),
+    ] {
+        let dir = scratch(&format!("optimise-bad-{name}"));
+        fs::write(dir.join("bad.toml"), base.replace(from, to)).unwrap();
+        let out = gapack(&dir, &["optimise", "bad.toml"]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{name}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{name}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{name}: {stderr}");
+        assert!(stderr.starts_with("error: bad.toml:"), "{name}: {stderr}");
+        assert!(stderr.contains(&format!(": {key}: ")), "{name}: {stderr}");
+        assert!(!dir.join("out").exists(), "{name}: output written");
+        let _ = fs::remove_dir_all(&dir);
+    }
+}
+
+/// A config without `[optimise]` cannot be optimised; `optimize` is accepted too.
+#[test]
+fn optimise_needs_its_table_and_answers_to_both_spellings() {
+    let dir = scratch("optimise-no-table");
+    fs::write(dir.join("plain.toml"), shipped("square_100.toml")).unwrap();
+    let out = gapack(&dir, &["optimize", "plain.toml"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.starts_with("error: plain.toml:1:1: optimise: missing table [optimise]"),
+        "{stderr}"
+    );
+    assert!(!dir.join("out").exists());
+    let _ = fs::remove_dir_all(&dir);
+}
