@@ -147,8 +147,8 @@ fn run_pack(args: &PackArgs) -> Result<(), Failure> {
         .context("cannot write the outputs")
         .map_err(Failure::Run)?;
 
-    if !args.quiet {
-        let line = format!(
+    report(args.quiet, || {
+        format!(
             "{}: {} disks, porosity {:.4}, psd_ks {:.3}, max overlap {}, coordination {:.2}, packed in {}",
             out.display(),
             metrics.particles,
@@ -157,10 +157,8 @@ fn run_pack(args: &PackArgs) -> Result<(), Failure> {
             overlap(metrics.max_overlap),
             metrics.coordination,
             duration(seconds),
-        );
-        // A closed stdout (e.g. `| head -0`) is no reason to fail a finished run.
-        let _ = writeln!(std::io::stdout(), "{line}");
-    }
+        )
+    });
     Ok(())
 }
 
@@ -251,8 +249,8 @@ fn run_optimise(args: &OptimiseArgs) -> Result<(), Failure> {
     .context("cannot write the outputs")
     .map_err(Failure::Run)?;
 
-    if !args.quiet {
-        let line = format!(
+    report(args.quiet, || {
+        format!(
             "{}: porosity {:.4} (target {}, error {:.4}), psd_ks {:.3}, {} disks, {} evaluations in {} generations, {} ({})",
             out.display(),
             metrics.porosity,
@@ -264,10 +262,17 @@ fn run_optimise(args: &OptimiseArgs) -> Result<(), Failure> {
             summary.generations,
             duration(evolution.seconds),
             summary.stop,
-        );
-        let _ = writeln!(std::io::stdout(), "{line}");
-    }
+        )
+    });
     Ok(())
+}
+
+/// Print a run's one result line on stdout, unless `quiet`.
+fn report(quiet: bool, line: impl FnOnce() -> String) {
+    if !quiet {
+        // A closed stdout (e.g. `| head -0`) is no reason to fail a finished run.
+        let _ = writeln!(std::io::stdout(), "{}", line());
+    }
 }
 
 /// A progress bar over the generations on stderr, hidden when `quiet` or

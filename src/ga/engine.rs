@@ -315,10 +315,13 @@ impl<'a, P: Problem> Search<'a, P> {
     /// One generation: select, breed, evaluate the new children, reinsert.
     fn step(&mut self) {
         let before = self.best.1;
+        let (Some(first), Some(last)) = (self.population.first(), self.population.last()) else {
+            return; // generation 0 always leaves genomes; nothing to breed from otherwise
+        };
+        let (first, last) = (Fit(first.score), Fit(last.score));
         let offspring = {
             let genomes: Vec<Vec<f64>> = self.population.iter().map(|m| m.genes.clone()).collect();
             let fits: Vec<Fit> = self.population.iter().map(|m| Fit(m.score)).collect();
-            let (first, last) = (fits[0], fits[fits.len() - 1]);
             let evaluated = EvaluatedPopulation::new(Rc::new(genomes), fits, first, last, first);
             let parents = self.selector.select_from(&evaluated, &mut self.rng);
             let read: HashMap<u128, usize> = self

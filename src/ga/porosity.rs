@@ -67,11 +67,6 @@ impl<'a> PorosityProblem<'a> {
         }
     }
 
-    /// Number of grading genes.
-    pub fn sizes(&self) -> usize {
-        self.sizes
-    }
-
     /// The scene a genome packs: the problem's scene with the genome's packing rules.
     pub fn scene_of(&self, genes: &[f64]) -> Scene {
         let mut scene = self.scene.clone();

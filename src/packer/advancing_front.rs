@@ -194,7 +194,8 @@ struct Front<'a, I> {
     witness: Vec<Witnesses>,
     /// Per obstacle id: a radius it is known not to take (room only shrinks,
     /// so the bound stays true); infinite until a failure measures it.
-    bound: Vec<f64>,
+    /// Single precision, rounded up: still a radius it does not take.
+    bound: Vec<f32>,
     /// Smallest radius of the grading: a front that cannot take it is closed.
     r_min: f64,
     /// Fronts that failed for a radius, waiting for a smaller one.
@@ -227,7 +228,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let first_packed = obs.len();
         let mut witness = Vec::with_capacity(first_packed);
         witness.resize(first_packed, NO_WITNESS);
-        let mut bound = vec![f64::INFINITY; first_packed];
+        let mut bound = vec![f32::INFINITY; first_packed];
         let wall_r = obs.iter().fold(0.0f64, |m, o| m.max(o.r));
         let r_max = (grading.d_max() / 2.0).max(wall_r);
         let expected = (domain.area() / grading.mean_disk_area()).ceil() as usize;
@@ -351,7 +352,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                     self.fronts.pop();
                     continue;
                 }
-                let bound = self.bound[f as usize];
+                let bound = f64::from(self.bound[f as usize]);
                 if r >= bound {
                     // Measured too small for this size before: no attempt.
                     self.fronts.pop();
@@ -374,7 +375,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                         if !self.robust() || r <= self.r_retire {
                             self.park(f, r);
                         } else if let Some(bound) = self.room_left(f, r, one_contact) {
-                            self.bound[f as usize] = bound;
+                            self.bound[f as usize] = (bound as f32).next_up();
                             self.park(f, bound);
                         }
                     }
@@ -415,7 +416,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let id = self.obs.len() as u32;
         self.obs.push(Disk { c: p, r });
         self.witness.push(NO_WITNESS);
-        self.bound.push(f64::INFINITY);
+        self.bound.push(f32::INFINITY);
         self.index.insert(id, p);
         self.fronts.push(id);
     }
