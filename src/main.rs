@@ -64,28 +64,28 @@ struct BenchArgs {
 struct OptimiseArgs {
     /// Config (TOML) with an [optimise] table.
     config: PathBuf,
-    /// Output directory [default: out/<config file stem>].
-    #[arg(long, value_name = "DIR")]
-    out: Option<PathBuf>,
-    /// Seed of the search (and of the packer's random choices), overriding the config's `seed`.
-    #[arg(long, value_name = "N")]
-    seed: Option<u64>,
-    /// Neither progress bar nor result line.
-    #[arg(long)]
-    quiet: bool,
+    #[command(flatten)]
+    run: RunArgs,
 }
 
 #[derive(Args)]
 struct PackArgs {
     /// Scene config (TOML); without it the embedded default scene is packed.
     config: Option<PathBuf>,
+    #[command(flatten)]
+    run: RunArgs,
+}
+
+/// Options of every run that writes a packing.
+#[derive(Args)]
+struct RunArgs {
     /// Output directory [default: out/<config file stem>, or out/default].
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
-    /// Seed of the random sizes, overriding the config's `seed`.
+    /// Seed of the random sizes (and of the search), overriding the config's `seed`.
     #[arg(long, value_name = "N")]
     seed: Option<u64>,
-    /// Do not print the result line.
+    /// Neither progress bar nor result line.
     #[arg(long)]
     quiet: bool,
 }
@@ -122,10 +122,11 @@ fn main() -> ExitCode {
 fn run_pack(args: &PackArgs) -> Result<(), Failure> {
     let (config, origin) = load_config(args.config.as_deref()).map_err(Failure::Input)?;
     let mut scene = config.scene;
-    if let Some(seed) = args.seed {
+    if let Some(seed) = args.run.seed {
         scene.seed = seed;
     }
     let out = args
+        .run
         .out
         .clone()
         .unwrap_or_else(|| default_out(args.config.as_deref()));
@@ -147,7 +148,7 @@ fn run_pack(args: &PackArgs) -> Result<(), Failure> {
         .context("cannot write the outputs")
         .map_err(Failure::Run)?;
 
-    report(args.quiet, || {
+    report(args.run.quiet, || {
         format!(
             "{}: {} disks, porosity {:.4}, psd_ks {:.3}, max overlap {}, coordination {:.2}, packed in {}",
             out.display(),
@@ -172,10 +173,11 @@ fn run_optimise(args: &OptimiseArgs) -> Result<(), Failure> {
         )));
     };
     let mut scene = config.scene;
-    if let Some(seed) = args.seed {
+    if let Some(seed) = args.run.seed {
         scene.seed = seed;
     }
     let out = args
+        .run
         .out
         .clone()
         .unwrap_or_else(|| default_out(Some(&args.config)));
@@ -188,13 +190,13 @@ fn run_optimise(args: &OptimiseArgs) -> Result<(), Failure> {
     let problem = PorosityProblem::new(&scene, settings);
     let search = Search::start(&problem, Limits::from(&settings), scene.seed);
     let initial_range = PorosityProblem::range(search.initial());
-    if !problem.feasible(initial_range) && !args.quiet {
+    if !problem.feasible(initial_range) && !args.run.quiet {
         eprintln!(
             "note: target porosity {} lies outside the range of the initial population, [{:.4}, {:.4}]; searching beyond it",
             settings.target_porosity, initial_range[0], initial_range[1]
         );
     }
-    let bar = progress_bar(settings.generations, args.quiet);
+    let bar = progress_bar(settings.generations, args.run.quiet);
     let evolution = search.run(&stop, |g| {
         bar.set_position(g.index as u64);
         bar.set_message(format!("best porosity {:.4}", g.best.value));
@@ -249,7 +251,7 @@ fn run_optimise(args: &OptimiseArgs) -> Result<(), Failure> {
     .context("cannot write the outputs")
     .map_err(Failure::Run)?;
 
-    report(args.quiet, || {
+    report(args.run.quiet, || {
         format!(
             "{}: porosity {:.4} (target {}, error {:.4}), psd_ks {:.3}, {} disks, {} evaluations in {} generations, {} ({})",
             out.display(),

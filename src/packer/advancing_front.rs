@@ -348,15 +348,15 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let one_contact = self.obs.len() > self.first_packed && self.one_contact();
         loop {
             while let Some(&f) = self.fronts.last() {
-                if self.witnesses_closed(f) {
-                    self.fronts.pop();
-                    continue;
-                }
                 let bound = f64::from(self.bound[f as usize]);
                 if r >= bound {
                     // Measured too small for this size before: no attempt.
                     self.fronts.pop();
                     self.park(f, bound);
+                    continue;
+                }
+                if self.witnesses_closed(f) {
+                    self.fronts.pop();
                     continue;
                 }
                 self.stats.front_attempts += 1;
