@@ -13,6 +13,7 @@ pub mod config;
 pub mod ga;
 pub mod geometry;
 pub mod grading;
+pub mod layering;
 pub mod output;
 pub mod packer;
 mod scene;

@@ -140,6 +140,39 @@ pub fn distance_point_segment(p: Point, a: Point, b: Point) -> f64 {
     (p - (a + ab * t)).norm()
 }
 
+/// Area of the intersection of the disks (`c1`, `r1`) and (`c2`, `r2`), exactly.
+///
+/// # Behavior
+/// 0 when they are apart, the smaller disk's area when it lies inside the
+/// larger, else the lens: the two circular segments cut by the common chord.
+///
+/// # Example
+/// ```
+/// use gapack::{Point, geometry::predicates::area_disk_disk};
+/// let o = Point::new(0.0, 0.0);
+/// assert!((area_disk_disk(o, 1.0, o, 2.0) - std::f64::consts::PI).abs() < 1e-12);
+/// assert_eq!(area_disk_disk(o, 1.0, Point::new(3.0, 0.0), 1.0), 0.0);
+/// ```
+pub fn area_disk_disk(c1: Point, r1: f64, c2: Point, r2: f64) -> f64 {
+    let d = (c1 - c2).norm();
+    if d >= r1 + r2 {
+        return 0.0;
+    }
+    let small = r1.min(r2);
+    if d <= (r1 - r2).abs() {
+        return std::f64::consts::PI * small * small;
+    }
+    // Half-angles of the chord seen from each centre.
+    let a1 = ((d * d + r1 * r1 - r2 * r2) / (2.0 * d * r1))
+        .clamp(-1.0, 1.0)
+        .acos();
+    let a2 = ((d * d + r2 * r2 - r1 * r1) / (2.0 * d * r2))
+        .clamp(-1.0, 1.0)
+        .acos();
+    let segment = |r: f64, a: f64| r * r * (a - a.sin() * a.cos());
+    segment(r1, a1) + segment(r2, a2)
+}
+
 /// Area of the disk (`c`, `r`) inside the axis-aligned box `[x0, x1] × [y0, y1]`, exactly.
 ///
 /// # Behavior
@@ -180,8 +213,10 @@ pub fn area_disk_box(c: Point, r: f64, x0: f64, x1: f64, y0: f64, y1: f64) -> f6
         }
         let tm = 0.5 * (a + b) - c.x;
         let hm = (r * r - tm * tm).max(0.0).sqrt();
-        let top_is_chord = c.y + hm < y1;
-        let bottom_is_chord = c.y - hm > y0;
+        // At or inside the box edge the chord bounds the piece (a box edge
+        // tangent to the disk meets the chord at the midpoint only).
+        let top_is_chord = c.y + hm <= y1;
+        let bottom_is_chord = c.y - hm >= y0;
         let top = if top_is_chord { c.y + hm } else { y1 };
         let bottom = if bottom_is_chord { c.y - hm } else { y0 };
         if top <= bottom {
@@ -269,6 +304,38 @@ mod tests {
         assert!(clear_disk_disk(Point::new(2.0, 0.0), 1.0, o, 1.0));
         assert!(clear_disk_disk(Point::new(2.0 - 1e-13, 0.0), 1.0, o, 1.0));
         assert!(!clear_disk_disk(Point::new(2.0 - 1e-9, 0.0), 1.0, o, 1.0));
+    }
+
+    #[test]
+    fn disk_box_area_with_a_tangent_edge_is_the_disk() {
+        // Regression: the box's top edge tangent to the disk counted a rectangle.
+        let c = Point::new(9.2, 9.2);
+        let whole = area_disk_box(c, 0.8, 7.0, 11.0, 8.0, 10.0);
+        assert!((whole - PI * 0.64).abs() < 1e-12, "{whole}");
+        let below = area_disk_box(c, 0.8, 7.0, 11.0, 8.4, 10.0);
+        assert!((below - PI * 0.64).abs() < 1e-12, "{below}");
+    }
+
+    #[test]
+    fn disk_disk_area_matches_sampling() {
+        let (c1, r1, c2, r2) = (Point::new(0.0, 0.0), 1.0, Point::new(1.2, 0.4), 0.8);
+        let n = 2000;
+        let mut hits = 0u64;
+        for i in 0..n {
+            for j in 0..n {
+                let p = Point::new(
+                    -1.0 + 2.0 * (i as f64 + 0.5) / n as f64,
+                    -1.0 + 2.0 * (j as f64 + 0.5) / n as f64,
+                );
+                if (p - c1).norm() < r1 && (p - c2).norm() < r2 {
+                    hits += 1;
+                }
+            }
+        }
+        let sampled = hits as f64 / (n * n) as f64 * 4.0;
+        let exact = area_disk_disk(c1, r1, c2, r2);
+        assert!((exact - sampled).abs() < 1e-4, "{exact} vs {sampled}");
+        assert!((area_disk_disk(c1, r1, c2, r2) - area_disk_disk(c2, r2, c1, r1)).abs() < 1e-15);
     }
 
     #[test]
