@@ -32,6 +32,7 @@ fn packing(c: &mut Criterion) {
                 walls: WallMode::Exact,
                 wall_disk_diameter: None,
                 grading: table_3_4(),
+                gradient: None,
                 packer: PackerSettings {
                     index,
                     ..PackerSettings::default()

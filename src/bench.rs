@@ -103,6 +103,7 @@ pub fn run(
                     walls: WallMode::Exact,
                     wall_disk_diameter: None,
                     grading: grading.clone(),
+                    gradient: None,
                     packer: PackerSettings {
                         index,
                         ..PackerSettings::default()

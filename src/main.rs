@@ -16,8 +16,8 @@ use std::time::Instant;
 use anyhow::Context;
 use clap::{Args, Parser, Subcommand};
 use gapack::config::{self, Config, DEFAULT_CONFIG, DEFAULT_ORIGIN};
-use gapack::ga::{Limits, PorosityProblem, Search, StopReason};
-use gapack::output::{OptimiseSummary, RunInfo, write_optimise_outputs, write_pack_outputs};
+use gapack::ga::{Layered, Limits, PorosityProblem, Search, StopReason, lay_out};
+use gapack::output::{OptimiseSummary, RunInfo, write_outputs};
 use gapack::{measure, pack};
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -42,6 +42,11 @@ enum Command {
     /// convergence.svg and convergence.png. Ctrl-C stops and writes the best so far.
     #[command(alias = "optimize")]
     Optimise(OptimiseArgs),
+    /// Lay materials out along the config's [layering] profile on one
+    /// packing (baseline, then the GA; or size-graded packing); writes what
+    /// `pack` writes with a material column, plus profile.csv, profile.svg
+    /// and profile.png.
+    Layer(LayerArgs),
     /// Measure disks per second and peak memory per disk (MX quadtree vs grid)
     /// on square domains with the thesis' Table 3.4 grading; writes bench.csv.
     Bench(BenchArgs),
@@ -63,6 +68,14 @@ struct BenchArgs {
 #[derive(Args)]
 struct OptimiseArgs {
     /// Config (TOML) with an [optimise] table.
+    config: PathBuf,
+    #[command(flatten)]
+    run: RunArgs,
+}
+
+#[derive(Args)]
+struct LayerArgs {
+    /// Config (TOML) with [[materials]] and a [layering] table.
     config: PathBuf,
     #[command(flatten)]
     run: RunArgs,
@@ -103,6 +116,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Pack(args) => run_pack(&args),
         Command::Optimise(args) => run_optimise(&args),
+        Command::Layer(args) => run_layer(&args),
         Command::Bench(args) => run_bench(&args),
     };
     match result {
@@ -120,34 +134,22 @@ fn main() -> ExitCode {
 
 /// `gapack pack`: read and validate the config, pack, measure, write, report.
 fn run_pack(args: &PackArgs) -> Result<(), Failure> {
-    let (config, origin) = load_config(args.config.as_deref()).map_err(Failure::Input)?;
-    let mut scene = config.scene;
-    if let Some(seed) = args.run.seed {
-        scene.seed = seed;
-    }
-    let out = args
-        .run
-        .out
-        .clone()
-        .unwrap_or_else(|| default_out(args.config.as_deref()));
-
+    let (config, origin, out) = prepare(args.config.as_deref(), &args.run)?;
+    let scene = &config.scene;
     let start = Instant::now();
-    let packing = pack(&scene)
+    let mut packing = pack(scene)
         .context("cannot pack the scene")
         .map_err(Failure::Run)?;
     let seconds = start.elapsed().as_secs_f64();
-    let metrics = measure(&packing, &scene.grading);
-
+    if config.materials.len() == 1 && packing.materials.is_empty() {
+        packing.materials = vec![0; packing.disks.len()];
+    }
+    let metrics = measure(&packing, scene);
     let run = RunInfo {
-        scene: &scene,
-        config: &origin,
-        seconds,
-        optimise: None,
+        materials: &config.materials,
+        ..RunInfo::new(scene, &origin, seconds)
     };
-    write_pack_outputs(&out, &packing, &metrics, &run)
-        .context("cannot write the outputs")
-        .map_err(Failure::Run)?;
-
+    write(&out, &packing, &metrics, &run)?;
     report(args.run.quiet, || {
         format!(
             "{}: {} disks, porosity {:.4}, psd_ks {:.3}, max overlap {}, coordination {:.2}, packed in {}",
@@ -163,31 +165,62 @@ fn run_pack(args: &PackArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// `gapack optimise`: search for the target porosity, write the best packing
-/// found and the convergence record, report.
+/// `gapack layer`: pack the scene once, lay the materials out along the
+/// profile (baseline, then the GA), write, report.
+fn run_layer(args: &LayerArgs) -> Result<(), Failure> {
+    let (config, origin, out) = prepare(Some(&args.config), &args.run)?;
+    let Some(settings) = &config.layering else {
+        return Err(Failure::Input(anyhow::anyhow!(
+            "{origin}:1:1: layering: missing table [layering]; gapack layer needs one with at least profile, and [[materials]] (see docs/CONFIG.md)"
+        )));
+    };
+    let scene = &config.scene;
+    let stop = stop_flag();
+    let start = Instant::now();
+    let mut packing = pack(scene)
+        .context("cannot pack the scene")
+        .map_err(Failure::Run)?;
+    let seconds = start.elapsed().as_secs_f64();
+    let layered = lay_out(
+        &packing,
+        settings,
+        config.materials.len(),
+        scene.seed,
+        &stop,
+    );
+    packing.materials = layered.assignment.clone();
+    let metrics = measure(&packing, scene);
+    let run = RunInfo {
+        materials: &config.materials,
+        layering: Some((settings, &layered)),
+        ..RunInfo::new(scene, &origin, seconds)
+    };
+    write(&out, &packing, &metrics, &run)?;
+    report(args.run.quiet, || {
+        format!(
+            "{}: {} disks, porosity {:.4}, {}",
+            out.display(),
+            metrics.particles,
+            metrics.porosity,
+            layering_line(&layered)
+        )
+    });
+    Ok(())
+}
+
+/// `gapack optimise`: search for the target porosity, lay out the materials
+/// if the config has a `[layering]`, write the best packing found and the
+/// convergence record, report.
 fn run_optimise(args: &OptimiseArgs) -> Result<(), Failure> {
-    let (config, origin) = load_config(Some(&args.config)).map_err(Failure::Input)?;
+    let (config, origin, out) = prepare(Some(&args.config), &args.run)?;
     let Some(settings) = config.optimise else {
         return Err(Failure::Input(anyhow::anyhow!(
             "{origin}:1:1: optimise: missing table [optimise]; gapack optimise needs one with at least target_porosity (see docs/CONFIG.md)"
         )));
     };
-    let mut scene = config.scene;
-    if let Some(seed) = args.run.seed {
-        scene.seed = seed;
-    }
-    let out = args
-        .run
-        .out
-        .clone()
-        .unwrap_or_else(|| default_out(Some(&args.config)));
-    let stop = Arc::new(AtomicBool::new(false));
-    let flag = Arc::clone(&stop);
-    // Without a handler (one is already installed) Ctrl-C ends the process:
-    // the outputs are written atomically, so nothing partial is left either way.
-    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));
-
-    let problem = PorosityProblem::new(&scene, settings);
+    let scene = &config.scene;
+    let stop = stop_flag();
+    let problem = PorosityProblem::new(scene, settings);
     let search = Search::start(&problem, Limits::from(&settings), scene.seed);
     let initial_range = PorosityProblem::range(search.initial());
     if !problem.feasible(initial_range) && !args.run.quiet {
@@ -212,13 +245,22 @@ fn run_optimise(args: &OptimiseArgs) -> Result<(), Failure> {
             settings.target_porosity, range[0], range[1], evolution.best.value
         );
     }
-    let Some(packing) = evolution.outcome else {
+    let Some(mut packing) = evolution.outcome else {
         return Err(Failure::Run(anyhow::anyhow!(
             "no genome could be packed: the domain is too small for the grading"
         )));
     };
     let best_scene = problem.scene_of(&evolution.genes);
-    let metrics = measure(&packing, &best_scene.grading);
+    let layered = config
+        .layering
+        .as_ref()
+        .map(|l| lay_out(&packing, l, config.materials.len(), scene.seed, &stop));
+    if let Some(l) = &layered {
+        packing.materials = l.assignment.clone();
+    } else if config.materials.len() == 1 && packing.materials.is_empty() {
+        packing.materials = vec![0; packing.disks.len()];
+    }
+    let metrics = measure(&packing, &best_scene);
     let summary = OptimiseSummary {
         target_porosity: settings.target_porosity,
         tolerance: settings.tolerance,
@@ -235,25 +277,18 @@ fn run_optimise(args: &OptimiseArgs) -> Result<(), Failure> {
         stop: evolution.stop.describe(),
     };
     let run = RunInfo {
-        scene: &best_scene,
-        config: &origin,
-        seconds: evolution.seconds,
-        optimise: Some(&summary),
+        materials: &config.materials,
+        optimise: Some((&summary, &evolution.history)),
+        layering: config.layering.as_ref().zip(layered.as_ref()),
+        ..RunInfo::new(&best_scene, &origin, evolution.seconds)
     };
-    write_optimise_outputs(
-        &out,
-        &packing,
-        &metrics,
-        &run,
-        &evolution.history,
-        settings.target_porosity,
-    )
-    .context("cannot write the outputs")
-    .map_err(Failure::Run)?;
-
+    write(&out, &packing, &metrics, &run)?;
     report(args.run.quiet, || {
+        let layering = layered
+            .as_ref()
+            .map_or(String::new(), |l| format!("; {}", layering_line(l)));
         format!(
-            "{}: porosity {:.4} (target {}, error {:.4}), psd_ks {:.3}, {} disks, {} evaluations in {} generations, {} ({})",
+            "{}: porosity {:.4} (target {}, error {:.4}), psd_ks {:.3}, {} disks, {} evaluations in {} generations, {} ({}){layering}",
             out.display(),
             metrics.porosity,
             settings.target_porosity,
@@ -267,6 +302,55 @@ fn run_optimise(args: &OptimiseArgs) -> Result<(), Failure> {
         )
     });
     Ok(())
+}
+
+/// The config of a run (seed overridden), its origin for messages, and the
+/// output directory.
+fn prepare(path: Option<&Path>, run: &RunArgs) -> Result<(Config, String, PathBuf), Failure> {
+    let (mut config, origin) = load_config(path).map_err(Failure::Input)?;
+    if let Some(seed) = run.seed {
+        config.scene.seed = seed;
+    }
+    let out = run.out.clone().unwrap_or_else(|| default_out(path));
+    Ok((config, origin, out))
+}
+
+/// A flag Ctrl-C raises. Without a handler (one is already installed)
+/// Ctrl-C ends the process: the outputs are written atomically, so nothing
+/// partial is left either way.
+fn stop_flag() -> Arc<AtomicBool> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = Arc::clone(&stop);
+    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));
+    stop
+}
+
+/// Write a run's outputs, a failure mapped to exit code 1.
+fn write(
+    out: &Path,
+    packing: &gapack::Packing,
+    metrics: &gapack::Metrics,
+    run: &RunInfo<'_>,
+) -> Result<(), Failure> {
+    write_outputs(out, packing, metrics, run)
+        .context("cannot write the outputs")
+        .map_err(Failure::Run)
+}
+
+/// `profile RMS 0.0123 (baseline 0.0187), GA 1.20 s, baseline 2.1 ms`.
+fn layering_line(l: &Layered) -> String {
+    if l.stop.is_none() {
+        format!("profile RMS {:.4} (size-graded)", l.rms)
+    } else {
+        format!(
+            "profile RMS {:.4} (baseline {:.4}), GA {} ({} evaluations), baseline {}",
+            l.rms,
+            l.baseline_rms,
+            duration(l.seconds),
+            l.evaluations,
+            duration(l.baseline_seconds)
+        )
+    }
 }
 
 /// Print a run's one result line on stdout, unless `quiet`.

@@ -2,7 +2,8 @@
 
 use crate::geometry::{Domain, WallMode};
 use crate::grading::Grading;
-use crate::packer::PackerSettings;
+use crate::layering::SizeGradient;
+use crate::packer::{PackerSettings, Packing};
 
 /// A validated scene: domain, wall model, grading curve, packer settings and seed.
 ///
@@ -17,8 +18,11 @@ pub struct Scene {
     /// Diameter of the wall disks for `walls = "disks"`; `None` uses
     /// [`Scene::DEFAULT_WALL_DISK_FRACTION`] of the grading's smallest diameter.
     pub wall_disk_diameter: Option<f64>,
-    /// The grading curve sizes are drawn from.
+    /// The grading curve sizes are drawn from (in size-graded mode, the
+    /// first material's).
     pub grading: Grading,
+    /// Size-graded mode: the grading blends into a second curve along an axis.
+    pub gradient: Option<SizeGradient>,
     /// Packer method, spatial index and contact rule.
     pub packer: PackerSettings,
     /// Seed of the random sizes (and of one-contact placement angles).
@@ -38,6 +42,59 @@ impl Scene {
     /// Diameter of the wall disks used with `walls = "disks"`.
     pub fn wall_disk(&self) -> f64 {
         self.wall_disk_diameter
-            .unwrap_or(self.grading.d_min() * Self::DEFAULT_WALL_DISK_FRACTION)
+            .unwrap_or(self.d_min() * Self::DEFAULT_WALL_DISK_FRACTION)
+    }
+
+    /// Smallest diameter any size can have (mm), over both curves in size-graded mode.
+    pub fn d_min(&self) -> f64 {
+        self.curves()
+            .map(Grading::d_min)
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Largest diameter any size can have (mm).
+    pub fn d_max(&self) -> f64 {
+        self.curves().map(Grading::d_max).fold(0.0, f64::max)
+    }
+
+    /// Smallest mean disk area of the curves (mm²): more disks than any
+    /// curve alone would give are not expected.
+    pub fn mean_disk_area(&self) -> f64 {
+        self.curves()
+            .map(Grading::mean_disk_area)
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Kolmogorov–Smirnov distance of a packing's sizes to the grading; in
+    /// size-graded mode, the larger of each material's distance to its own curve.
+    pub fn psd_ks(&self, packing: &Packing) -> f64 {
+        // Only size-graded scenes tie a material to a curve; materials laid
+        // out on a finished packing all share the one grading.
+        let graded = self.gradient.is_some();
+        let diameters = |material: u16| -> Vec<f64> {
+            packing
+                .disks
+                .iter()
+                .zip(packing.materials.iter().chain(std::iter::repeat(&0)))
+                .filter(|&(_, &m)| !graded || m == material)
+                .map(|(d, _)| 2.0 * d.r)
+                .collect()
+        };
+        self.curves()
+            .zip(0u16..)
+            .map(|(curve, m)| {
+                let own = diameters(m);
+                if own.is_empty() && graded {
+                    0.0
+                } else {
+                    curve.ks_distance(&own)
+                }
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// The grading, and the second curve in size-graded mode.
+    fn curves(&self) -> impl Iterator<Item = &Grading> {
+        std::iter::once(&self.grading).chain(self.gradient.as_ref().map(|g| &g.second))
     }
 }

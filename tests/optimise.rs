@@ -71,7 +71,7 @@ fn thesis_ap_runs_reach_the_target_with_the_grading_honoured() {
         let result = Search::start(&problem, Limits::from(&settings), scene.seed)
             .run(&AtomicBool::new(false), |_| {});
         let packing = result.outcome.expect("a packing");
-        let m = measure(&packing, &scene.grading);
+        let m = measure(&packing, &scene);
         println!(
             "{name}    {:.4}    {:.4}  {:.3}  {:5}  {:11}  {:11}  {:.2}",
             m.porosity,
@@ -107,7 +107,7 @@ fn a_tighter_grading_limit_is_honoured() {
     let problem = PorosityProblem::new(&cfg.scene, settings);
     let result =
         Search::start(&problem, Limits::from(&settings), 2).run(&AtomicBool::new(false), |_| {});
-    let m = measure(&result.outcome.unwrap(), &cfg.scene.grading);
+    let m = measure(&result.outcome.unwrap(), &cfg.scene);
     assert!(m.psd_ks <= 0.03, "KS {}", m.psd_ks);
     assert!(
         (m.porosity - 0.5).abs() <= settings.tolerance,

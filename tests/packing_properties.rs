@@ -86,6 +86,7 @@ fn scene_strategy() -> impl Strategy<Value = Scene> {
                     walls,
                     wall_disk_diameter: None,
                     grading,
+                    gradient: None,
                     packer: PackerSettings {
                         index,
                         one_contact_share,
@@ -105,7 +106,7 @@ proptest! {
     #[test]
     fn packings_have_no_overlap_stay_inside_and_fill(scene in scene_strategy()) {
         let packing = pack(&scene).unwrap();
-        let m = measure(&packing, &scene.grading);
+        let m = measure(&packing, &scene);
         let d_max = scene.grading.d_max();
         prop_assert!(m.particles > 0);
         prop_assert!(m.max_overlap <= OVERLAP_REL, "overlap {}", m.max_overlap);
@@ -218,9 +219,9 @@ fn robust_rules_fill_where_thesis_rules_stop_early() {
                 WallMode::Exact,
                 seed,
             );
-            let robust = measure(&pack(&s).unwrap(), &g);
+            let robust = measure(&pack(&s).unwrap(), &s);
             s.packer.rules = FrontRules::Thesis;
-            let thesis = measure(&pack(&s).unwrap(), &g);
+            let thesis = measure(&pack(&s).unwrap(), &s);
             println!(
                 "{side} {seed} | {} {:.3} {:.3} {:.2} | {} {:.3} {:.3} {:.2}",
                 robust.particles,
@@ -268,7 +269,7 @@ fn equal_disks_build_the_perfect_hexagonal_packing() {
         );
         s.packer.index = index;
         let p = pack(&s).unwrap();
-        let m = measure(&p, &g);
+        let m = measure(&p, &s);
         assert_eq!(m.particles, 429, "{index:?}");
         assert!(
             m.max_overlap <= 1e-9,

@@ -4,6 +4,7 @@ use std::fmt;
 
 use crate::geometry::GeometryError;
 use crate::grading::GradingError;
+use crate::layering::LayeringError;
 use crate::packer::PackError;
 
 /// A place in a config: its origin (file name or label), line and column (1-based).
@@ -158,6 +159,16 @@ pub enum ConfigError {
         /// The geometry error.
         error: GeometryError,
     },
+    /// A layering profile that cannot work.
+    #[error("{at}: {key}: {error}")]
+    Layering {
+        /// Where.
+        at: Location,
+        /// Key path at fault.
+        key: String,
+        /// The layering error.
+        error: LayeringError,
+    },
     /// The grading constructor refused the values.
     #[error("{at}: {key}: {error}")]
     Grading {
@@ -201,6 +212,7 @@ impl ConfigError {
             | ConfigError::Missing { at, .. }
             | ConfigError::NotApplicable { at, .. }
             | ConfigError::Geometry { at, .. }
+            | ConfigError::Layering { at, .. }
             | ConfigError::Grading { at, .. }
             | ConfigError::Scene { at, .. } => at,
         }
@@ -219,6 +231,7 @@ impl ConfigError {
             | ConfigError::Missing { key, .. }
             | ConfigError::NotApplicable { key, .. }
             | ConfigError::Geometry { key, .. }
+            | ConfigError::Layering { key, .. }
             | ConfigError::Grading { key, .. }
             | ConfigError::Scene { key, .. } => Some(key),
         }

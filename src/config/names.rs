@@ -3,6 +3,7 @@
 
 use crate::geometry::{Shape, WallMode};
 use crate::grading::{Basis, Interpolation};
+use crate::layering::{Axis, LayeringMode};
 use crate::packer::{FrontRules, IndexKind};
 
 /// The packing method; `packer.method` must name it. It is the only one so far.
@@ -110,6 +111,41 @@ pub(crate) const RULES: Names<FrontRules> = Names {
     ],
 };
 
+pub(crate) const AXES: Names<Axis> = Names {
+    what: "axis",
+    entries: &[("y", Axis::Y), ("x", Axis::X), ("radial", Axis::Radial)],
+};
+
+pub(crate) const MODES: Names<LayeringMode> = Names {
+    what: "layering mode",
+    entries: &[
+        ("materials", LayeringMode::Materials),
+        ("sizes", LayeringMode::Sizes),
+    ],
+};
+
+/// Kinds of profile, without their data.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) enum ProfileKind {
+    #[default]
+    Steps,
+    Linear,
+    Power,
+    Sigmoid,
+    Table,
+}
+
+pub(crate) const PROFILES: Names<ProfileKind> = Names {
+    what: "profile",
+    entries: &[
+        ("steps", ProfileKind::Steps),
+        ("linear", ProfileKind::Linear),
+        ("power", ProfileKind::Power),
+        ("sigmoid", ProfileKind::Sigmoid),
+        ("table", ProfileKind::Table),
+    ],
+};
+
 /// `packer.contacts` is written as a number; it sets the one-contact share.
 pub(crate) const CONTACTS: Names<f64> = Names {
     what: "contact count",
@@ -151,6 +187,18 @@ impl ConfigName for IndexKind {
 impl ConfigName for FrontRules {
     fn config_name(&self) -> &'static str {
         RULES.name_of(*self)
+    }
+}
+
+impl ConfigName for Axis {
+    fn config_name(&self) -> &'static str {
+        AXES.name_of(*self)
+    }
+}
+
+impl ConfigName for LayeringMode {
+    fn config_name(&self) -> &'static str {
+        MODES.name_of(*self)
     }
 }
 

@@ -6,6 +6,7 @@ use super::raw::RawConfig;
 use super::validate::Validator;
 use crate::Scene;
 use crate::ga::OptimiseSettings;
+use crate::layering::{LayeringSettings, Material};
 
 /// A validated config: the scene, and what to do with it beyond packing it once.
 #[derive(Debug, Clone)]
@@ -14,6 +15,10 @@ pub struct Config {
     pub scene: Scene,
     /// `[optimise]`: a target-porosity run, if the config asks for one.
     pub optimise: Option<OptimiseSettings>,
+    /// `[[materials]]`, in config order (a disk's material is an index into it).
+    pub materials: Vec<Material>,
+    /// `[layering]`: where the materials go.
+    pub layering: Option<LayeringSettings>,
 }
 
 /// The embedded default scene: the thesis' proppant fracture (8.6 × 62.5 mm,

@@ -3,11 +3,16 @@
 //! Only TOML syntax, key names and value types are checked here (by serde);
 //! meaning is checked in `validate.rs`.
 
+use std::collections::BTreeMap;
+
 use serde::Deserialize;
 use toml::Spanned;
 
 /// A pair of numbers such as `[x, y]` or a grading row `[d, passing]`.
 pub(crate) type Pair = Spanned<[f64; 2]>;
+
+/// A layer of a steps profile: `[material name, thickness]`.
+pub(crate) type Layer = Spanned<(String, f64)>;
 
 /// The whole file.
 #[derive(Debug, Deserialize)]
@@ -15,11 +20,42 @@ pub(crate) type Pair = Spanned<[f64; 2]>;
 pub(crate) struct RawConfig {
     pub seed: Option<Spanned<u64>>,
     pub domain: Spanned<RawDomain>,
-    pub grading: Spanned<RawGrading>,
+    /// Required unless `[layering] mode = "sizes"` gives each material its own.
+    pub grading: Option<Spanned<RawGrading>>,
     pub packer: Option<RawPacker>,
     #[serde(alias = "optimize")]
     pub optimise: Option<Spanned<RawOptimise>>,
+    pub materials: Option<Vec<Spanned<RawMaterial>>>,
+    pub layering: Option<Spanned<RawLayering>>,
     pub limits: Option<RawLimits>,
+}
+
+/// `[[materials]]`: a name, free-form numeric properties, and in size-graded
+/// mode a grading. Any other key is a property (checked to be a number).
+#[derive(Debug, Deserialize)]
+pub(crate) struct RawMaterial {
+    pub name: Spanned<String>,
+    pub grading: Option<Spanned<RawGrading>>,
+    #[serde(flatten)]
+    pub properties: BTreeMap<String, toml::Value>,
+}
+
+/// `[layering]`: where materials go along an axis.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawLayering {
+    pub mode: Option<Spanned<String>>,
+    pub axis: Option<Spanned<String>>,
+    pub bins: Option<Spanned<i64>>,
+    pub profile: Option<Spanned<String>>,
+    pub exponent: Option<Spanned<f64>>,
+    pub layers: Option<Spanned<Vec<Layer>>>,
+    pub table: Option<Spanned<Vec<Spanned<Vec<f64>>>>>,
+    pub tolerance: Option<Spanned<f64>>,
+    pub population: Option<Spanned<i64>>,
+    pub generations: Option<Spanned<i64>>,
+    pub stagnation: Option<Spanned<i64>>,
+    pub time_limit_s: Option<Spanned<f64>>,
 }
 
 /// `[domain]`: one shape and the keys that size it, plus the wall model.

@@ -17,11 +17,14 @@ use super::names::{
     BASES, CONTACTS, INDEXES, INTERPOLATIONS, METHODS, Names, RULES, SHAPES, ShapeKind, WALLS,
 };
 use super::parse::Config;
-use super::raw::{Pair, RawConfig, RawDomain, RawGrading, RawLimits, RawOptimise, RawPacker};
+use super::raw::{
+    Pair, RawConfig, RawDomain, RawGrading, RawLayering, RawLimits, RawOptimise, RawPacker,
+};
 use crate::Scene;
 use crate::ga::{OptimiseSettings, RULE_GENES};
 use crate::geometry::{Domain, GeometryError, Point, WallMode};
 use crate::grading::{Basis, Grading, Interpolation};
+use crate::layering::{LayeringMode, LayeringSettings, SizeGradient};
 use crate::packer::{
     MAX_DEFERRED, MAX_GAP, PEAK_BYTES_PER_DISK, PackError, PackerSettings, estimated_peak_bytes,
     size_count,
@@ -80,7 +83,12 @@ enum ShapePlan {
     Trapezoid { bottom: f64, top: f64, height: f64 },
 }
 
+mod materials;
+
+use materials::MaterialPlan;
+
 /// A checked `[grading]`, not yet built.
+#[derive(Clone)]
 struct GradingPlan {
     curve: Curve,
     interpolation: Interpolation,
@@ -91,6 +99,7 @@ struct GradingPlan {
 }
 
 /// The curve as given, values checked.
+#[derive(Clone)]
 enum Curve {
     Table(Vec<(f64, f64)>),
     Uniform(f64, f64),
@@ -127,30 +136,146 @@ impl Validator<'_> {
     pub fn config(&self, raw: RawConfig) -> Result<Config, ConfigError> {
         // Values first, in file order; then the constructors; then the whole.
         let domain = self.domain(&raw.domain)?;
-        let grading = self.grading(&raw.grading)?;
+        let grading = raw
+            .grading
+            .as_ref()
+            .map(|g| self.grading(g, "grading"))
+            .transpose()?;
         let packer = self.packer(raw.packer.as_ref())?;
         let optimise = raw
             .optimise
             .as_ref()
             .map(|o| self.optimise(o))
             .transpose()?;
+        let materials = self.materials(raw.materials.as_deref().unwrap_or(&[]))?;
+        let layering = raw
+            .layering
+            .as_ref()
+            .map(|l| self.layering(l, &materials))
+            .transpose()?;
         let limit = self.limit(raw.limits.as_ref())?;
         let built = self.build_domain(&domain, raw.domain.get_ref())?;
-        let grading = grading.build()?;
-        self.check_width(&built, &domain.width_key, &grading)?;
-        self.check_memory(&built, &domain.width_key, &grading, limit.clone())?;
+        let (grading, gradient) = self.curves(grading, &raw, &materials, layering.as_ref())?;
         let scene = Scene {
             domain: built,
             walls: domain.walls,
             wall_disk_diameter: domain.wall_disk,
             grading,
+            gradient,
             packer,
             seed: raw.seed.map_or(0, Spanned::into_inner),
         };
+        self.check_width(&scene, &domain.width_key)?;
+        self.check_memory(&scene, &domain.width_key, limit.clone())?;
         if let (Some(settings), Some(table)) = (&optimise, &raw.optimise) {
             self.check_optimise_memory(&scene, settings, table, limit)?;
         }
-        Ok(Config { scene, optimise })
+        if let (Some(settings), Some(table)) = (&layering, &raw.layering) {
+            self.check_bins(&scene, settings, table)?;
+        }
+        Ok(Config {
+            scene,
+            optimise,
+            materials: materials.into_iter().map(|m| m.material).collect(),
+            layering,
+        })
+    }
+
+    /// The scene's curves: `[grading]`, or in size-graded mode the two
+    /// materials' own (the second becomes the gradient). Several materials
+    /// need a `[layering]` to place them; material gradings only serve
+    /// size-graded mode.
+    fn curves(
+        &self,
+        grading: Option<GradingPlan>,
+        raw: &RawConfig,
+        materials: &[MaterialPlan],
+        layering: Option<&LayeringSettings>,
+    ) -> Result<(Grading, Option<SizeGradient>), ConfigError> {
+        let sizes = layering.is_some_and(|l| l.mode == LayeringMode::Sizes);
+        if let (None, Some(second)) = (layering, materials.get(1)) {
+            return Err(ConfigError::NotApplicable {
+                at: self.at(&second.at),
+                key: "materials".to_owned(),
+                reason: "several materials need a [layering] table that places them".to_owned(),
+            });
+        }
+        if !sizes && let Some((_, at)) = materials.iter().find_map(|m| m.grading.as_ref()) {
+            return Err(ConfigError::NotApplicable {
+                at: self.at(&at.span),
+                key: at.key.clone(),
+                reason: "a material's own grading serves [layering] mode = \"sizes\" only"
+                    .to_owned(),
+            });
+        }
+        match (grading, sizes) {
+            (Some(_), true) => {
+                let span = raw.grading.as_ref().map_or(0..0, Spanned::span);
+                Err(ConfigError::NotApplicable {
+                    at: self.at(&span),
+                    key: "grading".to_owned(),
+                    reason:
+                        "not used with [layering] mode = \"sizes\": each material gives its grading"
+                            .to_owned(),
+                })
+            }
+            (None, false) => Err(ConfigError::Schema {
+                at: self.at(&(0..0)),
+                key: "grading".to_owned(),
+                message: "missing table [grading]".to_owned(),
+            }),
+            (Some(plan), false) => Ok((plan.build()?, None)),
+            (None, true) => {
+                let mut curves = materials
+                    .iter()
+                    .filter_map(|m| m.grading.as_ref())
+                    .map(|(plan, _)| plan.clone().build());
+                let (Some(first), Some(second), Some(l)) = (curves.next(), curves.next(), layering)
+                else {
+                    // Checked by `layering`: size-graded mode has two graded materials.
+                    return Err(ConfigError::Schema {
+                        at: self.at(&(0..0)),
+                        key: "grading".to_owned(),
+                        message: "missing table [grading]".to_owned(),
+                    });
+                };
+                Ok((
+                    first?,
+                    Some(SizeGradient {
+                        axis: l.axis,
+                        profile: l.profile.clone(),
+                        second: second?,
+                    }),
+                ))
+            }
+        }
+    }
+
+    /// Refuse more bins than particles: a bin's fraction needs particles to measure.
+    fn check_bins(
+        &self,
+        scene: &Scene,
+        settings: &LayeringSettings,
+        raw: &Spanned<RawLayering>,
+    ) -> Result<(), ConfigError> {
+        // The most particles this domain holds: solid at the densest (0.9).
+        let particles = (0.9 * scene.domain.area() / scene.mean_disk_area()).floor();
+        if settings.bins as f64 <= particles {
+            return Ok(());
+        }
+        let span = raw
+            .get_ref()
+            .bins
+            .as_ref()
+            .map_or(raw.span(), Spanned::span);
+        Err(ConfigError::OutOfRange {
+            at: self.at(&span),
+            key: "layering.bins".to_owned(),
+            range: format!(
+                "at most the number of particles the domain holds, about {particles:.0}"
+            ),
+            value: settings.bins as f64,
+        })
     }
 
     /// `[optimise]`: every key checked against its range.
@@ -240,11 +365,10 @@ impl Validator<'_> {
         raw: &Spanned<RawOptimise>,
         (limit_mb, limit_key): (f64, Option<KeyAt>),
     ) -> Result<(), ConfigError> {
-        let genes = size_count(&scene.domain, scene.grading.d_min()) as f64 + RULE_GENES as f64;
-        let disks = scene.domain.area() / scene.grading.mean_disk_area();
+        let genes = size_count(&scene.domain, scene.d_min()) as f64 + RULE_GENES as f64;
+        let disks = scene.domain.area() / scene.mean_disk_area();
         let population = settings.population as f64;
-        let bytes = population * (4.0 * genes * 8.0 + disks * 24.0)
-            + estimated_peak_bytes(&scene.domain, &scene.grading);
+        let bytes = population * (4.0 * genes * 8.0 + disks * 24.0) + estimated_peak_bytes(scene);
         let estimate_mb = bytes / BYTES_PER_MB;
         if estimate_mb <= limit_mb {
             return Ok(());
@@ -507,7 +631,8 @@ impl Validator<'_> {
         }
     }
 
-    fn grading(&self, raw: &Spanned<RawGrading>) -> Result<GradingPlan, ConfigError> {
+    /// A grading table at key path `path` (`grading`, `materials[1].grading`).
+    fn grading(&self, raw: &Spanned<RawGrading>, path: &str) -> Result<GradingPlan, ConfigError> {
         let g = raw.get_ref();
         let mut sources = [
             g.table.as_ref().map(|v| (v.span(), Source::Table(v))),
@@ -523,15 +648,15 @@ impl Validator<'_> {
             [] => {
                 return Err(ConfigError::Missing {
                     at: self.at(&raw.span()),
-                    key: "grading.table".to_owned(),
-                    reason: format!("[grading] needs exactly one of {GRADING_SOURCES}"),
+                    key: format!("{path}.table"),
+                    reason: format!("[{path}] needs exactly one of {GRADING_SOURCES}"),
                 });
             }
             [(span, source)] => (span.clone(), *source),
             [(_, first), (span, second), ..] => {
                 return Err(ConfigError::NotApplicable {
                     at: self.at(span),
-                    key: format!("grading.{}", second.key()),
+                    key: format!("{path}.{}", second.key()),
                     reason: format!(
                         "give only one of {GRADING_SOURCES} (`{}` is given too)",
                         first.key()
@@ -543,23 +668,23 @@ impl Validator<'_> {
         if let (Some(v), Source::Uniform(_) | Source::Constant(_)) = (&g.interpolation, source) {
             return Err(ConfigError::NotApplicable {
                 at: self.at(&v.span()),
-                key: "grading.interpolation".to_owned(),
+                key: format!("{path}.interpolation"),
                 reason: "applies only to a table or a preset".to_owned(),
             });
         }
         if let (Some(v), Source::Constant(_)) = (&g.basis, source) {
             return Err(ConfigError::NotApplicable {
                 at: self.at(&v.span()),
-                key: "grading.basis".to_owned(),
+                key: format!("{path}.basis"),
                 reason: "does not apply to a constant size".to_owned(),
             });
         }
         let interpolation = self.name(
             &INTERPOLATIONS,
-            "grading.interpolation",
+            &format!("{path}.interpolation"),
             g.interpolation.as_ref(),
         )?;
-        let basis = self.name(&BASES, "grading.basis", g.basis.as_ref())?;
+        let basis = self.name(&BASES, &format!("{path}.basis"), g.basis.as_ref())?;
 
         let curve = match source {
             Source::Table(table) => Curve::Table(
@@ -568,7 +693,7 @@ impl Validator<'_> {
                     .iter()
                     .enumerate()
                     .map(|(i, row)| {
-                        let [d, p] = self.finite_pair(&format!("grading.table[{i}]"), row)?;
+                        let [d, p] = self.finite_pair(&format!("{path}.table[{i}]"), row)?;
                         Ok((d, p))
                     })
                     .collect::<Result<Vec<_>, ConfigError>>()?,
@@ -576,18 +701,21 @@ impl Validator<'_> {
             Source::Uniform(range) => {
                 let [a, b] = *range.get_ref();
                 for value in [a, b] {
-                    self.positive("grading.uniform", &Spanned::new(span.clone(), value))?;
+                    self.positive(
+                        &format!("{path}.uniform"),
+                        &Spanned::new(span.clone(), value),
+                    )?;
                 }
                 Curve::Uniform(a, b)
             }
-            Source::Constant(d) => Curve::Constant(self.positive("grading.constant", d)?),
+            Source::Constant(d) => Curve::Constant(self.positive(&format!("{path}.constant"), d)?),
             Source::Preset(name) => Curve::Preset(name.get_ref().clone()),
         };
         Ok(GradingPlan {
             curve,
             interpolation,
             basis,
-            key: format!("grading.{}", source.key()),
+            key: format!("{path}.{}", source.key()),
             at: self.at(&span),
         })
     }
@@ -681,14 +809,9 @@ impl Validator<'_> {
     }
 
     /// Refuse a domain whose largest inscribed disk is smaller than the smallest disk.
-    fn check_width(
-        &self,
-        domain: &Domain,
-        width_key: &KeyAt,
-        grading: &Grading,
-    ) -> Result<(), ConfigError> {
-        let inscribed = 2.0 * domain.inradius();
-        let d_min = grading.d_min();
+    fn check_width(&self, scene: &Scene, width_key: &KeyAt) -> Result<(), ConfigError> {
+        let inscribed = 2.0 * scene.domain.inradius();
+        let d_min = scene.d_min();
         if inscribed >= d_min {
             return Ok(());
         }
@@ -703,12 +826,11 @@ impl Validator<'_> {
     /// Refuse a scene whose estimated peak memory is over the limit.
     fn check_memory(
         &self,
-        domain: &Domain,
+        scene: &Scene,
         width_key: &KeyAt,
-        grading: &Grading,
         (limit_mb, limit_key): (f64, Option<KeyAt>),
     ) -> Result<(), ConfigError> {
-        let bytes = estimated_peak_bytes(domain, grading);
+        let bytes = estimated_peak_bytes(scene);
         let estimate_mb = bytes / BYTES_PER_MB;
         if estimate_mb <= limit_mb {
             return Ok(());

@@ -73,6 +73,30 @@ pub trait Problem: Sync {
 
     /// Whether a score is good enough to stop the search.
     fn reached(&self, score: &Score) -> bool;
+
+    /// How strongly to vary genomes; [`Variation::default`] suits most problems.
+    fn variation(&self) -> Variation {
+        Variation::default()
+    }
+}
+
+/// Mutation rates a problem asks for (see [`Mutation`] for what each does).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Variation {
+    /// Probability that a child gets one swap of two sequence genes.
+    pub swap_rate: f64,
+    /// Probability that a child gets one fine step on a gene near the end of
+    /// its sequence (useful where the last genes read change the outcome least).
+    pub tail_rate: f64,
+}
+
+impl Default for Variation {
+    fn default() -> Self {
+        Variation {
+            swap_rate: 0.5,
+            tail_rate: 0.0,
+        }
+    }
 }
 
 /// What [`Problem::evaluate`] returns.
@@ -225,6 +249,7 @@ impl<'a, P: Problem> Search<'a, P> {
             .map(|i| problem.initial(i, population, &mut rng))
             .collect();
         let n = problem.sequence();
+        let variation = problem.variation();
         let mut search = Search {
             problem,
             limits,
@@ -239,8 +264,8 @@ impl<'a, P: Problem> Search<'a, P> {
             mutation: Mutation {
                 sequence: n,
                 sequence_rate: 1.0 / n.max(1) as f64,
-                swap_rate: 0.5,
-                tail_rate: 0.5,
+                swap_rate: variation.swap_rate,
+                tail_rate: variation.tail_rate,
                 parameter_rate: 0.5,
                 sigma: 0.05,
             },

@@ -4,12 +4,16 @@
 //! [`PorosityProblem`]; the packer knows nothing of the GA.
 
 mod engine;
+mod layering;
 mod operators;
 mod porosity;
 mod score;
 mod settings;
 
-pub use engine::{Evaluation, Evolution, Generation, Limits, Problem, Search, StopReason};
+pub use engine::{
+    Evaluation, Evolution, Generation, Limits, Problem, Search, StopReason, Variation,
+};
+pub use layering::{Layered, LayeringProblem, lay_out};
 pub use porosity::{PorosityProblem, RULE_GENES};
 pub use score::Score;
 pub use settings::OptimiseSettings;

@@ -31,11 +31,11 @@
 use rand::Rng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 
-use super::engine::{Evaluation, Problem};
+use super::engine::{Evaluation, Problem, Variation};
 use super::score::Score;
 use super::settings::OptimiseSettings;
 use crate::Scene;
-use crate::packer::{MAX_DEFERRED, MAX_GAP, Packing, pack_sizes, size_count};
+use crate::packer::{MAX_DEFERRED, MAX_GAP, Packing, pack_genes, size_count};
 
 /// Packing-rule genes after the grading genes: one-contact share, gap /
 /// [`MAX_GAP`], then 1 − max_deferred / [`MAX_DEFERRED`].
@@ -59,7 +59,7 @@ pub struct PorosityProblem<'a> {
 impl<'a> PorosityProblem<'a> {
     /// The problem of packing `scene` at `settings.target_porosity`.
     pub fn new(scene: &'a Scene, settings: OptimiseSettings) -> Self {
-        let sizes = size_count(&scene.domain, scene.grading.d_min()) as usize;
+        let sizes = size_count(&scene.domain, scene.d_min()) as usize;
         PorosityProblem {
             scene,
             settings,
@@ -133,9 +133,7 @@ impl Problem for PorosityProblem<'_> {
 
     fn evaluate(&self, genes: &[f64]) -> Evaluation<Option<Packing>> {
         let scene = self.scene_of(genes);
-        let grading = &scene.grading;
-        let sizes = genes[..self.sizes].iter().map(|&u| grading.sample(u));
-        let Ok(packing) = pack_sizes(&scene, sizes) else {
+        let Ok(packing) = pack_genes(&scene, genes[..self.sizes].iter().copied()) else {
             return Evaluation {
                 score: Score::WORST,
                 outcome: None,
@@ -144,8 +142,7 @@ impl Problem for PorosityProblem<'_> {
         };
         let solid: f64 = packing.disks.iter().map(|d| d.area()).sum();
         let porosity = 1.0 - solid / packing.domain.area();
-        let diameters: Vec<f64> = packing.disks.iter().map(|d| 2.0 * d.r).collect();
-        let ks = grading.ks_distance(&diameters);
+        let ks = scene.psd_ks(&packing);
         let score = Score {
             violation: (ks - self.settings.max_psd_ks).max(0.0),
             error: (porosity - self.settings.target_porosity).powi(2),
@@ -161,5 +158,13 @@ impl Problem for PorosityProblem<'_> {
     fn reached(&self, score: &Score) -> bool {
         score.is_feasible()
             && (score.value - self.settings.target_porosity).abs() <= self.settings.tolerance
+    }
+
+    /// Fine steps on the last sizes drawn tune the porosity by a disk or two.
+    fn variation(&self) -> Variation {
+        Variation {
+            tail_rate: 0.5,
+            ..Variation::default()
+        }
     }
 }

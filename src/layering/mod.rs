@@ -10,9 +10,11 @@ mod bins;
 mod error;
 mod material;
 mod profile;
+mod settings;
 
 pub use baseline::baseline;
 pub use bins::{BinAreas, ProfileRow, profile_rows, rms_error};
 pub use error::LayeringError;
 pub use material::Material;
 pub use profile::{Axis, Frame, Profile, SizeGradient};
+pub use settings::{LayeringMode, LayeringSettings};

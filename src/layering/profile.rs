@@ -290,17 +290,18 @@ impl Profile {
     }
 }
 
-/// Size-graded packing: the grading blends from one curve to another along
-/// an axis, following a two-material profile; every disk is of the material
-/// whose curve it was drawn from.
+/// Size-graded packing: the grading blends from the scene's curve (the first
+/// material) into a second curve (the second material) along an axis,
+/// following a two-material profile; every disk is of the material whose
+/// curve it was drawn from.
 #[derive(Debug, Clone)]
 pub struct SizeGradient {
     /// Where the blend runs.
     pub axis: Axis,
     /// The area fraction of the second material along the axis.
     pub profile: Profile,
-    /// The first material's curve (the scene's `grading`) and the second's.
-    pub curves: [Grading; 2],
+    /// The second material's curve.
+    pub second: Grading,
 }
 
 #[cfg(test)]

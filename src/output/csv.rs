@@ -1,15 +1,51 @@
-//! CSV tables: `packing.csv` (one row per packed disk, `id,x,y,r` in mm) and
-//! `convergence.csv` (one row per generation of a GA run).
+//! CSV tables: `packing.csv` (one row per packed disk, `id,x,y,r` in mm,
+//! and `material` when the disks carry one), `convergence.csv` (one row per
+//! generation of a GA run) and `profile.csv` (one row per bin of a layering).
 
 use super::error::OutputError;
 use crate::ga::Generation;
+use crate::layering::{Material, ProfileRow};
 use crate::packer::Packing;
+
+/// File name of the layering profile table.
+pub const PROFILE_CSV: &str = "profile.csv";
 
 /// File name of the disk table.
 pub const PACKING_CSV: &str = "packing.csv";
 
 /// File name of the GA's convergence table.
 pub const CONVERGENCE_CSV: &str = "convergence.csv";
+
+/// One row per bin: `bin,s`, then `target_<name>` and `achieved_<name>` for
+/// each material (fractions of the bin's solid area; empty in a bin with no
+/// solid).
+///
+/// # Errors
+/// [`OutputError::Csv`] if the CSV writer fails (it does not on memory).
+pub fn profile_csv(rows: &[ProfileRow], materials: &[Material]) -> Result<Vec<u8>, OutputError> {
+    let mut writer = ::csv::Writer::from_writer(Vec::new());
+    let mut header = vec!["bin".to_owned(), "s".to_owned()];
+    for prefix in ["target", "achieved"] {
+        header.extend(materials.iter().map(|m| format!("{prefix}_{}", m.name)));
+    }
+    writer.write_record(&header)?;
+    let cell = |v: f64| {
+        if v.is_finite() {
+            v.to_string()
+        } else {
+            String::new()
+        }
+    };
+    for row in rows {
+        let mut record = vec![row.bin.to_string(), row.s.to_string()];
+        record.extend(row.target.iter().map(|&v| cell(v)));
+        record.extend(row.achieved.iter().map(|&v| cell(v)));
+        writer.write_record(&record)?;
+    }
+    writer
+        .into_inner()
+        .map_err(|e| OutputError::Csv(e.into_error().into()))
+}
 
 /// One row per generation: `generation,best,mean,worst,evaluations,seconds`,
 /// where best, mean and worst are porosities (best: the best genome so far;
@@ -44,23 +80,35 @@ pub fn convergence_csv(history: &[Generation]) -> Result<Vec<u8>, OutputError> {
 }
 
 /// The packed disks (not the wall disks) as CSV: header `id,x,y,r`, `id` from
-/// 0 in placement order, lengths in mm.
+/// 0 in placement order, lengths in mm; with `materials` and disks that
+/// carry one, a last column `material` holds its name (a single material
+/// names every disk).
 ///
 /// Numbers use Rust's shortest round-trip formatting, so they read back
 /// exactly and the same packing always gives the same bytes.
 ///
 /// # Errors
 /// [`OutputError::Csv`] if the CSV writer fails (it does not on memory).
-pub fn packing_csv(packing: &Packing) -> Result<Vec<u8>, OutputError> {
+pub fn packing_csv(packing: &Packing, materials: &[Material]) -> Result<Vec<u8>, OutputError> {
     let mut writer = ::csv::Writer::from_writer(Vec::new());
-    writer.write_record(["id", "x", "y", "r"])?;
+    let named = !materials.is_empty();
+    if named {
+        writer.write_record(["id", "x", "y", "r", "material"])?;
+    } else {
+        writer.write_record(["id", "x", "y", "r"])?;
+    }
     for (id, disk) in packing.disks.iter().enumerate() {
-        writer.write_record([
+        let mut row = vec![
             id.to_string(),
             disk.c.x.to_string(),
             disk.c.y.to_string(),
             disk.r.to_string(),
-        ])?;
+        ];
+        if named {
+            let m = packing.materials.get(id).map_or(0, |&m| usize::from(m));
+            row.push(materials.get(m).map_or(String::new(), |m| m.name.clone()));
+        }
+        writer.write_record(&row)?;
     }
     writer
         .into_inner()
@@ -80,9 +128,10 @@ mod tests {
             walls: WallMode::Disks,
             boundary: vec![Disk::new(0.0, 0.0, 0.5)],
             disks: vec![Disk::new(1.0, 2.0, 0.5), Disk::new(0.1 + 0.2, 7.25, 1e-7)],
+            materials: Vec::new(),
             stats: PackStats::default(),
         };
-        let text = String::from_utf8(packing_csv(&packing).expect("csv")).expect("utf-8");
+        let text = String::from_utf8(packing_csv(&packing, &[]).expect("csv")).expect("utf-8");
         assert_eq!(
             text,
             "id,x,y,r\n0,1,2,0.5\n1,0.30000000000000004,7.25,0.0000001\n"

@@ -1,10 +1,13 @@
 //! `summary.json`: what was packed, how, and how well.
 
+use std::collections::BTreeMap;
+
 use serde::Serialize;
 
 use super::error::OutputError;
 use super::run::RunInfo;
 use crate::config::{ConfigName, METHOD};
+use crate::ga::StopReason;
 use crate::packer::{Metrics, PackStats, Packing};
 
 /// File name of the run summary.
@@ -32,6 +35,42 @@ struct Summary<'a> {
     stats: StatsSummary,
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
     optimise: Option<&'a OptimiseSummary>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    materials: Vec<MaterialSummary<'a>>,
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    layering: Option<LayeringSummary>,
+}
+
+/// A material as `summary.json` lists it.
+#[derive(Serialize)]
+struct MaterialSummary<'a> {
+    /// Its number for exports that need an integer type: index + 1.
+    id: usize,
+    name: &'a str,
+    properties: BTreeMap<&'a str, f64>,
+    /// Share of the packing's solid area (null without a layering).
+    area_fraction: Option<f64>,
+}
+
+/// What a layering adds to `summary.json`.
+#[derive(Serialize)]
+struct LayeringSummary {
+    profile_rms_error: f64,
+    baseline_rms_error: f64,
+    baseline_seconds: f64,
+    layering: LayeringDetails,
+}
+
+#[derive(Serialize)]
+struct LayeringDetails {
+    mode: &'static str,
+    axis: &'static str,
+    bins: usize,
+    profile: &'static str,
+    ga_seconds: f64,
+    evaluations: u64,
+    generations: usize,
+    stop: Option<&'static str>,
 }
 
 /// What a target-porosity run adds to `summary.json` (keys in `docs/CONFIG.md`).
@@ -81,6 +120,7 @@ struct StatsSummary {
     sizes_deferred: u64,
     sizes_unplaced: u64,
     front_attempts: u64,
+    fallbacks: u64,
     witness_checks: u64,
 }
 
@@ -91,6 +131,7 @@ impl From<PackStats> for StatsSummary {
             sizes_deferred: s.sizes_deferred,
             sizes_unplaced: s.sizes_unplaced,
             front_attempts: s.front_attempts,
+            fallbacks: s.fallbacks,
             witness_checks: s.witness_checks,
         }
     }
@@ -130,7 +171,33 @@ pub fn summary_json(
         metrics,
         seconds: run.seconds,
         stats: packing.stats.into(),
-        optimise: run.optimise,
+        optimise: run.optimise.map(|(summary, _)| summary),
+        materials: run
+            .materials
+            .iter()
+            .enumerate()
+            .map(|(i, m)| MaterialSummary {
+                id: i + 1,
+                name: &m.name,
+                properties: m.properties.iter().map(|(k, v)| (k.as_str(), *v)).collect(),
+                area_fraction: run.layering.and_then(|(_, l)| l.fractions.get(i).copied()),
+            })
+            .collect(),
+        layering: run.layering.map(|(settings, l)| LayeringSummary {
+            profile_rms_error: l.rms,
+            baseline_rms_error: l.baseline_rms,
+            baseline_seconds: l.baseline_seconds,
+            layering: LayeringDetails {
+                mode: settings.mode.config_name(),
+                axis: settings.axis.config_name(),
+                bins: settings.bins,
+                profile: settings.profile.name(),
+                ga_seconds: l.seconds,
+                evaluations: l.evaluations,
+                generations: l.generations,
+                stop: l.stop.map(StopReason::describe),
+            },
+        }),
     };
     let mut bytes = serde_json::to_vec_pretty(&summary)?;
     bytes.push(b'\n');

@@ -1,23 +1,24 @@
 //! Writers: the only library module that touches files.
 //!
 //! One file per format; each renders to memory first, and
-//! [`write_pack_outputs`] then writes the whole set atomically (all temporary
+//! [`write_outputs`] then writes the whole set atomically (all temporary
 //! files first, then all renames), so a failure leaves no new output behind.
 
 mod atomic;
 mod csv;
 mod error;
 mod json;
+mod palette;
 mod plot;
 mod run;
 mod svg;
 
 pub use atomic::{write_all_atomic, write_atomic};
-pub use csv::{CONVERGENCE_CSV, PACKING_CSV, convergence_csv, packing_csv};
+pub use csv::{
+    CONVERGENCE_CSV, PACKING_CSV, PROFILE_CSV, convergence_csv, packing_csv, profile_csv,
+};
 pub use error::OutputError;
 pub use json::{OptimiseSummary, SUMMARY_JSON, summary_json};
-pub use plot::{LineChart, Mark, Series, convergence_chart};
-pub use run::{
-    CONVERGENCE_PNG, CONVERGENCE_SVG, RunInfo, write_optimise_outputs, write_pack_outputs,
-};
+pub use plot::{LineChart, Mark, Series, convergence_chart, profile_chart};
+pub use run::{CONVERGENCE_PNG, CONVERGENCE_SVG, PROFILE_PNG, PROFILE_SVG, RunInfo, write_outputs};
 pub use svg::{PACKING_SVG, packing_svg};

@@ -2,8 +2,10 @@
 
 use std::fmt::Write;
 
+use super::palette;
+use crate::Scene;
 use crate::geometry::{Disk, Point};
-use crate::grading::Grading;
+use crate::layering::Material;
 use crate::packer::Packing;
 
 /// File name of the drawing.
@@ -22,13 +24,14 @@ const LIGHT: [f64; 3] = [198.0, 219.0, 239.0];
 const DARK: [f64; 3] = [8.0, 48.0, 107.0];
 
 /// The packing as an SVG document: the domain outline, wall disks in light
-/// grey, packed disks filled light to dark from the grading's smallest to
-/// its largest diameter.
+/// grey, packed disks filled by material (one palette colour each, named in
+/// the title) when they carry one and `materials` are given, else light to
+/// dark from the scene's smallest to its largest diameter.
 ///
 /// The `viewBox` is in mm with y pointing up (flipped), plus a small margin;
 /// the drawing is 800 px wide. Numbers are written with 4 decimals (0.1 µm),
 /// so the same packing always gives the same text.
-pub fn packing_svg(packing: &Packing, grading: &Grading) -> String {
+pub fn packing_svg(packing: &Packing, scene: &Scene, materials: &[Material]) -> String {
     let outline = packing.domain.outline(CIRCLE_SEGMENTS);
     let (lo, hi) = extent(&outline, packing);
     let margin = MARGIN * (hi.x - lo.x).min(hi.y - lo.y);
@@ -52,11 +55,26 @@ pub fn packing_svg(packing: &Packing, grading: &Grading) -> String {
         num(w),
         num(h)
     );
+    let by_material = !materials.is_empty() && !packing.materials.is_empty();
+    let legend: Vec<String> = if by_material {
+        materials
+            .iter()
+            .enumerate()
+            .map(|(i, m)| format!("{} {}", m.name, hex(palette::colour(i))))
+            .collect()
+    } else {
+        Vec::new()
+    };
     let _ = writeln!(
         svg,
-        "<title>gapack: {} disks, {} wall disks (mm, y up)</title>",
+        "<title>gapack: {} disks, {} wall disks (mm, y up){}</title>",
         packing.disks.len(),
-        packing.boundary.len()
+        packing.boundary.len(),
+        if legend.is_empty() {
+            String::new()
+        } else {
+            format!("; materials: {}", legend.join(", "))
+        }
     );
     let points: Vec<String> = outline
         .iter()
@@ -78,8 +96,11 @@ pub fn packing_svg(packing: &Packing, grading: &Grading) -> String {
         let _ = writeln!(svg, "</g>");
     }
     let _ = writeln!(svg, r##"<g stroke="#1a1a1a" stroke-width="{stroke}">"##);
-    for disk in &packing.disks {
-        let fill = colour(2.0 * disk.r, grading.d_min(), grading.d_max());
+    for (i, disk) in packing.disks.iter().enumerate() {
+        let fill = match packing.materials.get(i) {
+            Some(&m) if by_material => hex(palette::colour(usize::from(m))),
+            _ => colour(2.0 * disk.r, scene.d_min(), scene.d_max()),
+        };
         let _ = writeln!(svg, r#"{} fill="{fill}"/>"#, circle(disk, flip(disk.c.y)));
     }
     let _ = writeln!(svg, "</g>");
@@ -129,6 +150,11 @@ fn colour(d: f64, d_min: f64, d_max: f64) -> String {
     format!("#{r:02x}{g:02x}{b:02x}")
 }
 
+/// `#rrggbb`.
+fn hex([r, g, b]: [u8; 3]) -> String {
+    format!("#{r:02x}{g:02x}{b:02x}")
+}
+
 /// A number with at most 4 decimals, trailing zeros and `-0` dropped.
 fn num(v: f64) -> String {
     let s = format!("{v:.4}");
@@ -144,7 +170,20 @@ fn num(v: f64) -> String {
 mod tests {
     use super::*;
     use crate::geometry::{Domain, WallMode};
-    use crate::packer::PackStats;
+    use crate::grading::Grading;
+    use crate::packer::{PackStats, PackerSettings};
+
+    fn scene(grading: Grading) -> Scene {
+        Scene {
+            domain: Domain::rectangle(10.0, 20.0).expect("valid rectangle"),
+            walls: WallMode::Exact,
+            wall_disk_diameter: None,
+            grading,
+            gradient: None,
+            packer: PackerSettings::default(),
+            seed: 0,
+        }
+    }
 
     fn packing(boundary: Vec<Disk>) -> Packing {
         Packing {
@@ -152,6 +191,7 @@ mod tests {
             walls: WallMode::Exact,
             boundary,
             disks: vec![Disk::new(1.0, 1.0, 1.0), Disk::new(5.0, 18.0, 2.0)],
+            materials: Vec::new(),
             stats: PackStats::default(),
         }
     }
@@ -159,7 +199,8 @@ mod tests {
     #[test]
     fn draws_to_scale_with_y_up() {
         let grading = Grading::uniform(2.0, 4.0, crate::grading::Basis::Number).expect("grading");
-        let svg = packing_svg(&packing(Vec::new()), &grading);
+        let scene = scene(grading);
+        let svg = packing_svg(&packing(Vec::new()), &scene, &[]);
         // Margin 3 % of the shorter side (10 mm): 0.3 mm.
         assert!(
             svg.contains(r#"width="800" height="1555" viewBox="-0.3 -0.3 10.6 20.6""#),
@@ -178,13 +219,31 @@ mod tests {
             !svg.contains("#d9d9d9"),
             "no wall-disk group without wall disks"
         );
-        assert_eq!(svg, packing_svg(&packing(Vec::new()), &grading));
+        assert_eq!(svg, packing_svg(&packing(Vec::new()), &scene, &[]));
+    }
+
+    #[test]
+    fn draws_materials_in_palette_colours() {
+        let scene = scene(Grading::constant(2.0).expect("grading"));
+        let mut p = packing(Vec::new());
+        p.materials = vec![1, 0];
+        let named = |name: &str| Material {
+            name: name.to_owned(),
+            properties: Vec::new(),
+        };
+        let svg = packing_svg(&p, &scene, &[named("ceramic"), named("metal")]);
+        assert!(
+            svg.contains("materials: ceramic #0072b2, metal #d55e00"),
+            "{svg}"
+        );
+        assert!(svg.contains(r##"r="1" fill="#d55e00"/>"##), "{svg}");
+        assert!(svg.contains(r##"r="2" fill="#0072b2"/>"##), "{svg}");
     }
 
     #[test]
     fn draws_wall_disks_in_grey() {
-        let grading = Grading::constant(2.0).expect("grading");
-        let svg = packing_svg(&packing(vec![Disk::new(0.0, 0.0, 0.5)]), &grading);
+        let scene = scene(Grading::constant(2.0).expect("grading"));
+        let svg = packing_svg(&packing(vec![Disk::new(0.0, 0.0, 0.5)]), &scene, &[]);
         assert!(svg.contains(r##"<g fill="#d9d9d9""##), "{svg}");
         // The wall disk widens the box to y = −0.5, so y = 0 is drawn at 19.5.
         assert!(

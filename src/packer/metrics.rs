@@ -1,8 +1,8 @@
 //! Packing metrics: porosity, grading fidelity, overlaps, clearance, contacts, uniformity.
 
+use crate::Scene;
 use crate::geometry::predicates::{CONTACT_REL, area_disk_box, overlap_disk_disk};
 use crate::geometry::{Disk, Point};
-use crate::grading::Grading;
 use crate::packer::Packing;
 use crate::packer::index::{Grid, SpatialIndex};
 
@@ -20,7 +20,8 @@ pub struct Metrics {
     pub solid_area: f64,
     /// 1 − solid_area / domain_area.
     pub porosity: f64,
-    /// Kolmogorov–Smirnov distance of the packed sizes to the grading, in its basis.
+    /// Kolmogorov–Smirnov distance of the packed sizes to the grading, in its
+    /// basis (size-graded: the larger of each material's to its own curve).
     pub psd_ks: f64,
     /// Largest overlap between two disks (packed or wall), relative to the sum of their radii; 0 if none.
     pub max_overlap: f64,
@@ -41,16 +42,15 @@ pub struct Metrics {
     pub largest_hole: f64,
 }
 
-/// Measure a packing against its grading.
+/// Measure a packing of `scene` against the scene's grading.
 ///
 /// # Performance
 /// One grid over the disks serves every neighbour query: O(n) overall.
-pub fn measure(packing: &Packing, grading: &Grading) -> Metrics {
+pub fn measure(packing: &Packing, scene: &Scene) -> Metrics {
     let disks = &packing.disks;
     let domain = &packing.domain;
     let domain_area = domain.area();
     let solid_area: f64 = disks.iter().map(Disk::area).sum();
-    let diameters: Vec<f64> = disks.iter().map(|d| 2.0 * d.r).collect();
     let r_max = disks
         .iter()
         .chain(&packing.boundary)
@@ -104,7 +104,7 @@ pub fn measure(packing: &Packing, grading: &Grading) -> Metrics {
         domain_area,
         solid_area,
         porosity: 1.0 - solid_area / domain_area,
-        psd_ks: grading.ks_distance(&diameters),
+        psd_ks: scene.psd_ks(packing),
         max_overlap,
         min_wall_clearance: if n == 0 { 0.0 } else { min_wall_clearance },
         coordination: if n == 0 {
@@ -115,7 +115,7 @@ pub fn measure(packing: &Packing, grading: &Grading) -> Metrics {
         isolated,
         local_porosity_std,
         local_windows,
-        largest_hole: largest_hole(packing, &grid, &all, r_max, grading.d_min()),
+        largest_hole: largest_hole(packing, &grid, &all, r_max, scene.d_min()),
     }
 }
 

@@ -13,6 +13,9 @@ pub struct Packing {
     pub boundary: Vec<Disk>,
     /// The packed disks, in placement order.
     pub disks: Vec<Disk>,
+    /// Material of each packed disk, as an index into the scene's materials;
+    /// empty when the packing carries none.
+    pub materials: Vec<u16>,
     /// Counters of the generator's work.
     pub stats: PackStats,
 }
@@ -28,6 +31,8 @@ pub struct PackStats {
     pub sizes_unplaced: u64,
     /// Front attempts (placements tried around a front).
     pub front_attempts: u64,
+    /// One-contact sizes placed at two contacts because no free arc kept their gap.
+    pub fallbacks: u64,
     /// Witness checks: a returning front's remembered spot tested instead of a full attempt.
     pub witness_checks: u64,
 }

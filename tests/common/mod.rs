@@ -41,6 +41,7 @@ pub fn scene(domain: Domain, grading: Grading, walls: WallMode, seed: u64) -> Sc
         walls,
         wall_disk_diameter: None,
         grading,
+        gradient: None,
         packer: PackerSettings::default(),
         seed,
     }

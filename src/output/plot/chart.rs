@@ -7,6 +7,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::output::OutputError;
+use crate::output::palette::colour;
 
 /// The font every chart uses, bundled (DejaVu Sans, `assets/`): the system's
 /// fonts are not needed, so charts render the same on a bare machine.
@@ -39,6 +40,9 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
     /// How the series is drawn.
     pub mark: Mark,
+    /// Its colour, as an index into the palette (a material's target and
+    /// achieved series share one).
+    pub colour: usize,
 }
 
 /// A chart: a title, axis labels and series drawn in a palette order.
@@ -53,16 +57,6 @@ pub struct LineChart {
     /// The series.
     pub series: Vec<Series>,
 }
-
-/// Colours of the series, in order (colour-blind-safe Okabe–Ito).
-const PALETTE: [RGBColor; 6] = [
-    RGBColor(0, 114, 178),
-    RGBColor(213, 94, 0),
-    RGBColor(0, 158, 115),
-    RGBColor(204, 121, 167),
-    RGBColor(230, 159, 0),
-    RGBColor(86, 180, 233),
-];
 
 impl LineChart {
     /// The chart as an SVG document.
@@ -148,8 +142,9 @@ impl LineChart {
             .label_style((FAMILY, 14))
             .axis_desc_style((FAMILY, 16))
             .draw()?;
-        for (i, s) in self.series.iter().enumerate() {
-            let colour = PALETTE[i % PALETTE.len()];
+        for s in &self.series {
+            let [r, g, b] = colour(s.colour);
+            let colour = RGBColor(r, g, b);
             let style = colour.stroke_width(2);
             let points = s.points.iter().copied();
             let drawn = match s.mark {
@@ -202,16 +197,19 @@ mod tests {
                     name: "line".to_owned(),
                     points: vec![(0.0, 0.1), (1.0, 0.3), (2.0, 0.2)],
                     mark: Mark::Line,
+                    colour: 0,
                 },
                 Series {
                     name: "target".to_owned(),
                     points: vec![(0.0, 0.25), (2.0, 0.25)],
                     mark: Mark::Dashed,
+                    colour: 1,
                 },
                 Series {
                     name: "dots".to_owned(),
                     points: vec![(1.0, f64::NAN), (1.5, 0.15)],
                     mark: Mark::Dots,
+                    colour: 1,
                 },
             ],
         }

@@ -2,6 +2,8 @@
 
 mod chart;
 mod convergence;
+mod profile;
 
 pub use chart::{LineChart, Mark, Series};
 pub use convergence::convergence_chart;
+pub use profile::profile_chart;

@@ -1,0 +1,305 @@
+//! `[[materials]]` and `[layering]`, checked against each other.
+
+use std::ops::Range;
+
+use toml::Spanned;
+
+use super::{GradingPlan, KeyAt, Validator};
+use crate::config::error::ConfigError;
+use crate::config::names::{AXES, MODES, PROFILES, ProfileKind};
+use crate::config::raw::{RawLayering, RawMaterial};
+use crate::layering::{LayeringError, LayeringMode, LayeringSettings, Material, Profile};
+
+/// A checked material, with its grading when it gives one.
+pub(super) struct MaterialPlan {
+    pub material: Material,
+    pub grading: Option<(GradingPlan, KeyAt)>,
+    /// Where its table starts (`[[materials]]`).
+    pub at: Range<usize>,
+}
+
+impl Validator<'_> {
+    /// `[[materials]]`: names given once, properties numbers.
+    pub(super) fn materials(
+        &self,
+        raw: &[Spanned<RawMaterial>],
+    ) -> Result<Vec<MaterialPlan>, ConfigError> {
+        let mut plans: Vec<MaterialPlan> = Vec::with_capacity(raw.len());
+        for (i, table) in raw.iter().enumerate() {
+            let m = table.get_ref();
+            let name = m.name.get_ref().trim();
+            if name.is_empty() || plans.iter().any(|p| p.material.name == name) {
+                let reason = if name.is_empty() {
+                    "a material needs a name".to_owned()
+                } else {
+                    format!("{name:?} is given twice")
+                };
+                return Err(ConfigError::NotApplicable {
+                    at: self.at(&m.name.span()),
+                    key: format!("materials[{i}].name"),
+                    reason,
+                });
+            }
+            let mut properties = Vec::with_capacity(m.properties.len());
+            for (key, value) in &m.properties {
+                let number = match value {
+                    toml::Value::Integer(n) => Some(*n as f64),
+                    toml::Value::Float(x) if x.is_finite() => Some(*x),
+                    _ => None,
+                };
+                let Some(number) = number else {
+                    return Err(ConfigError::Schema {
+                        at: self.at(&self.key_after(table.span().end, key)),
+                        key: format!("materials[{i}].{key}"),
+                        message: format!(
+                            "a material property must be a finite number, got {value}"
+                        ),
+                    });
+                };
+                properties.push((key.clone(), number));
+            }
+            let path = format!("materials[{i}].grading");
+            let grading = match &m.grading {
+                None => None,
+                Some(g) => Some((
+                    self.grading(g, &path)?,
+                    KeyAt {
+                        key: path,
+                        span: g.span(),
+                    },
+                )),
+            };
+            plans.push(MaterialPlan {
+                material: Material {
+                    name: name.to_owned(),
+                    properties,
+                },
+                grading,
+                at: table.span(),
+            });
+        }
+        Ok(plans)
+    }
+
+    /// `[layering]` for the given materials.
+    pub(super) fn layering(
+        &self,
+        raw: &Spanned<RawLayering>,
+        materials: &[MaterialPlan],
+    ) -> Result<LayeringSettings, ConfigError> {
+        let l = raw.get_ref();
+        if materials.is_empty() {
+            return Err(ConfigError::Missing {
+                at: self.at(&raw.span()),
+                key: "materials".to_owned(),
+                reason: "[layering] needs at least one [[materials]] table".to_owned(),
+            });
+        }
+        let Some(profile_name) = &l.profile else {
+            return Err(ConfigError::Missing {
+                at: self.at(&raw.span()),
+                key: "layering.profile".to_owned(),
+                reason: "one of steps, linear, power, sigmoid, table".to_owned(),
+            });
+        };
+        let kind = self.name(&PROFILES, "layering.profile", Some(profile_name))?;
+        let profile_at = profile_name.span();
+        let names: Vec<&str> = materials.iter().map(|m| m.material.name.as_str()).collect();
+
+        // Each kind takes its own data key; the others do not apply.
+        let data = [
+            (
+                "exponent",
+                l.exponent.as_ref().map(Spanned::span),
+                matches!(kind, ProfileKind::Power | ProfileKind::Sigmoid),
+            ),
+            (
+                "layers",
+                l.layers.as_ref().map(Spanned::span),
+                kind == ProfileKind::Steps,
+            ),
+            (
+                "table",
+                l.table.as_ref().map(Spanned::span),
+                kind == ProfileKind::Table,
+            ),
+        ];
+        for (key, span, wanted) in data {
+            match (span, wanted) {
+                (Some(span), false) => {
+                    return Err(ConfigError::NotApplicable {
+                        at: self.at(&span),
+                        key: format!("layering.{key}"),
+                        reason: format!("does not apply to profile {:?}", profile_name.get_ref()),
+                    });
+                }
+                (None, true) => {
+                    return Err(ConfigError::Missing {
+                        at: self.at(&profile_at),
+                        key: format!("layering.{key}"),
+                        reason: format!("profile {:?} needs it", profile_name.get_ref()),
+                    });
+                }
+                _ => {}
+            }
+        }
+        let exponent = |e: &Spanned<f64>| self.positive("layering.exponent", e);
+        let (profile, blame) = match kind {
+            ProfileKind::Linear => (Profile::Linear, ("layering.profile", profile_at.clone())),
+            ProfileKind::Power => {
+                let e = l
+                    .exponent
+                    .as_ref()
+                    .map(exponent)
+                    .transpose()?
+                    .unwrap_or(1.0);
+                (Profile::Power(e), ("layering.profile", profile_at.clone()))
+            }
+            ProfileKind::Sigmoid => {
+                let e = l
+                    .exponent
+                    .as_ref()
+                    .map(exponent)
+                    .transpose()?
+                    .unwrap_or(1.0);
+                (
+                    Profile::Sigmoid(e),
+                    ("layering.profile", profile_at.clone()),
+                )
+            }
+            ProfileKind::Steps => {
+                let layers = l
+                    .layers
+                    .as_ref()
+                    .map_or(&[][..], |v| v.get_ref().as_slice());
+                let mut steps = Vec::with_capacity(layers.len());
+                for (i, layer) in layers.iter().enumerate() {
+                    let (name, thickness) = layer.get_ref();
+                    let Some(m) = names.iter().position(|n| n == name) else {
+                        return Err(ConfigError::Schema {
+                            at: self.at(&layer.span()),
+                            key: format!("layering.layers[{i}]"),
+                            message: format!(
+                                "unknown material {name:?}; valid: {}",
+                                names.join(", ")
+                            ),
+                        });
+                    };
+                    steps.push((m, *thickness));
+                }
+                let span = l.layers.as_ref().map_or(profile_at.clone(), Spanned::span);
+                (Profile::Steps(steps), ("layering.layers", span))
+            }
+            ProfileKind::Table => {
+                let rows = l.table.as_ref().map_or(&[][..], |v| v.get_ref().as_slice());
+                let table = rows
+                    .iter()
+                    .map(|r| {
+                        let row = r.get_ref();
+                        (
+                            row.first().copied().unwrap_or(f64::NAN),
+                            row.iter().skip(1).copied().collect(),
+                        )
+                    })
+                    .collect();
+                let span = l.table.as_ref().map_or(profile_at.clone(), Spanned::span);
+                (Profile::Table(table), ("layering.table", span))
+            }
+        };
+        profile.check(materials.len()).map_err(|error| {
+            let (key, span) = match (&error, &blame) {
+                // A row's fault is blamed on the row.
+                (
+                    LayeringError::Fractions { row, .. }
+                    | LayeringError::RowLength { row, .. }
+                    | LayeringError::TableOrder { row },
+                    _,
+                ) => (
+                    format!("layering.table[{row}]"),
+                    l.table
+                        .as_ref()
+                        .and_then(|t| t.get_ref().get(*row))
+                        .map_or(blame.1.clone(), Spanned::span),
+                ),
+                (LayeringError::TwoMaterials { .. }, _) => {
+                    ("layering.profile".to_owned(), profile_at.clone())
+                }
+                _ => (blame.0.to_owned(), blame.1.clone()),
+            };
+            ConfigError::Layering {
+                at: self.at(&span),
+                key,
+                error,
+            }
+        })?;
+
+        let mut s =
+            LayeringSettings::new(self.name(&AXES, "layering.axis", l.axis.as_ref())?, profile);
+        s.mode = self.name(&MODES, "layering.mode", l.mode.as_ref())?;
+        let count = |key: &str, v: &Spanned<i64>, least: i64| {
+            let n = *v.get_ref();
+            if n >= least {
+                Ok(n as usize)
+            } else {
+                Err(ConfigError::OutOfRange {
+                    at: self.at(&v.span()),
+                    key: key.to_owned(),
+                    range: format!("a whole number ≥ {least}"),
+                    value: n as f64,
+                })
+            }
+        };
+        if let Some(v) = &l.bins {
+            s.bins = count("layering.bins", v, 1)?;
+        }
+        if let Some(v) = &l.population {
+            s.population = count("layering.population", v, 2)?;
+        }
+        if let Some(v) = &l.generations {
+            s.generations = count("layering.generations", v, 1)?;
+        }
+        if let Some(v) = &l.stagnation {
+            s.stagnation = count("layering.stagnation", v, 1)?;
+        }
+        if let Some(v) = &l.time_limit_s {
+            s.time_limit_s = self.positive("layering.time_limit_s", v)?;
+        }
+        if let Some(v) = &l.tolerance {
+            s.tolerance = self.checked("layering.tolerance", v, "a finite number ≥ 0", |v| {
+                v.is_finite() && v >= 0.0
+            })?;
+        }
+        if s.mode == LayeringMode::Sizes {
+            let missing = materials.iter().position(|m| m.grading.is_none());
+            if materials.len() != 2 || missing.is_some() {
+                let at = missing.map_or(raw.span(), |i| materials[i].at.clone());
+                return Err(ConfigError::NotApplicable {
+                    at: self.at(&at),
+                    key: "layering.mode".to_owned(),
+                    reason: "mode \"sizes\" needs exactly 2 materials, each with a [materials.grading] table".to_owned(),
+                });
+            }
+        }
+        Ok(s)
+    }
+
+    /// Where `key = …` is written in the table whose header ends at `from`
+    /// (the header's place if it cannot be found).
+    fn key_after(&self, from: usize, key: &str) -> Range<usize> {
+        let mut offset = from.min(self.text.len());
+        for line in self.text[offset..].split_inclusive('\n') {
+            let trimmed = line.trim_start();
+            if trimmed.starts_with('[') && offset > from {
+                break;
+            }
+            if let Some(rest) = trimmed.strip_prefix(key)
+                && rest.trim_start().starts_with('=')
+            {
+                let start = offset + (line.len() - trimmed.len());
+                return start..start + key.len();
+            }
+            offset += line.len();
+        }
+        from..from
+    }
+}

@@ -1,0 +1,60 @@
+//! The profile chart of a layering: target fractions as lines, achieved
+//! fractions as dots, one colour per material.
+
+use super::chart::{LineChart, Mark, Series};
+use crate::layering::{Axis, LayeringSettings, Material, ProfileRow};
+
+/// Points per unit of s on the target curves (fine enough to show a step).
+const CURVE_POINTS: usize = 400;
+
+/// Each material's target fraction along s (from the profile itself) and
+/// its achieved fraction per bin.
+pub fn profile_chart(
+    rows: &[ProfileRow],
+    materials: &[Material],
+    settings: &LayeringSettings,
+) -> LineChart {
+    let n = materials.len().max(1);
+    let mut series = Vec::with_capacity(2 * n);
+    let mut at = vec![0.0; n];
+    let curve: Vec<Vec<f64>> = (0..=CURVE_POINTS)
+        .map(|k| {
+            settings
+                .profile
+                .fractions(k as f64 / CURVE_POINTS as f64, &mut at);
+            at.clone()
+        })
+        .collect();
+    for (m, material) in materials.iter().enumerate() {
+        series.push(Series {
+            name: format!("{} target", material.name),
+            points: curve
+                .iter()
+                .enumerate()
+                .map(|(k, f)| (k as f64 / CURVE_POINTS as f64, f[m]))
+                .collect(),
+            mark: Mark::Line,
+            colour: m,
+        });
+        series.push(Series {
+            name: format!("{} achieved", material.name),
+            points: rows.iter().map(|r| (r.s, r.achieved[m])).collect(),
+            mark: Mark::Dots,
+            colour: m,
+        });
+    }
+    let axis = match settings.axis {
+        Axis::X => "x",
+        Axis::Y => "y",
+        Axis::Radial => "distance from the centroid",
+    };
+    LineChart {
+        title: format!(
+            "Area fraction of each material, profile \"{}\"",
+            settings.profile.name()
+        ),
+        x_label: format!("s (normalised {axis})"),
+        y_label: "area fraction of the solid".to_owned(),
+        series,
+    }
+}
