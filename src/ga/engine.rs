@@ -80,7 +80,8 @@ pub trait Problem: Sync {
     }
 }
 
-/// Mutation rates a problem asks for (see [`Mutation`] for what each does).
+/// Mutation rates a problem asks for: a swap of two sequence genes, and a
+/// normal step on one of the last sequence genes read (see the `operators` module).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Variation {
     /// Probability that a child gets one swap of two sequence genes.

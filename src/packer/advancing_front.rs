@@ -23,7 +23,8 @@
 //! that fits at no front is deferred and retried after later placements
 //! instead of emptying the stack (the thesis' weak spot with wide gradings).
 //! The run then stops when `max_deferred` deferred sizes still fit
-//! nowhere: the domain is full for this grading. A front also leaves after a
+//! nowhere: the domain is full for this grading (a loose pack first fills
+//! any hole left, see `Front::fill_hole`). A front also leaves after a
 //! placement when no other feasible spot stays clear of the new disk (the
 //! thesis keeps it for one more, failing, attempt).
 //!
