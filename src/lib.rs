@@ -10,6 +10,7 @@
 #![forbid(unsafe_code)]
 
 pub mod config;
+pub mod fracture;
 pub mod ga;
 pub mod geometry;
 pub mod grading;
@@ -21,7 +22,7 @@ mod scene;
 pub use geometry::{Disk, Domain, GeometryError, Point, Shape, Wall, WallMode};
 pub use grading::{Basis, Grading, GradingError, Interpolation};
 pub use packer::{
-    FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Metrics, PackError, PackStats, PackerSettings,
-    Packing, measure, pack,
+    Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Metrics, PackError, PackStats,
+    PackerSettings, Packing, measure, pack,
 };
 pub use scene::Scene;

@@ -16,8 +16,12 @@ use std::time::Instant;
 use anyhow::Context;
 use clap::{Args, Parser, Subcommand};
 use gapack::config::{self, Config, DEFAULT_CONFIG, DEFAULT_ORIGIN};
+use gapack::fracture::{Extent, FractureRun, MM_PER_M, Well, settle};
 use gapack::ga::{Layered, Limits, PorosityProblem, Search, StopReason, lay_out};
-use gapack::output::{OptimiseSummary, RunInfo, write_outputs};
+use gapack::output::{
+    FractureInfo, OptimiseSummary, RunInfo, WELLS_CSV, WellRow, wells_csv, write_outputs,
+    write_table,
+};
 use gapack::{measure, pack};
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -135,6 +139,9 @@ fn main() -> ExitCode {
 /// `gapack pack`: read and validate the config, pack, measure, write, report.
 fn run_pack(args: &PackArgs) -> Result<(), Failure> {
     let (config, origin, out) = prepare(args.config.as_deref(), &args.run)?;
+    if let Some(run) = &config.fracture {
+        return run_fracture(&config, run, &origin, &out, args.run.quiet);
+    }
     let scene = &config.scene;
     let start = Instant::now();
     let mut packing = pack(scene)
@@ -163,6 +170,144 @@ fn run_pack(args: &PackArgs) -> Result<(), Failure> {
         )
     });
     Ok(())
+}
+
+/// `gapack pack` on a `[fracture]` config: each fracture whole or as a
+/// window; a batch writes one sub-directory per well, then `wells.csv`.
+fn run_fracture(
+    config: &Config,
+    run: &FractureRun,
+    origin: &str,
+    out: &Path,
+    quiet: bool,
+) -> Result<(), Failure> {
+    let bar = if run.batch {
+        count_bar(run.wells.len(), "well", quiet)
+    } else {
+        ProgressBar::hidden()
+    };
+    let mut rows = Vec::with_capacity(run.wells.len());
+    for well in &run.wells {
+        bar.set_message(well.name.clone());
+        let dir = if run.batch {
+            out.join(&well.name)
+        } else {
+            out.to_path_buf()
+        };
+        let (row, line) = pack_well(config, run.extent, well, origin, &dir)?;
+        bar.inc(1);
+        bar.suspend(|| report(quiet, || line));
+        rows.push(row);
+    }
+    bar.finish_and_clear();
+    if run.batch {
+        let table = wells_csv(&rows)
+            .context("cannot write the wells table")
+            .map_err(Failure::Run)?;
+        write_table(out, WELLS_CSV, table)
+            .context("cannot write the wells table")
+            .map_err(Failure::Run)?;
+        report(quiet, || {
+            format!(
+                "{}: {} wells in {}",
+                out.join(WELLS_CSV).display(),
+                rows.len(),
+                duration(rows.iter().map(|r| r.seconds).sum())
+            )
+        });
+    }
+    Ok(())
+}
+
+/// Pack one fracture, whole or as a window, and write its outputs into `dir`:
+/// its row of `wells.csv` and its result line.
+fn pack_well(
+    config: &Config,
+    extent: Extent,
+    well: &Well,
+    origin: &str,
+    dir: &Path,
+) -> Result<(WellRow, String), Failure> {
+    let failed = |e: anyhow::Error| Failure::Run(e.context(format!("cannot pack {}", well.name)));
+    let (mut packing, scene, seconds, window) = match extent {
+        Extent::Full => {
+            let start = Instant::now();
+            let packing = pack(&well.scene).map_err(|e| failed(e.into()))?;
+            let seconds = start.elapsed().as_secs_f64();
+            (packing, well.scene.clone(), seconds, None)
+        }
+        Extent::Window { tolerance } => {
+            let window = settle(well, tolerance).map_err(|e| failed(e.into()))?;
+            let seconds = window.seconds;
+            (
+                window.packing.clone(),
+                window.scene.clone(),
+                seconds,
+                Some(window),
+            )
+        }
+    };
+    if config.materials.len() == 1 && packing.materials.is_empty() {
+        packing.materials = vec![0; packing.disks.len()];
+    }
+    let metrics = measure(&packing, &scene);
+    let run = RunInfo {
+        materials: &config.materials,
+        fracture: Some(FractureInfo {
+            well,
+            extent,
+            window: window.as_ref(),
+        }),
+        ..RunInfo::new(&scene, origin, seconds)
+    };
+    write(dir, &packing, &metrics, &run)?;
+    let f = well.fracture;
+    let mut row = WellRow {
+        well: well.name.clone(),
+        width_mm: f.width,
+        height_m: f.length / MM_PER_M,
+        particles: metrics.particles,
+        porosity: metrics.porosity,
+        psd_ks: metrics.psd_ks,
+        coordination: metrics.coordination,
+        seconds,
+    };
+    let line = match &window {
+        None => format!(
+            "{}: {} disks, porosity {:.4}, psd_ks {:.3}, max overlap {}, coordination {:.2}, packed in {}",
+            dir.display(),
+            metrics.particles,
+            metrics.porosity,
+            metrics.psd_ks,
+            overlap(metrics.max_overlap),
+            metrics.coordination,
+            duration(seconds),
+        ),
+        Some(w) => {
+            let last = w.last();
+            row.porosity = last.porosity;
+            row.coordination = last.coordination;
+            format!(
+                "{}: window {:.1} mm of {:.0} mm ({:.1}%), porosity {:.4} ± {:.4}, coordination {:.2}, {} disks, {} windows in {}{}",
+                dir.display(),
+                last.length,
+                f.length,
+                100.0 * last.length / f.length,
+                last.porosity,
+                last.spread,
+                last.coordination,
+                last.particles,
+                w.steps.len(),
+                duration(seconds),
+                if w.settled {
+                    ""
+                } else {
+                    " (not settled: the whole fracture was packed)"
+                }
+            )
+        }
+    };
+    Ok((row, line))
 }
 
 /// `gapack layer`: pack the scene once, lay the materials out along the
@@ -371,6 +516,20 @@ fn progress_bar(generations: usize, quiet: bool) -> ProgressBar {
     if let Ok(style) =
         ProgressStyle::with_template("generation {pos:>4}/{len} [{bar:30}] {msg} ({elapsed})")
     {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar
+}
+
+/// A progress bar over `len` items on stderr, hidden when `quiet` or when
+/// stderr is not a terminal.
+fn count_bar(len: usize, what: &str, quiet: bool) -> ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(len as u64);
+    let template = format!("{what} {{pos:>3}}/{{len}} [{{bar:30}}] {{msg}} ({{elapsed}})");
+    if let Ok(style) = ProgressStyle::with_template(&template) {
         bar.set_style(style.progress_chars("=> "));
     }
     bar

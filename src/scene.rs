@@ -2,8 +2,8 @@
 
 use crate::geometry::{Domain, WallMode};
 use crate::grading::Grading;
-use crate::layering::SizeGradient;
-use crate::packer::{PackerSettings, Packing};
+use crate::layering::{Axis, SizeGradient};
+use crate::packer::{Fill, PackerSettings, Packing};
 
 /// A validated scene: domain, wall model, grading curve, packer settings and seed.
 ///
@@ -91,6 +91,29 @@ impl Scene {
                 }
             })
             .fold(0.0, f64::max)
+    }
+
+    /// The scene mirrored in the line y = x: its domain transposed, a size
+    /// gradient along x running along y (and the reverse), filling up.
+    /// Packing it and swapping the coordinates back fills this scene along x.
+    pub fn transposed(&self) -> Scene {
+        let gradient = self.gradient.as_ref().map(|g| SizeGradient {
+            axis: match g.axis {
+                Axis::X => Axis::Y,
+                Axis::Y => Axis::X,
+                Axis::Radial => Axis::Radial,
+            },
+            ..g.clone()
+        });
+        Scene {
+            domain: self.domain.transposed(),
+            gradient,
+            packer: PackerSettings {
+                fill: Fill::Up,
+                ..self.packer
+            },
+            ..self.clone()
+        }
     }
 
     /// The grading, and the second curve in size-graded mode.

@@ -5,7 +5,8 @@ mod common;
 
 use gapack::geometry::predicates::OVERLAP_REL;
 use gapack::{
-    Domain, FrontRules, Grading, IndexKind, PackerSettings, Point, Scene, WallMode, measure, pack,
+    Domain, Fill, FrontRules, Grading, IndexKind, PackerSettings, Point, Scene, WallMode, measure,
+    pack,
 };
 use proptest::prelude::*;
 
@@ -74,13 +75,25 @@ fn scene_strategy() -> impl Strategy<Value = Scene> {
         prop_oneof![2 => Just(gapack::MAX_DEFERRED), 1 => 0..=gapack::MAX_DEFERRED],
         prop_oneof![Just(IndexKind::MxQuadtree), Just(IndexKind::Grid)],
         prop_oneof![3 => Just(FrontRules::Robust), 1 => Just(FrontRules::Thesis)],
+        prop_oneof![3 => Just(Fill::Up), 1 => Just(Fill::Right)],
         any::<u64>(),
     )
         .prop_filter("the largest disk must fit", |(d, g, ..)| {
             2.0 * d.inradius() > 2.0 * g.d_max()
         })
         .prop_map(
-            |(domain, grading, walls, one_contact_share, gap, max_deferred, index, rules, seed)| {
+            |(
+                domain,
+                grading,
+                walls,
+                one_contact_share,
+                gap,
+                max_deferred,
+                index,
+                rules,
+                fill,
+                seed,
+            )| {
                 Scene {
                     domain,
                     walls,
@@ -93,6 +106,7 @@ fn scene_strategy() -> impl Strategy<Value = Scene> {
                         gap,
                         max_deferred,
                         rules,
+                        fill,
                     },
                     seed,
                 }

@@ -4,7 +4,7 @@
 use crate::geometry::{Shape, WallMode};
 use crate::grading::{Basis, Interpolation};
 use crate::layering::{Axis, LayeringMode};
-use crate::packer::{FrontRules, IndexKind};
+use crate::packer::{Fill, FrontRules, IndexKind};
 
 /// The packing method; `packer.method` must name it. It is the only one so far.
 pub const METHOD: &str = "advancing-front";
@@ -111,6 +111,24 @@ pub(crate) const RULES: Names<FrontRules> = Names {
     ],
 };
 
+pub(crate) const FILLS: Names<Fill> = Names {
+    what: "fill direction",
+    entries: &[("up", Fill::Up), ("right", Fill::Right)],
+};
+
+/// Kinds of fracture extent, without the window's tolerance.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) enum ExtentKind {
+    #[default]
+    Full,
+    Window,
+}
+
+pub(crate) const EXTENTS: Names<ExtentKind> = Names {
+    what: "extent",
+    entries: &[("full", ExtentKind::Full), ("window", ExtentKind::Window)],
+};
+
 pub(crate) const AXES: Names<Axis> = Names {
     what: "axis",
     entries: &[("y", Axis::Y), ("x", Axis::X), ("radial", Axis::Radial)],
@@ -187,6 +205,12 @@ impl ConfigName for IndexKind {
 impl ConfigName for FrontRules {
     fn config_name(&self) -> &'static str {
         RULES.name_of(*self)
+    }
+}
+
+impl ConfigName for Fill {
+    fn config_name(&self) -> &'static str {
+        FILLS.name_of(*self)
     }
 }
 

@@ -5,6 +5,7 @@ use super::locate::from_toml_error;
 use super::raw::RawConfig;
 use super::validate::Validator;
 use crate::Scene;
+use crate::fracture::FractureRun;
 use crate::ga::OptimiseSettings;
 use crate::layering::{LayeringSettings, Material};
 
@@ -19,6 +20,9 @@ pub struct Config {
     pub materials: Vec<Material>,
     /// `[layering]`: where the materials go.
     pub layering: Option<LayeringSettings>,
+    /// `[fracture]`: the fractures to pack and how much of each (the scene
+    /// above is the first one's).
+    pub fracture: Option<FractureRun>,
 }
 
 /// The embedded default scene: the thesis' proppant fracture (8.6 × 62.5 mm,

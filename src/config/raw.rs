@@ -19,7 +19,9 @@ pub(crate) type Layer = Spanned<(String, f64)>;
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawConfig {
     pub seed: Option<Spanned<u64>>,
-    pub domain: Spanned<RawDomain>,
+    /// Required unless `[fracture]` gives the domain.
+    pub domain: Option<Spanned<RawDomain>>,
+    pub fracture: Option<Spanned<RawFracture>>,
     /// Required unless `[layering] mode = "sizes"` gives each material its own.
     pub grading: Option<Spanned<RawGrading>>,
     pub packer: Option<RawPacker>,
@@ -56,6 +58,34 @@ pub(crate) struct RawLayering {
     pub generations: Option<Spanned<i64>>,
     pub stagnation: Option<Spanned<i64>>,
     pub time_limit_s: Option<Spanned<f64>>,
+}
+
+/// `[fracture]`: one fracture (absolute or normalised form), or a batch of wells.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawFracture {
+    pub width_mm: Option<Spanned<f64>>,
+    pub height_m: Option<Spanned<f64>>,
+    pub tip_width_mm: Option<Spanned<f64>>,
+    pub width_ratio: Option<Spanned<f64>>,
+    pub length_ratio: Option<Spanned<f64>>,
+    pub mean_diameter: Option<Spanned<f64>>,
+    pub walls: Option<Spanned<String>>,
+    pub wall_disk: Option<Spanned<f64>>,
+    pub extent: Option<Spanned<String>>,
+    pub window_tolerance: Option<Spanned<f64>>,
+    pub wells: Option<Vec<Spanned<RawWell>>>,
+}
+
+/// `[[fracture.wells]]`: a named fracture of a batch.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawWell {
+    pub name: Spanned<String>,
+    pub width_mm: Option<Spanned<f64>>,
+    pub height_m: Option<Spanned<f64>>,
+    pub tip_width_mm: Option<Spanned<f64>>,
+    pub fill: Option<Spanned<String>>,
 }
 
 /// `[domain]`: one shape and the keys that size it, plus the wall model.
@@ -97,6 +127,7 @@ pub(crate) struct RawPacker {
     pub gap: Option<Spanned<f64>>,
     pub max_deferred: Option<Spanned<i64>>,
     pub rules: Option<Spanned<String>>,
+    pub fill: Option<Spanned<String>>,
 }
 
 /// `[optimise]` (or `[optimize]`): a target-porosity run.

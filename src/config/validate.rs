@@ -14,13 +14,15 @@ use toml::Spanned;
 
 use super::error::{ConfigError, Location};
 use super::names::{
-    BASES, CONTACTS, INDEXES, INTERPOLATIONS, METHODS, Names, RULES, SHAPES, ShapeKind, WALLS,
+    BASES, CONTACTS, FILLS, INDEXES, INTERPOLATIONS, METHODS, Names, RULES, SHAPES, ShapeKind,
+    WALLS,
 };
 use super::parse::Config;
 use super::raw::{
     Pair, RawConfig, RawDomain, RawGrading, RawLayering, RawLimits, RawOptimise, RawPacker,
 };
 use crate::Scene;
+use crate::fracture::{Extent, FractureRun, Well};
 use crate::ga::{OptimiseSettings, RULE_GENES};
 use crate::geometry::{Domain, GeometryError, Point, WallMode};
 use crate::grading::{Basis, Grading, Interpolation};
@@ -66,6 +68,12 @@ struct KeyAt {
     span: Range<usize>,
 }
 
+/// Where the scene is: a `[domain]` (with its raw table, for messages) or a `[fracture]`.
+enum Place<'r> {
+    Domain(DomainPlan, &'r RawDomain),
+    Fracture(FracturePlan),
+}
+
 /// A checked `[domain]`, not yet built.
 struct DomainPlan {
     shape: ShapePlan,
@@ -83,8 +91,10 @@ enum ShapePlan {
     Trapezoid { bottom: f64, top: f64, height: f64 },
 }
 
+mod fracture;
 mod materials;
 
+use fracture::FracturePlan;
 use materials::MaterialPlan;
 
 /// A checked `[grading]`, not yet built.
@@ -135,7 +145,25 @@ impl Validator<'_> {
     /// Check `raw` and build the config.
     pub fn config(&self, raw: RawConfig) -> Result<Config, ConfigError> {
         // Values first, in file order; then the constructors; then the whole.
-        let domain = self.domain(&raw.domain)?;
+        let place = match (&raw.domain, &raw.fracture) {
+            (Some(d), None) => Place::Domain(self.domain(d)?, d.get_ref()),
+            (None, Some(f)) => Place::Fracture(self.fracture(f)?),
+            (Some(d), Some(_)) => {
+                return Err(ConfigError::NotApplicable {
+                    at: self.at(&d.span()),
+                    key: "domain".to_owned(),
+                    reason: "give [domain] or [fracture], not both: the fracture is the domain"
+                        .to_owned(),
+                });
+            }
+            (None, None) => {
+                return Err(ConfigError::Schema {
+                    at: self.at(&(0..0)),
+                    key: "domain".to_owned(),
+                    message: "missing table [domain] (or [fracture])".to_owned(),
+                });
+            }
+        };
         let grading = raw
             .grading
             .as_ref()
@@ -154,19 +182,56 @@ impl Validator<'_> {
             .map(|l| self.layering(l, &materials))
             .transpose()?;
         let limit = self.limit(raw.limits.as_ref())?;
-        let built = self.build_domain(&domain, raw.domain.get_ref())?;
         let (grading, gradient) = self.curves(grading, &raw, &materials, layering.as_ref())?;
-        let scene = Scene {
-            domain: built,
-            walls: domain.walls,
-            wall_disk_diameter: domain.wall_disk,
-            grading,
-            gradient,
+        let seed = raw.seed.as_ref().map_or(0, |s| *s.get_ref());
+        let scene_of = |domain, walls, wall_disk_diameter| Scene {
+            domain,
+            walls,
+            wall_disk_diameter,
+            grading: grading.clone(),
+            gradient: gradient.clone(),
             packer,
-            seed: raw.seed.map_or(0, Spanned::into_inner),
+            seed,
         };
-        self.check_width(&scene, &domain.width_key)?;
-        self.check_memory(&scene, &domain.width_key, limit.clone())?;
+        let (scene, fracture) = match place {
+            Place::Domain(plan, raw_domain) => {
+                let built = self.build_domain(&plan, raw_domain)?;
+                let scene = scene_of(built, plan.walls, plan.wall_disk);
+                self.check_width(&scene, &plan.width_key)?;
+                self.check_memory(&scene, &plan.width_key, limit.clone())?;
+                (scene, None)
+            }
+            Place::Fracture(plan) => {
+                self.fracture_runs(&plan, &raw)?;
+                let mut wells = Vec::with_capacity(plan.wells.len());
+                for well in &plan.wells {
+                    let domain = well
+                        .fracture
+                        .domain()
+                        .map_err(|error| ConfigError::Geometry {
+                            at: self.at(&well.width_key.span),
+                            key: well.width_key.key.clone(),
+                            error,
+                        })?;
+                    let mut scene = scene_of(domain, plan.walls, plan.wall_disk);
+                    scene.packer.fill = well.fill.unwrap_or(scene.packer.fill);
+                    self.check_width(&scene, &well.width_key)?;
+                    self.check_memory(&scene, &well.width_key, limit.clone())?;
+                    wells.push(Well {
+                        name: well.name.clone(),
+                        fracture: well.fracture,
+                        scene,
+                    });
+                }
+                let scene = wells[0].scene.clone();
+                let run = FractureRun {
+                    extent: plan.extent,
+                    batch: plan.batch,
+                    wells,
+                };
+                (scene, Some(run))
+            }
+        };
         if let (Some(settings), Some(table)) = (&optimise, &raw.optimise) {
             self.check_optimise_memory(&scene, settings, table, limit)?;
         }
@@ -178,7 +243,36 @@ impl Validator<'_> {
             optimise,
             materials: materials.into_iter().map(|m| m.material).collect(),
             layering,
+            fracture,
         })
+    }
+
+    /// Refuse an `[optimise]` or `[layering]` beside a batch of wells or a
+    /// window: those run with `gapack pack` only.
+    fn fracture_runs(&self, plan: &FracturePlan, raw: &RawConfig) -> Result<(), ConfigError> {
+        let why = match (plan.batch, plan.extent) {
+            (true, _) => {
+                "a batch of wells runs with gapack pack; give one fracture to optimise or layer"
+            }
+            (false, Extent::Window { .. }) => {
+                "a window (extent = \"window\") runs with gapack pack; use extent = \"full\""
+            }
+            (false, Extent::Full) => return Ok(()),
+        };
+        let table = [
+            ("optimise", raw.optimise.as_ref().map(Spanned::span)),
+            ("layering", raw.layering.as_ref().map(Spanned::span)),
+        ]
+        .into_iter()
+        .find_map(|(key, span)| span.map(|s| (key, s)));
+        match table {
+            None => Ok(()),
+            Some((key, span)) => Err(ConfigError::NotApplicable {
+                at: self.at(&span),
+                key: key.to_owned(),
+                reason: why.to_owned(),
+            }),
+        }
     }
 
     /// The scene's curves: `[grading]`, or in size-graded mode the two
@@ -766,6 +860,7 @@ impl Validator<'_> {
             one_contact_share,
             gap,
             max_deferred,
+            fill: self.name(&FILLS, "packer.fill", p.fill.as_ref())?,
         })
     }
 

@@ -287,6 +287,61 @@ impl Domain {
         Self::polygonal(shape, vertices, Some(inradius))
     }
 
+    /// The domain mirrored in the line y = x (coordinates swapped).
+    ///
+    /// # Behavior
+    /// A packing of the mirror with its coordinates swapped back is a packing
+    /// of this domain: the packer fills along x by filling the mirror along y.
+    /// Rectangles stay rectangles (width and height swapped) and circles
+    /// circles; trapezoids become polygons. The boundary keeps its first
+    /// vertex and turns counter-clockwise, so wall disks land on the same
+    /// points mirrored.
+    pub fn transposed(&self) -> Domain {
+        let swap = |p: Point| Point::new(p.y, p.x);
+        let vertices: Vec<Point> = self
+            .vertices
+            .iter()
+            .take(1)
+            .chain(self.vertices.iter().skip(1).rev())
+            .map(|&p| swap(p))
+            .collect();
+        let shape = match &self.shape {
+            Shape::Rectangle { width, height } => Shape::Rectangle {
+                width: *height,
+                height: *width,
+            },
+            Shape::Circle { center, radius } => Shape::Circle {
+                center: swap(*center),
+                radius: *radius,
+            },
+            Shape::Polygon { .. } | Shape::Trapezoid { .. } => Shape::Polygon {
+                vertices: vertices.clone(),
+            },
+        };
+        let edges = edges_of(&vertices);
+        let walls = match &shape {
+            Shape::Circle { center, radius } => vec![Wall::Circle {
+                center: *center,
+                radius: *radius,
+            }],
+            _ => edges
+                .iter()
+                .map(|e| Wall::Segment { a: e.a, b: e.b })
+                .collect(),
+        };
+        Domain {
+            shape,
+            reflex: reflex_vertices_of(&vertices),
+            vertices,
+            edges,
+            walls,
+            area: self.area,
+            centroid: swap(self.centroid),
+            bounds: (swap(self.bounds.0), swap(self.bounds.1)),
+            inradius: self.inradius,
+        }
+    }
+
     /// The shape the domain was built from.
     pub fn shape(&self) -> &Shape {
         &self.shape

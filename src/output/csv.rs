@@ -1,8 +1,11 @@
 //! CSV tables: `packing.csv` (one row per packed disk, `id,x,y,r` in mm,
 //! and `material` when the disks carry one), `convergence.csv` (one row per
-//! generation of a GA run) and `profile.csv` (one row per bin of a layering).
+//! generation of a GA run), `profile.csv` (one row per bin of a layering),
+//! `window.csv` (one row per window of a fracture) and `wells.csv` (one row
+//! per well of a batch).
 
 use super::error::OutputError;
+use crate::fracture::WindowStep;
 use crate::ga::Generation;
 use crate::layering::{Material, ProfileRow};
 use crate::packer::Packing;
@@ -12,6 +15,101 @@ pub const PROFILE_CSV: &str = "profile.csv";
 
 /// File name of the disk table.
 pub const PACKING_CSV: &str = "packing.csv";
+
+/// File name of a fracture window's table.
+pub const WINDOW_CSV: &str = "window.csv";
+
+/// File name of a batch's table of wells.
+pub const WELLS_CSV: &str = "wells.csv";
+
+/// One well of a batch as `wells.csv` lists it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WellRow {
+    /// The well's name.
+    pub well: String,
+    /// Aperture at the wellbore (mm).
+    pub width_mm: f64,
+    /// Fracture height (m).
+    pub height_m: f64,
+    /// Disks packed (in window mode, in the last window).
+    pub particles: usize,
+    /// Porosity (in window mode, the window's estimate).
+    pub porosity: f64,
+    /// KS distance of the packed sizes to the grading.
+    pub psd_ks: f64,
+    /// Mean disk–disk contacts per disk (in window mode, the window's estimate).
+    pub coordination: f64,
+    /// Time to pack the well (all its windows in window mode) (s).
+    pub seconds: f64,
+}
+
+/// One row per well: `well,width_mm,height_m,particles,porosity,psd_ks,coordination,seconds`.
+///
+/// # Errors
+/// [`OutputError::Csv`] if the CSV writer fails (it does not on memory).
+pub fn wells_csv(rows: &[WellRow]) -> Result<Vec<u8>, OutputError> {
+    let mut writer = ::csv::Writer::from_writer(Vec::new());
+    writer.write_record([
+        "well",
+        "width_mm",
+        "height_m",
+        "particles",
+        "porosity",
+        "psd_ks",
+        "coordination",
+        "seconds",
+    ])?;
+    for r in rows {
+        writer.write_record([
+            r.well.clone(),
+            r.width_mm.to_string(),
+            r.height_m.to_string(),
+            r.particles.to_string(),
+            r.porosity.to_string(),
+            r.psd_ks.to_string(),
+            r.coordination.to_string(),
+            r.seconds.to_string(),
+        ])?;
+    }
+    writer
+        .into_inner()
+        .map_err(|e| OutputError::Csv(e.into_error().into()))
+}
+
+/// One row per window tried: `length_mm,particles,porosity,coordination,spread,seconds`
+/// (porosity and coordination of the window's core; spread empty with one block).
+///
+/// # Errors
+/// [`OutputError::Csv`] if the CSV writer fails (it does not on memory).
+pub fn window_csv(steps: &[WindowStep]) -> Result<Vec<u8>, OutputError> {
+    let mut writer = ::csv::Writer::from_writer(Vec::new());
+    writer.write_record([
+        "length_mm",
+        "particles",
+        "porosity",
+        "coordination",
+        "spread",
+        "seconds",
+    ])?;
+    for s in steps {
+        let spread = if s.spread.is_finite() {
+            s.spread.to_string()
+        } else {
+            String::new()
+        };
+        writer.write_record([
+            s.length.to_string(),
+            s.particles.to_string(),
+            s.porosity.to_string(),
+            s.coordination.to_string(),
+            spread,
+            s.seconds.to_string(),
+        ])?;
+    }
+    writer
+        .into_inner()
+        .map_err(|e| OutputError::Csv(e.into_error().into()))
+}
 
 /// File name of the GA's convergence table.
 pub const CONVERGENCE_CSV: &str = "convergence.csv";

@@ -5,8 +5,9 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 
 use super::error::OutputError;
-use super::run::RunInfo;
+use super::run::{FractureInfo, RunInfo};
 use crate::config::{ConfigName, METHOD};
+use crate::fracture::{Extent, MM_PER_M, WindowStep};
 use crate::ga::StopReason;
 use crate::packer::{Metrics, PackStats, Packing};
 
@@ -28,6 +29,7 @@ struct Summary<'a> {
     gap: f64,
     max_deferred: usize,
     rules: &'static str,
+    fill: &'static str,
     grading: GradingSummary,
     #[serde(flatten)]
     metrics: &'a Metrics,
@@ -39,6 +41,36 @@ struct Summary<'a> {
     materials: Vec<MaterialSummary<'a>>,
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
     layering: Option<LayeringSummary>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    fracture: Option<FractureSummary<'a>>,
+}
+
+/// What a fracture run adds to `summary.json`.
+#[derive(Serialize)]
+struct FractureSummary<'a> {
+    name: &'a str,
+    width_mm: f64,
+    height_m: f64,
+    tip_width_mm: Option<f64>,
+    extent: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    window: Option<WindowSummary<'a>>,
+}
+
+/// A fracture window: the estimate and every window tried.
+#[derive(Serialize)]
+struct WindowSummary<'a> {
+    tolerance: f64,
+    settled: bool,
+    length_mm: f64,
+    /// Window length over the fracture's.
+    length_fraction: f64,
+    porosity: f64,
+    porosity_spread: f64,
+    coordination: f64,
+    /// All the windows together (s).
+    seconds: f64,
+    steps: &'a [WindowStep],
 }
 
 /// A material as `summary.json` lists it.
@@ -137,6 +169,36 @@ impl From<PackStats> for StatsSummary {
     }
 }
 
+/// The fracture block of `summary.json`.
+fn fracture_summary(info: FractureInfo<'_>) -> FractureSummary<'_> {
+    let f = info.well.fracture;
+    let (extent, tolerance) = match info.extent {
+        Extent::Full => ("full", f64::NAN),
+        Extent::Window { tolerance } => ("window", tolerance),
+    };
+    FractureSummary {
+        name: &info.well.name,
+        width_mm: f.width,
+        height_m: f.length / MM_PER_M,
+        tip_width_mm: f.tip_width,
+        extent,
+        window: info.window.map(|w| {
+            let last = w.last();
+            WindowSummary {
+                tolerance,
+                settled: w.settled,
+                length_mm: last.length,
+                length_fraction: last.length / f.length,
+                porosity: last.porosity,
+                porosity_spread: last.spread,
+                coordination: last.coordination,
+                seconds: w.seconds,
+                steps: &w.steps,
+            }
+        }),
+    }
+}
+
 /// The run summary as pretty-printed JSON (keys listed in `docs/CONFIG.md`).
 ///
 /// `seconds` is the packing time alone (`pack`) or the whole search
@@ -163,6 +225,7 @@ pub fn summary_json(
         gap: scene.packer.gap,
         max_deferred: scene.packer.max_deferred,
         rules: scene.packer.rules.config_name(),
+        fill: scene.packer.fill.config_name(),
         grading: GradingSummary {
             d_min: scene.grading.d_min(),
             d_max: scene.grading.d_max(),
@@ -198,6 +261,7 @@ pub fn summary_json(
                 stop: l.stop.map(StopReason::describe),
             },
         }),
+        fracture: run.fracture.map(fracture_summary),
     };
     let mut bytes = serde_json::to_vec_pretty(&summary)?;
     bytes.push(b'\n');

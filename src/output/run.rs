@@ -5,13 +5,15 @@ use std::path::{Path, PathBuf};
 
 use super::atomic::write_all_atomic;
 use super::csv::{
-    CONVERGENCE_CSV, PACKING_CSV, PROFILE_CSV, convergence_csv, packing_csv, profile_csv,
+    CONVERGENCE_CSV, PACKING_CSV, PROFILE_CSV, WINDOW_CSV, convergence_csv, packing_csv,
+    profile_csv, window_csv,
 };
 use super::error::OutputError;
 use super::json::{OptimiseSummary, SUMMARY_JSON, summary_json};
-use super::plot::{convergence_chart, profile_chart};
+use super::plot::{convergence_chart, profile_chart, window_chart};
 use super::svg::{PACKING_SVG, packing_svg};
 use crate::Scene;
+use crate::fracture::{Extent, Well, Window};
 use crate::ga::{Generation, Layered};
 use crate::layering::{LayeringSettings, Material};
 use crate::packer::{Metrics, Packing};
@@ -24,6 +26,22 @@ pub const CONVERGENCE_PNG: &str = "convergence.png";
 pub const PROFILE_SVG: &str = "profile.svg";
 /// File name of the profile chart as an image.
 pub const PROFILE_PNG: &str = "profile.png";
+
+/// File name of a fracture window's chart.
+pub const WINDOW_SVG: &str = "window.svg";
+/// File name of a fracture window's chart as an image.
+pub const WINDOW_PNG: &str = "window.png";
+
+/// A fracture run: which fracture, how much of it, and the window if one was grown.
+#[derive(Debug, Clone, Copy)]
+pub struct FractureInfo<'a> {
+    /// The fracture (a well of a batch, or the config's one).
+    pub well: &'a Well,
+    /// What was asked for.
+    pub extent: Extent,
+    /// The windows grown, in window mode.
+    pub window: Option<&'a Window>,
+}
 
 /// What a run was, besides its packing and metrics: it decides which files
 /// are written and what `summary.json` records.
@@ -41,6 +59,8 @@ pub struct RunInfo<'a> {
     pub optimise: Option<(&'a OptimiseSummary, &'a [Generation])>,
     /// A layering run: its settings and what it gave.
     pub layering: Option<(&'a LayeringSettings, &'a Layered)>,
+    /// A fracture run.
+    pub fracture: Option<FractureInfo<'a>>,
 }
 
 impl<'a> RunInfo<'a> {
@@ -53,6 +73,7 @@ impl<'a> RunInfo<'a> {
             materials: &[],
             optimise: None,
             layering: None,
+            fracture: None,
         }
     }
 }
@@ -60,7 +81,8 @@ impl<'a> RunInfo<'a> {
 /// Write the outputs of a run into `dir`: always `packing.csv`,
 /// `summary.json` and `packing.svg`; with a search, `convergence.csv`,
 /// `convergence.svg` and `convergence.png`; with layering, `profile.csv`,
-/// `profile.svg` and `profile.png`.
+/// `profile.svg` and `profile.png`; with a fracture window, `window.csv`,
+/// `window.svg` and `window.png`.
 ///
 /// `dir` is created if needed. Everything is rendered in memory first and
 /// the files are written as one atomic set: on failure none of them is new,
@@ -101,7 +123,28 @@ pub fn write_outputs(
             (dir.join(PROFILE_PNG), chart.to_png()?),
         ]);
     }
+    if let Some(FractureInfo {
+        well,
+        extent: Extent::Window { tolerance },
+        window: Some(window),
+    }) = run.fracture
+    {
+        let chart = window_chart(&window.steps, tolerance, &well.name);
+        files.extend([
+            (dir.join(WINDOW_CSV), window_csv(&window.steps)?),
+            (dir.join(WINDOW_SVG), chart.to_svg()?.into_bytes()),
+            (dir.join(WINDOW_PNG), chart.to_png()?),
+        ]);
+    }
     write_set(dir, &files)
+}
+
+/// Write one table (`wells.csv`) into `dir` atomically, creating `dir` if needed.
+///
+/// # Errors
+/// [`OutputError`] naming the directory or file and the cause.
+pub fn write_table(dir: &Path, name: &str, bytes: Vec<u8>) -> Result<(), OutputError> {
+    write_set(dir, &[(dir.join(name), bytes)])
 }
 
 /// Create `dir` if needed and write `files` atomically; a directory created

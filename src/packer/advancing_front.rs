@@ -69,7 +69,7 @@ use std::collections::VecDeque;
 use super::arcs::{Arcs, Measure};
 use super::index::{Grid, MxQuadtree, SpatialIndex};
 use super::sizer::Sizer;
-use super::{FrontRules, IndexKind, PackError, PackStats, Packing};
+use super::{Fill, FrontRules, IndexKind, PackError, PackStats, Packing};
 use crate::Scene;
 use crate::geometry::predicates::{
     FEASIBLE_REL, WITNESS_REL, clear_disk_disk, intersect_circle_circle, intersect_circle_line,
@@ -137,7 +137,23 @@ pub fn pack(scene: &Scene) -> Result<Packing, PackError> {
 ///
 /// This is the fitness kernel's entry: a caller that evolves the sizes (the
 /// GA's grading genes) passes them here.
+///
+/// With [`Fill::Right`] the scene is mirrored in the line y = x, packed
+/// upwards and mirrored back (the same genes give the same sizes).
 pub fn pack_genes(scene: &Scene, genes: impl Iterator<Item = f64>) -> Result<Packing, PackError> {
+    if scene.packer.fill == Fill::Right {
+        let mut packing = pack_up(&scene.transposed(), genes)?;
+        let swap = |d: &mut Disk| d.c = Point::new(d.c.y, d.c.x);
+        packing.disks.iter_mut().for_each(swap);
+        packing.boundary.iter_mut().for_each(swap);
+        packing.domain = scene.domain.clone();
+        return Ok(packing);
+    }
+    pack_up(scene, genes)
+}
+
+/// [`pack_genes`] with the front advancing up (lowest ordinate first).
+fn pack_up(scene: &Scene, genes: impl Iterator<Item = f64>) -> Result<Packing, PackError> {
     let d_min = scene.d_min();
     let inscribed = 2.0 * scene.domain.inradius();
     if inscribed < d_min {

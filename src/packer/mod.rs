@@ -11,7 +11,7 @@ mod sizer;
 pub use advancing_front::{pack, pack_genes, size_count};
 pub use metrics::{Metrics, measure};
 pub use packing::{PackError, PackStats, Packing};
-pub use settings::{FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, PackerSettings};
+pub use settings::{Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, PackerSettings};
 
 use crate::Scene;
 

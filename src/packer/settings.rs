@@ -42,6 +42,8 @@ pub struct PackerSettings {
     /// (denser, but the placed sizes lean small); 0 stops at the first size
     /// that fits nowhere (the placed sizes are exactly the ones drawn before it).
     pub max_deferred: usize,
+    /// Which way the front advances through the domain.
+    pub fill: Fill,
 }
 
 impl Default for PackerSettings {
@@ -52,6 +54,7 @@ impl Default for PackerSettings {
             one_contact_share: 0.0,
             gap: 0.0,
             max_deferred: MAX_DEFERRED,
+            fill: Fill::default(),
         }
     }
 }
@@ -66,4 +69,19 @@ pub enum FrontRules {
     /// The thesis to the letter: a failing front is dropped, and the run stops
     /// when the front list empties.
     Thesis,
+}
+
+/// Which way the front advances: which spot counts as the lowest.
+///
+/// The packing grows from where the front starts and fills the domain in
+/// that direction. In a fracture the two give different structures: `Up`
+/// settles the proppant along the fracture height, `Right` builds layers
+/// parallel to the fracture faces, as the thesis' fracture packs did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Fill {
+    /// Lowest ordinate first, then lowest abscissa: deposition under gravity along −y (default).
+    #[default]
+    Up,
+    /// Lowest abscissa first, then lowest ordinate: the same along −x.
+    Right,
 }

@@ -154,9 +154,12 @@ impl LineChart {
                     chart.draw_series(points.map(|p| Circle::new(p, 4, colour.filled())))?
                 }
             };
-            drawn.label(s.name.as_str()).legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
-            });
+            // A series without a name (the second line of a band) stays out of the legend.
+            if !s.name.is_empty() {
+                drawn.label(s.name.as_str()).legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
+                });
+            }
         }
         chart
             .configure_series_labels()

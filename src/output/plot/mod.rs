@@ -3,7 +3,9 @@
 mod chart;
 mod convergence;
 mod profile;
+mod window;
 
 pub use chart::{LineChart, Mark, Series};
 pub use convergence::convergence_chart;
 pub use profile::profile_chart;
+pub use window::window_chart;

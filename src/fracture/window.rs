@@ -1,0 +1,319 @@
+//! Representative windows: pack only as much of a fracture as its porosity
+//! and coordination number need.
+//!
+//! # Behavior
+//! The window is the fracture's first `L` mm from the wellbore. It starts at
+//! [`FIRST_DIAMETERS`] largest diameters and doubles until the estimates of
+//! two windows in a row agree within the tolerance, or the window is the
+//! whole fracture. Each window is measured in its *core*: the window less
+//! [`END_DIAMETERS`] largest diameters at each end, where the window's own
+//! end walls (which the real fracture does not have there) order the pack.
+//! The side walls are the fracture's own and stay in.
+//!
+//! With the default fill (up, along the fracture) a window's pack is the
+//! full pack's first stretch, disk for disk, until the window's top wall
+//! comes within reach: the same seed draws the same sizes in the same order.
+
+use std::time::Instant;
+
+use super::{Fracture, Well};
+use crate::Scene;
+use crate::geometry::predicates::{CONTACT_REL, area_disk_box, overlap_disk_disk};
+use crate::geometry::{Disk, GeometryError, Point};
+use crate::packer::index::{Grid, SpatialIndex};
+use crate::packer::{PackError, Packing, pack};
+
+/// Largest diameters left out of the measure at each end of a window.
+pub const END_DIAMETERS: f64 = 3.0;
+
+/// Length of the first window, in largest diameters: a core of ten.
+pub const FIRST_DIAMETERS: f64 = 2.0 * END_DIAMETERS + 10.0;
+
+/// Length of the blocks the core is cut into for the spread, in largest diameters.
+pub const BLOCK_DIAMETERS: f64 = 5.0;
+
+/// Why a window cannot be packed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum WindowError {
+    /// The window's domain cannot be built.
+    #[error(transparent)]
+    Geometry(#[from] GeometryError),
+    /// The window cannot be packed.
+    #[error(transparent)]
+    Pack(#[from] PackError),
+}
+
+/// One window packed and measured.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct WindowStep {
+    /// Window length along the fracture (mm).
+    pub length: f64,
+    /// Disks packed in the window.
+    pub particles: usize,
+    /// Porosity of the core (the disks' area inside it, clipped exactly).
+    pub porosity: f64,
+    /// Mean disk–disk contacts of the disks centred in the core.
+    pub coordination: f64,
+    /// Standard error of the core porosity: the standard deviation of its
+    /// blocks' porosities over the square root of their number (NaN with
+    /// fewer than two blocks).
+    pub spread: f64,
+    /// Time to pack and measure this window (s).
+    pub seconds: f64,
+}
+
+/// The result of [`settle`]: every window tried and the last one's packing.
+#[derive(Debug, Clone)]
+pub struct Window {
+    /// The windows, shortest first; the last gives the estimate.
+    pub steps: Vec<WindowStep>,
+    /// Whether the estimates settled before the window reached the whole fracture.
+    pub settled: bool,
+    /// The last window's scene (the fracture cut to its length).
+    pub scene: Scene,
+    /// The last window's packing.
+    pub packing: Packing,
+    /// Time of all the windows together (s).
+    pub seconds: f64,
+}
+
+impl Window {
+    /// The last window: the estimate.
+    pub fn last(&self) -> &WindowStep {
+        // `settle` returns at least one step.
+        &self.steps[self.steps.len() - 1]
+    }
+}
+
+/// Grow a window of `well`'s fracture until porosity (absolute) and
+/// coordination number (relative) settle within `tolerance`.
+///
+/// # Behavior
+/// Settled means: the core porosity of the last window differs by at most
+/// `tolerance` from each of the two before, its coordination number by at
+/// most `tolerance` of itself, and twice the last porosity's spread (a 95 % interval of the
+/// estimate) is at most `tolerance`. A
+/// fracture shorter than the next window is packed whole (and measured in
+/// its core like any window); `settled` then says whether it settled.
+///
+/// # Errors
+/// The packer's, for a window no disk fits in; the domain's, for a fracture
+/// whose sizes are not positive.
+pub fn settle(well: &Well, tolerance: f64) -> Result<Window, WindowError> {
+    let start = Instant::now();
+    let d_max = well.scene.d_max();
+    let mut length = (FIRST_DIAMETERS * d_max).min(well.fracture.length);
+    let mut steps: Vec<WindowStep> = Vec::new();
+    loop {
+        let begun = Instant::now();
+        let cut = well.fracture.cut(length);
+        let scene = Scene {
+            domain: cut.domain()?,
+            ..well.scene.clone()
+        };
+        let packing = pack(&scene)?;
+        let step = measure_core(&packing, &cut, d_max, begun);
+        // The last three windows agree (one pair agreeing can be chance).
+        let agree = |prev: &WindowStep| {
+            (step.porosity - prev.porosity).abs() <= tolerance
+                && (step.coordination - prev.coordination).abs() <= tolerance * step.coordination
+        };
+        let settled = steps.len() >= 2
+            && steps.iter().rev().take(2).all(agree)
+            && 2.0 * step.spread <= tolerance;
+        steps.push(step);
+        let whole = length >= well.fracture.length;
+        if settled || whole {
+            return Ok(Window {
+                steps,
+                settled,
+                scene,
+                packing,
+                seconds: start.elapsed().as_secs_f64(),
+            });
+        }
+        length = (2.0 * length).min(well.fracture.length);
+    }
+}
+
+/// Measure a window's core: porosity, coordination and spread.
+fn measure_core(packing: &Packing, cut: &Fracture, d_max: f64, begun: Instant) -> WindowStep {
+    let end = (END_DIAMETERS * d_max).min(cut.length / 4.0);
+    let (y0, y1) = (end, cut.length - end);
+    let blocks = ((y1 - y0) / (BLOCK_DIAMETERS * d_max)).floor().max(1.0) as usize;
+    let block = (y1 - y0) / blocks as f64;
+    let mut solid = vec![0.0; blocks];
+    for d in &packing.disks {
+        let first = ((d.c.y - d.r - y0) / block).floor().max(0.0) as usize;
+        let last = ((d.c.y + d.r - y0) / block).floor();
+        if last < 0.0 || first >= blocks {
+            continue;
+        }
+        for (b, s) in solid
+            .iter_mut()
+            .enumerate()
+            .take((last as usize).min(blocks - 1) + 1)
+            .skip(first)
+        {
+            let (b0, b1) = (y0 + b as f64 * block, y0 + (b + 1) as f64 * block);
+            *s += area_disk_box(d.c, d.r, 0.0, cut.width, b0, b1);
+        }
+    }
+    // The aperture at each block's middle (a window is parallel-walled,
+    // but measuring a tapered one stays right).
+    let area = |b: usize| {
+        let y = y0 + (b as f64 + 0.5) * block;
+        let w = match cut.tip_width {
+            None => cut.width,
+            Some(tip) => cut.width + (tip - cut.width) * y / cut.length,
+        };
+        w * block
+    };
+    let porosities: Vec<f64> = (0..blocks).map(|b| 1.0 - solid[b] / area(b)).collect();
+    let total: f64 = (0..blocks).map(area).sum();
+    let porosity = 1.0 - solid.iter().sum::<f64>() / total;
+    let spread = if blocks < 2 {
+        f64::NAN
+    } else {
+        let n = blocks as f64;
+        let mean = porosities.iter().sum::<f64>() / n;
+        let var = porosities.iter().map(|p| (p - mean).powi(2)).sum::<f64>() / (n - 1.0);
+        (var / n).sqrt()
+    };
+    WindowStep {
+        length: cut.length,
+        particles: packing.disks.len(),
+        porosity,
+        coordination: coordination(&packing.disks, y0, y1),
+        spread,
+        seconds: begun.elapsed().as_secs_f64(),
+    }
+}
+
+/// Mean contacts with other disks of the disks centred in `y0..y1`.
+fn coordination(disks: &[Disk], y0: f64, y1: f64) -> f64 {
+    let r_max = disks.iter().fold(0.0f64, |m, d| m.max(d.r));
+    if disks.is_empty() || r_max <= 0.0 {
+        return 0.0;
+    }
+    let (mut lo, mut hi) = (
+        Point::new(f64::MAX, f64::MAX),
+        Point::new(f64::MIN, f64::MIN),
+    );
+    for d in disks {
+        lo = Point::new(lo.x.min(d.c.x), lo.y.min(d.c.y));
+        hi = Point::new(hi.x.max(d.c.x), hi.y.max(d.c.y));
+    }
+    let mut grid = Grid::new(lo, hi, 2.0 * r_max);
+    for (id, d) in disks.iter().enumerate() {
+        grid.insert(id as u32, d.c);
+    }
+    let (mut counted, mut contacts) = (0usize, 0usize);
+    for (i, d) in disks.iter().enumerate() {
+        if !(y0..y1).contains(&d.c.y) {
+            continue;
+        }
+        counted += 1;
+        let half = d.r + r_max;
+        let (qlo, qhi) = (
+            Point::new(d.c.x - half, d.c.y - half),
+            Point::new(d.c.x + half, d.c.y + half),
+        );
+        grid.visit_box(qlo, qhi, |j| {
+            let o = disks[j as usize];
+            if j as usize != i && overlap_disk_disk(d.c, d.r, o.c, o.r) >= -CONTACT_REL {
+                contacts += 1;
+            }
+        });
+    }
+    if counted == 0 {
+        0.0
+    } else {
+        contacts as f64 / counted as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::WallMode;
+    use crate::grading::Grading;
+    use crate::packer::PackerSettings;
+
+    fn well(width: f64, length: f64) -> Well {
+        let fracture = Fracture {
+            width,
+            length,
+            tip_width: None,
+        };
+        Well {
+            name: "w".to_owned(),
+            fracture,
+            scene: Scene {
+                domain: fracture.domain().unwrap(),
+                walls: WallMode::Exact,
+                wall_disk_diameter: None,
+                grading: Grading::uniform(1.2, 1.3, crate::Basis::Number).unwrap(),
+                gradient: None,
+                packer: PackerSettings::default(),
+                seed: 3,
+            },
+        }
+    }
+
+    #[test]
+    fn core_of_a_square_lattice_is_measured_exactly() {
+        // Disks of diameter 1 on a unit square lattice: porosity 1 − π/4 in
+        // every block (7 blocks of 5 mm in the 35 mm core).
+        let disks: Vec<Disk> = (0..41)
+            .flat_map(|j| {
+                (0..3).map(move |i| Disk {
+                    c: Point::new(0.5 + f64::from(i), 0.5 + f64::from(j)),
+                    r: 0.5,
+                })
+            })
+            .collect();
+        let cut = Fracture {
+            width: 3.0,
+            length: 41.0,
+            tip_width: None,
+        };
+        let packing = Packing {
+            domain: cut.domain().unwrap(),
+            walls: WallMode::Exact,
+            boundary: Vec::new(),
+            disks,
+            materials: Vec::new(),
+            stats: Default::default(),
+        };
+        let step = measure_core(&packing, &cut, 1.0, Instant::now());
+        assert!((step.porosity - (1.0 - std::f64::consts::FRAC_PI_4)).abs() < 1e-9);
+        // Corner columns touch 3 disks, the middle one 4.
+        assert!((step.coordination - 10.0 / 3.0).abs() < 1e-9);
+        assert!(step.spread < 1e-9);
+    }
+
+    #[test]
+    fn windows_double_until_settled_and_stay_short_of_a_long_fracture() {
+        let w = well(4.0, 20000.0);
+        let window = settle(&w, 0.005).unwrap();
+        assert!(window.settled);
+        let lengths: Vec<f64> = window.steps.iter().map(|s| s.length).collect();
+        for pair in lengths.windows(2) {
+            assert!((pair[1] - 2.0 * pair[0]).abs() < 1e-9);
+        }
+        assert!(window.last().length < 20000.0 / 4.0, "{lengths:?}");
+        let [a, b] = [&window.steps[window.steps.len() - 2], window.last()];
+        assert!((a.porosity - b.porosity).abs() <= 0.005);
+        assert_eq!(window.packing.disks.len(), b.particles);
+    }
+
+    #[test]
+    fn a_short_fracture_is_packed_whole() {
+        let w = well(4.0, 30.0);
+        let window = settle(&w, 1e-6).unwrap();
+        assert!(!window.settled);
+        assert_eq!(window.last().length, 30.0);
+    }
+}
