@@ -123,7 +123,10 @@ fn wrong_array_shapes_name_the_element() {
 
 #[test]
 fn missing_tables_and_keys_are_named() {
-    fails_with("", "t.toml:1:1: domain: missing table [domain] (or [fracture])");
+    fails_with(
+        "",
+        "t.toml:1:1: domain: missing table [domain] (or [fracture])",
+    );
     fails_with(
         "seed = 3\n[grading]\nconstant = 1\n",
         "t.toml:1:1: domain: missing table [domain] (or [fracture])",

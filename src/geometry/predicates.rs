@@ -74,7 +74,11 @@ pub fn intersect_circle_line(c: Point, r: f64, q: Point, ux: f64, uy: f64) -> Op
     let wx = c.x - q.x;
     let wy = c.y - q.y;
     let t0 = wx * ux + wy * uy;
-    let dist2 = wx * wx + wy * wy - t0 * t0;
+    // The distance to the line from the cross product: |w|² − t0² cancels
+    // catastrophically far along a long wall (an 8 m fracture face put
+    // 1e-8 mm overlaps into the candidates).
+    let cross = wx * uy - wy * ux;
+    let dist2 = cross * cross;
     let h2 = r * r - dist2;
     let h = if h2 >= 0.0 {
         h2.sqrt()

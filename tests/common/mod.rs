@@ -51,3 +51,31 @@ pub fn scene(domain: Domain, grading: Grading, walls: WallMode, seed: u64) -> Sc
 pub fn porosity(p: &gapack::Packing) -> f64 {
     1.0 - p.disks.iter().map(|d| d.area()).sum::<f64>() / p.domain.area()
 }
+
+/// Write `config` as `bad.toml` in a scratch dir, run `gapack pack bad.toml`,
+/// and check it fails with exit code 2, one `error:` line naming `key` and
+/// `line:column`, no panic and no output at all.
+pub fn refuses(name: &str, config: &str, key: &str, line_col: &str) {
+    let dir = scratch(name);
+    fs::write(dir.join("bad.toml"), config).expect("write config");
+    let out = gapack(&dir, &["pack", "bad.toml"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{name}: {stderr}");
+    assert!(!stderr.contains("panicked"), "{name}: {stderr}");
+    assert_eq!(
+        stderr.lines().count(),
+        1,
+        "{name}: one line expected: {stderr}"
+    );
+    let expected = format!("error: bad.toml:{line_col}: {key}: ");
+    assert!(
+        stderr.starts_with(&expected),
+        "{name}: expected {expected:?}, got {stderr}"
+    );
+    assert!(out.stdout.is_empty(), "{name}: stdout {:?}", out.stdout);
+    assert!(
+        !dir.join("out").exists(),
+        "{name}: an output directory was created"
+    );
+    let _ = fs::remove_dir_all(&dir);
+}
