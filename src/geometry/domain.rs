@@ -495,6 +495,20 @@ impl Domain {
         disks
     }
 
+    /// For each disk of [`Domain::boundary_disks`], the straight edge it
+    /// starts or lies on (0 = the edge from the first vertex); empty for a
+    /// circle. The disks of one edge are consecutive.
+    pub fn boundary_disk_edges(&self, diameter: f64) -> Vec<u32> {
+        if self.boundary_disk_count(diameter).is_none() || self.edges.is_empty() {
+            return Vec::new();
+        }
+        self.edges
+            .iter()
+            .zip(0u32..)
+            .flat_map(|(e, i)| std::iter::repeat_n(i, gaps(e.d.norm(), diameter) as usize))
+            .collect()
+    }
+
     /// How many disks [`Domain::boundary_disks`] returns for `diameter`:
     /// `None` if `diameter` is not positive and finite or more than
     /// [`Domain::MAX_BOUNDARY_DISKS`] would be needed.

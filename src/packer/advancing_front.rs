@@ -195,6 +195,7 @@ const NO_WITNESS: Witnesses = [[0; 2]; WITNESSES];
 struct Near {
     disk: Disk,
     clear2: f64,
+    id: u32,
 }
 
 /// The generator's state while packing.
@@ -204,6 +205,8 @@ struct Front<'a, I> {
     walls: Vec<Wall>,
     /// Obstacles by id: wall disks or reflex corners first, then packed disks.
     obs: Vec<Disk>,
+    /// Per wall disk on a straight edge: its edge (empty with exact walls or a circle).
+    wall_edge: Vec<u32>,
     first_packed: usize,
     index: I,
     r_max: f64,
@@ -249,6 +252,10 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             }
         };
         let first_packed = obs.len();
+        let wall_edge = match scene.walls {
+            WallMode::Disks => domain.boundary_disk_edges(scene.wall_disk()),
+            WallMode::Exact => Vec::new(),
+        };
         let mut witness = Vec::with_capacity(first_packed);
         witness.resize(first_packed, NO_WITNESS);
         let mut bound = vec![f32::INFINITY; first_packed];
@@ -275,6 +282,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             scene,
             walls,
             obs,
+            wall_edge,
             first_packed,
             index,
             witness,
@@ -726,17 +734,31 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 near.push(Near {
                     disk: o,
                     clear2: c * c,
+                    id,
                 });
             }
         });
     }
 
     /// Halo intersections around front `f` (with the walls only when `near_wall`), into `self.cands`.
+    ///
+    /// A wall disk meets the halos of the wall disks of its own edge beyond
+    /// its two neighbours only inside the halo of a wall disk between them
+    /// (by a margin of the squared spacing, far above any rounding): those
+    /// candidates are never feasible and are not made. A covered wall disk
+    /// then costs a handful of candidates instead of one per wall disk in reach.
     fn tangent_candidates(&mut self, f: u32, r: f64, near_wall: bool) {
         let front = self.obs[f as usize];
         let rf = front.r + r;
         self.cands.clear();
+        let edge = self.wall_edge.get(f as usize).copied();
         for n in &self.near {
+            if let Some(edge) = edge
+                && self.wall_edge.get(n.id as usize) == Some(&edge)
+                && n.id.abs_diff(f) >= 2
+            {
+                continue;
+            }
             let o = n.disk;
             if let Some(pts) = intersect_circle_circle(front.c, rf, o.c, o.r + r) {
                 self.cands.extend_from_slice(&pts);
