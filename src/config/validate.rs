@@ -215,7 +215,16 @@ impl Validator<'_> {
                         })?;
                     let mut scene = scene_of(domain, plan.walls, plan.wall_disk);
                     scene.packer.fill = well.fill.unwrap_or(scene.packer.fill);
-                    self.check_width(&scene, &well.width_key)?;
+                    self.check_width(&scene, &well.width_key)
+                        .map_err(|e| match e {
+                            ConfigError::Scene { at, key, error, .. } => ConfigError::Scene {
+                                at,
+                                key,
+                                error,
+                                hint: "; no proppant grain fits in this fracture".to_owned(),
+                            },
+                            other => other,
+                        })?;
                     self.check_memory(&scene, &well.width_key, limit.clone())?;
                     wells.push(Well {
                         name: well.name.clone(),
