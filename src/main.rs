@@ -157,19 +157,22 @@ fn run_pack(args: &PackArgs) -> Result<(), Failure> {
         ..RunInfo::new(scene, &origin, seconds)
     };
     write(&out, &packing, &metrics, &run)?;
-    report(args.run.quiet, || {
-        format!(
-            "{}: {} disks, porosity {:.4}, psd_ks {:.3}, max overlap {}, coordination {:.2}, packed in {}",
-            out.display(),
-            metrics.particles,
-            metrics.porosity,
-            metrics.psd_ks,
-            overlap(metrics.max_overlap),
-            metrics.coordination,
-            duration(seconds),
-        )
-    });
+    report(args.run.quiet, || pack_line(&out, &metrics, seconds));
     Ok(())
+}
+
+/// `out/x: 345 disks, porosity 0.2139, psd_ks 0.061, max overlap 7.3e-14, coordination 3.69, packed in 0.3 ms`.
+fn pack_line(out: &Path, metrics: &gapack::Metrics, seconds: f64) -> String {
+    format!(
+        "{}: {} disks, porosity {:.4}, psd_ks {:.3}, max overlap {}, coordination {:.2}, packed in {}",
+        out.display(),
+        metrics.particles,
+        metrics.porosity,
+        metrics.psd_ks,
+        overlap(metrics.max_overlap),
+        metrics.coordination,
+        duration(seconds),
+    )
 }
 
 /// `gapack pack` on a `[fracture]` config: each fracture whole or as a
@@ -273,16 +276,7 @@ fn pack_well(
         seconds,
     };
     let line = match &window {
-        None => format!(
-            "{}: {} disks, porosity {:.4}, psd_ks {:.3}, max overlap {}, coordination {:.2}, packed in {}",
-            dir.display(),
-            metrics.particles,
-            metrics.porosity,
-            metrics.psd_ks,
-            overlap(metrics.max_overlap),
-            metrics.coordination,
-            duration(seconds),
-        ),
+        None => pack_line(dir, &metrics, seconds),
         Some(w) => {
             let last = w.last();
             row.porosity = last.porosity;

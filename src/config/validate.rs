@@ -669,24 +669,37 @@ impl Validator<'_> {
                 )
             }
         };
-        let walls = self.name(&WALLS, "domain.walls", d.walls.as_ref())?;
-        let wall_disk = match &d.wall_disk {
-            None => None,
-            Some(v) if walls == WallMode::Disks => Some(self.positive("domain.wall_disk", v)?),
-            Some(v) => {
-                return Err(ConfigError::NotApplicable {
-                    at: self.at(&v.span()),
-                    key: "domain.wall_disk".to_owned(),
-                    reason: "applies only with walls = \"disks\"".to_owned(),
-                });
-            }
-        };
+        let (walls, wall_disk) = self.walls("domain", d.walls.as_ref(), d.wall_disk.as_ref())?;
         Ok(DomainPlan {
             shape,
             walls,
             wall_disk,
             width_key,
         })
+    }
+
+    /// `walls` and `wall_disk` of table `table`: the wall model, and the
+    /// wall-disk diameter (only with wall disks).
+    fn walls(
+        &self,
+        table: &str,
+        walls: Option<&Spanned<String>>,
+        wall_disk: Option<&Spanned<f64>>,
+    ) -> Result<(WallMode, Option<f64>), ConfigError> {
+        let mode = self.name(&WALLS, &format!("{table}.walls"), walls)?;
+        let key = format!("{table}.wall_disk");
+        let diameter = match wall_disk {
+            None => None,
+            Some(v) if mode == WallMode::Disks => Some(self.positive(&key, v)?),
+            Some(v) => {
+                return Err(ConfigError::NotApplicable {
+                    at: self.at(&v.span()),
+                    key,
+                    reason: "applies only with walls = \"disks\"".to_owned(),
+                });
+            }
+        };
+        Ok((mode, diameter))
     }
 
     /// Build the domain; its constructor checks the shape's structure.

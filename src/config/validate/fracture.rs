@@ -4,7 +4,7 @@ use toml::Spanned;
 
 use super::{KeyAt, Validator};
 use crate::config::error::ConfigError;
-use crate::config::names::{EXTENTS, ExtentKind, FILLS, WALLS};
+use crate::config::names::{EXTENTS, ExtentKind, FILLS};
 use crate::config::raw::{RawFracture, RawWell};
 use crate::fracture::{DEFAULT_WINDOW_TOLERANCE, Extent, Fracture, MM_PER_M};
 use crate::geometry::WallMode;
@@ -58,18 +58,7 @@ impl Validator<'_> {
                 reason: "give the fracture as width_mm and height_m, or as width_ratio, length_ratio and mean_diameter, not both".to_owned(),
             });
         }
-        let walls = self.name(&WALLS, "fracture.walls", f.walls.as_ref())?;
-        let wall_disk = match &f.wall_disk {
-            None => None,
-            Some(v) if walls == WallMode::Disks => Some(self.positive("fracture.wall_disk", v)?),
-            Some(v) => {
-                return Err(ConfigError::NotApplicable {
-                    at: self.at(&v.span()),
-                    key: "fracture.wall_disk".to_owned(),
-                    reason: "applies only with walls = \"disks\"".to_owned(),
-                });
-            }
-        };
+        let (walls, wall_disk) = self.walls("fracture", f.walls.as_ref(), f.wall_disk.as_ref())?;
         let tolerance = match &f.window_tolerance {
             None => DEFAULT_WINDOW_TOLERANCE,
             Some(v) => self.checked(
