@@ -195,7 +195,6 @@ const NO_WITNESS: Witnesses = [[0; 2]; WITNESSES];
 struct Near {
     disk: Disk,
     clear2: f64,
-    id: u32,
 }
 
 /// The generator's state while packing.
@@ -714,6 +713,13 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
 
     /// Neighbours of front `f` whose halo, widened by `gap` radii, meets the
     /// front's halo, into `self.near`.
+    ///
+    /// A wall disk on a straight edge leaves out the wall disks of its edge
+    /// beyond its two neighbours: every point of its halo that one of those
+    /// blocks (widened or not) is blocked by the neighbour on that side too,
+    /// whose centre lies nearer along the same line at the same radius, and
+    /// their halo intersections lie inside it. A covered wall disk then
+    /// costs a handful of neighbours instead of every wall disk in reach.
     fn gather_neighbours(&mut self, f: u32, r: f64, gap: f64) {
         let front = self.obs[f as usize];
         let reach = front.r + (2.0 + gap) * r; // plus the neighbour's own radius
@@ -723,9 +729,13 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             Point::new(front.c.x + half, front.c.y + half),
         );
         self.near.clear();
-        let (obs, near) = (&self.obs, &mut self.near);
+        let (obs, near, wall_edge) = (&self.obs, &mut self.near, &self.wall_edge);
+        let edge = wall_edge.get(f as usize);
         let clear = 1.0 - FEASIBLE_REL;
         self.index.visit_box(lo, hi, |id| {
+            if edge.is_some() && wall_edge.get(id as usize) == edge && id.abs_diff(f) >= 2 {
+                return;
+            }
             let o = obs[id as usize];
             let s = (reach + o.r) * (1.0 + FEASIBLE_REL);
             let (dx, dy) = (o.c.x - front.c.x, o.c.y - front.c.y);
@@ -734,31 +744,17 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 near.push(Near {
                     disk: o,
                     clear2: c * c,
-                    id,
                 });
             }
         });
     }
 
     /// Halo intersections around front `f` (with the walls only when `near_wall`), into `self.cands`.
-    ///
-    /// A wall disk meets the halos of the wall disks of its own edge beyond
-    /// its two neighbours only inside the halo of a wall disk between them
-    /// (by a margin of the squared spacing, far above any rounding): those
-    /// candidates are never feasible and are not made. A covered wall disk
-    /// then costs a handful of candidates instead of one per wall disk in reach.
     fn tangent_candidates(&mut self, f: u32, r: f64, near_wall: bool) {
         let front = self.obs[f as usize];
         let rf = front.r + r;
         self.cands.clear();
-        let edge = self.wall_edge.get(f as usize).copied();
         for n in &self.near {
-            if let Some(edge) = edge
-                && self.wall_edge.get(n.id as usize) == Some(&edge)
-                && n.id.abs_diff(f) >= 2
-            {
-                continue;
-            }
             let o = n.disk;
             if let Some(pts) = intersect_circle_circle(front.c, rf, o.c, o.r + r) {
                 self.cands.extend_from_slice(&pts);
