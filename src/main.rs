@@ -304,6 +304,18 @@ fn pack_well(
     Ok((row, line))
 }
 
+/// The one fracture of a `[fracture]` config that `optimise` or `layer`
+/// packs whole (a batch or a window is refused by the config).
+fn whole_fracture(config: &Config) -> Option<FractureInfo<'_>> {
+    config.fracture.as_ref().and_then(|run| {
+        run.wells.first().map(|well| FractureInfo {
+            well,
+            extent: Extent::Full,
+            window: None,
+        })
+    })
+}
+
 /// `gapack layer`: pack the scene once, lay the materials out along the
 /// profile (baseline, then the GA), write, report.
 fn run_layer(args: &LayerArgs) -> Result<(), Failure> {
@@ -332,6 +344,7 @@ fn run_layer(args: &LayerArgs) -> Result<(), Failure> {
     let run = RunInfo {
         materials: &config.materials,
         layering: Some((settings, &layered)),
+        fracture: whole_fracture(&config),
         ..RunInfo::new(scene, &origin, seconds)
     };
     write(&out, &packing, &metrics, &run)?;
@@ -419,6 +432,7 @@ fn run_optimise(args: &OptimiseArgs) -> Result<(), Failure> {
         materials: &config.materials,
         optimise: Some((&summary, &evolution.history)),
         layering: config.layering.as_ref().zip(layered.as_ref()),
+        fracture: whole_fracture(&config),
         ..RunInfo::new(&best_scene, &origin, evolution.seconds)
     };
     write(&out, &packing, &metrics, &run)?;

@@ -258,6 +258,29 @@ fn a_batch_writes_wells_csv_and_one_directory_per_well() {
     let _ = fs::remove_dir_all(&dir);
 }
 
+/// One full fracture may be optimised like any domain; its summary names the fracture.
+#[test]
+fn a_single_fracture_can_be_optimised() {
+    let dir = scratch("fracture-optimise");
+    let text = "seed = 1\n[fracture]\nwidth_mm = 4.2\nheight_m = 0.05\n\
+        [grading]\npreset = \"20/40\"\n[optimise]\ntarget_porosity = 0.3\n";
+    fs::write(dir.join("f.toml"), text).unwrap();
+    let out = gapack(&dir, &["optimise", "f.toml", "--out", "out"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let summary = fs::read_to_string(dir.join("out/summary.json")).unwrap();
+    assert!(summary.contains("\"fracture\": {"), "{summary}");
+    assert!(summary.contains("\"width_mm\": 4.2"), "{summary}");
+    assert!(
+        summary.contains("\"stop\": \"target reached\""),
+        "{summary}"
+    );
+    let _ = fs::remove_dir_all(&dir);
+}
+
 fn fracture(keys: &str, grading: &str) -> String {
     format!("[fracture]\n{keys}\n[grading]\n{grading}\n")
 }
