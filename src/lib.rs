@@ -22,7 +22,7 @@ mod scene;
 pub use geometry::{Disk, Domain, GeometryError, Point, Shape, Wall, WallMode};
 pub use grading::{Basis, Grading, GradingError, Interpolation};
 pub use packer::{
-    Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Metrics, PackError, PackStats,
+    Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method, Metrics, PackError, PackStats,
     PackerSettings, Packing, measure, pack,
 };
 pub use scene::Scene;

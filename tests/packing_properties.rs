@@ -9,6 +9,7 @@ use gapack::{
     pack,
 };
 use proptest::prelude::*;
+use proptest::test_runner::RngSeed;
 
 /// Largest empty circle allowed, in largest diameters, for the robust rules
 /// with dense placements; loose ones add two diameters per radius of gap.
@@ -64,6 +65,17 @@ fn grading_strategy() -> impl Strategy<Value = Grading> {
     ]
 }
 
+/// The scenes drawn: the same on every run, so that CI is repeatable;
+/// `PROPTEST_RNG_SEED=N cargo test` explores others (failures found are
+/// kept in `packing_properties.proptest-regressions` and replayed first).
+fn rng_seed() -> RngSeed {
+    let seed = std::env::var("PROPTEST_RNG_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0x6761_7061_636B);
+    RngSeed::Fixed(seed)
+}
+
 fn scene_strategy() -> impl Strategy<Value = Scene> {
     (
         domain_strategy(),
@@ -107,6 +119,7 @@ fn scene_strategy() -> impl Strategy<Value = Scene> {
                         max_deferred,
                         rules,
                         fill,
+                        ..PackerSettings::default()
                     },
                     seed,
                 }
@@ -115,7 +128,7 @@ fn scene_strategy() -> impl Strategy<Value = Scene> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 400, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 400, rng_seed: rng_seed(), ..ProptestConfig::default() })]
 
     #[test]
     fn packings_have_no_overlap_stay_inside_and_fill(scene in scene_strategy()) {
@@ -157,7 +170,7 @@ fn same_seed_same_packing_other_seed_other_packing() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 64, rng_seed: rng_seed(), ..ProptestConfig::default() })]
 
     /// The index only finds neighbours: every choice the packer makes is
     /// independent of the order it visits them in.

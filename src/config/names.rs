@@ -4,9 +4,9 @@
 use crate::geometry::{Shape, WallMode};
 use crate::grading::{Basis, Interpolation};
 use crate::layering::{Axis, LayeringMode};
-use crate::packer::{Fill, FrontRules, IndexKind};
+use crate::packer::{Fill, FrontRules, IndexKind, Method};
 
-/// The packing method; `packer.method` must name it. It is the only one so far.
+/// The default packing method's name.
 pub const METHOD: &str = "advancing-front";
 
 /// A table of the names of one choice.
@@ -90,9 +90,14 @@ pub(crate) const BASES: Names<Basis> = Names {
     ],
 };
 
-pub(crate) const METHODS: Names<()> = Names {
+pub(crate) const METHODS: Names<Method> = Names {
     what: "method",
-    entries: &[(METHOD, ())],
+    entries: &[
+        (METHOD, Method::AdvancingFront),
+        ("rsa", Method::Rsa),
+        ("deposition", Method::Deposition),
+        ("relaxation", Method::Relaxation),
+    ],
 };
 
 pub(crate) const INDEXES: Names<IndexKind> = Names {
@@ -205,6 +210,12 @@ impl ConfigName for IndexKind {
 impl ConfigName for FrontRules {
     fn config_name(&self) -> &'static str {
         RULES.name_of(*self)
+    }
+}
+
+impl ConfigName for Method {
+    fn config_name(&self) -> &'static str {
+        METHODS.name_of(*self)
     }
 }
 

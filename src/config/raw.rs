@@ -128,6 +128,10 @@ pub(crate) struct RawPacker {
     pub max_deferred: Option<Spanned<i64>>,
     pub rules: Option<Spanned<String>>,
     pub fill: Option<Spanned<String>>,
+    pub attempts: Option<Spanned<i64>>,
+    pub relaxation_porosity: Option<Spanned<f64>>,
+    pub relaxation_iterations: Option<Spanned<i64>>,
+    pub relaxation_tolerance: Option<Spanned<f64>>,
 }
 
 /// `[optimise]` (or `[optimize]`): a target-porosity run.

@@ -318,7 +318,22 @@ fn unknown_packer_names_list_the_valid_ones() {
     let packer = |line: &str| rect("width = 20\nheight = 30", &format!("[packer]\n{line}\n"));
     fails_with(
         &packer("method = \"drop-and-roll\""),
-        "t.toml:8:10: packer.method: unknown method \"drop-and-roll\"; valid: advancing-front",
+        "t.toml:8:10: packer.method: unknown method \"drop-and-roll\"; valid: advancing-front, rsa, deposition, relaxation",
+    );
+    fails_with(
+        &packer("attempts = 0"),
+        "t.toml:8:12: packer.attempts: must be a whole number ≥ 1, got 0",
+    );
+    fails_with(
+        &packer("relaxation_porosity = 1.0"),
+        "t.toml:8:23: packer.relaxation_porosity: must be in [0, 1), got 1",
+    );
+    fails_with(
+        &format!(
+            "{}[optimise]\ntarget_porosity = 0.3\n",
+            packer("method = \"rsa\"")
+        ),
+        "t.toml:8:10: packer.method: the genetic algorithm packs with the advancing front; [optimise] needs method = \"advancing-front\"",
     );
     fails_with(
         &packer("index = \"kd-tree\""),

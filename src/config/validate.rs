@@ -28,8 +28,8 @@ use crate::geometry::{Domain, GeometryError, Point, WallMode};
 use crate::grading::{Basis, Grading, Interpolation};
 use crate::layering::{LayeringMode, LayeringSettings, SizeGradient};
 use crate::packer::{
-    MAX_DEFERRED, MAX_GAP, PEAK_BYTES_PER_DISK, PackError, PackerSettings, estimated_peak_bytes,
-    size_count,
+    DEFAULT_ATTEMPTS, MAX_DEFERRED, MAX_GAP, Method, PEAK_BYTES_PER_DISK, PackError,
+    PackerSettings, Relaxation, estimated_peak_bytes, size_count,
 };
 
 /// `limits.max_memory_mb` when not given.
@@ -244,6 +244,7 @@ impl Validator<'_> {
         if let (Some(settings), Some(table)) = (&optimise, &raw.optimise) {
             self.check_optimise_memory(&scene, settings, table, limit)?;
         }
+        self.check_method(&scene, &raw)?;
         if let (Some(settings), Some(table)) = (&layering, &raw.layering) {
             self.check_bins(&scene, settings, table)?;
         }
@@ -253,6 +254,34 @@ impl Validator<'_> {
             materials: materials.into_iter().map(|m| m.material).collect(),
             layering,
             fracture,
+        })
+    }
+
+    /// Refuse a comparison method where only the advancing front serves:
+    /// the GA's packing kernel and size-graded packing.
+    fn check_method(&self, scene: &Scene, raw: &RawConfig) -> Result<(), ConfigError> {
+        let method = scene.packer.method;
+        let Some(span) = raw
+            .packer
+            .as_ref()
+            .and_then(|p| p.method.as_ref())
+            .map(Spanned::span)
+        else {
+            return Ok(());
+        };
+        let why = if method == Method::AdvancingFront {
+            return Ok(());
+        } else if raw.optimise.is_some() {
+            "the genetic algorithm packs with the advancing front; [optimise] needs method = \"advancing-front\""
+        } else if scene.gradient.is_some() {
+            "size-graded packing ([layering] mode = \"sizes\") needs method = \"advancing-front\""
+        } else {
+            return Ok(());
+        };
+        Err(ConfigError::NotApplicable {
+            at: self.at(&span),
+            key: "packer.method".to_owned(),
+            reason: why.to_owned(),
         })
     }
 
@@ -840,7 +869,39 @@ impl Validator<'_> {
         let Some(p) = raw else {
             return Ok(PackerSettings::default());
         };
-        self.name(&METHODS, "packer.method", p.method.as_ref())?;
+        let method = self.name(&METHODS, "packer.method", p.method.as_ref())?;
+        let whole = |key: &str, v: &Spanned<i64>| {
+            let n = *v.get_ref();
+            if n >= 1 {
+                Ok(n as usize)
+            } else {
+                Err(ConfigError::OutOfRange {
+                    at: self.at(&v.span()),
+                    key: key.to_owned(),
+                    range: "a whole number ≥ 1".to_owned(),
+                    value: n as f64,
+                })
+            }
+        };
+        let attempts = p
+            .attempts
+            .as_ref()
+            .map(|v| whole("packer.attempts", v))
+            .transpose()?
+            .unwrap_or(DEFAULT_ATTEMPTS);
+        let mut relaxation = Relaxation::default();
+        if let Some(v) = &p.relaxation_porosity {
+            relaxation.porosity =
+                self.checked("packer.relaxation_porosity", v, "in [0, 1)", |v| {
+                    (0.0..1.0).contains(&v)
+                })?;
+        }
+        if let Some(v) = &p.relaxation_iterations {
+            relaxation.iterations = whole("packer.relaxation_iterations", v)?;
+        }
+        if let Some(v) = &p.relaxation_tolerance {
+            relaxation.tolerance = self.positive("packer.relaxation_tolerance", v)?;
+        }
         let contacts = p
             .contacts
             .as_ref()
@@ -877,6 +938,9 @@ impl Validator<'_> {
             }
         };
         Ok(PackerSettings {
+            method,
+            attempts,
+            relaxation,
             index: self.name(&INDEXES, "packer.index", p.index.as_ref())?,
             rules: self.name(&RULES, "packer.rules", p.rules.as_ref())?,
             one_contact_share,

@@ -6,7 +6,7 @@ use serde::Serialize;
 
 use super::error::OutputError;
 use super::run::{FractureInfo, RunInfo};
-use crate::config::{ConfigName, METHOD};
+use crate::config::ConfigName;
 use crate::fracture::{Extent, MM_PER_M, WindowStep};
 use crate::ga::StopReason;
 use crate::packer::{Metrics, PackStats, Packing};
@@ -219,7 +219,7 @@ pub fn summary_json(
         shape: packing.domain.shape().config_name(),
         walls: packing.walls.config_name(),
         wall_disks: packing.boundary.len(),
-        method: METHOD,
+        method: scene.packer.method.config_name(),
         index: scene.packer.index.config_name(),
         one_contact_share: scene.packer.one_contact_share,
         gap: scene.packer.gap,

@@ -2,16 +2,26 @@
 
 mod advancing_front;
 mod arcs;
+mod deposition;
 pub mod index;
 mod metrics;
 mod packing;
+mod placed;
+mod relaxation;
+mod rsa;
 mod settings;
 mod sizer;
 
-pub use advancing_front::{pack, pack_genes, size_count};
+pub use advancing_front::{pack_genes, size_count};
+pub use deposition::pack_deposition;
 pub use metrics::{Metrics, measure};
 pub use packing::{PackError, PackStats, Packing};
-pub use settings::{Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, PackerSettings};
+pub use relaxation::pack_relaxation;
+pub use rsa::pack_rsa;
+pub use settings::{
+    DEFAULT_ATTEMPTS, Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method, PackerSettings,
+    Relaxation,
+};
 
 use crate::Scene;
 
@@ -24,4 +34,36 @@ pub const PEAK_BYTES_PER_DISK: f64 = 100.0;
 /// grading's mean area (an upper bound), times [`PEAK_BYTES_PER_DISK`].
 pub fn estimated_peak_bytes(scene: &Scene) -> f64 {
     scene.domain.area() / scene.mean_disk_area() * PEAK_BYTES_PER_DISK
+}
+
+/// Pack a scene with its packer's method (the advancing front by default),
+/// sizes drawn from its grading with its seed.
+///
+/// # Returns
+/// A packing with every disk inside the domain and, but for relaxation
+/// (which reports what overlap it leaves), zero overlaps; or an error when
+/// no disk of the grading fits in the domain.
+///
+/// # Example
+/// ```
+/// use gapack::{Domain, Grading, Scene, PackerSettings, WallMode, pack};
+/// let scene = Scene {
+///     domain: Domain::rectangle(10.0, 10.0).unwrap(),
+///     walls: WallMode::Exact,
+///     wall_disk_diameter: None,
+///     grading: Grading::constant(1.0).unwrap(),
+///     gradient: None,
+///     packer: PackerSettings::default(),
+///     seed: 1,
+/// };
+/// let packing = pack(&scene).unwrap();
+/// assert!(packing.disks.len() > 80);
+/// ```
+pub fn pack(scene: &Scene) -> Result<Packing, PackError> {
+    match scene.packer.method {
+        Method::AdvancingFront => advancing_front::pack(scene),
+        Method::Rsa => pack_rsa(scene),
+        Method::Deposition => pack_deposition(scene),
+        Method::Relaxation => pack_relaxation(scene),
+    }
 }

@@ -19,9 +19,59 @@ pub const MAX_GAP: f64 = 1.0;
 /// Largest [`PackerSettings::max_deferred`] accepted, and its default.
 pub const MAX_DEFERRED: usize = 8;
 
-/// Settings of the advancing-front packer.
+/// How a packing is generated: the advancing front, or one of the methods
+/// users compare it with (PFC's and YADE's generators and deposition).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Method {
+    /// Each disk tangent to two obstacles at the lowest spot of the front (default).
+    #[default]
+    AdvancingFront,
+    /// Random sequential addition: random positions, kept when clear
+    /// (PFC's trial generation, YADE's random cloud).
+    Rsa,
+    /// Ballistic deposition: dropped at a random abscissa, each disk rolls
+    /// down the bed until two obstacles hold it.
+    Deposition,
+    /// Disks placed overlapping at a set porosity, then pushed apart
+    /// (PFC's explosive repulsion, geometric separation).
+    Relaxation,
+}
+
+/// Default of [`PackerSettings::attempts`]: PFC's 20,000 tries.
+pub const DEFAULT_ATTEMPTS: usize = 20_000;
+
+/// Settings of the relaxation method.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Relaxation {
+    /// Porosity the overlapping disks are placed at: their number is the
+    /// domain area × (1 − porosity) / the mean disk area.
+    pub porosity: f64,
+    /// Sweeps of pushing apart, at most.
+    pub iterations: usize,
+    /// Stop once the largest overlap, relative to the sum of the radii, is below this.
+    pub tolerance: f64,
+}
+
+impl Default for Relaxation {
+    fn default() -> Self {
+        Relaxation {
+            porosity: 0.2,
+            iterations: 2000,
+            tolerance: 1e-4,
+        }
+    }
+}
+
+/// Settings of the packer.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PackerSettings {
+    /// The generator.
+    pub method: Method,
+    /// Random sequential addition: positions tried per disk before the run
+    /// stops (the domain is full at this effort).
+    pub attempts: usize,
+    /// The relaxation method's settings.
+    pub relaxation: Relaxation,
     /// Neighbour-search structure.
     pub index: IndexKind,
     /// What happens to fronts and sizes that fail.
@@ -49,6 +99,9 @@ pub struct PackerSettings {
 impl Default for PackerSettings {
     fn default() -> Self {
         PackerSettings {
+            method: Method::default(),
+            attempts: DEFAULT_ATTEMPTS,
+            relaxation: Relaxation::default(),
             index: IndexKind::default(),
             rules: FrontRules::default(),
             one_contact_share: 0.0,

@@ -1,0 +1,116 @@
+//! What the comparison generators share: the sizes a scene draws, and the
+//! disks placed so far (wall disks first) with a grid to query them.
+
+use rand::{Rng, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+
+use super::index::{Grid, SpatialIndex};
+use super::{PackError, PackStats, Packing, size_count};
+use crate::Scene;
+use crate::geometry::predicates::FEASIBLE_REL;
+use crate::geometry::{Disk, Domain, Point, WallMode};
+
+/// Stream offset so positions never share random numbers with the sizes.
+pub(super) const POSITION_STREAM: u64 = 0xD1B5_4A32_D192_ED03;
+
+/// The radii `pack` would draw for `scene`, in order: the same seeded
+/// stream through the grading's inverse CDF, `ceil(area / smallest disk
+/// area)` of them.
+pub(super) fn radii(scene: &Scene) -> impl Iterator<Item = f64> + '_ {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(scene.seed);
+    let count = size_count(&scene.domain, scene.d_min());
+    (0..count).map(move |_| scene.grading.sample(rng.r#gen::<f64>()) / 2.0)
+}
+
+/// Refuse a scene no disk of the grading fits in, as the advancing front does.
+pub(super) fn check_fits(scene: &Scene) -> Result<(), PackError> {
+    let (inscribed, d_min) = (2.0 * scene.domain.inradius(), scene.d_min());
+    if inscribed < d_min {
+        return Err(PackError::DomainTooNarrow { inscribed, d_min });
+    }
+    Ok(())
+}
+
+/// Disks placed so far, wall disks first, with a grid over their centres.
+pub(super) struct Placed<'a> {
+    pub domain: &'a Domain,
+    walls: WallMode,
+    pub disks: Vec<Disk>,
+    first_packed: usize,
+    grid: Grid,
+    pub r_max: f64,
+    /// Radius of the wall disks (0 with exact walls).
+    pub wall_r: f64,
+    pub stats: PackStats,
+}
+
+impl<'a> Placed<'a> {
+    /// Empty but for the wall disks of `walls = "disks"`.
+    pub fn new(scene: &'a Scene) -> Self {
+        let domain = &scene.domain;
+        let disks = match scene.walls {
+            WallMode::Disks => domain.boundary_disks(scene.wall_disk()),
+            WallMode::Exact => Vec::new(),
+        };
+        let wall_r = disks.iter().fold(0.0f64, |m, d| m.max(d.r));
+        let r_max = wall_r.max(scene.d_max() / 2.0);
+        let (lo, hi) = domain.bounds();
+        let margin = Point::new(r_max, r_max).coords;
+        let mut grid = Grid::new(lo - margin, hi + margin, 2.0 * r_max);
+        for (id, d) in disks.iter().enumerate() {
+            grid.insert(id as u32, d.c);
+        }
+        Placed {
+            domain,
+            walls: scene.walls,
+            first_packed: disks.len(),
+            disks,
+            grid,
+            r_max,
+            wall_r,
+            stats: PackStats::default(),
+        }
+    }
+
+    /// Whether a disk of radius `r` at `p` is inside the domain and clear of every disk.
+    pub fn clear(&self, p: Point, r: f64) -> bool {
+        let slack = 1.0 - FEASIBLE_REL;
+        if self.domain.signed_distance(p) < r * slack {
+            return false;
+        }
+        let half = r + self.r_max;
+        let (lo, hi) = (
+            Point::new(p.x - half, p.y - half),
+            Point::new(p.x + half, p.y + half),
+        );
+        !self.grid.any_in_box(lo, hi, |id| {
+            let o = self.disks[id as usize];
+            let s = (r + o.r) * slack;
+            (o.c - p).norm_squared() < s * s
+        })
+    }
+
+    /// Every disk whose centre lies in the box `lo`–`hi` (and perhaps a few beyond).
+    pub fn visit(&self, lo: Point, hi: Point, mut f: impl FnMut(Disk)) {
+        self.grid.visit_box(lo, hi, |id| f(self.disks[id as usize]));
+    }
+
+    /// Place a disk.
+    pub fn insert(&mut self, d: Disk) {
+        self.grid.insert(self.disks.len() as u32, d.c);
+        self.disks.push(d);
+    }
+
+    /// The packing: the disks placed after the wall disks.
+    pub fn into_packing(mut self) -> Packing {
+        let boundary: Vec<Disk> = self.disks.drain(..self.first_packed).collect();
+        Packing {
+            domain: self.domain.clone(),
+            walls: self.walls,
+            boundary,
+            disks: self.disks,
+            materials: Vec::new(),
+            stats: self.stats,
+        }
+    }
+}

@@ -1,0 +1,55 @@
+//! Random sequential addition (PFC's trial generation, YADE's random cloud):
+//! each size tries random positions and keeps the first that is clear.
+//!
+//! # Behavior
+//! Sizes come in the order `pack` draws them (same seed, same sizes).
+//! Each tries up to `attempts` centres drawn uniformly over the domain's
+//! bounds; one inside the domain and clear of every disk is kept. The first
+//! size that finds no place stops the run: at that effort the domain is
+//! full (PFC stops the same way when its tries run out). No overlaps; the
+//! packing stays loose (jamming near 0.45 porosity for equal disks), which
+//! is what users of trial generation meet before they compact.
+
+use rand::{Rng, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+
+use super::placed::{POSITION_STREAM, Placed, check_fits, radii};
+use super::{PackError, Packing};
+use crate::Scene;
+use crate::geometry::{Disk, Point};
+
+/// Pack `scene` by random sequential addition.
+///
+/// # Errors
+/// [`PackError::DomainTooNarrow`] when no disk of the grading fits.
+pub fn pack_rsa(scene: &Scene) -> Result<Packing, PackError> {
+    check_fits(scene)?;
+    let mut placed = Placed::new(scene);
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(scene.seed ^ POSITION_STREAM);
+    let (lo, hi) = scene.domain.bounds();
+    let attempts = scene.packer.attempts.max(1);
+    for r in radii(scene) {
+        placed.stats.sizes_drawn += 1;
+        let (x0, x1, y0, y1) = (lo.x + r, hi.x - r, lo.y + r, hi.y - r);
+        let mut spot = None;
+        for _ in 0..attempts {
+            placed.stats.front_attempts += 1;
+            let p = Point::new(
+                x0 + (x1 - x0).max(0.0) * rng.r#gen::<f64>(),
+                y0 + (y1 - y0).max(0.0) * rng.r#gen::<f64>(),
+            );
+            if placed.clear(p, r) {
+                spot = Some(p);
+                break;
+            }
+        }
+        match spot {
+            Some(c) => placed.insert(Disk { c, r }),
+            None => {
+                placed.stats.sizes_unplaced += 1;
+                break;
+            }
+        }
+    }
+    Ok(placed.into_packing())
+}
