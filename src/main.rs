@@ -15,12 +15,13 @@ use std::time::Instant;
 
 use anyhow::Context;
 use clap::{Args, Parser, Subcommand};
+use gapack::compare::{CompareRun, Variant, compare};
 use gapack::config::{self, Config, DEFAULT_CONFIG, DEFAULT_ORIGIN};
 use gapack::fracture::{Extent, FractureRun, MM_PER_M, Well, settle};
 use gapack::ga::{Layered, Limits, PorosityProblem, Search, StopReason, lay_out};
 use gapack::output::{
-    FractureInfo, OptimiseSummary, RunInfo, WELLS_CSV, WellRow, wells_csv, write_outputs,
-    write_table,
+    FractureInfo, OptimiseSummary, RunInfo, WELLS_CSV, WellRow, variant_label, wells_csv,
+    write_compare, write_outputs, write_table,
 };
 use gapack::{measure, pack};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -51,6 +52,11 @@ enum Command {
     /// `pack` writes with a material column, plus profile.csv, profile.svg
     /// and profile.png.
     Layer(LayerArgs),
+    /// Run every generator on the config's scene (its [compare] table:
+    /// methods, repeats): the advancing front with each index and contact
+    /// rule, random sequential addition, deposition, relaxation; writes
+    /// compare.csv and a chart of time against accuracy (compare.svg, .png).
+    Compare(CompareArgs),
     /// Measure disks per second and peak memory per disk (MX quadtree vs grid)
     /// on square domains with the thesis' Table 3.4 grading; writes bench.csv.
     Bench(BenchArgs),
@@ -67,6 +73,14 @@ struct BenchArgs {
     /// Output directory for bench.csv.
     #[arg(long, value_name = "DIR", default_value = "out/bench")]
     out: PathBuf,
+}
+
+#[derive(Args)]
+struct CompareArgs {
+    /// Scene config (TOML); an [optimise] target, if any, gives the porosity error.
+    config: PathBuf,
+    #[command(flatten)]
+    run: RunArgs,
 }
 
 #[derive(Args)]
@@ -121,6 +135,7 @@ fn main() -> ExitCode {
         Command::Pack(args) => run_pack(&args),
         Command::Optimise(args) => run_optimise(&args),
         Command::Layer(args) => run_layer(&args),
+        Command::Compare(args) => run_compare(&args),
         Command::Bench(args) => run_bench(&args),
     };
     match result {
@@ -302,6 +317,49 @@ fn pack_well(
         }
     };
     Ok((row, line))
+}
+
+/// `gapack compare`: every method variant on the scene, `repeats` seeds
+/// each; the table, the chart and one line per variant.
+fn run_compare(args: &CompareArgs) -> Result<(), Failure> {
+    let (config, _origin, out) = prepare(Some(&args.config), &args.run)?;
+    let settings = &config.compare;
+    let target = config.optimise.map(|o| o.target_porosity);
+    let total = Variant::expand(&settings.methods).len() * settings.repeats;
+    let bar = count_bar(total, "run", args.run.quiet);
+    let runs = compare(&config.scene, settings, target, |r| {
+        bar.set_message(variant_label(&r.variant));
+        bar.inc(1);
+    })
+    .context("cannot pack the scene")
+    .map_err(Failure::Run)?;
+    bar.finish_and_clear();
+    write_compare(&out, &runs, target.is_some())
+        .context("cannot write the outputs")
+        .map_err(Failure::Run)?;
+    for variant in Variant::expand(&settings.methods) {
+        let mine: Vec<&CompareRun> = runs.iter().filter(|r| r.variant == variant).collect();
+        let n = mine.len().max(1) as f64;
+        let mean = |f: fn(&CompareRun) -> f64| mine.iter().map(|r| f(r)).sum::<f64>() / n;
+        let worst_overlap = mine.iter().map(|r| r.max_overlap).fold(0.0, f64::max);
+        report(args.run.quiet, || {
+            format!(
+                "{:<40} {} runs: {} disks, porosity {:.4}, psd_ks {:.3}, max overlap {}, coordination {:.2}, {} each",
+                variant_label(&variant),
+                mine.len(),
+                mean(|r| r.particles as f64).round(),
+                mean(|r| r.porosity),
+                mean(|r| r.psd_ks),
+                overlap(worst_overlap),
+                mean(|r| r.coordination),
+                duration(mean(|r| r.seconds)),
+            )
+        });
+    }
+    report(args.run.quiet, || {
+        format!("{}: compare.csv, compare.svg, compare.png", out.display())
+    });
+    Ok(())
 }
 
 /// The one fracture of a `[fracture]` config that `optimise` or `layer`

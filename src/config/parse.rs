@@ -5,6 +5,7 @@ use super::locate::from_toml_error;
 use super::raw::RawConfig;
 use super::validate::Validator;
 use crate::Scene;
+use crate::compare::CompareSettings;
 use crate::fracture::FractureRun;
 use crate::ga::OptimiseSettings;
 use crate::layering::{LayeringSettings, Material};
@@ -23,6 +24,8 @@ pub struct Config {
     /// `[fracture]`: the fractures to pack and how much of each (the scene
     /// above is the first one's).
     pub fracture: Option<FractureRun>,
+    /// `[compare]`: what `gapack compare` runs (its defaults without the table).
+    pub compare: CompareSettings,
 }
 
 /// The embedded default scene: the thesis' proppant fracture (8.6 × 62.5 mm,

@@ -30,6 +30,15 @@ pub(crate) struct RawConfig {
     pub materials: Option<Vec<Spanned<RawMaterial>>>,
     pub layering: Option<Spanned<RawLayering>>,
     pub limits: Option<RawLimits>,
+    pub compare: Option<Spanned<RawCompare>>,
+}
+
+/// `[compare]`: the methods `gapack compare` runs, and how many seeds.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawCompare {
+    pub methods: Option<Spanned<Vec<Spanned<String>>>>,
+    pub repeats: Option<Spanned<i64>>,
 }
 
 /// `[[materials]]`: a name, free-form numeric properties, and in size-graded

@@ -19,9 +19,11 @@ use super::names::{
 };
 use super::parse::Config;
 use super::raw::{
-    Pair, RawConfig, RawDomain, RawGrading, RawLayering, RawLimits, RawOptimise, RawPacker,
+    Pair, RawCompare, RawConfig, RawDomain, RawGrading, RawLayering, RawLimits, RawOptimise,
+    RawPacker,
 };
 use crate::Scene;
+use crate::compare::CompareSettings;
 use crate::fracture::{Extent, FractureRun, Well};
 use crate::ga::{OptimiseSettings, RULE_GENES};
 use crate::geometry::{Domain, GeometryError, Point, WallMode};
@@ -254,7 +256,53 @@ impl Validator<'_> {
             materials: materials.into_iter().map(|m| m.material).collect(),
             layering,
             fracture,
+            compare: self.compare(raw.compare.as_ref())?,
         })
+    }
+
+    /// `[compare]`: known method names, given once; at least one repeat.
+    fn compare(&self, raw: Option<&Spanned<RawCompare>>) -> Result<CompareSettings, ConfigError> {
+        let mut settings = CompareSettings::default();
+        let Some(raw) = raw else {
+            return Ok(settings);
+        };
+        let c = raw.get_ref();
+        if let Some(methods) = &c.methods {
+            let mut out = Vec::new();
+            for (i, name) in methods.get_ref().iter().enumerate() {
+                let key = format!("compare.methods[{i}]");
+                let method = self.name(&METHODS, &key, Some(name))?;
+                if out.contains(&method) {
+                    return Err(ConfigError::NotApplicable {
+                        at: self.at(&name.span()),
+                        key,
+                        reason: format!("{:?} is given twice", name.get_ref()),
+                    });
+                }
+                out.push(method);
+            }
+            if out.is_empty() {
+                return Err(ConfigError::Missing {
+                    at: self.at(&methods.span()),
+                    key: "compare.methods".to_owned(),
+                    reason: "name at least one method".to_owned(),
+                });
+            }
+            settings.methods = out;
+        }
+        if let Some(v) = &c.repeats {
+            let n = *v.get_ref();
+            if n < 1 {
+                return Err(ConfigError::OutOfRange {
+                    at: self.at(&v.span()),
+                    key: "compare.repeats".to_owned(),
+                    range: "a whole number ≥ 1".to_owned(),
+                    value: n as f64,
+                });
+            }
+            settings.repeats = n as usize;
+        }
+        Ok(settings)
     }
 
     /// Refuse a comparison method where only the advancing front serves:

@@ -5,6 +5,8 @@
 //! per well of a batch).
 
 use super::error::OutputError;
+use super::plot::variant_label;
+use crate::compare::CompareRun;
 use crate::fracture::WindowStep;
 use crate::ga::Generation;
 use crate::layering::{Material, ProfileRow};
@@ -104,6 +106,53 @@ pub fn window_csv(steps: &[WindowStep]) -> Result<Vec<u8>, OutputError> {
             s.coordination.to_string(),
             spread,
             s.seconds.to_string(),
+        ])?;
+    }
+    writer
+        .into_inner()
+        .map_err(|e| OutputError::Csv(e.into_error().into()))
+}
+
+/// File name of a comparison's table.
+pub const COMPARE_CSV: &str = "compare.csv";
+
+/// One row per run of `gapack compare`: `method,seed,seconds,particles,porosity,target_error,psd_ks,max_overlap,coordination,local_porosity_std`
+/// (`method` names the advancing front's index and contact rule too;
+/// `target_error` empty without a target, `local_porosity_std` empty when
+/// fewer than two windows fit).
+///
+/// # Errors
+/// [`OutputError::Csv`] if the CSV writer fails (it does not on memory).
+pub fn compare_csv(runs: &[CompareRun]) -> Result<Vec<u8>, OutputError> {
+    let mut writer = ::csv::Writer::from_writer(Vec::new());
+    writer.write_record([
+        "method",
+        "seed",
+        "seconds",
+        "particles",
+        "porosity",
+        "target_error",
+        "psd_ks",
+        "max_overlap",
+        "coordination",
+        "local_porosity_std",
+    ])?;
+    let cell = |v: Option<f64>| {
+        v.filter(|v| v.is_finite())
+            .map_or(String::new(), |v| v.to_string())
+    };
+    for r in runs {
+        writer.write_record([
+            variant_label(&r.variant),
+            r.seed.to_string(),
+            r.seconds.to_string(),
+            r.particles.to_string(),
+            r.porosity.to_string(),
+            cell(r.target_error),
+            r.psd_ks.to_string(),
+            r.max_overlap.to_string(),
+            r.coordination.to_string(),
+            cell(Some(r.local_porosity_std)),
         ])?;
     }
     writer

@@ -15,14 +15,17 @@ mod svg;
 
 pub use atomic::{write_all_atomic, write_atomic};
 pub use csv::{
-    CONVERGENCE_CSV, PACKING_CSV, PROFILE_CSV, WELLS_CSV, WINDOW_CSV, WellRow, convergence_csv,
-    packing_csv, profile_csv, wells_csv, window_csv,
+    COMPARE_CSV, CONVERGENCE_CSV, PACKING_CSV, PROFILE_CSV, WELLS_CSV, WINDOW_CSV, WellRow,
+    compare_csv, convergence_csv, packing_csv, profile_csv, wells_csv, window_csv,
 };
 pub use error::OutputError;
 pub use json::{OptimiseSummary, SUMMARY_JSON, summary_json};
-pub use plot::{LineChart, Mark, Series, convergence_chart, profile_chart, window_chart};
+pub use plot::{
+    CompareChart, Drawable, LineChart, Mark, Series, convergence_chart, profile_chart,
+    variant_label, window_chart,
+};
 pub use run::{
-    CONVERGENCE_PNG, CONVERGENCE_SVG, FractureInfo, PROFILE_PNG, PROFILE_SVG, RunInfo, WINDOW_PNG,
-    WINDOW_SVG, write_outputs, write_table,
+    COMPARE_PNG, COMPARE_SVG, CONVERGENCE_PNG, CONVERGENCE_SVG, FractureInfo, PROFILE_PNG,
+    PROFILE_SVG, RunInfo, WINDOW_PNG, WINDOW_SVG, write_compare, write_outputs, write_table,
 };
 pub use svg::{PACKING_SVG, packing_svg};

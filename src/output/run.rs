@@ -4,15 +4,17 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use super::atomic::write_all_atomic;
+use super::csv::{COMPARE_CSV, compare_csv};
 use super::csv::{
     CONVERGENCE_CSV, PACKING_CSV, PROFILE_CSV, WINDOW_CSV, convergence_csv, packing_csv,
     profile_csv, window_csv,
 };
 use super::error::OutputError;
 use super::json::{OptimiseSummary, SUMMARY_JSON, summary_json};
-use super::plot::{convergence_chart, profile_chart, window_chart};
+use super::plot::{CompareChart, Drawable, convergence_chart, profile_chart, window_chart};
 use super::svg::{PACKING_SVG, packing_svg};
 use crate::Scene;
+use crate::compare::CompareRun;
 use crate::fracture::{Extent, Well, Window};
 use crate::ga::{Generation, Layered};
 use crate::layering::{LayeringSettings, Material};
@@ -26,6 +28,28 @@ pub const CONVERGENCE_PNG: &str = "convergence.png";
 pub const PROFILE_SVG: &str = "profile.svg";
 /// File name of the profile chart as an image.
 pub const PROFILE_PNG: &str = "profile.png";
+
+/// File name of the comparison chart.
+pub const COMPARE_SVG: &str = "compare.svg";
+/// File name of the comparison chart as an image.
+pub const COMPARE_PNG: &str = "compare.png";
+
+/// Write a comparison into `dir` atomically: `compare.csv`, `compare.svg`, `compare.png`.
+///
+/// # Errors
+/// [`OutputError`] naming the directory or file and the cause.
+pub fn write_compare(dir: &Path, runs: &[CompareRun], has_target: bool) -> Result<(), OutputError> {
+    let chart = CompareChart {
+        runs: runs.to_vec(),
+        has_target,
+    };
+    let files = [
+        (dir.join(COMPARE_CSV), compare_csv(runs)?),
+        (dir.join(COMPARE_SVG), chart.to_svg()?.into_bytes()),
+        (dir.join(COMPARE_PNG), chart.to_png()?),
+    ];
+    write_set(dir, &files)
+}
 
 /// File name of a fracture window's chart.
 pub const WINDOW_SVG: &str = "window.svg";

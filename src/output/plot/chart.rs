@@ -15,7 +15,7 @@ static FONT: &[u8] = include_bytes!("../../../assets/DejaVuSans.ttf");
 static REGISTER: Once = Once::new();
 
 /// Family name the bundled font is registered under.
-const FAMILY: &str = "sans-serif";
+pub(super) const FAMILY: &str = "sans-serif";
 
 /// Pixel size of the charts.
 const SIZE: (u32, u32) = (900, 560);
@@ -58,16 +58,27 @@ pub struct LineChart {
     pub series: Vec<Series>,
 }
 
-impl LineChart {
+/// A chart that draws itself on any plotters backend; [`Drawable::to_svg`]
+/// and [`Drawable::to_png`] render it in memory.
+pub trait Drawable {
+    /// Pixel size of the chart.
+    const SIZE: (u32, u32);
+
+    /// Draw the chart on `root`.
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, Shift>,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>>;
+
     /// The chart as an SVG document.
     ///
     /// # Errors
     /// [`OutputError::Plot`] if plotters fails to draw.
-    pub fn to_svg(&self) -> Result<String, OutputError> {
+    fn to_svg(&self) -> Result<String, OutputError> {
         register_font();
         let mut svg = String::new();
         {
-            let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+            let root = SVGBackend::with_string(&mut svg, Self::SIZE).into_drawing_area();
             self.draw(root)
                 .map_err(|e| OutputError::Plot(e.to_string()))?;
         }
@@ -78,12 +89,12 @@ impl LineChart {
     ///
     /// # Errors
     /// [`OutputError::Plot`] if plotters fails to draw or the PNG cannot be encoded.
-    pub fn to_png(&self) -> Result<Vec<u8>, OutputError> {
+    fn to_png(&self) -> Result<Vec<u8>, OutputError> {
         register_font();
-        let (w, h) = SIZE;
+        let (w, h) = Self::SIZE;
         let mut rgb = vec![0u8; w as usize * h as usize * 3];
         {
-            let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
+            let root = BitMapBackend::with_buffer(&mut rgb, Self::SIZE).into_drawing_area();
             self.draw(root)
                 .map_err(|e| OutputError::Plot(e.to_string()))?;
         }
@@ -97,7 +108,20 @@ impl LineChart {
         writer.finish().map_err(plot)?;
         Ok(png)
     }
+}
 
+impl Drawable for LineChart {
+    const SIZE: (u32, u32) = SIZE;
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, Shift>,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        self.draw_on(root)
+    }
+}
+
+impl LineChart {
     /// The ranges of the axes: the data's, padded by 5 %, never empty.
     fn bounds(&self) -> (std::ops::Range<f64>, std::ops::Range<f64>) {
         let finite = self
@@ -121,7 +145,7 @@ impl LineChart {
         (x0..x1, y0..y1)
     }
 
-    fn draw<DB: DrawingBackend>(
+    fn draw_on<DB: DrawingBackend>(
         &self,
         root: DrawingArea<DB, Shift>,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
@@ -173,7 +197,7 @@ impl LineChart {
 }
 
 /// A tick label: at most six decimals, trailing zeros dropped (`2`, `0.36`).
-fn tidy(v: &f64) -> String {
+pub(super) fn tidy(v: &f64) -> String {
     let rounded = (v * 1e6).round() / 1e6;
     format!("{}", rounded + 0.0)
 }

@@ -1,0 +1,216 @@
+//! The comparison chart: time (log) against accuracy, one panel per measure,
+//! one marker per run coloured by method variant, the Pareto front drawn.
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::chart::{Drawable, FAMILY, tidy};
+use crate::compare::{CompareRun, Variant, pareto};
+use crate::output::palette::colour;
+
+/// Pixel size of the comparison chart (three panels side by side).
+const SIZE: (u32, u32) = (1500, 560);
+
+/// Smallest value drawn on a log axis: zeros (no overlap) sit on it.
+const LOG_FLOOR: f64 = 1e-16;
+
+/// Time against porosity error (or porosity without a target), KS and
+/// residual overlap, for every run of a comparison.
+#[derive(Debug, Clone)]
+pub struct CompareChart {
+    /// The runs.
+    pub runs: Vec<CompareRun>,
+    /// Whether the runs have a target-porosity error to plot.
+    pub has_target: bool,
+}
+
+/// A variant's label, free of commas for CSV: `advancing-front (mx-quadtree; 2 contacts)`, `rsa`.
+pub fn variant_label(v: &Variant) -> String {
+    use crate::config::ConfigName;
+    match v.method {
+        crate::packer::Method::AdvancingFront => format!(
+            "{} ({}; {} contact{})",
+            v.method.config_name(),
+            v.index.config_name(),
+            if v.one_contact_share > 0.0 { 1 } else { 2 },
+            if v.one_contact_share > 0.0 { "" } else { "s" }
+        ),
+        _ => v.method.config_name().to_owned(),
+    }
+}
+
+/// One panel: its title, the value of a run, whether y is logarithmic, and
+/// whether the value is an error (lower is better: a Pareto front is drawn).
+struct Panel {
+    title: &'static str,
+    value: fn(&CompareRun) -> f64,
+    log_y: bool,
+    error: bool,
+}
+
+impl CompareChart {
+    fn panels(&self) -> [Panel; 3] {
+        let first = if self.has_target {
+            Panel {
+                title: "porosity error |φ − target|",
+                value: |r| r.target_error.unwrap_or(f64::NAN),
+                log_y: false,
+                error: true,
+            }
+        } else {
+            Panel {
+                title: "porosity",
+                value: |r| r.porosity,
+                log_y: false,
+                error: false,
+            }
+        };
+        [
+            first,
+            Panel {
+                title: "KS distance to the grading",
+                value: |r| r.psd_ks,
+                log_y: false,
+                error: true,
+            },
+            Panel {
+                title: "largest overlap / sum of radii",
+                value: |r| r.max_overlap.max(LOG_FLOOR),
+                log_y: true,
+                error: true,
+            },
+        ]
+    }
+
+    fn variants(&self) -> Vec<Variant> {
+        let mut out: Vec<Variant> = Vec::new();
+        for r in &self.runs {
+            if !out.contains(&r.variant) {
+                out.push(r.variant);
+            }
+        }
+        out
+    }
+
+    fn draw_panel<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        panel: &Panel,
+        legend: bool,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        let finite = |v: f64| v.is_finite();
+        let (mut t0, mut t1) = (f64::MAX, f64::MIN);
+        let (mut y0, mut y1) = (f64::MAX, f64::MIN);
+        for r in &self.runs {
+            let (t, y) = (r.seconds.max(1e-7), (panel.value)(r));
+            if finite(t) && finite(y) {
+                (t0, t1, y0, y1) = (t0.min(t), t1.max(t), y0.min(y), y1.max(y));
+            }
+        }
+        if t0 > t1 {
+            (t0, t1, y0, y1) = (1e-4, 1.0, 0.0, 1.0);
+        }
+        let (t0, t1) = (t0 / 1.5, t1 * 1.5);
+        let variants = self.variants();
+        let front = if panel.error {
+            pareto(&self.runs, |r| {
+                let v = (panel.value)(r);
+                if v.is_finite() { v } else { f64::INFINITY }
+            })
+        } else {
+            Vec::new()
+        };
+        let mut builder = ChartBuilder::on(area);
+        builder
+            .caption(panel.title, (FAMILY, 20))
+            .margin(12)
+            .x_label_area_size(44)
+            .y_label_area_size(70);
+        macro_rules! body {
+            ($chart:ident) => {{
+                $chart
+                    .configure_mesh()
+                    .x_desc("seconds (log)")
+                    .x_label_formatter(&|v: &f64| format!("{v:.0e}"))
+                    .y_label_formatter(&|v: &f64| {
+                        if panel.log_y {
+                            format!("{v:.0e}")
+                        } else {
+                            tidy(v)
+                        }
+                    })
+                    .label_style((FAMILY, 13))
+                    .axis_desc_style((FAMILY, 15))
+                    .draw()?;
+                for (i, v) in variants.iter().enumerate() {
+                    let [r, g, b] = colour(i);
+                    let c = RGBColor(r, g, b);
+                    let pts: Vec<(f64, f64)> = self
+                        .runs
+                        .iter()
+                        .filter(|run| run.variant == *v)
+                        .map(|run| (run.seconds.max(1e-7), (panel.value)(run)))
+                        .filter(|&(_, y)| y.is_finite())
+                        .collect();
+                    let drawn = $chart
+                        .draw_series(pts.into_iter().map(|p| Circle::new(p, 5, c.filled())))?;
+                    if legend {
+                        drawn
+                            .label(variant_label(v))
+                            .legend(move |(x, y)| Circle::new((x + 8, y), 5, c.filled()));
+                    }
+                }
+                let line: Vec<(f64, f64)> = front
+                    .iter()
+                    .map(|run| (run.seconds.max(1e-7), (panel.value)(run)))
+                    .filter(|&(_, y)| y.is_finite())
+                    .collect();
+                let pareto_line =
+                    $chart.draw_series(LineSeries::new(line, BLACK.stroke_width(1)))?;
+                if legend && panel.error {
+                    pareto_line.label("Pareto front").legend(|(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 16, y)], BLACK.stroke_width(1))
+                    });
+                }
+                if legend {
+                    $chart
+                        .configure_series_labels()
+                        .label_font((FAMILY, 12))
+                        .background_style(WHITE.mix(0.85))
+                        .border_style(BLACK)
+                        .position(SeriesLabelPosition::UpperRight)
+                        .draw()?;
+                }
+            }};
+        }
+        if panel.log_y {
+            let (y0, y1) = (y0.max(LOG_FLOOR) / 3.0, y1.max(LOG_FLOOR) * 3.0);
+            let mut chart =
+                builder.build_cartesian_2d((t0..t1).log_scale(), (y0..y1).log_scale())?;
+            body!(chart);
+        } else {
+            let pad = ((y1 - y0) * 0.08).max(1e-3);
+            let mut chart =
+                builder.build_cartesian_2d((t0..t1).log_scale(), (y0 - pad)..(y1 + pad))?;
+            body!(chart);
+        }
+        Ok(())
+    }
+}
+
+impl Drawable for CompareChart {
+    const SIZE: (u32, u32) = SIZE;
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, Shift>,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        root.fill(&WHITE)?;
+        let panels = self.panels();
+        let areas = root.split_evenly((1, panels.len()));
+        for (i, (area, panel)) in areas.iter().zip(&panels).enumerate() {
+            self.draw_panel(area, panel, i == 0)?;
+        }
+        root.present()
+    }
+}
