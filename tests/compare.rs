@@ -16,7 +16,11 @@ fn compare_writes_one_row_per_run_and_the_chart() {
     fs::write(dir.join("c.toml"), text).unwrap();
     let out = gapack(&dir, &["compare", "c.toml", "--out", "out"]);
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     // Seven variants (the advancing front four times) and the file line.
     assert_eq!(stdout.lines().count(), 8, "{stdout}");
     let table = fs::read_to_string(dir.join("out/compare.csv")).unwrap();
@@ -53,7 +57,11 @@ fn compare_without_a_target_leaves_the_error_empty() {
     let text = format!("{SCENE}[compare]\nmethods = [\"rsa\"]\nrepeats = 1\n");
     fs::write(dir.join("c.toml"), text).unwrap();
     let out = gapack(&dir, &["compare", "c.toml", "--out", "out", "--quiet"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert!(out.stdout.is_empty());
     let table = fs::read_to_string(dir.join("out/compare.csv")).unwrap();
     let row: Vec<&str> = table.lines().nth(1).unwrap().split(',').collect();
