@@ -19,6 +19,7 @@ pub mod layering;
 pub mod output;
 pub mod packer;
 mod scene;
+pub mod stability;
 
 pub use geometry::{Disk, Domain, GeometryError, Point, Shape, Wall, WallMode};
 pub use grading::{Basis, Grading, GradingError, Interpolation};

@@ -19,10 +19,12 @@ use gapack::compare::{CompareRun, Variant, compare};
 use gapack::config::{self, Config, DEFAULT_CONFIG, DEFAULT_ORIGIN};
 use gapack::fracture::{Extent, FractureRun, MM_PER_M, Well, settle};
 use gapack::ga::{Layered, Limits, PorosityProblem, Search, StopReason, lay_out};
+use gapack::geometry::predicates::OVERLAP_REL;
 use gapack::output::{
     FractureInfo, OptimiseSummary, RunInfo, WELLS_CSV, WellRow, variant_label, wells_csv,
-    write_compare, write_outputs, write_table,
+    write_compare, write_outputs, write_stability, write_table,
 };
+use gapack::stability::{self, StabilityRun, Status};
 use gapack::{measure, pack};
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -57,6 +59,11 @@ enum Command {
     /// rule, random sequential addition, deposition, relaxation; writes
     /// compare.csv and a chart of time against accuracy (compare.svg, .png).
     Compare(CompareArgs),
+    /// Sweep every method of the config's [compare] table over gradings
+    /// (d_max/d_min 1 to 16), domain widths (1.2 to 20 d_max) and shapes
+    /// (rectangle, circle, 20° triangle, L): finished, filled, overlap-free,
+    /// grading kept; writes stability.csv and a map (stability.svg, .png).
+    Stability(StabilityArgs),
     /// Measure disks per second and peak memory per disk (MX quadtree vs grid)
     /// on square domains with the thesis' Table 3.4 grading; writes bench.csv.
     Bench(BenchArgs),
@@ -79,6 +86,18 @@ struct BenchArgs {
 struct CompareArgs {
     /// Scene config (TOML); an [optimise] target, if any, gives the porosity error.
     config: PathBuf,
+    #[command(flatten)]
+    run: RunArgs,
+}
+
+#[derive(Args)]
+struct StabilityArgs {
+    /// Scene config (TOML): its grading's d_max and basis, packer settings,
+    /// seed and [compare] methods set the sweep.
+    config: PathBuf,
+    /// Seconds a run may take before it counts as not finished.
+    #[arg(long, default_value_t = 10.0, value_name = "S")]
+    time_cap: f64,
     #[command(flatten)]
     run: RunArgs,
 }
@@ -136,6 +155,7 @@ fn main() -> ExitCode {
         Command::Optimise(args) => run_optimise(&args),
         Command::Layer(args) => run_layer(&args),
         Command::Compare(args) => run_compare(&args),
+        Command::Stability(args) => run_stability(&args),
         Command::Bench(args) => run_bench(&args),
     };
     match result {
@@ -358,6 +378,58 @@ fn run_compare(args: &CompareArgs) -> Result<(), Failure> {
     }
     report(args.run.quiet, || {
         format!("{}: compare.csv, compare.svg, compare.png", out.display())
+    });
+    Ok(())
+}
+
+/// `gapack stability`: the sweep, the table, the map and one line per method.
+fn run_stability(args: &StabilityArgs) -> Result<(), Failure> {
+    if !(args.time_cap.is_finite() && args.time_cap > 0.0) {
+        return Err(Failure::Input(anyhow::anyhow!(
+            "--time-cap must be a positive number of seconds, got {}",
+            args.time_cap
+        )));
+    }
+    let (config, _origin, out) = prepare(Some(&args.config), &args.run)?;
+    let variants = stability::variants(&config.compare.methods);
+    let total = stability::Case::all().len() * variants.len();
+    let bar = count_bar(total, "run", args.run.quiet);
+    let cap = std::time::Duration::from_secs_f64(args.time_cap);
+    let cases = stability::Case::all();
+    let runs = stability::sweep(&config.scene, &cases, &variants, cap, |r| {
+        bar.set_message(format!(
+            "{} {}",
+            variant_label(&r.variant),
+            r.case.shape.name()
+        ));
+        bar.inc(1);
+    });
+    bar.finish_and_clear();
+    write_stability(&out, &runs)
+        .context("cannot write the outputs")
+        .map_err(Failure::Run)?;
+    for variant in &variants {
+        let mine: Vec<&StabilityRun> = runs.iter().filter(|r| r.variant == *variant).collect();
+        let count = |f: &dyn Fn(&StabilityRun) -> bool| mine.iter().filter(|r| f(r)).count();
+        report(args.run.quiet, || {
+            format!(
+                "{:<40} pass {:>3}, fail {:>3} (overlap {}, empty {}, KS {}), refused {:>3}, timed out {:>3}",
+                variant_label(variant),
+                count(&|r| r.passed()),
+                count(&|r| r.status == Status::Finished && !r.passed()),
+                count(&|r| r.status == Status::Finished && r.max_overlap > OVERLAP_REL),
+                count(&|r| r.status == Status::Finished && r.empty > stability::MAX_EMPTY),
+                count(&|r| r.status == Status::Finished && r.grading_bent()),
+                count(&|r| r.status == Status::Refused),
+                count(&|r| r.status == Status::TimedOut),
+            )
+        });
+    }
+    report(args.run.quiet, || {
+        format!(
+            "{}: stability.csv, stability.svg, stability.png",
+            out.display()
+        )
     });
     Ok(())
 }

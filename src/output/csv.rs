@@ -11,6 +11,7 @@ use crate::fracture::WindowStep;
 use crate::ga::Generation;
 use crate::layering::{Material, ProfileRow};
 use crate::packer::Packing;
+use crate::stability::{StabilityRun, Status};
 
 /// File name of the layering profile table.
 pub const PROFILE_CSV: &str = "profile.csv";
@@ -153,6 +154,55 @@ pub fn compare_csv(runs: &[CompareRun]) -> Result<Vec<u8>, OutputError> {
             r.max_overlap.to_string(),
             r.coordination.to_string(),
             cell(Some(r.local_porosity_std)),
+        ])?;
+    }
+    writer
+        .into_inner()
+        .map_err(|e| OutputError::Csv(e.into_error().into()))
+}
+
+/// File name of a stability sweep's table.
+pub const STABILITY_CSV: &str = "stability.csv";
+
+/// One row per run of `gapack stability`: `shape,ratio,width,method,status,seconds,particles,empty,max_overlap,psd_ks,pass`
+/// (`ratio` d_max/d_min, `width` in d_max, `status` finished | refused |
+/// timed-out, `empty` the share farther than d_max from every disk).
+///
+/// # Errors
+/// [`OutputError::Csv`] if the CSV writer fails (it does not on memory).
+pub fn stability_csv(runs: &[StabilityRun]) -> Result<Vec<u8>, OutputError> {
+    let mut writer = ::csv::Writer::from_writer(Vec::new());
+    writer.write_record([
+        "shape",
+        "ratio",
+        "width",
+        "method",
+        "status",
+        "seconds",
+        "particles",
+        "empty",
+        "max_overlap",
+        "psd_ks",
+        "pass",
+    ])?;
+    for r in runs {
+        let status = match r.status {
+            Status::Finished => "finished",
+            Status::Refused => "refused",
+            Status::TimedOut => "timed-out",
+        };
+        writer.write_record([
+            r.case.shape.name().to_owned(),
+            r.case.ratio.to_string(),
+            r.case.width.to_string(),
+            variant_label(&r.variant),
+            status.to_owned(),
+            r.seconds.to_string(),
+            r.particles.to_string(),
+            r.empty.to_string(),
+            r.max_overlap.to_string(),
+            r.psd_ks.to_string(),
+            r.passed().to_string(),
         ])?;
     }
     writer

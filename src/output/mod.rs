@@ -15,17 +15,19 @@ mod svg;
 
 pub use atomic::{write_all_atomic, write_atomic};
 pub use csv::{
-    COMPARE_CSV, CONVERGENCE_CSV, PACKING_CSV, PROFILE_CSV, WELLS_CSV, WINDOW_CSV, WellRow,
-    compare_csv, convergence_csv, packing_csv, profile_csv, wells_csv, window_csv,
+    COMPARE_CSV, CONVERGENCE_CSV, PACKING_CSV, PROFILE_CSV, STABILITY_CSV, WELLS_CSV, WINDOW_CSV,
+    WellRow, compare_csv, convergence_csv, packing_csv, profile_csv, stability_csv, wells_csv,
+    window_csv,
 };
 pub use error::OutputError;
 pub use json::{OptimiseSummary, SUMMARY_JSON, summary_json};
 pub use plot::{
-    CompareChart, Drawable, LineChart, Mark, Series, convergence_chart, profile_chart,
-    variant_label, window_chart,
+    CompareChart, Drawable, LineChart, Mark, Series, StabilityChart, convergence_chart,
+    profile_chart, variant_label, window_chart,
 };
 pub use run::{
     COMPARE_PNG, COMPARE_SVG, CONVERGENCE_PNG, CONVERGENCE_SVG, FractureInfo, PROFILE_PNG,
-    PROFILE_SVG, RunInfo, WINDOW_PNG, WINDOW_SVG, write_compare, write_outputs, write_table,
+    PROFILE_SVG, RunInfo, STABILITY_PNG, STABILITY_SVG, WINDOW_PNG, WINDOW_SVG, write_compare,
+    write_outputs, write_stability, write_table,
 };
 pub use svg::{PACKING_SVG, packing_svg};

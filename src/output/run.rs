@@ -4,14 +4,16 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use super::atomic::write_all_atomic;
-use super::csv::{COMPARE_CSV, compare_csv};
+use super::csv::{COMPARE_CSV, STABILITY_CSV, compare_csv, stability_csv};
 use super::csv::{
     CONVERGENCE_CSV, PACKING_CSV, PROFILE_CSV, WINDOW_CSV, convergence_csv, packing_csv,
     profile_csv, window_csv,
 };
 use super::error::OutputError;
 use super::json::{OptimiseSummary, SUMMARY_JSON, summary_json};
-use super::plot::{CompareChart, Drawable, convergence_chart, profile_chart, window_chart};
+use super::plot::{
+    CompareChart, Drawable, StabilityChart, convergence_chart, profile_chart, window_chart,
+};
 use super::svg::{PACKING_SVG, packing_svg};
 use crate::Scene;
 use crate::compare::CompareRun;
@@ -19,6 +21,7 @@ use crate::fracture::{Extent, Well, Window};
 use crate::ga::{Generation, Layered};
 use crate::layering::{LayeringSettings, Material};
 use crate::packer::{Metrics, Packing};
+use crate::stability::StabilityRun;
 
 /// File name of the convergence chart.
 pub const CONVERGENCE_SVG: &str = "convergence.svg";
@@ -47,6 +50,27 @@ pub fn write_compare(dir: &Path, runs: &[CompareRun], has_target: bool) -> Resul
         (dir.join(COMPARE_CSV), compare_csv(runs)?),
         (dir.join(COMPARE_SVG), chart.to_svg()?.into_bytes()),
         (dir.join(COMPARE_PNG), chart.to_png()?),
+    ];
+    write_set(dir, &files)
+}
+
+/// File name of the stability map.
+pub const STABILITY_SVG: &str = "stability.svg";
+/// File name of the stability map as an image.
+pub const STABILITY_PNG: &str = "stability.png";
+
+/// Write a stability sweep into `dir` atomically: `stability.csv`, `stability.svg`, `stability.png`.
+///
+/// # Errors
+/// [`OutputError`] naming the directory or file and the cause.
+pub fn write_stability(dir: &Path, runs: &[StabilityRun]) -> Result<(), OutputError> {
+    let chart = StabilityChart {
+        runs: runs.to_vec(),
+    };
+    let files = [
+        (dir.join(STABILITY_CSV), stability_csv(runs)?),
+        (dir.join(STABILITY_SVG), chart.to_svg()?.into_bytes()),
+        (dir.join(STABILITY_PNG), chart.to_png()?),
     ];
     write_set(dir, &files)
 }

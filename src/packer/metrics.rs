@@ -60,7 +60,8 @@ pub fn measure(packing: &Packing, scene: &Scene) -> Metrics {
     let all: Vec<Disk> = packing.boundary.iter().chain(disks).copied().collect();
     let nb = packing.boundary.len();
     let (lo, hi) = domain.bounds();
-    let bucket = (2.0 * r_max).max(1e-9);
+    // With no disk at all, buckets of the grading's size keep the grid small.
+    let bucket = (2.0 * r_max).max(scene.d_max()).max(1e-9);
     let margin = Point::new(2.0 * r_max, 2.0 * r_max).coords;
     let mut grid = Grid::new(lo - margin, hi + margin, bucket);
     for (id, d) in all.iter().enumerate() {

@@ -4,10 +4,12 @@ mod chart;
 mod compare;
 mod convergence;
 mod profile;
+mod stability;
 mod window;
 
 pub use chart::{Drawable, LineChart, Mark, Series};
 pub use compare::{CompareChart, variant_label};
 pub use convergence::convergence_chart;
 pub use profile::profile_chart;
+pub use stability::StabilityChart;
 pub use window::window_chart;

@@ -1,0 +1,417 @@
+//! Where methods break: every method variant over a sweep of gradings,
+//! domain widths and shapes, each run checked for finishing, filling,
+//! overlaps and grading fidelity.
+//!
+//! # Behavior
+//! A case is a shape, a grading width d_max/d_min (sizes uniform between
+//! d_min and the scene's d_max, in its basis) and a domain width in d_max:
+//! a rectangle `w` × 3`w`, a circle of diameter `w`, an isosceles triangle
+//! with a 20° apex over a base `w`, and an L of arms `w` wide in a 3`w`
+//! square. A run passes when it finishes within the time cap, leaves no
+//! overlap (1e-9 relative), leaves at most [`MAX_EMPTY`] of the domain
+//! farther than d_max from every disk (counting only where a smallest disk
+//! could be centred: the tip of a wedge narrower than d_min holds none),
+//! and keeps the sizes within the sampling noise of their number plus
+//! [`KS_MARGIN`] of the grading. A case no disk fits in is refused, not failed.
+
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use crate::Scene;
+use crate::compare::Variant;
+use crate::geometry::predicates::OVERLAP_REL;
+use crate::geometry::{Domain, GeometryError, Point};
+use crate::grading::Grading;
+use crate::packer::index::{Grid, SpatialIndex};
+use crate::packer::{Method, PackError, Packing, measure, pack};
+
+/// Grading widths d_max/d_min swept.
+pub const RATIOS: [f64; 6] = [1.0, 1.1, 2.0, 4.0, 8.0, 16.0];
+
+/// Domain widths swept, in largest diameters.
+pub const WIDTHS: [f64; 6] = [1.2, 1.5, 2.0, 3.0, 5.0, 20.0];
+
+/// Largest share of the domain left farther than d_max from every disk in a pass.
+pub const MAX_EMPTY: f64 = 0.02;
+
+/// KS distance of the sizes to the grading allowed in a pass beyond the
+/// sampling noise of their number n (1.36/√n, the 95 % quantile).
+pub const KS_MARGIN: f64 = 0.05;
+
+/// The shapes swept.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CaseShape {
+    /// `w` × 3`w`.
+    Rectangle,
+    /// Diameter `w`.
+    Circle,
+    /// Isosceles, 20° at the apex, base `w`.
+    Triangle,
+    /// Arms `w` wide in a 3`w` square (concave).
+    LShape,
+}
+
+impl CaseShape {
+    /// All shapes, in the order reports list them.
+    pub const ALL: [CaseShape; 4] = [
+        CaseShape::Rectangle,
+        CaseShape::Circle,
+        CaseShape::Triangle,
+        CaseShape::LShape,
+    ];
+
+    /// Its name in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            CaseShape::Rectangle => "rectangle",
+            CaseShape::Circle => "circle",
+            CaseShape::Triangle => "triangle-20deg",
+            CaseShape::LShape => "l-shape",
+        }
+    }
+
+    /// The domain of width `w` (mm).
+    ///
+    /// # Errors
+    /// The constructor's, for a width that is not positive and finite.
+    fn domain(self, w: f64) -> Result<Domain, GeometryError> {
+        let pts = |v: &[(f64, f64)]| v.iter().map(|&(x, y)| Point::new(x, y)).collect::<Vec<_>>();
+        match self {
+            CaseShape::Rectangle => Domain::rectangle(w, 3.0 * w),
+            CaseShape::Circle => Domain::circle(Point::new(0.0, 0.0), w / 2.0),
+            CaseShape::Triangle => {
+                let h = w / 2.0 / 10f64.to_radians().tan();
+                Domain::polygon(&pts(&[(0.0, 0.0), (w, 0.0), (w / 2.0, h)]))
+            }
+            CaseShape::LShape => Domain::polygon(&pts(&[
+                (0.0, 0.0),
+                (3.0 * w, 0.0),
+                (3.0 * w, w),
+                (w, w),
+                (w, 3.0 * w),
+                (0.0, 3.0 * w),
+            ])),
+        }
+    }
+}
+
+/// One case of the sweep.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Case {
+    /// The shape.
+    pub shape: CaseShape,
+    /// d_max / d_min.
+    pub ratio: f64,
+    /// Domain width in d_max.
+    pub width: f64,
+}
+
+impl Case {
+    /// Every case: shapes × ratios × widths.
+    pub fn all() -> Vec<Case> {
+        let mut out = Vec::new();
+        for shape in CaseShape::ALL {
+            for ratio in RATIOS {
+                for width in WIDTHS {
+                    out.push(Case {
+                        shape,
+                        ratio,
+                        width,
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    /// The case's scene: `base` with this domain and grading.
+    ///
+    /// # Errors
+    /// The domain's, for a base whose d_max makes a size overflow.
+    pub fn scene(&self, base: &Scene) -> Result<Scene, GeometryError> {
+        let d_max = base.d_max();
+        let grading = if self.ratio <= 1.0 {
+            Grading::constant(d_max)
+        } else {
+            Grading::uniform(d_max / self.ratio, d_max, base.grading.basis())
+        }
+        .unwrap_or_else(|_| base.grading.clone());
+        Ok(Scene {
+            domain: self.shape.domain(self.width * d_max)?,
+            grading,
+            gradient: None,
+            ..base.clone()
+        })
+    }
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Status {
+    /// It finished; see the checks.
+    Finished,
+    /// No disk of the grading fits the domain: refused before packing.
+    Refused,
+    /// Still running at the time cap.
+    TimedOut,
+}
+
+/// One method variant on one case.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StabilityRun {
+    /// The case.
+    pub case: Case,
+    /// The method variant.
+    pub variant: Variant,
+    /// How it ended.
+    pub status: Status,
+    /// Time (s), up to the cap.
+    pub seconds: f64,
+    /// Disks packed.
+    pub particles: usize,
+    /// Share of the domain farther than d_max from every disk.
+    pub empty: f64,
+    /// Largest overlap relative to the sum of the radii.
+    pub max_overlap: f64,
+    /// KS distance of the sizes to the grading.
+    pub psd_ks: f64,
+}
+
+impl StabilityRun {
+    /// A run that placed nothing (timed out until told otherwise).
+    fn empty(case: Case, variant: Variant) -> Self {
+        StabilityRun {
+            case,
+            variant,
+            status: Status::TimedOut,
+            seconds: 0.0,
+            particles: 0,
+            empty: 1.0,
+            max_overlap: 0.0,
+            psd_ks: 1.0,
+        }
+    }
+
+    /// Whether the run passes: finished, no overlap, filled, grading kept.
+    pub fn passed(&self) -> bool {
+        self.status == Status::Finished
+            && self.max_overlap <= OVERLAP_REL
+            && self.empty <= MAX_EMPTY
+            && !self.grading_bent()
+    }
+
+    /// Whether the sizes lie farther from the grading than the sampling
+    /// noise of their number explains (plus [`KS_MARGIN`]).
+    pub fn grading_bent(&self) -> bool {
+        let noise = 1.36 / (self.particles.max(1) as f64).sqrt();
+        self.psd_ks > noise + KS_MARGIN
+    }
+}
+
+/// Run `variants` on `cases` (all of them: [`Case::all`]), each run on its
+/// own thread and abandoned at `cap` (it finishes in the background; every
+/// generator terminates), calling `done` after each.
+pub fn sweep(
+    base: &Scene,
+    cases: &[Case],
+    variants: &[Variant],
+    cap: Duration,
+    mut done: impl FnMut(&StabilityRun),
+) -> Vec<StabilityRun> {
+    let mut runs = Vec::new();
+    for &case in cases {
+        let scene = case.scene(base);
+        for &variant in variants {
+            let run = match &scene {
+                Ok(scene) => run_one(case, variant, variant.apply(scene, scene.seed), cap),
+                Err(_) => StabilityRun {
+                    status: Status::Refused,
+                    seconds: 0.0,
+                    ..StabilityRun::empty(case, variant)
+                },
+            };
+            done(&run);
+            runs.push(run);
+        }
+    }
+    runs
+}
+
+/// One run, capped.
+fn run_one(case: Case, variant: Variant, scene: Scene, cap: Duration) -> StabilityRun {
+    let (tx, rx) = mpsc::channel();
+    let start = Instant::now();
+    let worker = scene.clone();
+    std::thread::spawn(move || {
+        let _ = tx.send(pack(&worker));
+    });
+    let mut run = StabilityRun {
+        seconds: cap.as_secs_f64(),
+        ..StabilityRun::empty(case, variant)
+    };
+    match rx.recv_timeout(cap) {
+        Ok(Ok(packing)) => {
+            run.seconds = start.elapsed().as_secs_f64();
+            let m = measure(&packing, &scene);
+            run.status = Status::Finished;
+            run.particles = m.particles;
+            run.max_overlap = m.max_overlap;
+            run.psd_ks = m.psd_ks;
+            run.empty = empty_share(&packing, scene.d_min(), scene.d_max());
+        }
+        Ok(Err(PackError::DomainTooNarrow { .. })) => {
+            run.status = Status::Refused;
+            run.seconds = start.elapsed().as_secs_f64();
+        }
+        Ok(Err(_)) | Err(_) => {}
+    }
+    run
+}
+
+/// Share of the domain where a disk of `d_min` could be centred (sampled on
+/// a grid of spacing d_max/4) that lies farther than `d_max` from every
+/// disk's edge.
+pub fn empty_share(packing: &Packing, d_min: f64, d_max: f64) -> f64 {
+    let domain = &packing.domain;
+    let (lo, hi) = domain.bounds();
+    let step = d_max / 4.0;
+    let r_max = packing.disks.iter().fold(0.0f64, |m, d| m.max(d.r));
+    let reach = d_max + r_max;
+    let margin = Point::new(reach, reach).coords;
+    let mut grid = Grid::new(lo - margin, hi + margin, (2.0 * r_max).max(step));
+    for (id, d) in packing.disks.iter().enumerate() {
+        grid.insert(id as u32, d.c);
+    }
+    let (nx, ny) = (
+        ((hi.x - lo.x) / step).ceil() as usize,
+        ((hi.y - lo.y) / step).ceil() as usize,
+    );
+    let (mut inside, mut empty) = (0usize, 0usize);
+    for iy in 0..=ny {
+        for ix in 0..=nx {
+            let p = Point::new(lo.x + ix as f64 * step, lo.y + iy as f64 * step);
+            if domain.signed_distance(p) < d_min / 2.0 {
+                continue;
+            }
+            inside += 1;
+            let near = grid.any_in_box(
+                Point::new(p.x - reach, p.y - reach),
+                Point::new(p.x + reach, p.y + reach),
+                |id| {
+                    let d = packing.disks[id as usize];
+                    (d.c - p).norm() - d.r <= d_max
+                },
+            );
+            if !near {
+                empty += 1;
+            }
+        }
+    }
+    if inside == 0 {
+        0.0
+    } else {
+        empty as f64 / inside as f64
+    }
+}
+
+/// The method variants a sweep runs for `methods` (as `gapack compare` does).
+pub fn variants(methods: &[Method]) -> Vec<Variant> {
+    Variant::expand(methods)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cases_cover_the_sweep_and_build_their_domains() {
+        let cases = Case::all();
+        assert_eq!(cases.len(), 4 * 6 * 6);
+        let t = CaseShape::Triangle.domain(10.0).unwrap();
+        // The 20° apex: the inradius of a tall, thin triangle.
+        let h = 5.0 / 10f64.to_radians().tan();
+        let side = (25.0 + h * h).sqrt();
+        let r = 10.0 * h / 2.0 / ((10.0 + 2.0 * side) / 2.0);
+        assert!((t.inradius() - r).abs() < 1e-9);
+        assert_eq!(
+            CaseShape::LShape
+                .domain(1.0)
+                .unwrap()
+                .reflex_vertices()
+                .len(),
+            1
+        );
+    }
+
+    fn base() -> Scene {
+        Scene {
+            domain: Domain::rectangle(10.0, 10.0).unwrap(),
+            walls: crate::geometry::WallMode::Exact,
+            wall_disk_diameter: None,
+            grading: Grading::constant(1.0).unwrap(),
+            gradient: None,
+            packer: crate::packer::PackerSettings {
+                attempts: 500,
+                relaxation: crate::packer::Relaxation {
+                    iterations: 200,
+                    ..Default::default()
+                },
+                ..Default::default()
+            },
+            seed: 1,
+        }
+    }
+
+    #[test]
+    fn a_wide_case_passes_for_the_advancing_front_and_relaxation_shows_its_overlap() {
+        let case = Case {
+            shape: CaseShape::Rectangle,
+            ratio: 2.0,
+            width: 20.0,
+        };
+        let variants = Variant::expand(&[Method::AdvancingFront, Method::Relaxation]);
+        let runs = sweep(&base(), &[case], &variants, Duration::from_secs(60), |_| {});
+        assert_eq!(runs.len(), 5);
+        for r in &runs[..4] {
+            assert!(r.passed(), "{r:?}");
+        }
+        let relax = runs[4];
+        assert_eq!(relax.status, Status::Finished);
+        assert!(
+            relax.max_overlap > OVERLAP_REL && !relax.passed(),
+            "{relax:?}"
+        );
+    }
+
+    #[test]
+    fn a_run_over_the_cap_is_not_finished() {
+        let case = Case {
+            shape: CaseShape::Circle,
+            ratio: 16.0,
+            width: 20.0,
+        };
+        let variants = Variant::expand(&[Method::Relaxation]);
+        let runs = sweep(&base(), &[case], &variants, Duration::from_nanos(1), |_| {});
+        assert_eq!(runs[0].status, Status::TimedOut);
+        assert!(!runs[0].passed());
+    }
+
+    #[test]
+    fn empty_share_counts_the_unfilled_part() {
+        let domain = Domain::rectangle(10.0, 10.0).unwrap();
+        // One disk in the lower-left corner: most of the square is empty.
+        let packing = Packing {
+            domain,
+            walls: crate::geometry::WallMode::Exact,
+            boundary: Vec::new(),
+            disks: vec![crate::geometry::Disk {
+                c: Point::new(0.5, 0.5),
+                r: 0.5,
+            }],
+            materials: Vec::new(),
+            stats: Default::default(),
+        };
+        let share = empty_share(&packing, 1.0, 1.0);
+        assert!(share > 0.9 && share < 1.0, "{share}");
+    }
+}
