@@ -306,3 +306,31 @@ fn equal_disks_build_the_perfect_hexagonal_packing() {
         assert!(m.min_wall_clearance >= -1e-9, "{index:?}");
     }
 }
+
+/// A loose pack in an L whose arms are 1.5 diameters wide goes round the
+/// reflex corner (found by the stability sweep: it stopped at its first
+/// disk, an arc free on both sides of the corner judged blocked whole).
+#[test]
+fn a_loose_pack_fills_a_narrow_l() {
+    let pts = [
+        (0.0, 0.0),
+        (4.5, 0.0),
+        (4.5, 1.5),
+        (1.5, 1.5),
+        (1.5, 4.5),
+        (0.0, 4.5),
+    ]
+    .map(|(x, y)| Point::new(x, y));
+    let mut s = common::scene(
+        Domain::polygon(&pts).unwrap(),
+        Grading::constant(1.0).unwrap(),
+        WallMode::Exact,
+        0,
+    );
+    s.packer.one_contact_share = 1.0;
+    let p = pack(&s).unwrap();
+    let m = measure(&p, &s);
+    assert!(m.particles >= 6, "{} disks", m.particles);
+    assert!(m.max_overlap <= OVERLAP_REL);
+    assert!(m.largest_hole < 2.0, "hole {}", m.largest_hole);
+}

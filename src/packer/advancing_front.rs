@@ -866,6 +866,16 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         for wall in &self.walls {
             wall_candidates(wall, c, rf, r, &mut self.spots);
         }
+        // Near a reflex corner the disk's centre keeps `r` from the corner
+        // itself: the halo's crossings with that circle bound arcs too, or
+        // one midpoint beside the corner would block a whole arc that is
+        // free on either side of it (found by the stability sweep: a loose
+        // pack in an L 1.5 d_max wide stopped at its first disk).
+        for &v in self.scene.domain.reflex_vertices() {
+            if let Some(pts) = intersect_circle_circle(c, rf, v, r) {
+                self.spots.extend_from_slice(&pts);
+            }
+        }
         if self.spots.is_empty() {
             return !outside(at(0.0));
         }

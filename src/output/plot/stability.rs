@@ -51,7 +51,7 @@ impl StabilityChart {
         let mut chart = ChartBuilder::on(area)
             .caption(
                 format!(
-                    "{}: columns d_max/d_min 1, 1.1, 2, 4, 8, 16, each over width/d_max 1.2, 1.5, 2, 3, 5, 20",
+                    "{}: columns d_max/d_min 1:1, 1:1.1, 1:2, 1:4, 1:8, 1:16, each over width/d_max 1.2, 1.5, 2, 3, 5, 20",
                     shape.name()
                 ),
                 (FAMILY, 17),
@@ -59,21 +59,38 @@ impl StabilityChart {
             .margin(8)
             .x_label_area_size(28)
             .y_label_area_size(300)
-            .build_cartesian_2d(0.0..columns as f64, 0.0..rows as f64)?;
+            .build_cartesian_2d(
+                (0..columns as i32).into_segmented(),
+                (0..rows as i32).into_segmented(),
+            )?;
+        let centre = |v: &SegmentValue<i32>| match v {
+            SegmentValue::CenterOf(i) => Some(*i as usize),
+            _ => None,
+        };
         chart
             .configure_mesh()
             .disable_mesh()
-            .x_labels(RATIOS.len())
-            .x_label_formatter(&|x: &f64| {
-                let i = (*x / WIDTHS.len() as f64).round() as usize;
-                RATIOS.get(i).map_or(String::new(), |r| format!("1:{r}"))
+            .x_labels(columns)
+            .x_label_formatter(&|v| {
+                centre(v).map_or(String::new(), |i| {
+                    let (r, w) = (
+                        RATIOS[i / WIDTHS.len() % RATIOS.len()],
+                        WIDTHS[i % WIDTHS.len()],
+                    );
+                    if i % WIDTHS.len() == 0 {
+                        format!("1:{r} | {w}")
+                    } else {
+                        format!("{w}")
+                    }
+                })
             })
             .y_labels(rows)
-            .y_label_formatter(&|y: &f64| {
-                let i = y.floor() as usize;
-                labels.get(i).cloned().unwrap_or_default()
+            .y_label_formatter(&|v| {
+                centre(v)
+                    .and_then(|i| labels.get(i).cloned())
+                    .unwrap_or_default()
             })
-            .label_style((FAMILY, 12))
+            .label_style((FAMILY, 11))
             .draw()?;
         for run in self.runs.iter().filter(|r| r.case.shape == shape) {
             let Some(row) = variants.iter().position(|v| *v == run.variant) else {
@@ -87,12 +104,16 @@ impl StabilityChart {
                 .iter()
                 .position(|&w| w == run.case.width)
                 .unwrap_or(0);
-            let x = (ri * WIDTHS.len() + wi) as f64;
-            let y = row as f64;
-            chart.draw_series(std::iter::once(Rectangle::new(
-                [(x + 0.06, y + 0.1), (x + 0.94, y + 0.9)],
-                cell_colour(run).filled(),
-            )))?;
+            let x = (ri * WIDTHS.len() + wi) as i32;
+            let y = row as i32;
+            let corners = [
+                (SegmentValue::Exact(x), SegmentValue::Exact(y)),
+                (SegmentValue::Exact(x + 1), SegmentValue::Exact(y + 1)),
+            ];
+            chart.draw_series([
+                Rectangle::new(corners.clone(), cell_colour(run).filled()),
+                Rectangle::new(corners, WHITE.stroke_width(2)),
+            ])?;
         }
         Ok(())
     }
