@@ -148,6 +148,17 @@ pub fn compare(
     Ok(runs)
 }
 
+/// The variants in `variants`, each once, in first-seen order (a chart's rows and colours).
+pub fn distinct(variants: impl IntoIterator<Item = Variant>) -> Vec<Variant> {
+    let mut out: Vec<Variant> = Vec::new();
+    for v in variants {
+        if !out.contains(&v) {
+            out.push(v);
+        }
+    }
+    out
+}
+
 /// The runs on the Pareto front of time against `error` (lower is better
 /// for both), fastest first: no other run is both faster and more accurate.
 pub fn pareto(runs: &[CompareRun], error: impl Fn(&CompareRun) -> f64) -> Vec<CompareRun> {

@@ -5,7 +5,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::chart::{Drawable, FAMILY, tidy};
-use crate::compare::{CompareRun, Variant, pareto};
+use crate::compare::{CompareRun, Variant, distinct, pareto};
 use crate::output::palette::colour;
 
 /// Pixel size of the comparison chart (three panels side by side).
@@ -83,13 +83,7 @@ impl CompareChart {
     }
 
     fn variants(&self) -> Vec<Variant> {
-        let mut out: Vec<Variant> = Vec::new();
-        for r in &self.runs {
-            if !out.contains(&r.variant) {
-                out.push(r.variant);
-            }
-        }
-        out
+        distinct(self.runs.iter().map(|r| r.variant))
     }
 
     fn draw_panel<DB: DrawingBackend>(

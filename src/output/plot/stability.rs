@@ -5,7 +5,7 @@ use plotters::prelude::*;
 
 use super::chart::{Drawable, FAMILY};
 use super::compare::variant_label;
-use crate::compare::Variant;
+use crate::compare::{Variant, distinct};
 use crate::stability::{CaseShape, RATIOS, StabilityRun, Status, WIDTHS};
 
 /// Pixel size of the map (one band per shape).
@@ -30,13 +30,7 @@ fn cell_colour(run: &StabilityRun) -> RGBColor {
 
 impl StabilityChart {
     fn variants(&self) -> Vec<Variant> {
-        let mut out: Vec<Variant> = Vec::new();
-        for r in &self.runs {
-            if !out.contains(&r.variant) {
-                out.push(r.variant);
-            }
-        }
-        out
+        distinct(self.runs.iter().map(|r| r.variant))
     }
 
     fn band<DB: DrawingBackend>(
