@@ -310,10 +310,9 @@ fn pack_well(
         coordination: metrics.coordination,
         seconds,
     };
-    let line = match &window {
+    let line = match window.as_ref().and_then(|w| w.last().map(|last| (w, last))) {
         None => pack_line(dir, &metrics, seconds),
-        Some(w) => {
-            let last = w.last();
+        Some((w, last)) => {
             row.porosity = last.porosity;
             row.coordination = last.coordination;
             format!(
@@ -384,17 +383,19 @@ fn run_compare(args: &CompareArgs) -> Result<(), Failure> {
 
 /// `gapack stability`: the sweep, the table, the map and one line per method.
 fn run_stability(args: &StabilityArgs) -> Result<(), Failure> {
-    if !(args.time_cap.is_finite() && args.time_cap > 0.0) {
-        return Err(Failure::Input(anyhow::anyhow!(
-            "--time-cap must be a positive number of seconds, got {}",
-            args.time_cap
-        )));
-    }
+    let cap = match std::time::Duration::try_from_secs_f64(args.time_cap) {
+        Ok(cap) if !cap.is_zero() => cap,
+        _ => {
+            return Err(Failure::Input(anyhow::anyhow!(
+                "--time-cap must be a positive number of seconds, got {}",
+                args.time_cap
+            )));
+        }
+    };
     let (config, _origin, out) = prepare(Some(&args.config), &args.run)?;
     let variants = stability::variants(&config.compare.methods);
     let total = stability::Case::all().len() * variants.len();
     let bar = count_bar(total, "run", args.run.quiet);
-    let cap = std::time::Duration::from_secs_f64(args.time_cap);
     let cases = stability::Case::all();
     let runs = stability::sweep(&config.scene, &cases, &variants, cap, |r| {
         bar.set_message(format!(

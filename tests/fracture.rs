@@ -129,7 +129,7 @@ fn wells_match_the_thesis_and_windows_match_the_full_packs() {
                 );
             }
             let window = settle(well, 0.005).unwrap();
-            let last = window.last();
+            let last = window.last().unwrap();
             println!(
                 "{name} {}: window {:.1} mm, porosity {:.4} ± {:.4} (full {phi:.4}), {} of {} disks",
                 well.name,

@@ -291,16 +291,7 @@ impl Validator<'_> {
             settings.methods = out;
         }
         if let Some(v) = &c.repeats {
-            let n = *v.get_ref();
-            if n < 1 {
-                return Err(ConfigError::OutOfRange {
-                    at: self.at(&v.span()),
-                    key: "compare.repeats".to_owned(),
-                    range: "a whole number ≥ 1".to_owned(),
-                    value: n as f64,
-                });
-            }
-            settings.repeats = n as usize;
+            settings.repeats = self.whole("compare.repeats", v, 1, None)?;
         }
         Ok(settings)
     }
@@ -487,29 +478,39 @@ impl Validator<'_> {
         if let Some(v) = &o.time_limit_s {
             s.time_limit_s = self.positive("optimise.time_limit_s", v)?;
         }
-        let count = |key: &str, v: &Spanned<i64>, least: i64| {
-            let n = *v.get_ref();
-            if n >= least {
-                Ok(n as usize)
-            } else {
-                Err(ConfigError::OutOfRange {
-                    at: self.at(&v.span()),
-                    key: key.to_owned(),
-                    range: format!("a whole number ≥ {least}"),
-                    value: n as f64,
-                })
-            }
-        };
         if let Some(v) = &o.population {
-            s.population = count("optimise.population", v, 2)?;
+            s.population = self.whole("optimise.population", v, 2, None)?;
         }
         if let Some(v) = &o.generations {
-            s.generations = count("optimise.generations", v, 1)?;
+            s.generations = self.whole("optimise.generations", v, 1, None)?;
         }
         if let Some(v) = &o.stagnation {
-            s.stagnation = count("optimise.stagnation", v, 1)?;
+            s.stagnation = self.whole("optimise.stagnation", v, 1, None)?;
         }
         Ok(s)
+    }
+
+    /// A whole number of at least `least` and, if given, at most `most`.
+    fn whole(
+        &self,
+        key: &str,
+        v: &Spanned<i64>,
+        least: i64,
+        most: Option<i64>,
+    ) -> Result<usize, ConfigError> {
+        let n = *v.get_ref();
+        if n >= least && most.is_none_or(|m| n <= m) {
+            return Ok(n as usize);
+        }
+        Err(ConfigError::OutOfRange {
+            at: self.at(&v.span()),
+            key: key.to_owned(),
+            range: match most {
+                None => format!("a whole number ≥ {least}"),
+                Some(m) => format!("a whole number in [{least}, {m}]"),
+            },
+            value: n as f64,
+        })
     }
 
     /// A number that must pass `ok`, described as `range` in the message.
@@ -918,23 +919,10 @@ impl Validator<'_> {
             return Ok(PackerSettings::default());
         };
         let method = self.name(&METHODS, "packer.method", p.method.as_ref())?;
-        let whole = |key: &str, v: &Spanned<i64>| {
-            let n = *v.get_ref();
-            if n >= 1 {
-                Ok(n as usize)
-            } else {
-                Err(ConfigError::OutOfRange {
-                    at: self.at(&v.span()),
-                    key: key.to_owned(),
-                    range: "a whole number ≥ 1".to_owned(),
-                    value: n as f64,
-                })
-            }
-        };
         let attempts = p
             .attempts
             .as_ref()
-            .map(|v| whole("packer.attempts", v))
+            .map(|v| self.whole("packer.attempts", v, 1, None))
             .transpose()?
             .unwrap_or(DEFAULT_ATTEMPTS);
         let mut relaxation = Relaxation::default();
@@ -945,7 +933,7 @@ impl Validator<'_> {
                 })?;
         }
         if let Some(v) = &p.relaxation_iterations {
-            relaxation.iterations = whole("packer.relaxation_iterations", v)?;
+            relaxation.iterations = self.whole("packer.relaxation_iterations", v, 1, None)?;
         }
         if let Some(v) = &p.relaxation_tolerance {
             relaxation.tolerance = self.positive("packer.relaxation_tolerance", v)?;
@@ -972,18 +960,7 @@ impl Validator<'_> {
         };
         let max_deferred = match &p.max_deferred {
             None => MAX_DEFERRED,
-            Some(v) => {
-                let n = *v.get_ref();
-                if !(0..=MAX_DEFERRED as i64).contains(&n) {
-                    return Err(ConfigError::OutOfRange {
-                        at: self.at(&v.span()),
-                        key: "packer.max_deferred".to_owned(),
-                        range: format!("a whole number in [0, {MAX_DEFERRED}]"),
-                        value: n as f64,
-                    });
-                }
-                n as usize
-            }
+            Some(v) => self.whole("packer.max_deferred", v, 0, Some(MAX_DEFERRED as i64))?,
         };
         Ok(PackerSettings {
             method,

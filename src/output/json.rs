@@ -182,9 +182,9 @@ fn fracture_summary(info: FractureInfo<'_>) -> FractureSummary<'_> {
         height_m: f.length / MM_PER_M,
         tip_width_mm: f.tip_width,
         extent,
-        window: info.window.map(|w| {
-            let last = w.last();
-            WindowSummary {
+        window: info.window.and_then(|w| {
+            let last = w.last()?;
+            Some(WindowSummary {
                 tolerance,
                 settled: w.settled,
                 length_mm: last.length,
@@ -194,7 +194,7 @@ fn fracture_summary(info: FractureInfo<'_>) -> FractureSummary<'_> {
                 coordination: last.coordination,
                 seconds: w.seconds,
                 steps: &w.steps,
-            }
+            })
         }),
     }
 }

@@ -144,24 +144,21 @@ impl Validator<'_> {
             }
         }
         let exponent = |e: &Spanned<f64>| self.positive("layering.exponent", e);
+        let exponent_or_one = || {
+            Ok(l.exponent
+                .as_ref()
+                .map(exponent)
+                .transpose()?
+                .unwrap_or(1.0))
+        };
         let (profile, blame) = match kind {
             ProfileKind::Linear => (Profile::Linear, ("layering.profile", profile_at.clone())),
-            ProfileKind::Power => {
-                let e = l
-                    .exponent
-                    .as_ref()
-                    .map(exponent)
-                    .transpose()?
-                    .unwrap_or(1.0);
-                (Profile::Power(e), ("layering.profile", profile_at.clone()))
-            }
+            ProfileKind::Power => (
+                Profile::Power(exponent_or_one()?),
+                ("layering.profile", profile_at.clone()),
+            ),
             ProfileKind::Sigmoid => {
-                let e = l
-                    .exponent
-                    .as_ref()
-                    .map(exponent)
-                    .transpose()?
-                    .unwrap_or(1.0);
+                let e = exponent_or_one()?;
                 (
                     Profile::Sigmoid(e),
                     ("layering.profile", profile_at.clone()),
@@ -236,30 +233,17 @@ impl Validator<'_> {
         let mut s =
             LayeringSettings::new(self.name(&AXES, "layering.axis", l.axis.as_ref())?, profile);
         s.mode = self.name(&MODES, "layering.mode", l.mode.as_ref())?;
-        let count = |key: &str, v: &Spanned<i64>, least: i64| {
-            let n = *v.get_ref();
-            if n >= least {
-                Ok(n as usize)
-            } else {
-                Err(ConfigError::OutOfRange {
-                    at: self.at(&v.span()),
-                    key: key.to_owned(),
-                    range: format!("a whole number ≥ {least}"),
-                    value: n as f64,
-                })
-            }
-        };
         if let Some(v) = &l.bins {
-            s.bins = count("layering.bins", v, 1)?;
+            s.bins = self.whole("layering.bins", v, 1, None)?;
         }
         if let Some(v) = &l.population {
-            s.population = count("layering.population", v, 2)?;
+            s.population = self.whole("layering.population", v, 2, None)?;
         }
         if let Some(v) = &l.generations {
-            s.generations = count("layering.generations", v, 1)?;
+            s.generations = self.whole("layering.generations", v, 1, None)?;
         }
         if let Some(v) = &l.stagnation {
-            s.stagnation = count("layering.stagnation", v, 1)?;
+            s.stagnation = self.whole("layering.stagnation", v, 1, None)?;
         }
         if let Some(v) = &l.time_limit_s {
             s.time_limit_s = self.positive("layering.time_limit_s", v)?;
