@@ -322,7 +322,11 @@ fn unknown_packer_names_list_the_valid_ones() {
     );
     fails_with(
         &packer("attempts = 0"),
-        "t.toml:8:12: packer.attempts: must be a whole number ≥ 1, got 0",
+        "t.toml:8:12: packer.attempts: must be a whole number in [1, 10000000], got 0",
+    );
+    fails_with(
+        &packer("relaxation_iterations = 100000000"),
+        "t.toml:8:25: packer.relaxation_iterations: must be a whole number in [1, 1000000], got 100000000",
     );
     fails_with(
         &packer("relaxation_porosity = 1.0"),

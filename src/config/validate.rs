@@ -37,6 +37,15 @@ use crate::packer::{
 /// `limits.max_memory_mb` when not given.
 pub const DEFAULT_MAX_MEMORY_MB: f64 = 4096.0;
 
+/// Largest `packer.attempts`: more tries per disk than this would run for hours.
+const MAX_ATTEMPTS: i64 = 10_000_000;
+
+/// Largest `packer.relaxation_iterations`, for the same reason.
+const MAX_ITERATIONS: i64 = 1_000_000;
+
+/// Largest `compare.repeats`.
+const MAX_REPEATS: i64 = 1000;
+
 /// Bytes in one MB as `limits.max_memory_mb` counts them (2^20).
 const BYTES_PER_MB: f64 = 1024.0 * 1024.0;
 
@@ -291,7 +300,7 @@ impl Validator<'_> {
             settings.methods = out;
         }
         if let Some(v) = &c.repeats {
-            settings.repeats = self.whole("compare.repeats", v, 1, None)?;
+            settings.repeats = self.whole("compare.repeats", v, 1, Some(MAX_REPEATS))?;
         }
         Ok(settings)
     }
@@ -922,7 +931,7 @@ impl Validator<'_> {
         let attempts = p
             .attempts
             .as_ref()
-            .map(|v| self.whole("packer.attempts", v, 1, None))
+            .map(|v| self.whole("packer.attempts", v, 1, Some(MAX_ATTEMPTS)))
             .transpose()?
             .unwrap_or(DEFAULT_ATTEMPTS);
         let mut relaxation = Relaxation::default();
@@ -933,7 +942,8 @@ impl Validator<'_> {
                 })?;
         }
         if let Some(v) = &p.relaxation_iterations {
-            relaxation.iterations = self.whole("packer.relaxation_iterations", v, 1, None)?;
+            relaxation.iterations =
+                self.whole("packer.relaxation_iterations", v, 1, Some(MAX_ITERATIONS))?;
         }
         if let Some(v) = &p.relaxation_tolerance {
             relaxation.tolerance = self.positive("packer.relaxation_tolerance", v)?;
