@@ -9,6 +9,7 @@
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
+pub mod check;
 pub mod compare;
 pub mod config;
 pub mod fracture;
@@ -25,6 +26,6 @@ pub use geometry::{Disk, Domain, GeometryError, Point, Shape, Wall, WallMode};
 pub use grading::{Basis, Grading, GradingError, Interpolation};
 pub use packer::{
     Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method, Metrics, PackError, PackStats,
-    PackerSettings, Packing, measure, pack,
+    PackerSettings, Packing, measure, pack, pack_observed,
 };
 pub use scene::Scene;

@@ -5,6 +5,7 @@
 //! Adding a subcommand = one variant of [`Command`] + one `run_*` function.
 
 mod bench;
+mod cli;
 
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -25,7 +26,7 @@ use gapack::output::{
     write_compare, write_outputs, write_stability, write_table,
 };
 use gapack::stability::{self, StabilityRun, Status};
-use gapack::{measure, pack};
+use gapack::{measure, pack, pack_observed};
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// Counts heap bytes so that `gapack bench` can report peak memory per disk.
@@ -64,6 +65,12 @@ enum Command {
     /// (rectangle, circle, 20° triangle, L): finished, filled, overlap-free,
     /// grading kept; writes stability.csv and a map (stability.svg, .png).
     Stability(StabilityArgs),
+    /// Check a config without running it and print the scene it would build:
+    /// domain, size range, estimated disk count and memory, outputs.
+    Validate(cli::inspect::ValidateArgs),
+    /// Check an existing packing (a CSV from gapack or any tool) against a
+    /// config: overlaps, containment, porosity, grading (KS). Exit 1 if it fails.
+    Verify(cli::inspect::VerifyArgs),
     /// Measure disks per second and peak memory per disk (MX quadtree vs grid)
     /// on square domains with the thesis' Table 3.4 grading; writes bench.csv.
     Bench(BenchArgs),
@@ -129,7 +136,8 @@ struct PackArgs {
 /// Options of every run that writes a packing.
 #[derive(Args)]
 struct RunArgs {
-    /// Output directory [default: out/<config file stem>, or out/default].
+    /// Output directory [default: the config's `[output] dir`, else
+    /// out/<config file stem>, or out/default].
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
     /// Seed of the random sizes (and of the search), overriding the config's `seed`.
@@ -156,6 +164,8 @@ fn main() -> ExitCode {
         Command::Layer(args) => run_layer(&args),
         Command::Compare(args) => run_compare(&args),
         Command::Stability(args) => run_stability(&args),
+        Command::Validate(args) => cli::inspect::run_validate(&args),
+        Command::Verify(args) => cli::inspect::run_verify(&args),
         Command::Bench(args) => run_bench(&args),
     };
     match result {
@@ -179,9 +189,7 @@ fn run_pack(args: &PackArgs) -> Result<(), Failure> {
     }
     let scene = &config.scene;
     let start = Instant::now();
-    let mut packing = pack(scene)
-        .context("cannot pack the scene")
-        .map_err(Failure::Run)?;
+    let mut packing = pack_shown(scene, args.run.quiet)?;
     let seconds = start.elapsed().as_secs_f64();
     if config.materials.len() == 1 && packing.materials.is_empty() {
         packing.materials = vec![0; packing.disks.len()];
@@ -459,17 +467,9 @@ fn run_layer(args: &LayerArgs) -> Result<(), Failure> {
     let scene = &config.scene;
     let stop = stop_flag();
     let start = Instant::now();
-    let mut packing = pack(scene)
-        .context("cannot pack the scene")
-        .map_err(Failure::Run)?;
+    let mut packing = pack_shown(scene, args.run.quiet)?;
     let seconds = start.elapsed().as_secs_f64();
-    let layered = lay_out(
-        &packing,
-        settings,
-        config.materials.len(),
-        scene.seed,
-        &stop,
-    );
+    let layered = lay_out_shown(&packing, settings, &config, &stop, args.run.quiet);
     packing.materials = layered.assignment.clone();
     let metrics = measure(&packing, scene);
     let run = RunInfo {
@@ -537,7 +537,7 @@ fn run_optimise(args: &OptimiseArgs) -> Result<(), Failure> {
     let layered = config
         .layering
         .as_ref()
-        .map(|l| lay_out(&packing, l, config.materials.len(), scene.seed, &stop));
+        .map(|l| lay_out_shown(&packing, l, &config, &stop, args.run.quiet));
     if let Some(l) = &layered {
         packing.materials = l.assignment.clone();
     } else if config.materials.len() == 1 && packing.materials.is_empty() {
@@ -588,6 +588,50 @@ fn run_optimise(args: &OptimiseArgs) -> Result<(), Failure> {
     Ok(())
 }
 
+/// Packs expected to hold at least this many disks show a progress bar
+/// (about a second at the generator's speed).
+const LARGE_PACK: f64 = 200_000.0;
+
+/// Pack `scene`, with a progress bar over the expected disks when the pack is large.
+fn pack_shown(scene: &gapack::Scene, quiet: bool) -> Result<gapack::Packing, Failure> {
+    let expected = scene.estimated_disks();
+    let bar = if expected >= LARGE_PACK {
+        count_bar(expected as usize, "disk", quiet)
+    } else {
+        ProgressBar::hidden()
+    };
+    let len = bar.length().unwrap_or(0);
+    let packing = pack_observed(scene, &mut |drawn| bar.set_position(drawn.min(len)))
+        .context("cannot pack the scene")
+        .map_err(Failure::Run);
+    bar.finish_and_clear();
+    packing
+}
+
+/// Lay the config's materials out on `packing`, with a progress bar over the GA's generations.
+fn lay_out_shown(
+    packing: &gapack::Packing,
+    settings: &gapack::layering::LayeringSettings,
+    config: &Config,
+    stop: &AtomicBool,
+    quiet: bool,
+) -> Layered {
+    let bar = progress_bar(settings.generations, quiet);
+    let layered = lay_out(
+        packing,
+        settings,
+        config.materials.len(),
+        config.scene.seed,
+        stop,
+        |g| {
+            bar.set_position(g.index as u64);
+            bar.set_message(format!("profile RMS {:.4}", g.best.value));
+        },
+    );
+    bar.finish_and_clear();
+    layered
+}
+
 /// The config of a run (seed overridden), its origin for messages, and the
 /// output directory.
 fn prepare(path: Option<&Path>, run: &RunArgs) -> Result<(Config, String, PathBuf), Failure> {
@@ -595,7 +639,11 @@ fn prepare(path: Option<&Path>, run: &RunArgs) -> Result<(Config, String, PathBu
     if let Some(seed) = run.seed {
         config.scene.seed = seed;
     }
-    let out = run.out.clone().unwrap_or_else(|| default_out(path));
+    let out = run
+        .out
+        .clone()
+        .or_else(|| config.output.dir.as_ref().map(PathBuf::from))
+        .unwrap_or_else(|| default_out(path));
     Ok((config, origin, out))
 }
 

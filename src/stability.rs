@@ -12,7 +12,7 @@
 //! farther than d_max from every disk (counting only where a smallest disk
 //! could be centred: the tip of a wedge narrower than d_min holds none),
 //! and keeps the sizes within the sampling noise of their number plus
-//! [`KS_MARGIN`] of the grading. A case no disk fits in is refused, not failed.
+//! [`crate::check::KS_MARGIN`] of the grading. A case no disk fits in is refused, not failed.
 
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
@@ -33,10 +33,6 @@ pub const WIDTHS: [f64; 6] = [1.2, 1.5, 2.0, 3.0, 5.0, 20.0];
 
 /// Largest share of the domain left farther than d_max from every disk in a pass.
 pub const MAX_EMPTY: f64 = 0.02;
-
-/// KS distance of the sizes to the grading allowed in a pass beyond the
-/// sampling noise of their number n (1.36/√n, the 95 % quantile).
-pub const KS_MARGIN: f64 = 0.05;
 
 /// The shapes swept.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -201,10 +197,9 @@ impl StabilityRun {
     }
 
     /// Whether the sizes lie farther from the grading than the sampling
-    /// noise of their number explains (plus [`KS_MARGIN`]).
+    /// noise of their number explains (plus [`crate::check::KS_MARGIN`]).
     pub fn grading_bent(&self) -> bool {
-        let noise = 1.36 / (self.particles.max(1) as f64).sqrt();
-        self.psd_ks > noise + KS_MARGIN
+        self.psd_ks > crate::check::ks_limit(self.particles)
     }
 }
 

@@ -4,6 +4,7 @@
 use crate::geometry::{Shape, WallMode};
 use crate::grading::{Basis, Interpolation};
 use crate::layering::{Axis, LayeringMode};
+use crate::output::{Format, LengthUnit};
 use crate::packer::{Fill, FrontRules, IndexKind, Method};
 
 /// The default packing method's name.
@@ -169,6 +170,27 @@ pub(crate) const PROFILES: Names<ProfileKind> = Names {
     ],
 };
 
+pub(crate) const FORMATS: Names<Format> = Names {
+    what: "format",
+    entries: &[
+        ("csv", Format::Csv),
+        ("json", Format::Json),
+        ("vtk", Format::Vtk),
+        ("lammps", Format::Lammps),
+        ("yade", Format::Yade),
+        ("pfc", Format::Pfc),
+        ("mercury", Format::Mercury),
+        ("esys", Format::Esys),
+        ("svg", Format::Svg),
+        ("png", Format::Png),
+    ],
+};
+
+pub(crate) const UNITS: Names<LengthUnit> = Names {
+    what: "length unit",
+    entries: &[("m", LengthUnit::Metre), ("mm", LengthUnit::Millimetre)],
+};
+
 /// `packer.contacts` is written as a number; it sets the one-contact share.
 pub(crate) const CONTACTS: Names<f64> = Names {
     what: "contact count",
@@ -264,6 +286,12 @@ mod tests {
         assert_eq!(FrontRules::Thesis.config_name(), "thesis");
         assert_eq!(Interpolation::Linear.config_name(), "linear");
         assert_eq!(SHAPES.get("hexagon"), None);
+        for f in Format::ALL {
+            assert_eq!(FORMATS.name_of(f), f.name());
+        }
+        for u in LengthUnit::ALL {
+            assert_eq!(UNITS.name_of(u), u.name());
+        }
         let circle = Shape::Circle {
             center: crate::geometry::Point::new(0.0, 0.0),
             radius: 1.0,

@@ -9,6 +9,7 @@ use crate::compare::CompareSettings;
 use crate::fracture::FractureRun;
 use crate::ga::OptimiseSettings;
 use crate::layering::{LayeringSettings, Material};
+use crate::output::OutputSettings;
 
 /// A validated config: the scene, and what to do with it beyond packing it once.
 #[derive(Debug, Clone)]
@@ -26,6 +27,8 @@ pub struct Config {
     pub fracture: Option<FractureRun>,
     /// `[compare]`: what `gapack compare` runs (its defaults without the table).
     pub compare: CompareSettings,
+    /// `[output]`: where runs write and what (its defaults without the table).
+    pub output: OutputSettings,
 }
 
 /// The embedded default scene: the thesis' proppant fracture (8.6 × 62.5 mm,

@@ -31,6 +31,17 @@ pub(crate) struct RawConfig {
     pub layering: Option<Spanned<RawLayering>>,
     pub limits: Option<RawLimits>,
     pub compare: Option<Spanned<RawCompare>>,
+    pub output: Option<Spanned<RawOutput>>,
+}
+
+/// `[output]`: where runs write and what.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawOutput {
+    pub dir: Option<Spanned<String>>,
+    pub formats: Option<Spanned<Vec<Spanned<String>>>>,
+    pub density: Option<Spanned<f64>>,
+    pub units: Option<Spanned<String>>,
 }
 
 /// `[compare]`: the methods `gapack compare` runs, and how many seeds.

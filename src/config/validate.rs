@@ -104,6 +104,7 @@ enum ShapePlan {
 
 mod fracture;
 mod materials;
+mod output;
 
 use fracture::FracturePlan;
 use materials::MaterialPlan;
@@ -266,6 +267,7 @@ impl Validator<'_> {
             layering,
             fracture,
             compare: self.compare(raw.compare.as_ref())?,
+            output: self.output(raw.output.as_ref())?,
         })
     }
 
@@ -543,11 +545,8 @@ impl Validator<'_> {
         }
     }
 
-    /// Refuse an optimisation whose genomes and packings would not fit the memory limit.
-    ///
-    /// A generation holds about four copies of the population's genomes
-    /// (population, offspring, selection, parents) and one packing per child
-    /// evaluated at once, beside the packer's own peak.
+    /// Refuse an optimisation whose genomes and packings would not fit the
+    /// memory limit ([`OptimiseSettings::peak_bytes`]).
     fn check_optimise_memory(
         &self,
         scene: &Scene,
@@ -557,9 +556,7 @@ impl Validator<'_> {
     ) -> Result<(), ConfigError> {
         let genes = size_count(&scene.domain, scene.d_min()) as f64 + RULE_GENES as f64;
         let disks = scene.domain.area() / scene.mean_disk_area();
-        let population = settings.population as f64;
-        let bytes = population * (4.0 * genes * 8.0 + disks * 24.0) + estimated_peak_bytes(scene);
-        let estimate_mb = bytes / BYTES_PER_MB;
+        let estimate_mb = settings.peak_bytes(scene) / BYTES_PER_MB;
         if estimate_mb <= limit_mb {
             return Ok(());
         }

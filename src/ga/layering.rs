@@ -19,7 +19,7 @@ use std::time::{Duration, Instant};
 use rand::Rng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 
-use super::engine::{Evaluation, Limits, Problem, Search, StopReason};
+use super::engine::{Evaluation, Generation, Limits, Problem, Search, StopReason};
 use super::score::Score;
 use crate::layering::{
     BinAreas, Frame, LayeringMode, LayeringSettings, ProfileRow, baseline, profile_rows, rms_error,
@@ -154,14 +154,15 @@ pub struct Layered {
 
 /// Lay `materials` materials out on `packing` following `settings`: the
 /// baseline, then the GA started from it (seeded by `seed`, stopped by
-/// `stop` between generations); in size-graded mode the packing's own
-/// materials are only measured.
+/// `stop` between generations, `progress` told of each generation); in
+/// size-graded mode the packing's own materials are only measured.
 pub fn lay_out(
     packing: &Packing,
     settings: &LayeringSettings,
     materials: usize,
     seed: u64,
     stop: &AtomicBool,
+    progress: impl FnMut(&Generation),
 ) -> Layered {
     let materials = materials.max(1);
     let frame = Frame::new(settings.axis, &packing.domain);
@@ -228,7 +229,7 @@ pub fn lay_out(
         stagnation: settings.stagnation,
         time_limit: Duration::from_secs_f64(settings.time_limit_s),
     };
-    let evolution = Search::start(&problem, limits, seed).run(stop, |_| {});
+    let evolution = Search::start(&problem, limits, seed).run(stop, progress);
     let tags: Vec<u16> = problem
         .assignment(&evolution.genes)
         .into_iter()

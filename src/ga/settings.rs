@@ -1,5 +1,9 @@
 //! Settings of a target-porosity run (`[optimise]` in a config).
 
+use super::RULE_GENES;
+use crate::Scene;
+use crate::packer::{estimated_peak_bytes, size_count};
+
 /// Settings of a target-porosity run, with the defaults of `docs/CONFIG.md`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OptimiseSettings {
@@ -20,6 +24,18 @@ pub struct OptimiseSettings {
 }
 
 impl OptimiseSettings {
+    /// Estimated peak memory (bytes) of a search on `scene`.
+    ///
+    /// A generation holds about four copies of the population's genomes
+    /// (population, offspring, selection, parents) and one packing per child
+    /// evaluated at once, beside the packer's own peak.
+    pub fn peak_bytes(&self, scene: &Scene) -> f64 {
+        let genes = size_count(&scene.domain, scene.d_min()) as f64 + RULE_GENES as f64;
+        let disks = scene.domain.area() / scene.mean_disk_area();
+        let population = self.population as f64;
+        population * (4.0 * genes * 8.0 + disks * 24.0) + estimated_peak_bytes(scene)
+    }
+
     /// Settings aiming at `target_porosity`, everything else at its default.
     pub fn new(target_porosity: f64) -> Self {
         OptimiseSettings {

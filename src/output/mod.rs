@@ -7,9 +7,11 @@
 mod atomic;
 mod csv;
 mod error;
+mod format;
 mod json;
 mod palette;
 mod plot;
+mod read;
 mod run;
 mod svg;
 
@@ -20,11 +22,13 @@ pub use csv::{
     window_csv,
 };
 pub use error::OutputError;
+pub use format::{ExportOptions, Format, LengthUnit, OutputSettings};
 pub use json::{OptimiseSummary, SUMMARY_JSON, summary_json};
 pub use plot::{
     CompareChart, Drawable, LineChart, Mark, Series, StabilityChart, convergence_chart,
     profile_chart, variant_label, window_chart,
 };
+pub use read::{PackingTable, ReadError, read_packing_csv};
 pub use run::{
     COMPARE_PNG, COMPARE_SVG, CONVERGENCE_PNG, CONVERGENCE_SVG, FractureInfo, PROFILE_PNG,
     PROFILE_SVG, RunInfo, STABILITY_PNG, STABILITY_SVG, WINDOW_PNG, WINDOW_SVG, write_compare,

@@ -103,11 +103,23 @@ pub fn size_count(domain: &Domain, d_min: f64) -> u64 {
     (domain.area() / a_min).ceil() as u64
 }
 
-/// Pack a scene with the advancing-front generator, sizes drawn from its grading.
-pub fn pack(scene: &Scene) -> Result<Packing, PackError> {
+/// Sizes drawn between two calls of a packing's progress callback.
+pub const PROGRESS_STEP: u64 = 4096;
+
+/// Pack a scene with the advancing-front generator, sizes drawn from its
+/// grading; `progress` is told the sizes drawn so far every [`PROGRESS_STEP`].
+pub fn pack(scene: &Scene, progress: &mut dyn FnMut(u64)) -> Result<Packing, PackError> {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(scene.seed);
     let count = size_count(&scene.domain, scene.d_min());
-    pack_genes(scene, (0..count).map(move |_| rng.r#gen::<f64>()))
+    pack_genes(
+        scene,
+        (0..count).map(move |i| {
+            if i % PROGRESS_STEP == 0 {
+                progress(i);
+            }
+            rng.r#gen::<f64>()
+        }),
+    )
 }
 
 /// Pack a scene with the sizes drawn by the given genes, in order: each gene

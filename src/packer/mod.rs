@@ -12,7 +12,7 @@ mod rsa;
 mod settings;
 mod sizer;
 
-pub use advancing_front::{pack_genes, size_count};
+pub use advancing_front::{PROGRESS_STEP, pack_genes, size_count};
 pub use deposition::pack_deposition;
 pub use metrics::{Metrics, measure};
 pub use packing::{PackError, PackStats, Packing};
@@ -60,8 +60,18 @@ pub fn estimated_peak_bytes(scene: &Scene) -> f64 {
 /// assert!(packing.disks.len() > 80);
 /// ```
 pub fn pack(scene: &Scene) -> Result<Packing, PackError> {
+    pack_observed(scene, &mut |_| {})
+}
+
+/// [`pack`], telling `progress` how many sizes have been drawn so far, every
+/// [`PROGRESS_STEP`] sizes (advancing front only: the comparison generators
+/// do not report). About [`Scene::estimated_disks`] sizes are drawn in all.
+///
+/// # Errors
+/// As [`pack`].
+pub fn pack_observed(scene: &Scene, progress: &mut dyn FnMut(u64)) -> Result<Packing, PackError> {
     match scene.packer.method {
-        Method::AdvancingFront => advancing_front::pack(scene),
+        Method::AdvancingFront => advancing_front::pack(scene, progress),
         Method::Rsa => pack_rsa(scene),
         Method::Deposition => pack_deposition(scene),
         Method::Relaxation => pack_relaxation(scene),

@@ -1,0 +1,294 @@
+//! An independent check of a packing, for packings from any tool: overlaps,
+//! containment, porosity and grading fidelity.
+//!
+//! Nothing here uses the generator's bookkeeping or its spatial indexes: the
+//! disks are bucketed afresh by sorting cell keys, and every pair in
+//! neighbouring cells is tested. A packing that passes has no two disks
+//! overlapping by more than [`OVERLAP_REL`] of their radii sum and no disk
+//! outside the domain by more than [`OVERLAP_REL`] of the largest diameter.
+
+use crate::geometry::predicates::OVERLAP_REL;
+use crate::geometry::{Disk, Domain};
+use crate::grading::Grading;
+
+/// The KS distance beyond the sampling noise of n sizes (1.36/√n, the 95 %
+/// quantile of the KS statistic) that still counts as following the grading.
+pub const KS_MARGIN: f64 = 0.05;
+
+/// The result of [`check`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Check {
+    /// Disks checked.
+    pub particles: usize,
+    /// Disks whose centre or radius is not finite, or whose radius is not positive.
+    pub malformed: usize,
+    /// Pairs overlapping by more than [`OVERLAP_REL`] of their radii sum.
+    pub overlaps: usize,
+    /// The deepest overlap: the two disks' indices and the overlap relative to their radii sum.
+    pub worst_overlap: Option<(usize, usize, f64)>,
+    /// Disks reaching outside the domain by more than the tolerance.
+    pub outside: usize,
+    /// The disk reaching farthest outside: its index and how far (mm).
+    pub worst_outside: Option<(usize, f64)>,
+    /// Domain area (mm²).
+    pub domain_area: f64,
+    /// Total area of the disks (mm²).
+    pub solid_area: f64,
+    /// 1 − solid_area / domain_area.
+    pub porosity: f64,
+    /// KS distance of the diameters to the grading, in its basis, when one is given.
+    pub psd_ks: Option<f64>,
+    /// Largest KS distance that sampling noise explains for this many disks, plus [`KS_MARGIN`].
+    pub ks_limit: f64,
+}
+
+impl Check {
+    /// No malformed disk, no overlap, nothing outside.
+    pub fn valid(&self) -> bool {
+        self.malformed == 0 && self.overlaps == 0 && self.outside == 0
+    }
+
+    /// Whether the sizes follow the grading within sampling noise (true when no grading was given).
+    pub fn grading_kept(&self) -> bool {
+        self.psd_ks.is_none_or(|ks| ks <= self.ks_limit)
+    }
+}
+
+/// Check `disks` in `domain`; with a `grading`, their sizes against it too.
+///
+/// # Behavior
+/// Overlap of two disks: `(r1 + r2 − |c1 − c2|) / (r1 + r2)`, counted when
+/// above [`OVERLAP_REL`]. Containment: the centre's signed distance to the
+/// boundary minus the radius, counted when below `−OVERLAP_REL · d_max`.
+/// Malformed disks are counted and left out of the other tests.
+///
+/// # Performance
+/// O(n log n): one sort of the disks by cell, then the pairs of each cell
+/// and its neighbours.
+pub fn check(disks: &[Disk], domain: &Domain, grading: Option<&Grading>) -> Check {
+    let well_formed =
+        |d: &Disk| d.c.x.is_finite() && d.c.y.is_finite() && d.r.is_finite() && d.r > 0.0;
+    let ok: Vec<usize> = (0..disks.len())
+        .filter(|&i| well_formed(&disks[i]))
+        .collect();
+    let r_max = ok.iter().fold(0.0f64, |m, &i| m.max(disks[i].r));
+
+    let (overlaps, worst_overlap) = overlapping_pairs(disks, &ok, r_max);
+
+    let tolerance = OVERLAP_REL * 2.0 * r_max;
+    let mut outside = 0;
+    let mut worst_outside: Option<(usize, f64)> = None;
+    for &i in &ok {
+        let d = &disks[i];
+        let beyond = d.r - domain.signed_distance(d.c);
+        if beyond > tolerance {
+            outside += 1;
+            if worst_outside.is_none_or(|(_, w)| beyond > w) {
+                worst_outside = Some((i, beyond));
+            }
+        }
+    }
+
+    let domain_area = domain.area();
+    let solid_area: f64 = ok.iter().map(|&i| disks[i].area()).sum();
+    let diameters: Vec<f64> = ok.iter().map(|&i| 2.0 * disks[i].r).collect();
+    Check {
+        particles: disks.len(),
+        malformed: disks.len() - ok.len(),
+        overlaps,
+        worst_overlap,
+        outside,
+        worst_outside,
+        domain_area,
+        solid_area,
+        porosity: 1.0 - solid_area / domain_area,
+        psd_ks: grading.map(|g| g.ks_distance(&diameters)),
+        ks_limit: ks_limit(ok.len()),
+    }
+}
+
+/// The largest KS distance `n` sizes may lie from their grading and still
+/// follow it: the sampling noise of their number (1.36/√n, the 95 % quantile
+/// of the KS statistic) plus [`KS_MARGIN`].
+pub fn ks_limit(n: usize) -> f64 {
+    1.36 / (n.max(1) as f64).sqrt() + KS_MARGIN
+}
+
+/// Count the overlapping pairs among `disks[ok]` and find the deepest.
+///
+/// Cells of side 2·`r_max` hold the centres; two disks can only overlap if
+/// their cells are the same or adjacent. Cells are keyed (row, column) and
+/// sorted, and each cell looks up the next cell of its row and the three
+/// cells above by binary search.
+fn overlapping_pairs(
+    disks: &[Disk],
+    ok: &[usize],
+    r_max: f64,
+) -> (usize, Option<(usize, usize, f64)>) {
+    if ok.len() < 2 {
+        return (0, None);
+    }
+    let side = 2.0 * r_max;
+    let (x0, y0) = ok
+        .iter()
+        .fold((f64::INFINITY, f64::INFINITY), |(x, y), &i| {
+            (x.min(disks[i].c.x), y.min(disks[i].c.y))
+        });
+    // Saturating casts: a packing wider than 2^63 cells cannot hold this many disks anyway.
+    let cell = |d: &Disk| {
+        (
+            ((d.c.y - y0) / side).floor() as i64,
+            ((d.c.x - x0) / side).floor() as i64,
+        )
+    };
+    let mut keyed: Vec<((i64, i64), usize)> = ok.iter().map(|&i| (cell(&disks[i]), i)).collect();
+    keyed.sort_unstable();
+    let range_of = |key: (i64, i64)| {
+        let lo = keyed.partition_point(|(k, _)| *k < key);
+        let hi = keyed.partition_point(|(k, _)| *k <= key);
+        lo..hi
+    };
+    let mut count = 0;
+    let mut worst: Option<(usize, usize, f64)> = None;
+    let mut test = |a: usize, b: usize| {
+        let (p, q) = (&disks[a], &disks[b]);
+        let sum = p.r + q.r;
+        let overlap = (sum - (p.c - q.c).norm()) / sum;
+        if overlap > OVERLAP_REL {
+            count += 1;
+            if worst.is_none_or(|(_, _, w)| overlap > w) {
+                worst = Some((a.min(b), a.max(b), overlap));
+            }
+        }
+    };
+    let mut start = 0;
+    while start < keyed.len() {
+        let key = keyed[start].0;
+        let here = range_of(key);
+        for i in here.clone() {
+            for j in i + 1..here.end {
+                test(keyed[i].1, keyed[j].1);
+            }
+        }
+        let (row, col) = key;
+        for other in [
+            (row, col + 1),
+            (row + 1, col - 1),
+            (row + 1, col),
+            (row + 1, col + 1),
+        ] {
+            let there = range_of(other);
+            for i in here.clone() {
+                for j in there.clone() {
+                    test(keyed[i].1, keyed[j].1);
+                }
+            }
+        }
+        start = here.end;
+    }
+    (count, worst)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Point;
+
+    fn disk(x: f64, y: f64, r: f64) -> Disk {
+        Disk {
+            c: Point::new(x, y),
+            r,
+        }
+    }
+
+    /// Every pair by brute force: the reference the cell sweep must match.
+    fn brute_force(disks: &[Disk]) -> usize {
+        let mut n = 0;
+        for i in 0..disks.len() {
+            for j in i + 1..disks.len() {
+                let sum = disks[i].r + disks[j].r;
+                if (sum - (disks[i].c - disks[j].c).norm()) / sum > OVERLAP_REL {
+                    n += 1;
+                }
+            }
+        }
+        n
+    }
+
+    #[test]
+    fn finds_every_overlap_the_brute_force_finds() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(7);
+        let domain = Domain::rectangle(30.0, 20.0).unwrap();
+        for _ in 0..20 {
+            let disks: Vec<Disk> = (0..300)
+                .map(|_| {
+                    disk(
+                        rng.gen_range(0.0..30.0),
+                        rng.gen_range(0.0..20.0),
+                        rng.gen_range(0.05..1.0),
+                    )
+                })
+                .collect();
+            let c = check(&disks, &domain, None);
+            assert_eq!(c.overlaps, brute_force(&disks));
+            assert!(c.overlaps > 0);
+        }
+    }
+
+    #[test]
+    fn tangent_disks_inside_pass() {
+        let domain = Domain::rectangle(4.0, 2.0).unwrap();
+        let disks = [disk(1.0, 1.0, 1.0), disk(3.0, 1.0, 1.0)];
+        let c = check(&disks, &domain, Some(&Grading::constant(2.0).unwrap()));
+        assert!(c.valid(), "{c:?}");
+        assert!(c.grading_kept());
+        assert_eq!(c.psd_ks, Some(0.0));
+        assert!((c.porosity - (1.0 - std::f64::consts::PI / 4.0)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn overlap_outside_and_malformed_are_each_caught() {
+        let domain = Domain::rectangle(4.0, 2.0).unwrap();
+        let overlap = [disk(1.0, 1.0, 1.0), disk(2.9, 1.0, 1.0)];
+        let c = check(&overlap, &domain, None);
+        assert_eq!((c.overlaps, c.outside), (1, 0));
+        let (a, b, w) = c.worst_overlap.unwrap();
+        assert_eq!((a, b), (0, 1));
+        assert!((w - 0.05).abs() < 1e-12);
+
+        let out = [disk(1.0, 1.0, 1.0), disk(3.5, 1.0, 0.6)];
+        let c = check(&out, &domain, None);
+        assert_eq!((c.overlaps, c.outside), (0, 1));
+        let (i, by) = c.worst_outside.unwrap();
+        assert_eq!(i, 1);
+        assert!((by - 0.1).abs() < 1e-12);
+
+        let bad = [
+            disk(1.0, 1.0, 1.0),
+            disk(f64::NAN, 1.0, 0.5),
+            disk(3.0, 1.0, 0.0),
+        ];
+        let c = check(&bad, &domain, None);
+        assert_eq!(c.malformed, 2);
+        assert!(!c.valid());
+    }
+
+    #[test]
+    fn sizes_off_the_grading_are_flagged() {
+        let domain = Domain::rectangle(100.0, 100.0).unwrap();
+        let disks: Vec<Disk> = (0..100)
+            .map(|i| {
+                disk(
+                    5.0 + 10.0 * (i % 10) as f64,
+                    5.0 + 10.0 * (i / 10) as f64,
+                    1.0,
+                )
+            })
+            .collect();
+        let grading = Grading::uniform(1.0, 4.0, crate::Basis::Number).unwrap();
+        let c = check(&disks, &domain, Some(&grading));
+        assert!(c.valid());
+        assert!(!c.grading_kept(), "{c:?}");
+    }
+}

@@ -1,0 +1,370 @@
+//! `gapack validate` and `gapack verify`: look at a config or a packing
+//! without packing anything.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, anyhow};
+use clap::Args;
+use gapack::check::{Check, check};
+use gapack::config::{Config, ConfigName};
+use gapack::fracture::{Extent, MM_PER_M};
+use gapack::geometry::predicates::OVERLAP_REL;
+use gapack::output::{PackingTable, read_packing_csv};
+use gapack::packer::{PEAK_BYTES_PER_DISK, estimated_peak_bytes};
+use gapack::{Packing, Scene, Shape};
+
+use crate::{Failure, default_out, load_config};
+
+/// `gapack validate` arguments.
+#[derive(Args)]
+pub struct ValidateArgs {
+    /// Config (TOML) to check.
+    config: PathBuf,
+}
+
+/// `gapack verify` arguments.
+#[derive(Args)]
+pub struct VerifyArgs {
+    /// The packing: a CSV with columns x, y and r (or radius, d, diameter), material optional.
+    packing: PathBuf,
+    /// The config whose domain and grading the packing must honour.
+    #[arg(long, value_name = "CONFIG")]
+    config: PathBuf,
+    /// In a fracture batch, the well the packing belongs to [default: the only well].
+    #[arg(long, value_name = "NAME")]
+    well: Option<String>,
+}
+
+/// `gapack validate`: the config's scene (or each well's) and what a run
+/// would write, without running it.
+pub fn run_validate(args: &ValidateArgs) -> Result<(), Failure> {
+    let (config, origin) = load_config(Some(&args.config)).map_err(Failure::Input)?;
+    println!("{origin}: valid");
+    for line in describe(&config, &args.config) {
+        println!("  {line}");
+    }
+    Ok(())
+}
+
+/// What `gapack validate` prints: the job, the scenes, the outputs.
+fn describe(config: &Config, path: &Path) -> Vec<String> {
+    let scene = &config.scene;
+    let mut lines = Vec::new();
+    let job = if let Some(o) = &config.optimise {
+        format!(
+            "job: gapack optimise: target porosity {} ± {}, population {}, at most {} generations, {} s",
+            o.target_porosity, o.tolerance, o.population, o.generations, o.time_limit_s
+        )
+    } else if config.layering.is_some() {
+        "job: gapack layer (or gapack pack for the packing alone)".to_owned()
+    } else if let Some(run) = &config.fracture {
+        format!(
+            "job: gapack pack: {} fracture{}, {}",
+            run.wells.len(),
+            if run.wells.len() == 1 { "" } else { "s" },
+            match run.extent {
+                Extent::Full => "packed whole".to_owned(),
+                Extent::Window { tolerance } =>
+                    format!("representative windows (porosity tolerance {tolerance})"),
+            }
+        )
+    } else {
+        "job: gapack pack".to_owned()
+    };
+    lines.push(job);
+    if let Some(l) = &config.layering {
+        lines.push(format!(
+            "layering: {} material(s), {} along {}, {} bins",
+            config.materials.len(),
+            l.mode.config_name(),
+            l.axis.config_name(),
+            l.bins
+        ));
+    }
+    let g = &scene.grading;
+    lines.push(format!(
+        "grading: d {} to {} mm ({} basis, {} interpolation){}, seed {}",
+        tidy(scene.d_min()),
+        tidy(scene.d_max()),
+        g.basis().config_name(),
+        g.interpolation().config_name(),
+        if scene.gradient.is_some() {
+            ", size-graded"
+        } else {
+            ""
+        },
+        scene.seed
+    ));
+    lines.push(format!(
+        "packer: {}, {} index, {} rules, fill {}",
+        scene.packer.method.config_name(),
+        scene.packer.index.config_name(),
+        scene.packer.rules.config_name(),
+        scene.packer.fill.config_name()
+    ));
+    match &config.fracture {
+        Some(run) => {
+            for well in &run.wells {
+                let f = well.fracture;
+                let taper = f
+                    .tip_width
+                    .map_or(String::new(), |t| format!(" tapering to {} mm", tidy(t)));
+                lines.push(format!(
+                    "well {}: {} mm wide{taper}, {} m high; {}",
+                    well.name,
+                    tidy(f.width),
+                    tidy(f.length / MM_PER_M),
+                    scene_line(&well.scene)
+                ));
+            }
+        }
+        None => lines.push(format!("domain: {}", scene_line(scene))),
+    }
+    if let Some(o) = &config.optimise {
+        lines.push(format!(
+            "search memory: about {} ({} genomes)",
+            memory(o.peak_bytes(scene)),
+            o.population
+        ));
+    }
+    let out = config
+        .output
+        .dir
+        .as_ref()
+        .map_or_else(|| default_out(Some(path)), PathBuf::from);
+    let formats: Vec<&str> = config.output.formats.iter().map(|f| f.name()).collect();
+    lines.push(format!(
+        "output: {} ({}; summary.json always)",
+        out.display(),
+        if formats.is_empty() {
+            "no format".to_owned()
+        } else {
+            formats.join(", ")
+        }
+    ));
+    lines
+}
+
+/// `rectangle 8.6 × 62.5 mm, area 537.5 mm², exact walls: about 340 disks (at most 430), peak memory 0.04 MB`.
+fn scene_line(scene: &Scene) -> String {
+    let domain = &scene.domain;
+    let shape = match domain.shape() {
+        Shape::Rectangle { width, height } => {
+            format!("rectangle {} × {} mm", tidy(*width), tidy(*height))
+        }
+        Shape::Polygon { vertices } => format!("polygon of {} vertices", vertices.len()),
+        Shape::Circle { radius, .. } => format!("circle of radius {} mm", tidy(*radius)),
+        Shape::Trapezoid {
+            bottom,
+            top,
+            height,
+        } => format!(
+            "trapezoid {} / {} × {} mm",
+            tidy(*bottom),
+            tidy(*top),
+            tidy(*height)
+        ),
+    };
+    let bytes = estimated_peak_bytes(scene);
+    format!(
+        "{shape}, area {} mm², walls {}: about {:.0} disks (at most {:.0}), peak memory about {}",
+        tidy(domain.area()),
+        scene.walls.config_name(),
+        scene.estimated_disks(),
+        bytes / PEAK_BYTES_PER_DISK,
+        memory(bytes)
+    )
+}
+
+/// `12 kB`, `1.6 MB`, `2.3 GB` (powers of 1024).
+fn memory(bytes: f64) -> String {
+    let kb = bytes / 1024.0;
+    if kb < 1024.0 {
+        format!("{kb:.0} kB")
+    } else if kb < 1024.0 * 1024.0 {
+        format!("{:.1} MB", kb / 1024.0)
+    } else {
+        format!("{:.1} GB", kb / (1024.0 * 1024.0))
+    }
+}
+
+/// Four significant digits, no trailing zeros.
+fn tidy(v: f64) -> String {
+    let s = format!("{}", (v * 1e4).round() / 1e4);
+    if v.abs() >= 1e4 || s.len() <= 8 {
+        s
+    } else {
+        format!("{v:.4}")
+    }
+}
+
+/// `gapack verify`: read the packing, check it against the config's domain
+/// and grading, print the findings; exit 1 when it fails.
+pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
+    let (config, origin) = load_config(Some(&args.config)).map_err(Failure::Input)?;
+    let scene = pick_scene(&config, args.well.as_deref(), &origin)?;
+    let table = read_table(&args.packing)?;
+    let graded = scene.gradient.is_some();
+    let result = check(
+        &table.disks,
+        &scene.domain,
+        (!graded).then_some(&scene.grading),
+    );
+    let psd_ks = if graded {
+        Some(scene.psd_ks(&packing_of(&table, scene, &config)))
+    } else {
+        result.psd_ks
+    };
+    let lines = findings(&result, &table, psd_ks);
+    println!(
+        "{} against {origin}: {}",
+        args.packing.display(),
+        if result.valid() && ks_kept(&result, psd_ks) {
+            "valid"
+        } else {
+            "FAILED"
+        }
+    );
+    for line in &lines {
+        println!("  {line}");
+    }
+    if !result.valid() {
+        return Err(Failure::Run(anyhow!(
+            "{}: the packing is not valid (overlaps or disks outside the domain)",
+            args.packing.display()
+        )));
+    }
+    if !ks_kept(&result, psd_ks) {
+        return Err(Failure::Run(anyhow!(
+            "{}: the sizes do not follow the config's grading",
+            args.packing.display()
+        )));
+    }
+    Ok(())
+}
+
+/// Whether the KS distance (the per-material one for size-graded scenes) is within the limit.
+fn ks_kept(result: &Check, psd_ks: Option<f64>) -> bool {
+    psd_ks.is_none_or(|ks| ks <= result.ks_limit)
+}
+
+/// The scene a packing of `config` was made for: its own, or the named well's.
+fn pick_scene<'c>(
+    config: &'c Config,
+    well: Option<&str>,
+    origin: &str,
+) -> Result<&'c Scene, Failure> {
+    let Some(run) = &config.fracture else {
+        return match well {
+            None => Ok(&config.scene),
+            Some(_) => Err(Failure::Input(anyhow!(
+                "--well: {origin} has no [fracture] wells"
+            ))),
+        };
+    };
+    let names = || {
+        run.wells
+            .iter()
+            .map(|w| w.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    match well {
+        Some(name) => run
+            .wells
+            .iter()
+            .find(|w| w.name == name)
+            .map(|w| &w.scene)
+            .ok_or_else(|| {
+                Failure::Input(anyhow!(
+                    "--well: {origin} has no well {name:?}; its wells: {}",
+                    names()
+                ))
+            }),
+        None if run.wells.len() == 1 => Ok(&run.wells[0].scene),
+        None => Err(Failure::Input(anyhow!(
+            "{origin} packs {} wells: name the packing's with --well ({})",
+            run.wells.len(),
+            names()
+        ))),
+    }
+}
+
+/// Read a packing table, every fault located (file, line, column).
+pub fn read_table(path: &Path) -> Result<PackingTable, Failure> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read {}", path.display()))
+        .map_err(Failure::Input)?;
+    read_packing_csv(&text, &path.display().to_string()).map_err(|e| Failure::Input(e.into()))
+}
+
+/// The table as a packing of `scene`, materials numbered as the config lists them.
+fn packing_of(table: &PackingTable, scene: &Scene, config: &Config) -> Packing {
+    let by_config: Vec<u16> = table
+        .material_names
+        .iter()
+        .map(|name| {
+            config
+                .materials
+                .iter()
+                .position(|m| &m.name == name)
+                .map_or(u16::MAX, |i| i as u16)
+        })
+        .collect();
+    Packing {
+        domain: scene.domain.clone(),
+        walls: scene.walls,
+        boundary: Vec::new(),
+        disks: table.disks.clone(),
+        materials: table
+            .materials
+            .iter()
+            .map(|&m| by_config[usize::from(m)])
+            .collect(),
+        stats: Default::default(),
+    }
+}
+
+/// The lines `gapack verify` prints under its verdict.
+fn findings(c: &Check, table: &PackingTable, psd_ks: Option<f64>) -> Vec<String> {
+    let row = |i: usize| format!("row {}", i + 1);
+    let mut lines = vec![format!(
+        "{table}, porosity {:.4} (solid {:.4} of {:.4} mm²)",
+        c.porosity, c.solid_area, c.domain_area
+    )];
+    if c.malformed > 0 {
+        lines.push(format!(
+            "malformed: {} disks with a non-finite position or a radius that is not positive",
+            c.malformed
+        ));
+    }
+    lines.push(match c.worst_overlap {
+        None => format!("overlaps: none (tolerance {OVERLAP_REL:.0e} of the radii sum)"),
+        Some((a, b, depth)) => format!(
+            "overlaps: {} pairs; the deepest {depth:.2e} of the radii sum ({} and {})",
+            c.overlaps,
+            row(a),
+            row(b)
+        ),
+    });
+    lines.push(match c.worst_outside {
+        None => "containment: every disk inside the domain".to_owned(),
+        Some((i, by)) => format!(
+            "containment: {} disks reach outside; the farthest by {by:.3e} mm ({})",
+            c.outside,
+            row(i)
+        ),
+    });
+    lines.push(match psd_ks {
+        None => "grading: not checked".to_owned(),
+        Some(ks) => format!(
+            "grading: KS distance {ks:.4} {} {:.4} (sampling noise of {} sizes + {}): {}",
+            if ks <= c.ks_limit { "≤" } else { ">" },
+            c.ks_limit,
+            c.particles,
+            gapack::check::KS_MARGIN,
+            if ks <= c.ks_limit { "kept" } else { "bent" }
+        ),
+    });
+    lines
+}

@@ -1,0 +1,3 @@
+//! Subcommands of the binary beyond the packing runs in `main.rs`.
+
+pub mod inspect;

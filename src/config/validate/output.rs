@@ -1,0 +1,64 @@
+//! `[output]`: the directory, known format names given once, the export settings.
+
+use toml::Spanned;
+
+use super::Validator;
+use crate::config::error::ConfigError;
+use crate::config::names::{FORMATS, UNITS};
+use crate::config::raw::RawOutput;
+use crate::output::OutputSettings;
+
+impl Validator<'_> {
+    /// `[output]`: its defaults when the table is absent.
+    pub(super) fn output(
+        &self,
+        raw: Option<&Spanned<RawOutput>>,
+    ) -> Result<OutputSettings, ConfigError> {
+        let mut settings = OutputSettings::default();
+        let Some(raw) = raw else {
+            return Ok(settings);
+        };
+        let o = raw.get_ref();
+        if let Some(dir) = &o.dir {
+            if dir.get_ref().trim().is_empty() {
+                return Err(ConfigError::Missing {
+                    at: self.at(&dir.span()),
+                    key: "output.dir".to_owned(),
+                    reason: "give a directory, or leave the key out for out/<config name>"
+                        .to_owned(),
+                });
+            }
+            settings.dir = Some(dir.get_ref().clone());
+        }
+        if let Some(formats) = &o.formats {
+            let mut out = Vec::new();
+            for (i, name) in formats.get_ref().iter().enumerate() {
+                let key = format!("output.formats[{i}]");
+                let format =
+                    FORMATS
+                        .get(name.get_ref())
+                        .ok_or_else(|| ConfigError::UnknownName {
+                            at: self.at(&name.span()),
+                            key: key.clone(),
+                            what: FORMATS.what,
+                            given: format!("{:?}", name.get_ref()),
+                            valid: FORMATS.valid(),
+                        })?;
+                if out.contains(&format) {
+                    return Err(ConfigError::NotApplicable {
+                        at: self.at(&name.span()),
+                        key,
+                        reason: format!("{:?} is given twice", name.get_ref()),
+                    });
+                }
+                out.push(format);
+            }
+            settings.formats = out;
+        }
+        if let Some(v) = &o.density {
+            settings.export.density = self.positive("output.density", v)?;
+        }
+        settings.export.units = self.name(&UNITS, "output.units", o.units.as_ref())?;
+        Ok(settings)
+    }
+}
