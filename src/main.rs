@@ -461,7 +461,7 @@ fn run_layer(args: &LayerArgs) -> Result<(), Failure> {
     let (config, origin, out) = prepare(Some(&args.config), &args.run)?;
     let Some(settings) = &config.layering else {
         return Err(Failure::Input(anyhow::anyhow!(
-            "{origin}:1:1: layering: missing table [layering]; gapack layer needs one with at least profile, and [[materials]] (see docs/CONFIG.md)"
+            "{origin}:1:1: layering: missing table [layering]; gapack layer needs one with at least profile, and [[materials]] (see docs/config.md)"
         )));
     };
     let scene = &config.scene;
@@ -498,7 +498,7 @@ fn run_optimise(args: &OptimiseArgs) -> Result<(), Failure> {
     let (config, origin, out) = prepare(Some(&args.config), &args.run)?;
     let Some(settings) = config.optimise else {
         return Err(Failure::Input(anyhow::anyhow!(
-            "{origin}:1:1: optimise: missing table [optimise]; gapack optimise needs one with at least target_porosity (see docs/CONFIG.md)"
+            "{origin}:1:1: optimise: missing table [optimise]; gapack optimise needs one with at least target_porosity (see docs/config.md)"
         )));
     };
     let scene = &config.scene;

@@ -334,15 +334,15 @@ fn findings(c: &Check, table: &PackingTable, psd_ks: Option<f64>) -> Vec<String>
     )];
     if c.malformed > 0 {
         lines.push(format!(
-            "malformed: {} disks with a non-finite position or a radius that is not positive",
-            c.malformed
+            "malformed: {} with a non-finite position or a radius that is not positive",
+            count(c.malformed, "disk", "disks")
         ));
     }
     lines.push(match c.worst_overlap {
         None => format!("overlaps: none (tolerance {OVERLAP_REL:.0e} of the radii sum)"),
         Some((a, b, depth)) => format!(
-            "overlaps: {} pairs; the deepest {depth:.2e} of the radii sum ({} and {})",
-            c.overlaps,
+            "overlaps: {}; the deepest {depth:.2e} of the radii sum ({} and {})",
+            count(c.overlaps, "pair", "pairs"),
             row(a),
             row(b)
         ),
@@ -350,8 +350,8 @@ fn findings(c: &Check, table: &PackingTable, psd_ks: Option<f64>) -> Vec<String>
     lines.push(match c.worst_outside {
         None => "containment: every disk inside the domain".to_owned(),
         Some((i, by)) => format!(
-            "containment: {} disks reach outside; the farthest by {by:.3e} mm ({})",
-            c.outside,
+            "containment: {} outside; the farthest by {by:.3e} mm ({})",
+            count(c.outside, "disk reaches", "disks reach"),
             row(i)
         ),
     });
@@ -367,4 +367,9 @@ fn findings(c: &Check, table: &PackingTable, psd_ks: Option<f64>) -> Vec<String>
         ),
     });
     lines
+}
+
+/// `1 pair`, `3 pairs`.
+fn count(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
 }

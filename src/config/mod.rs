@@ -3,7 +3,7 @@
 //!
 //! No I/O here: [`parse`] takes the text and a name for its origin. Every
 //! fault is one [`ConfigError`] naming the origin, line, column and key path.
-//! The keys are documented in `docs/CONFIG.md`.
+//! The keys are documented in `docs/config.md`.
 
 mod error;
 mod locate;

@@ -4,7 +4,7 @@ use super::RULE_GENES;
 use crate::Scene;
 use crate::packer::{estimated_peak_bytes, size_count};
 
-/// Settings of a target-porosity run, with the defaults of `docs/CONFIG.md`.
+/// Settings of a target-porosity run, with the defaults of `docs/config.md`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OptimiseSettings {
     /// Porosity to reach, in [0, 1).

@@ -14,7 +14,7 @@ pub enum LayeringMode {
     Sizes,
 }
 
-/// Settings of a layering run, with the defaults of `docs/CONFIG.md`.
+/// Settings of a layering run, with the defaults of `docs/config.md`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LayeringSettings {
     /// How the materials get their place.

@@ -105,7 +105,7 @@ struct LayeringDetails {
     stop: Option<&'static str>,
 }
 
-/// What a target-porosity run adds to `summary.json` (keys in `docs/CONFIG.md`).
+/// What a target-porosity run adds to `summary.json` (keys in `docs/config.md`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct OptimiseSummary {
     /// The porosity aimed at.
@@ -199,7 +199,7 @@ fn fracture_summary(info: FractureInfo<'_>) -> FractureSummary<'_> {
     }
 }
 
-/// The run summary as pretty-printed JSON (keys listed in `docs/CONFIG.md`).
+/// The run summary as pretty-printed JSON (keys listed in `docs/config.md`).
 ///
 /// `seconds` is the packing time alone (`pack`) or the whole search
 /// (`optimise`); non-finite metrics are `null`.

@@ -1,0 +1,247 @@
+//! `gapack validate`, `gapack verify` and the `[output]` table end to end:
+//! what they print, their exit codes, and their faults located to the line
+//! and column.
+
+mod common;
+
+use std::fs;
+
+use common::{gapack, scratch};
+
+fn stdout(out: &std::process::Output) -> String {
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn stderr(out: &std::process::Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+const SQUARE: &str = "seed = 3\n[domain]\nshape = \"rectangle\"\nwidth = 20\nheight = 20\n[grading]\nuniform = [1.0, 2.0]\n";
+
+#[test]
+fn validate_prints_the_scene_without_packing() {
+    let dir = scratch("validate");
+    fs::write(dir.join("sq.toml"), SQUARE).unwrap();
+    let out = gapack(&dir, &["validate", "sq.toml"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.starts_with("sq.toml: valid\n"), "{text}");
+    for expected in [
+        "job: gapack pack",
+        "grading: d 1 to 2 mm",
+        "domain: rectangle 20 × 20 mm, area 400 mm², walls exact: about ",
+        "peak memory about ",
+        "output: out/sq (csv, svg, png; summary.json always)",
+    ] {
+        assert!(
+            text.contains(expected),
+            "{expected:?} missing from:\n{text}"
+        );
+    }
+    assert!(!dir.join("out").exists(), "validate must not write");
+}
+
+#[test]
+fn validate_refuses_a_bad_config_with_its_location() {
+    let dir = scratch("validate-bad");
+    fs::write(
+        dir.join("bad.toml"),
+        format!("{SQUARE}[output]\nformats = [\"csv\", \"gif\"]\n"),
+    )
+    .unwrap();
+    let out = gapack(&dir, &["validate", "bad.toml"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        stderr(&out),
+        "error: bad.toml:9:19: output.formats[1]: unknown format \"gif\"; valid: csv, json, vtk, lammps, yade, pfc, mercury, esys, svg, png\n"
+    );
+}
+
+#[test]
+fn verify_passes_gapack_s_own_packing_and_fails_a_broken_one() {
+    let dir = scratch("verify");
+    fs::write(dir.join("sq.toml"), SQUARE).unwrap();
+    let packed = gapack(&dir, &["pack", "sq.toml", "--quiet"]);
+    assert!(packed.status.success(), "{}", stderr(&packed));
+    let ok = gapack(
+        &dir,
+        &["verify", "out/sq/packing.csv", "--config", "sq.toml"],
+    );
+    assert!(ok.status.success(), "{}{}", stdout(&ok), stderr(&ok));
+    let text = stdout(&ok);
+    assert!(
+        text.starts_with("out/sq/packing.csv against sq.toml: valid"),
+        "{text}"
+    );
+    assert!(text.contains("overlaps: none"), "{text}");
+    assert!(text.contains("every disk inside the domain"), "{text}");
+    assert!(text.contains(": kept"), "{text}");
+
+    // Move one disk onto its neighbour: an overlap, and exit code 1.
+    let csv = fs::read_to_string(dir.join("out/sq/packing.csv")).unwrap();
+    let mut lines: Vec<String> = csv.lines().map(str::to_owned).collect();
+    let second: Vec<String> = lines[2].split(',').map(str::to_owned).collect();
+    let first: Vec<&str> = lines[1].split(',').collect();
+    lines[2] = format!("{},{},{},{}", second[0], first[1], first[2], second[3]);
+    fs::write(dir.join("broken.csv"), lines.join("\n")).unwrap();
+    let bad = gapack(&dir, &["verify", "broken.csv", "--config", "sq.toml"]);
+    assert_eq!(bad.status.code(), Some(1), "{}", stdout(&bad));
+    assert!(stdout(&bad).contains("FAILED"));
+    assert!(
+        stdout(&bad).contains("overlaps: 1 pair"),
+        "{}",
+        stdout(&bad)
+    );
+    assert!(
+        stderr(&bad).contains("the packing is not valid"),
+        "{}",
+        stderr(&bad)
+    );
+
+    // A disk outside the domain.
+    fs::write(dir.join("out.csv"), "x,y,r\n19.5,10,1.0\n").unwrap();
+    let out = gapack(&dir, &["verify", "out.csv", "--config", "sq.toml"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stdout(&out)
+            .contains("containment: 1 disk reaches outside; the farthest by 5.000e-1 mm (row 1)"),
+        "{}",
+        stdout(&out)
+    );
+}
+
+#[test]
+fn verify_reads_other_tools_tables_and_checks_the_grading() {
+    let dir = scratch("verify-foreign");
+    fs::write(dir.join("sq.toml"), SQUARE).unwrap();
+    // 100 disks of 1 mm on a 2 mm lattice: valid, but far from uniform 1-2 mm.
+    let mut csv = String::from("Diameter,X,Y\n");
+    for i in 0..100 {
+        csv += &format!(
+            "1.0,{},{}\n",
+            1.0 + 2.0 * (i % 10) as f64,
+            1.0 + 2.0 * (i / 10) as f64
+        );
+    }
+    fs::write(dir.join("lattice.csv"), csv).unwrap();
+    let out = gapack(&dir, &["verify", "lattice.csv", "--config", "sq.toml"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stdout(&out));
+    let text = stdout(&out);
+    assert!(text.contains("overlaps: none"), "{text}");
+    assert!(text.contains(": bent"), "{text}");
+    assert!(stderr(&out).contains("do not follow the config's grading"));
+}
+
+#[test]
+fn verify_refuses_bad_tables_with_file_line_and_column() {
+    let dir = scratch("verify-bad");
+    fs::write(dir.join("sq.toml"), SQUARE).unwrap();
+    for (name, text, message) in [
+        (
+            "letters.csv",
+            "id,x,y,r\n0,1,1,0.5\n1,3,abc,0.5\n",
+            "error: letters.csv:3:5: column y: expected a number, got \"abc\"\n",
+        ),
+        (
+            "columns.csv",
+            "id,x,r\n0,1,0.5\n",
+            "error: columns.csv:1:1: missing column y; the header has: id, x, r\n",
+        ),
+        (
+            "short.csv",
+            "id,x,y,r\n0,1,1,0.5\n1,3,3\n",
+            "error: short.csv:3:1: expected 4 fields like the header, got 3\n",
+        ),
+        (
+            "empty.csv",
+            "x,y,r\n",
+            "error: empty.csv:2:1: no disks: the table has no rows\n",
+        ),
+    ] {
+        fs::write(dir.join(name), text).unwrap();
+        let out = gapack(&dir, &["verify", name, "--config", "sq.toml"]);
+        assert_eq!(out.status.code(), Some(2), "{name}");
+        assert_eq!(stderr(&out), message, "{name}");
+        assert!(out.stdout.is_empty(), "{name}");
+    }
+    let missing = gapack(&dir, &["verify", "nothing.csv", "--config", "sq.toml"]);
+    assert_eq!(missing.status.code(), Some(2));
+    assert!(stderr(&missing).starts_with("error: cannot read nothing.csv: "));
+}
+
+#[test]
+fn verify_needs_the_well_of_a_batch() {
+    let dir = scratch("verify-well");
+    let config = "[fracture]\nwalls = \"exact\"\n[[fracture.wells]]\nname = \"a\"\nwidth_mm = 8.0\nheight_m = 0.05\n[[fracture.wells]]\nname = \"b\"\nwidth_mm = 10.0\nheight_m = 0.05\n[grading]\nuniform = [1.0, 1.2]\n";
+    fs::write(dir.join("w.toml"), config).unwrap();
+    let packed = gapack(&dir, &["pack", "w.toml", "--quiet"]);
+    assert!(packed.status.success(), "{}", stderr(&packed));
+    let none = gapack(
+        &dir,
+        &["verify", "out/w/a/packing.csv", "--config", "w.toml"],
+    );
+    assert_eq!(none.status.code(), Some(2));
+    assert!(
+        stderr(&none).contains("name the packing's with --well (a, b)"),
+        "{}",
+        stderr(&none)
+    );
+    let a = gapack(
+        &dir,
+        &[
+            "verify",
+            "out/w/a/packing.csv",
+            "--config",
+            "w.toml",
+            "--well",
+            "a",
+        ],
+    );
+    assert!(a.status.success(), "{}", stdout(&a));
+    // Well b is wider: a's packing fits in it, but b's does not fit in a.
+    let b_in_a = gapack(
+        &dir,
+        &[
+            "verify",
+            "out/w/b/packing.csv",
+            "--config",
+            "w.toml",
+            "--well",
+            "a",
+        ],
+    );
+    assert_eq!(b_in_a.status.code(), Some(1), "{}", stdout(&b_in_a));
+}
+
+#[test]
+fn output_dir_of_the_config_is_used_and_an_unwritable_one_fails_cleanly() {
+    let dir = scratch("output-dir");
+    fs::write(
+        dir.join("sq.toml"),
+        format!("{SQUARE}[output]\ndir = \"results/run1\"\nformats = [\"csv\"]\n"),
+    )
+    .unwrap();
+    let out = gapack(&dir, &["pack", "sq.toml", "--quiet"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let mut written: Vec<String> = fs::read_dir(dir.join("results/run1"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    written.sort();
+    assert_eq!(written, ["packing.csv", "summary.json"]);
+
+    // A file where the directory should be.
+    fs::write(dir.join("blocked"), "a file").unwrap();
+    let blocked = gapack(
+        &dir,
+        &["pack", "sq.toml", "--out", "blocked/run", "--quiet"],
+    );
+    assert_eq!(blocked.status.code(), Some(1));
+    assert!(
+        stderr(&blocked)
+            .starts_with("error: cannot write the outputs: cannot create directory blocked/run: "),
+        "{}",
+        stderr(&blocked)
+    );
+    assert_eq!(fs::read_to_string(dir.join("blocked")).unwrap(), "a file");
+}
