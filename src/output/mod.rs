@@ -7,6 +7,7 @@
 mod atomic;
 mod csv;
 mod error;
+mod export;
 mod json;
 mod palette;
 mod plot;
@@ -20,6 +21,11 @@ pub use csv::{
     window_csv,
 };
 pub use error::OutputError;
+pub use export::{
+    BOUNDARY_VTK, ESYS_GEOMETRY, ExportOptions, LAMMPS_DATA, LengthUnit, MERCURY_DATA,
+    PACKING_JSON, PACKING_VTK, PFC_COMMANDS, YADE_TEXT, boundary_vtk, esys_geometry, lammps_data,
+    mercury_data, packing_json, packing_vtk, pfc_commands, yade_text,
+};
 pub use json::{OptimiseSummary, SUMMARY_JSON, summary_json};
 pub use plot::{
     CompareChart, Drawable, LineChart, Mark, Series, StabilityChart, convergence_chart,
