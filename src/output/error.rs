@@ -43,4 +43,15 @@ pub enum OutputError {
     /// A chart could not be drawn or encoded.
     #[error("cannot draw a chart: {0}")]
     Plot(String),
+    /// A packed disk refers to a material that is not in the list given to
+    /// an export (the file would name a type its reader does not know).
+    #[error("disk {disk} has material index {material}, but only {count} materials are defined")]
+    UnknownMaterial {
+        /// Index of the disk in placement order (from 0).
+        disk: usize,
+        /// Its material index.
+        material: u16,
+        /// How many materials were given.
+        count: usize,
+    },
 }

@@ -90,7 +90,16 @@ impl LengthUnit {
         }
     }
 
-    /// The name written in a config (`"m"`, `"mm"`).
+    /// Factor from kg/m³ to kg per cubic unit: `1` for metres, `1e-9` for
+    /// millimetres, so that density × volume is a mass in kg either way.
+    pub(crate) fn density_per_kg_m3(self) -> f64 {
+        match self {
+            LengthUnit::Metre => 1.0,
+            LengthUnit::Millimetre => 1e-9,
+        }
+    }
+
+    /// The name written in a config and in file headers (`"m"`, `"mm"`).
     pub fn name(self) -> &'static str {
         match self {
             LengthUnit::Metre => "m",

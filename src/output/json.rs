@@ -16,7 +16,7 @@ pub const SUMMARY_JSON: &str = "summary.json";
 
 /// The summary, key order as written.
 #[derive(Serialize)]
-struct Summary<'a> {
+pub(super) struct Summary<'a> {
     gapack_version: &'static str,
     config: &'a str,
     seed: u64,
@@ -211,8 +211,19 @@ pub fn summary_json(
     metrics: &Metrics,
     run: &RunInfo<'_>,
 ) -> Result<Vec<u8>, OutputError> {
+    let mut bytes = serde_json::to_vec_pretty(&summary(packing, metrics, run))?;
+    bytes.push(b'\n');
+    Ok(bytes)
+}
+
+/// The object `summary.json` holds, also embedded in `packing.json`.
+pub(super) fn summary<'a>(
+    packing: &Packing,
+    metrics: &'a Metrics,
+    run: &RunInfo<'a>,
+) -> Summary<'a> {
     let scene = run.scene;
-    let summary = Summary {
+    Summary {
         gapack_version: env!("CARGO_PKG_VERSION"),
         config: run.config,
         seed: scene.seed,
@@ -262,8 +273,5 @@ pub fn summary_json(
             },
         }),
         fracture: run.fracture.map(fracture_summary),
-    };
-    let mut bytes = serde_json::to_vec_pretty(&summary)?;
-    bytes.push(b'\n');
-    Ok(bytes)
+    }
 }

@@ -7,6 +7,7 @@
 mod atomic;
 mod csv;
 mod error;
+mod export;
 mod format;
 mod json;
 mod palette;
@@ -22,6 +23,11 @@ pub use csv::{
     window_csv,
 };
 pub use error::OutputError;
+pub use export::{
+    BOUNDARY_VTK, ESYS_GEOMETRY, LAMMPS_DATA, MERCURY_DATA, PACKING_JSON, PACKING_VTK,
+    PFC_COMMANDS, YADE_TEXT, boundary_vtk, esys_geometry, lammps_data, mercury_data, packing_json,
+    packing_vtk, pfc_commands, yade_text,
+};
 pub use format::{ExportOptions, Format, LengthUnit, OutputSettings};
 pub use json::{OptimiseSummary, SUMMARY_JSON, summary_json};
 pub use plot::{

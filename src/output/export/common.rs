@@ -1,0 +1,208 @@
+//! What the export writers share: text building, number formatting, the
+//! material of each disk, densities, bounds and safe material labels.
+
+use std::collections::BTreeSet;
+use std::fmt::{self, Write};
+
+use crate::geometry::Point;
+use crate::layering::Material;
+use crate::output::OutputError;
+use crate::output::format::ExportOptions;
+use crate::packer::Packing;
+
+/// gapack's version, written in the header of every export that has one.
+pub(super) const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// A text file built line by line in memory.
+pub(super) struct Text(String);
+
+impl Text {
+    /// An empty text with room for about `lines` lines.
+    pub(super) fn with_lines(lines: usize) -> Self {
+        Text(String::with_capacity(lines.saturating_mul(64)))
+    }
+
+    /// Append one line (`\n`-terminated).
+    pub(super) fn line(&mut self, args: fmt::Arguments<'_>) {
+        // Writing to a String cannot fail.
+        let _ = self.0.write_fmt(args);
+        self.0.push('\n');
+    }
+
+    /// The text as bytes.
+    pub(super) fn into_bytes(self) -> Vec<u8> {
+        self.0.into_bytes()
+    }
+}
+
+/// A number written in the shortest form that reads back to the same `f64`:
+/// plain decimals for magnitudes in [1e-5, 1e16) (and zero), exponent form
+/// (`1.5e-7`) otherwise, so no line grows long. Every reader the exports
+/// target (C `strtod`, C++ streams, Python `float`, PFC) reads both forms.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Num(pub(super) f64);
+
+impl fmt::Display for Num {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || (1e-5..1e16).contains(&a) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}
+
+/// The material index of every packed disk, or `None` for all of them when
+/// `materials` is empty. A disk beyond `packing.materials` has material 0
+/// (as in `packing.csv`).
+///
+/// # Errors
+/// [`OutputError::UnknownMaterial`] for the first disk whose index is not in
+/// `materials`.
+pub(super) fn disk_materials(
+    packing: &Packing,
+    materials: &[Material],
+) -> Result<Vec<Option<usize>>, OutputError> {
+    if materials.is_empty() {
+        return Ok(vec![None; packing.disks.len()]);
+    }
+    (0..packing.disks.len())
+        .map(|disk| {
+            let material = packing.materials.get(disk).copied().unwrap_or(0);
+            let index = usize::from(material);
+            if index < materials.len() {
+                Ok(Some(index))
+            } else {
+                Err(OutputError::UnknownMaterial {
+                    disk,
+                    material,
+                    count: materials.len(),
+                })
+            }
+        })
+        .collect()
+}
+
+/// Density (kg/m³) of material `m`: its `density` property, else the
+/// options' default.
+pub(super) fn density(materials: &[Material], m: Option<usize>, opts: &ExportOptions) -> f64 {
+    m.and_then(|m| materials.get(m))
+        .and_then(|m| m.properties.iter().find(|(key, _)| key == "density"))
+        .map_or(opts.density, |&(_, value)| value)
+}
+
+/// Integer type of material `m` for codes that number types from 1:
+/// index + 1, or 1 without materials.
+pub(super) fn type_id(m: Option<usize>) -> usize {
+    m.map_or(1, |m| m + 1)
+}
+
+/// Number of types: one per material, at least one.
+pub(super) fn type_count(materials: &[Material]) -> usize {
+    materials.len().max(1)
+}
+
+/// Axis-aligned box (mm) holding the domain and every packed disk whole.
+pub(super) fn extent(packing: &Packing) -> (Point, Point) {
+    let (mut lo, mut hi) = packing.domain.bounds();
+    for d in &packing.disks {
+        lo.x = lo.x.min(d.c.x - d.r);
+        lo.y = lo.y.min(d.c.y - d.r);
+        hi.x = hi.x.max(d.c.x + d.r);
+        hi.y = hi.y.max(d.c.y + d.r);
+    }
+    (lo, hi)
+}
+
+/// Largest packed radius (mm), 0 without disks.
+pub(super) fn r_max(packing: &Packing) -> f64 {
+    packing.disks.iter().map(|d| d.r).fold(0.0, f64::max)
+}
+
+/// One label per material that any reader takes as a single word: its name
+/// with every character other than an ASCII letter, digit or `_` replaced
+/// by `_`. Should two labels then coincide (or one be empty), every material
+/// is labelled `material_<index + 1>` instead, so labels stay unique.
+pub(super) fn labels(materials: &[Material]) -> Vec<String> {
+    let safe: Vec<String> = materials
+        .iter()
+        .map(|m| {
+            m.name
+                .chars()
+                .map(|c| {
+                    if c.is_ascii_alphanumeric() || c == '_' {
+                        c
+                    } else {
+                        '_'
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let distinct: BTreeSet<&str> = safe.iter().map(String::as_str).collect();
+    if distinct.len() == safe.len() && !distinct.contains("") {
+        safe
+    } else {
+        (1..=materials.len())
+            .map(|id| format!("material_{id}"))
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn material(name: &str) -> Material {
+        Material {
+            name: name.to_owned(),
+            properties: vec![("density".to_owned(), 3900.0)],
+        }
+    }
+
+    #[test]
+    fn numbers_read_back_exactly_in_either_form() {
+        for v in [
+            0.0,
+            -0.0,
+            1.0,
+            0.1 + 0.2,
+            1e-5,
+            9.99e-6,
+            1.5e-7,
+            6.02e23,
+            1e16,
+            123.456,
+        ] {
+            let text = Num(v).to_string();
+            assert_eq!(text.parse::<f64>(), Ok(v), "{text}");
+            assert!(text.len() <= 24, "{text}");
+        }
+        assert_eq!(Num(0.25).to_string(), "0.25");
+        assert_eq!(Num(1.5e-7).to_string(), "1.5e-7");
+    }
+
+    #[test]
+    fn labels_are_single_words_and_unique() {
+        let names = [material("ceramic"), material("hard metal")];
+        assert_eq!(labels(&names), ["ceramic", "hard_metal"]);
+        let clash = [material("a b"), material("a_b")];
+        assert_eq!(labels(&clash), ["material_1", "material_2"]);
+        let empty = [material("")];
+        assert_eq!(labels(&empty), ["material_1"]);
+    }
+
+    #[test]
+    fn density_falls_back_to_the_default() {
+        let opts = ExportOptions::default();
+        let with = [material("ceramic")];
+        let without = [Material {
+            name: "x".to_owned(),
+            properties: vec![("youngs_modulus".to_owned(), 1.0)],
+        }];
+        assert_eq!(density(&with, Some(0), &opts), 3900.0);
+        assert_eq!(density(&without, Some(0), &opts), 2650.0);
+        assert_eq!(density(&[], None, &opts), 2650.0);
+    }
+}

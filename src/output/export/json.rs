@@ -1,0 +1,185 @@
+//! `packing.json`: the domain, every packed disk and the run summary in one
+//! JSON document, for scripts.
+
+use serde::Serialize;
+
+use super::common::{Text, disk_materials};
+use crate::config::ConfigName;
+use crate::geometry::{Domain, Point, Shape};
+use crate::output::json::summary;
+use crate::output::{OutputError, RunInfo};
+use crate::packer::{Metrics, Packing};
+
+/// File name of the packing as JSON.
+pub const PACKING_JSON: &str = "packing.json";
+
+/// Points on the outline of a circular domain.
+const CIRCLE_SEGMENTS: usize = 256;
+
+/// The domain's axis-aligned bounds (mm).
+#[derive(Serialize)]
+struct BoundsJson {
+    min: [f64; 2],
+    max: [f64; 2],
+}
+
+/// One packed disk.
+#[derive(Serialize)]
+struct DiskJson<'a> {
+    id: usize,
+    x: f64,
+    y: f64,
+    r: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    material: Option<&'a str>,
+}
+
+/// A point as a JSON pair `[x, y]`.
+fn xy(p: Point) -> [f64; 2] {
+    [p.x, p.y]
+}
+
+/// `value` as compact JSON.
+fn compact(value: &impl Serialize) -> Result<String, OutputError> {
+    Ok(serde_json::to_string(value)?)
+}
+
+/// One member `"key": value,` of the domain object, the value compact.
+fn member(t: &mut Text, key: &str, value: &impl Serialize) -> Result<(), OutputError> {
+    t.line(format_args!("    \"{key}\": {},", compact(value)?));
+    Ok(())
+}
+
+/// A member holding a list of points, one `[x, y]` per line; `last` leaves
+/// out the comma after it.
+fn points(t: &mut Text, key: &str, points: &[Point], last: bool) -> Result<(), OutputError> {
+    t.line(format_args!("    \"{key}\": ["));
+    for (i, &p) in points.iter().enumerate() {
+        let comma = if i + 1 < points.len() { "," } else { "" };
+        t.line(format_args!("      {}{comma}", compact(&xy(p))?));
+    }
+    t.line(format_args!("    ]{}", if last { "" } else { "," }));
+    Ok(())
+}
+
+/// The `domain` member: the shape and its config parameters, the bounds,
+/// the area and the outline.
+fn domain(t: &mut Text, domain: &Domain) -> Result<(), OutputError> {
+    t.line(format_args!("  \"domain\": {{"));
+    member(t, "shape", &domain.shape().config_name())?;
+    match domain.shape() {
+        Shape::Rectangle { width, height } => {
+            member(t, "width", width)?;
+            member(t, "height", height)?;
+        }
+        Shape::Polygon { vertices } => points(t, "vertices", vertices, false)?,
+        Shape::Circle { center, radius } => {
+            member(t, "center", &xy(*center))?;
+            member(t, "radius", radius)?;
+        }
+        Shape::Trapezoid {
+            bottom,
+            top,
+            height,
+        } => {
+            member(t, "bottom", bottom)?;
+            member(t, "top", top)?;
+            member(t, "height", height)?;
+        }
+    }
+    let (lo, hi) = domain.bounds();
+    member(
+        t,
+        "bounds",
+        &BoundsJson {
+            min: xy(lo),
+            max: xy(hi),
+        },
+    )?;
+    member(t, "area", &domain.area())?;
+    points(t, "outline", &domain.outline(CIRCLE_SEGMENTS), true)?;
+    t.line(format_args!("  }},"));
+    Ok(())
+}
+
+/// `value` as pretty JSON with every line after the first indented by two
+/// spaces, to sit as a member of the top-level object.
+fn nested(value: &impl Serialize) -> Result<String, OutputError> {
+    // JSON strings escape their newlines, so every raw newline is a line break.
+    Ok(serde_json::to_string_pretty(value)?.replace('\n', "\n  "))
+}
+
+/// The packing as one JSON document, lengths in mm:
+///
+/// ```text
+/// {
+///   "units": "mm",
+///   "domain": {
+///     "shape": "rectangle",
+///     "width": 20.0,
+///     "height": 20.0,
+///     "bounds": {"min":[0.0,0.0],"max":[20.0,20.0]},
+///     "area": 400.0,
+///     "outline": [
+///       [0.0,0.0],
+///       …
+///     ]
+///   },
+///   "disks": [
+///     {"id":0,"x":0.6,"y":0.6,"r":0.6,"material":"metal"},
+///     …
+///   ],
+///   "summary": { …the object summary.json holds… }
+/// }
+/// ```
+///
+/// `domain` gives the shape with its config parameters (`width`/`height`,
+/// `vertices`, `center`/`radius`, `bottom`/`top`/`height`), the bounds, the
+/// area (mm²) and the outline (a circle as 256 points, counter-clockwise).
+/// `disks` lists the packed disks (not the wall disks) one per line, `id`
+/// from 0 in placement order as in `packing.csv`, with the material's name
+/// when `run.materials` is not empty. `summary` is exactly what
+/// [`crate::output::summary_json`] writes. Numbers read back exactly; the
+/// same run always gives the same bytes.
+///
+/// # Errors
+/// [`OutputError::UnknownMaterial`] if a disk's material is not in a
+/// non-empty `run.materials`; [`OutputError::Json`] if serialisation fails
+/// (it does not for these types).
+pub fn packing_json(
+    packing: &Packing,
+    metrics: &Metrics,
+    run: &RunInfo<'_>,
+) -> Result<Vec<u8>, OutputError> {
+    let kinds = disk_materials(packing, run.materials)?;
+    let n = packing.disks.len();
+    let mut t = Text::with_lines(n + 64);
+    t.line(format_args!("{{"));
+    t.line(format_args!("  \"units\": \"mm\","));
+    domain(&mut t, &packing.domain)?;
+    if n == 0 {
+        t.line(format_args!("  \"disks\": [],"));
+    } else {
+        t.line(format_args!("  \"disks\": ["));
+        for (id, (d, m)) in packing.disks.iter().zip(&kinds).enumerate() {
+            let disk = DiskJson {
+                id,
+                x: d.c.x,
+                y: d.c.y,
+                r: d.r,
+                material: m
+                    .and_then(|m| run.materials.get(m))
+                    .map(|m| m.name.as_str()),
+            };
+            let comma = if id + 1 < n { "," } else { "" };
+            t.line(format_args!("    {}{comma}", compact(&disk)?));
+        }
+        t.line(format_args!("  ],"));
+    }
+    t.line(format_args!(
+        "  \"summary\": {}",
+        nested(&summary(packing, metrics, run))?
+    ));
+    t.line(format_args!("}}"));
+    Ok(t.into_bytes())
+}

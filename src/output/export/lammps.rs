@@ -1,0 +1,96 @@
+//! `packing.lammps`: a LAMMPS / LIGGGHTS data file (`atom_style sphere`).
+
+use super::common::{
+    Num, Text, VERSION, density, disk_materials, extent, labels, r_max, type_count, type_id,
+};
+use crate::layering::Material;
+use crate::output::OutputError;
+use crate::output::format::{ExportOptions, LengthUnit};
+use crate::packer::Packing;
+
+/// File name of the LAMMPS / LIGGGHTS data file.
+pub const LAMMPS_DATA: &str = "packing.lammps";
+
+/// The packed disks (not the wall disks) as a LAMMPS / LIGGGHTS data file
+/// for `read_data`, `atom_style sphere`, lengths in `opts.units`.
+///
+/// # Layout
+/// A first comment line (`read_data` always skips it) giving the version,
+/// the count and the units (`units si` in metres); the header `N atoms`,
+/// `T atom types` (one per material, at least one), `xlo xhi` and `ylo yhi`
+/// (the domain's bounds, which hold every disk) and `zlo zhi` (± the largest
+/// radius: a 2d box must straddle z = 0); comment lines naming each type;
+/// then `Atoms # sphere` (the comment lets LAMMPS check the atom style), a
+/// blank line and one line per disk: `id type diameter density x y z`, with
+/// `id` from 1 in placement order (`packing.csv`'s id + 1), `type` the
+/// material index + 1, `z` = 0, and the density in kg per cubic length unit
+/// (kg/m³ in metres, kg/mm³ = 1e-9 × kg/m³ in millimetres): the material's
+/// `density`, else `opts.density`.
+///
+/// # In LAMMPS or LIGGGHTS
+/// ```text
+/// units          si
+/// dimension      2
+/// boundary       f f p
+/// atom_style     sphere
+/// read_data      packing.lammps
+/// fix            flat all enforce2d
+/// ```
+/// `read_data` turns density into mass as for a sphere, m = ρ·4/3·π·r³,
+/// even with `dimension 2` (LAMMPS `read_data` docs); for the mass of a disk
+/// use `set type 1 density/disc ρ·t` (mass per area, t the thickness) and
+/// `fix nve/sphere disc`. A 2d run needs z periodic.
+///
+/// # Errors
+/// [`OutputError::UnknownMaterial`] if a disk's material is not in a
+/// non-empty `materials`.
+pub fn lammps_data(
+    packing: &Packing,
+    materials: &[Material],
+    opts: &ExportOptions,
+) -> Result<Vec<u8>, OutputError> {
+    let kinds = disk_materials(packing, materials)?;
+    let s = opts.units.per_mm();
+    let rho = opts.units.density_per_kg_m3();
+    let n = packing.disks.len();
+    let (lo, hi) = extent(packing);
+    let r = r_max(packing);
+    let z = if r > 0.0 { r * s } else { 0.5 };
+    let units = match opts.units {
+        LengthUnit::Metre => "units si",
+        LengthUnit::Millimetre => "no LAMMPS units style matches mm",
+    };
+    let mut t = Text::with_lines(n + 24);
+    t.line(format_args!(
+        "gapack {VERSION}: {n} disks, atom_style sphere, lengths in {} ({units}), density in kg/{}^3",
+        opts.units.name(),
+        opts.units.name()
+    ));
+    t.line(format_args!(""));
+    t.line(format_args!("{n} atoms"));
+    t.line(format_args!("{} atom types", type_count(materials)));
+    t.line(format_args!(""));
+    t.line(format_args!("{} {} xlo xhi", Num(lo.x * s), Num(hi.x * s)));
+    t.line(format_args!("{} {} ylo yhi", Num(lo.y * s), Num(hi.y * s)));
+    t.line(format_args!("{} {} zlo zhi", Num(-z), Num(z)));
+    for (i, label) in labels(materials).iter().enumerate() {
+        t.line(format_args!("# type {} = {label}", i + 1));
+    }
+    if n > 0 {
+        t.line(format_args!(""));
+        t.line(format_args!("Atoms # sphere"));
+        t.line(format_args!(""));
+        for (i, (d, m)) in packing.disks.iter().zip(&kinds).enumerate() {
+            t.line(format_args!(
+                "{} {} {} {} {} {} 0",
+                i + 1,
+                type_id(*m),
+                Num(2.0 * d.r * s),
+                Num(density(materials, *m, opts) * rho),
+                Num(d.c.x * s),
+                Num(d.c.y * s)
+            ));
+        }
+    }
+    Ok(t.into_bytes())
+}

@@ -1,0 +1,64 @@
+//! `packing.mercury.data`: a MercuryDPM 2D data file.
+
+use super::common::{Num, Text, disk_materials, extent};
+use crate::layering::Material;
+use crate::output::OutputError;
+use crate::output::format::ExportOptions;
+use crate::packer::Packing;
+
+/// File name of the MercuryDPM data file.
+pub const MERCURY_DATA: &str = "packing.mercury.data";
+
+/// The packed disks (not the wall disks) as one time step of a MercuryDPM
+/// data file in its 2D layout (format 8), lengths in `opts.units`.
+///
+/// # Layout
+/// A first line `N time xmin ymin xmax ymax` (time 0; the box holds the
+/// domain and every disk), then one line per disk in placement order:
+/// `x y vx vy radius angle omega species`, with velocities, angle and
+/// angular velocity 0 and `species` the material index (from 0; 0 without
+/// materials) — MercuryDPM takes it as an index into its species handler.
+/// No comments: MercuryDPM reads the first number as the count. Densities
+/// are not in the file: they belong to MercuryDPM's species.
+///
+/// # In MercuryDPM
+/// In the driver, before `solve()` (in `setupInitialConditions`):
+/// ```text
+/// setSystemDimensions(2);
+/// setParticleDimensions(2);
+/// speciesHandler.copyAndAddObject(species);  // one per material, config order
+/// readSpeciesFromDataFile(true);              // only with several materials
+/// readDataFile("packing.mercury.data", 8);
+/// ```
+///
+/// # Errors
+/// [`OutputError::UnknownMaterial`] if a disk's material is not in a
+/// non-empty `materials`.
+pub fn mercury_data(
+    packing: &Packing,
+    materials: &[Material],
+    opts: &ExportOptions,
+) -> Result<Vec<u8>, OutputError> {
+    let kinds = disk_materials(packing, materials)?;
+    let s = opts.units.per_mm();
+    let n = packing.disks.len();
+    let (lo, hi) = extent(packing);
+    let mut t = Text::with_lines(n + 1);
+    t.line(format_args!(
+        "{n} 0 {} {} {} {}",
+        Num(lo.x * s),
+        Num(lo.y * s),
+        Num(hi.x * s),
+        Num(hi.y * s)
+    ));
+    for (d, m) in packing.disks.iter().zip(&kinds) {
+        t.line(format_args!(
+            "{} {} 0 0 {} 0 0 {}",
+            Num(d.c.x * s),
+            Num(d.c.y * s),
+            Num(d.r * s),
+            m.unwrap_or(0)
+        ));
+    }
+    Ok(t.into_bytes())
+}

@@ -1,0 +1,20 @@
+//! Exports for DEM codes and viewers: one file per format, each rendered in
+//! memory (the caller writes the set atomically). Only the packed disks are
+//! exported, never the wall disks.
+
+mod common;
+mod esys;
+mod json;
+mod lammps;
+mod mercury;
+mod pfc;
+mod vtk;
+mod yade;
+
+pub use esys::{ESYS_GEOMETRY, esys_geometry};
+pub use json::{PACKING_JSON, packing_json};
+pub use lammps::{LAMMPS_DATA, lammps_data};
+pub use mercury::{MERCURY_DATA, mercury_data};
+pub use pfc::{PFC_COMMANDS, pfc_commands};
+pub use vtk::{BOUNDARY_VTK, PACKING_VTK, boundary_vtk, packing_vtk};
+pub use yade::{YADE_TEXT, yade_text};

@@ -1,0 +1,121 @@
+//! `packing.p2dat`: a PFC2D command file (PFC 6 / 7 syntax).
+
+use super::common::{Num, Text, VERSION, density, disk_materials, extent, labels, r_max};
+use crate::geometry::Shape;
+use crate::layering::Material;
+use crate::output::OutputError;
+use crate::output::format::ExportOptions;
+use crate::packer::Packing;
+
+/// File name of the PFC2D command file.
+pub const PFC_COMMANDS: &str = "packing.p2dat";
+
+/// Margin of the model domain around the packing, as a share of its span
+/// along each axis (at least twice the largest radius).
+const MARGIN: f64 = 0.05;
+
+/// Group of the balls when there are no materials.
+const DEFAULT_GROUP: &str = "gapack";
+
+/// The packed disks (not the wall disks) as a PFC2D command file (PFC 6 and
+/// 7 command syntax), lengths in `opts.units`.
+///
+/// # Layout
+/// `;` comment lines (version, count, units); `model new`; `model domain
+/// extent xmin xmax ymin ymax` around the domain and the disks with a margin
+/// of 5 % of the span on each axis, at least twice the largest radius (PFC
+/// refuses a ball whose radius reaches a quarter of the smallest extent);
+/// one `ball create id i position-x x position-y y radius r group 'name'`
+/// per disk (`i` from 1 in placement order, `packing.csv`'s id + 1; the
+/// group is the material's name made a single word of letters, digits and
+/// `_`, or `gapack` without materials); one `ball attribute density ρ range
+/// group 'name'` per group, ρ in kg per cubic length unit (kg/m³ in metres,
+/// kg/mm³ in millimetres): the material's `density`, else `opts.density`.
+/// A PFC2D ball is a disk of unit thickness, so its mass is ρ·π·r²·1.
+/// Last, one wall named `domain` on the domain outline: `wall generate
+/// circle` for a circle, else `wall create vertices` with the first edge and
+/// one `wall addfacet` per further edge (PFC walls are active on both sides).
+///
+/// # In PFC2D
+/// `program call 'packing.p2dat'` (PFC 6 / 7), then set contact models and
+/// properties (`contact cmat default …`) before cycling.
+///
+/// # Errors
+/// [`OutputError::UnknownMaterial`] if a disk's material is not in a
+/// non-empty `materials`.
+pub fn pfc_commands(
+    packing: &Packing,
+    materials: &[Material],
+    opts: &ExportOptions,
+) -> Result<Vec<u8>, OutputError> {
+    let kinds = disk_materials(packing, materials)?;
+    let s = opts.units.per_mm();
+    let rho = opts.units.density_per_kg_m3();
+    let n = packing.disks.len();
+    let groups = if materials.is_empty() {
+        vec![DEFAULT_GROUP.to_owned()]
+    } else {
+        labels(materials)
+    };
+    let (lo, hi) = extent(packing);
+    let r = r_max(packing);
+    let mx = (MARGIN * (hi.x - lo.x)).max(2.0 * r);
+    let my = (MARGIN * (hi.y - lo.y)).max(2.0 * r);
+
+    let mut t = Text::with_lines(n + groups.len() + 16);
+    t.line(format_args!(
+        "; gapack {VERSION}: {n} disks for PFC2D, lengths in {u}, density in kg/{u}^3",
+        u = opts.units.name()
+    ));
+    t.line(format_args!("; run with: program call 'packing.p2dat'"));
+    t.line(format_args!("model new"));
+    t.line(format_args!(
+        "model domain extent {} {} {} {}",
+        Num((lo.x - mx) * s),
+        Num((hi.x + mx) * s),
+        Num((lo.y - my) * s),
+        Num((hi.y + my) * s)
+    ));
+    for (i, (d, m)) in packing.disks.iter().zip(&kinds).enumerate() {
+        t.line(format_args!(
+            "ball create id {} position-x {} position-y {} radius {} group '{}'",
+            i + 1,
+            Num(d.c.x * s),
+            Num(d.c.y * s),
+            Num(d.r * s),
+            groups
+                .get(m.unwrap_or(0))
+                .map_or(DEFAULT_GROUP, String::as_str)
+        ));
+    }
+    for (i, group) in groups.iter().enumerate() {
+        let m = (!materials.is_empty()).then_some(i);
+        t.line(format_args!(
+            "ball attribute density {} range group '{group}'",
+            Num(density(materials, m, opts) * rho)
+        ));
+    }
+    let point = |x: f64, y: f64| format!("({},{})", Num(x * s), Num(y * s));
+    match *packing.domain.shape() {
+        Shape::Circle { center, radius } => t.line(format_args!(
+            "wall generate name 'domain' circle position {} radius {}",
+            point(center.x, center.y),
+            Num(radius * s)
+        )),
+        _ => {
+            let outline = packing.domain.outline(0);
+            let next = outline.iter().cycle().skip(1);
+            for (i, (a, b)) in outline.iter().zip(next).enumerate() {
+                let (a, b) = (point(a.x, a.y), point(b.x, b.y));
+                if i == 0 {
+                    t.line(format_args!("wall create name 'domain' vertices {a} {b}"));
+                } else {
+                    t.line(format_args!(
+                        "wall addfacet name 'domain' vertex {a} vertex {b}"
+                    ));
+                }
+            }
+        }
+    }
+    Ok(t.into_bytes())
+}

@@ -1,0 +1,74 @@
+//! `packing.yade.txt`: spheres for YADE's `ymport.text` / `ymport.textExt`.
+
+use super::common::{Num, Text, VERSION, disk_materials, labels};
+use crate::layering::Material;
+use crate::output::OutputError;
+use crate::output::format::ExportOptions;
+use crate::packer::Packing;
+
+/// File name of the YADE sphere list.
+pub const YADE_TEXT: &str = "packing.yade.txt";
+
+/// The packed disks (not the wall disks) as a YADE text sphere list, lengths
+/// in `opts.units`.
+///
+/// # Layout
+/// A `#format` line first, as YADE's `export.textExt` writes it and
+/// `ymport.textExt` reads it: `#format x_y_z_r` without materials, then one
+/// line `x y z r` per disk; `#format x_y_z_r_matId` with materials, then
+/// `x y z r matId` where `matId` is the material's index (from 0) — YADE
+/// takes it as the id of a material in `O.materials`. A `#` comment line
+/// follows with the version, count, unit and, with materials, which id is
+/// which. z = 0; disks in placement order; no blank line (the reader fails
+/// on one). Densities are not in the file: they belong to YADE's
+/// materials.
+///
+/// # In YADE
+/// ```text
+/// from yade import ymport
+/// O.bodies.append(ymport.text('packing.yade.txt'))
+/// ```
+/// With materials, append them to `O.materials` first, in config order
+/// (their ids must be 0, 1, …); YADE is 3D, so keep the spheres in the plane
+/// with `b.state.blockedDOFs = 'zXY'`.
+///
+/// # Errors
+/// [`OutputError::UnknownMaterial`] if a disk's material is not in a
+/// non-empty `materials`.
+pub fn yade_text(
+    packing: &Packing,
+    materials: &[Material],
+    opts: &ExportOptions,
+) -> Result<Vec<u8>, OutputError> {
+    let kinds = disk_materials(packing, materials)?;
+    let s = opts.units.per_mm();
+    let n = packing.disks.len();
+    let mut t = Text::with_lines(n + 2);
+    let ids: Vec<String> = labels(materials)
+        .iter()
+        .enumerate()
+        .map(|(i, label)| format!("{i} {label}"))
+        .collect();
+    if materials.is_empty() {
+        t.line(format_args!("#format x_y_z_r"));
+        t.line(format_args!(
+            "# gapack {VERSION}: {n} disks, lengths in {}",
+            opts.units.name()
+        ));
+    } else {
+        t.line(format_args!("#format x_y_z_r_matId"));
+        t.line(format_args!(
+            "# gapack {VERSION}: {n} disks, lengths in {}, matId = O.materials id: {}",
+            opts.units.name(),
+            ids.join(", ")
+        ));
+    }
+    for (d, m) in packing.disks.iter().zip(&kinds) {
+        let (x, y, r) = (Num(d.c.x * s), Num(d.c.y * s), Num(d.r * s));
+        match m {
+            Some(m) => t.line(format_args!("{x} {y} 0 {r} {m}")),
+            None => t.line(format_args!("{x} {y} 0 {r}")),
+        }
+    }
+    Ok(t.into_bytes())
+}
