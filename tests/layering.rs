@@ -176,7 +176,7 @@ fn layer_writes_its_outputs_identically_with_one_or_two_threads() {
             <= summary["baseline_rms_error"].as_f64().unwrap()
     );
     assert_eq!(summary["materials"][2]["id"], 3);
-    assert_eq!(summary["materials"][2]["properties"]["density"], 7.8);
+    assert_eq!(summary["materials"][2]["properties"]["density"], 7800.0);
     let _ = fs::remove_dir_all(&dir);
 }
 
@@ -205,8 +205,8 @@ fn bad_layering_input_is_refused() {
             ),
             "layering.profile",
         ),
-        ("no-materials", power.replace("[[materials]]\nname = \"ceramic\"\ndensity = 3.9\n\n[[materials]]\nname = \"metal\"\ndensity = 7.8\n", ""), "materials"),
-        ("text-property", mgf2.replace("density = 7.8", "density = \"heavy\""), "materials[1].density"),
+        ("no-materials", power.replace("[[materials]]\nname = \"ceramic\"\ndensity = 3900.0\n\n[[materials]]\nname = \"metal\"\ndensity = 7800.0\n", ""), "materials"),
+        ("text-property", mgf2.replace("density = 7800.0", "density = \"heavy\""), "materials[1].density"),
         ("duplicate-name", mgf2.replace("name = \"metal\"", "name = \"ceramic\""), "materials[1].name"),
     ];
     for (name, text, key) in cases {

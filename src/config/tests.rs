@@ -642,3 +642,17 @@ fn output_density_and_units_are_checked() {
     let e = err(&rect("width = 20\nheight = 30", "[output]\ndir = \" \""));
     assert_eq!(e.key(), Some("output.dir"));
 }
+
+#[test]
+fn material_density_must_be_positive() {
+    let e = err(&rect(
+        "width = 20\nheight = 30",
+        "[[materials]]\nname = \"sand\"\ndensity = 0.0",
+    ));
+    assert_eq!(e.key(), Some("materials[0].density"));
+    assert!(
+        e.to_string()
+            .ends_with("must be a positive finite number, got 0"),
+        "{e}"
+    );
+}

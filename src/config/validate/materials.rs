@@ -56,6 +56,13 @@ impl Validator<'_> {
                         ),
                     });
                 };
+                if key == "density" && number <= 0.0 {
+                    return Err(ConfigError::NotPositive {
+                        at: self.at(&self.key_after(table.span().end, key)),
+                        key: format!("materials[{i}].density"),
+                        value: number,
+                    });
+                }
                 properties.push((key.clone(), number));
             }
             let path = format!("materials[{i}].grading");
