@@ -197,7 +197,7 @@ fn run_pack(args: &PackArgs) -> Result<(), Failure> {
     let metrics = measure(&packing, scene);
     let run = RunInfo {
         materials: &config.materials,
-        ..RunInfo::new(scene, &origin, seconds)
+        ..RunInfo::new(scene, &origin, seconds, &config.output)
     };
     write(&out, &packing, &metrics, &run)?;
     report(args.run.quiet, || pack_line(&out, &metrics, seconds));
@@ -304,7 +304,7 @@ fn pack_well(
             extent,
             window: window.as_ref(),
         }),
-        ..RunInfo::new(&scene, origin, seconds)
+        ..RunInfo::new(&scene, origin, seconds, &config.output)
     };
     write(dir, &packing, &metrics, &run)?;
     let f = well.fracture;
@@ -476,7 +476,7 @@ fn run_layer(args: &LayerArgs) -> Result<(), Failure> {
         materials: &config.materials,
         layering: Some((settings, &layered)),
         fracture: whole_fracture(&config),
-        ..RunInfo::new(scene, &origin, seconds)
+        ..RunInfo::new(scene, &origin, seconds, &config.output)
     };
     write(&out, &packing, &metrics, &run)?;
     report(args.run.quiet, || {
@@ -564,7 +564,7 @@ fn run_optimise(args: &OptimiseArgs) -> Result<(), Failure> {
         optimise: Some((&summary, &evolution.history)),
         layering: config.layering.as_ref().zip(layered.as_ref()),
         fracture: whole_fracture(&config),
-        ..RunInfo::new(&best_scene, &origin, evolution.seconds)
+        ..RunInfo::new(&best_scene, &origin, evolution.seconds, &config.output)
     };
     write(&out, &packing, &metrics, &run)?;
     report(args.run.quiet, || {

@@ -645,7 +645,7 @@ fn json_holds_domain_disks_and_the_summary() {
         let metrics = measure(&packing, &config.scene);
         let run = RunInfo {
             materials: &config.materials,
-            ..RunInfo::new(&config.scene, "test.toml", 0.25)
+            ..RunInfo::new(&config.scene, "test.toml", 0.25, &config.output)
         };
         let raw = packing_json(&packing, &metrics, &run).expect("renders");
         let doc: serde_json::Value = serde_json::from_slice(&raw).expect("valid JSON");
@@ -741,7 +741,7 @@ fn same_packing_gives_the_same_bytes() {
     let metrics = measure(&first, &config.scene);
     let run = RunInfo {
         materials: &config.materials,
-        ..RunInfo::new(&config.scene, "test", 0.0)
+        ..RunInfo::new(&config.scene, "test", 0.0, &config.output)
     };
     assert_eq!(
         packing_json(&first, &metrics, &run).expect("json"),
@@ -794,7 +794,7 @@ fn a_material_outside_the_list_is_refused() {
     let metrics = measure(&packing, &config.scene);
     let run = RunInfo {
         materials: &config.materials,
-        ..RunInfo::new(&config.scene, "test", 0.0)
+        ..RunInfo::new(&config.scene, "test", 0.0, &config.output)
     };
     assert!(matches!(
         packing_json(&packing, &metrics, &run),
@@ -836,7 +836,7 @@ fn an_empty_packing_gives_valid_empty_files() {
     let metrics = measure(&packing, &config.scene);
     let run = RunInfo {
         materials: m,
-        ..RunInfo::new(&config.scene, "test", 0.0)
+        ..RunInfo::new(&config.scene, "test", 0.0, &config.output)
     };
     let doc: serde_json::Value =
         serde_json::from_slice(&packing_json(&packing, &metrics, &run).expect("json"))

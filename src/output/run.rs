@@ -10,6 +10,12 @@ use super::csv::{
     profile_csv, window_csv,
 };
 use super::error::OutputError;
+use super::export::{
+    BOUNDARY_VTK, ESYS_GEOMETRY, LAMMPS_DATA, MERCURY_DATA, PACKING_JSON, PACKING_VTK,
+    PFC_COMMANDS, YADE_TEXT, boundary_vtk, esys_geometry, lammps_data, mercury_data, packing_json,
+    packing_vtk, pfc_commands, yade_text,
+};
+use super::format::{Format, OutputSettings};
 use super::json::{OptimiseSummary, SUMMARY_JSON, summary_json};
 use super::plot::{
     CompareChart, Drawable, StabilityChart, convergence_chart, profile_chart, window_chart,
@@ -109,11 +115,19 @@ pub struct RunInfo<'a> {
     pub layering: Option<(&'a LayeringSettings, &'a Layered)>,
     /// A fracture run.
     pub fracture: Option<FractureInfo<'a>>,
+    /// What to write (`[output]`).
+    pub output: &'a OutputSettings,
 }
 
 impl<'a> RunInfo<'a> {
-    /// A plain packing run, without materials, search or layering.
-    pub fn new(scene: &'a Scene, config: &'a str, seconds: f64) -> Self {
+    /// A plain packing run, without materials, search or layering, writing
+    /// what `output` asks for.
+    pub fn new(
+        scene: &'a Scene,
+        config: &'a str,
+        seconds: f64,
+        output: &'a OutputSettings,
+    ) -> Self {
         RunInfo {
             scene,
             config,
@@ -122,15 +136,18 @@ impl<'a> RunInfo<'a> {
             optimise: None,
             layering: None,
             fracture: None,
+            output,
         }
     }
 }
 
-/// Write the outputs of a run into `dir`: always `packing.csv`,
-/// `summary.json` and `packing.svg`; with a search, `convergence.csv`,
-/// `convergence.svg` and `convergence.png`; with layering, `profile.csv`,
-/// `profile.svg` and `profile.png`; with a fracture window, `window.csv`,
-/// `window.svg` and `window.png`.
+/// Write the outputs of a run into `dir`, as `run.output` asks:
+/// `summary.json` always; `csv`: `packing.csv` and the run's tables
+/// (`convergence.csv` with a search, `profile.csv` with layering,
+/// `window.csv` with a fracture window); `json`: `packing.json`; `vtk`:
+/// `packing.vtk` and `boundary.vtk`; `lammps`, `yade`, `pfc`, `mercury`,
+/// `esys`: one DEM file each; `svg` and `png`: the packing and the run's
+/// charts.
 ///
 /// `dir` is created if needed. Everything is rendered in memory first and
 /// the files are written as one atomic set: on failure none of them is new,
@@ -144,32 +161,56 @@ pub fn write_outputs(
     metrics: &Metrics,
     run: &RunInfo<'_>,
 ) -> Result<(), OutputError> {
-    let mut files = vec![
-        (dir.join(PACKING_CSV), packing_csv(packing, run.materials)?),
-        (dir.join(SUMMARY_JSON), summary_json(packing, metrics, run)?),
-        (
-            dir.join(PACKING_SVG),
-            packing_svg(packing, run.scene, run.materials).into_bytes(),
-        ),
-    ];
+    let out = run.output;
+    let materials = run.materials;
+    let opts = &out.export;
+    let mut files = vec![(dir.join(SUMMARY_JSON), summary_json(packing, metrics, run)?)];
+    let mut add = |name: &str, bytes: Vec<u8>| files.push((dir.join(name), bytes));
+    if out.wants(Format::Csv) {
+        add(PACKING_CSV, packing_csv(packing, materials)?);
+    }
+    if out.wants(Format::Json) {
+        add(PACKING_JSON, packing_json(packing, metrics, run)?);
+    }
+    if out.wants(Format::Vtk) {
+        add(PACKING_VTK, packing_vtk(packing, materials, opts)?);
+        add(BOUNDARY_VTK, boundary_vtk(packing));
+    }
+    if out.wants(Format::Lammps) {
+        add(LAMMPS_DATA, lammps_data(packing, materials, opts)?);
+    }
+    if out.wants(Format::Yade) {
+        add(YADE_TEXT, yade_text(packing, materials, opts)?);
+    }
+    if out.wants(Format::Pfc) {
+        add(PFC_COMMANDS, pfc_commands(packing, materials, opts)?);
+    }
+    if out.wants(Format::Mercury) {
+        add(MERCURY_DATA, mercury_data(packing, materials, opts)?);
+    }
+    if out.wants(Format::Esys) {
+        add(ESYS_GEOMETRY, esys_geometry(packing, materials, opts)?);
+    }
+    if out.wants(Format::Svg) {
+        add(
+            PACKING_SVG,
+            packing_svg(packing, run.scene, materials).into_bytes(),
+        );
+    }
+    let mut pictures = Pictures { out, add };
     if let Some((summary, history)) = run.optimise {
+        if out.wants(Format::Csv) {
+            (pictures.add)(CONVERGENCE_CSV, convergence_csv(history)?);
+        }
         let chart = convergence_chart(history, summary.target_porosity);
-        files.extend([
-            (dir.join(CONVERGENCE_CSV), convergence_csv(history)?),
-            (dir.join(CONVERGENCE_SVG), chart.to_svg()?.into_bytes()),
-            (dir.join(CONVERGENCE_PNG), chart.to_png()?),
-        ]);
+        pictures.chart("convergence", &chart)?;
     }
     if let Some((settings, layered)) = run.layering {
-        let chart = profile_chart(&layered.rows, run.materials, settings);
-        files.extend([
-            (
-                dir.join(PROFILE_CSV),
-                profile_csv(&layered.rows, run.materials)?,
-            ),
-            (dir.join(PROFILE_SVG), chart.to_svg()?.into_bytes()),
-            (dir.join(PROFILE_PNG), chart.to_png()?),
-        ]);
+        if out.wants(Format::Csv) {
+            (pictures.add)(PROFILE_CSV, profile_csv(&layered.rows, materials)?);
+        }
+        let chart = profile_chart(&layered.rows, materials, settings);
+        pictures.chart("profile", &chart)?;
     }
     if let Some(FractureInfo {
         well,
@@ -177,14 +218,32 @@ pub fn write_outputs(
         window: Some(window),
     }) = run.fracture
     {
+        if out.wants(Format::Csv) {
+            (pictures.add)(WINDOW_CSV, window_csv(&window.steps)?);
+        }
         let chart = window_chart(&window.steps, tolerance, &well.name);
-        files.extend([
-            (dir.join(WINDOW_CSV), window_csv(&window.steps)?),
-            (dir.join(WINDOW_SVG), chart.to_svg()?.into_bytes()),
-            (dir.join(WINDOW_PNG), chart.to_png()?),
-        ]);
+        pictures.chart("window", &chart)?;
     }
     write_set(dir, &files)
+}
+
+/// Adds a run's charts to its files in the picture formats asked for.
+struct Pictures<'o, F> {
+    out: &'o OutputSettings,
+    add: F,
+}
+
+impl<F: FnMut(&str, Vec<u8>)> Pictures<'_, F> {
+    /// `<stem>.svg` and `<stem>.png`, each if asked for.
+    fn chart(&mut self, stem: &str, chart: &impl Drawable) -> Result<(), OutputError> {
+        if self.out.wants(Format::Svg) {
+            (self.add)(&format!("{stem}.svg"), chart.to_svg()?.into_bytes());
+        }
+        if self.out.wants(Format::Png) {
+            (self.add)(&format!("{stem}.png"), chart.to_png()?);
+        }
+        Ok(())
+    }
 }
 
 /// Write one table (`wells.csv`) into `dir` atomically, creating `dir` if needed.
