@@ -25,6 +25,6 @@ pub use geometry::{Disk, Domain, GeometryError, Point, Shape, Wall, WallMode};
 pub use grading::{Basis, Grading, GradingError, Interpolation};
 pub use packer::{
     Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method, Metrics, PackError, PackStats,
-    PackerSettings, Packing, measure, pack,
+    PackerSettings, Packing, PorosityMap, measure, pack, porosity_map,
 };
 pub use scene::Scene;

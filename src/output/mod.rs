@@ -22,12 +22,13 @@ pub use csv::{
 pub use error::OutputError;
 pub use json::{OptimiseSummary, SUMMARY_JSON, summary_json};
 pub use plot::{
-    CompareChart, Drawable, LineChart, Mark, Series, StabilityChart, convergence_chart,
-    profile_chart, variant_label, window_chart,
+    CompareChart, Drawable, LineChart, Mark, PACKING_PNG, POROSITY_MAP_PNG, POROSITY_MAP_SVG,
+    PSD_PNG, PSD_SVG, PorosityMapChart, PsdChart, Series, StabilityChart, convergence_chart,
+    packing_png, porosity_map_chart, profile_chart, psd_chart, variant_label, window_chart,
 };
 pub use run::{
     COMPARE_PNG, COMPARE_SVG, CONVERGENCE_PNG, CONVERGENCE_SVG, FractureInfo, PROFILE_PNG,
     PROFILE_SVG, RunInfo, STABILITY_PNG, STABILITY_SVG, WINDOW_PNG, WINDOW_SVG, write_compare,
     write_outputs, write_stability, write_table,
 };
-pub use svg::{PACKING_SVG, packing_svg};
+pub use svg::{PACKING_SVG, diameter_range, packing_svg};

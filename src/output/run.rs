@@ -149,7 +149,12 @@ pub fn write_outputs(
         (dir.join(SUMMARY_JSON), summary_json(packing, metrics, run)?),
         (
             dir.join(PACKING_SVG),
-            packing_svg(packing, run.scene, run.materials).into_bytes(),
+            packing_svg(
+                packing,
+                run.materials,
+                (run.scene.d_min(), run.scene.d_max()),
+            )
+            .into_bytes(),
         ),
     ];
     if let Some((summary, history)) = run.optimise {
