@@ -26,6 +26,6 @@ pub use geometry::{Disk, Domain, GeometryError, Point, Shape, Wall, WallMode};
 pub use grading::{Basis, Grading, GradingError, Interpolation};
 pub use packer::{
     Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method, Metrics, PackError, PackStats,
-    PackerSettings, Packing, measure, pack, pack_observed,
+    PackerSettings, Packing, PorosityMap, measure, pack, pack_observed, porosity_map,
 };
 pub use scene::Scene;

@@ -45,7 +45,7 @@ pub enum Basis {
 
 impl Basis {
     /// The exponent k of the weight d^k one particle carries in this basis.
-    pub(super) fn exponent(self) -> i32 {
+    pub(crate) fn exponent(self) -> i32 {
         match self {
             Basis::Number => 0,
             Basis::Mass => 2,

@@ -31,8 +31,9 @@ pub use export::{
 pub use format::{ExportOptions, Format, LengthUnit, OutputSettings};
 pub use json::{OptimiseSummary, SUMMARY_JSON, summary_json};
 pub use plot::{
-    CompareChart, Drawable, LineChart, Mark, Series, StabilityChart, convergence_chart,
-    profile_chart, variant_label, window_chart,
+    CompareChart, Drawable, LineChart, Mark, PACKING_PNG, POROSITY_MAP_PNG, POROSITY_MAP_SVG,
+    PSD_PNG, PSD_SVG, PorosityMapChart, PsdChart, Series, StabilityChart, convergence_chart,
+    packing_png, porosity_map_chart, profile_chart, psd_chart, variant_label, window_chart,
 };
 pub use read::{PackingTable, ReadError, read_packing_csv};
 pub use run::{
@@ -40,4 +41,4 @@ pub use run::{
     PROFILE_SVG, RunInfo, STABILITY_PNG, STABILITY_SVG, WINDOW_PNG, WINDOW_SVG, write_compare,
     write_outputs, write_stability, write_table,
 };
-pub use svg::{PACKING_SVG, packing_svg};
+pub use svg::{PACKING_SVG, diameter_range, packing_svg};

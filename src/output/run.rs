@@ -18,7 +18,9 @@ use super::export::{
 use super::format::{Format, OutputSettings};
 use super::json::{OptimiseSummary, SUMMARY_JSON, summary_json};
 use super::plot::{
-    CompareChart, Drawable, StabilityChart, convergence_chart, profile_chart, window_chart,
+    CompareChart, Drawable, PACKING_PNG, POROSITY_MAP_PNG, POROSITY_MAP_SVG, PSD_PNG, PSD_SVG,
+    StabilityChart, convergence_chart, packing_png, porosity_map_chart, profile_chart, psd_chart,
+    window_chart,
 };
 use super::svg::{PACKING_SVG, packing_svg};
 use crate::Scene;
@@ -146,8 +148,9 @@ impl<'a> RunInfo<'a> {
 /// (`convergence.csv` with a search, `profile.csv` with layering,
 /// `window.csv` with a fracture window); `json`: `packing.json`; `vtk`:
 /// `packing.vtk` and `boundary.vtk`; `lammps`, `yade`, `pfc`, `mercury`,
-/// `esys`: one DEM file each; `svg` and `png`: the packing and the run's
-/// charts.
+/// `esys`: one DEM file each; `svg` and `png`: the packing, its grading
+/// against the target (`psd`), its local porosity (`porosity_map`) and the
+/// run's charts.
 ///
 /// `dir` is created if needed. Everything is rendered in memory first and
 /// the files are written as one atomic set: on failure none of them is new,
@@ -191,26 +194,38 @@ pub fn write_outputs(
     if out.wants(Format::Esys) {
         add(ESYS_GEOMETRY, esys_geometry(packing, materials, opts)?);
     }
+    let diameters = (run.scene.d_min(), run.scene.d_max());
     if out.wants(Format::Svg) {
         add(
             PACKING_SVG,
-            packing_svg(packing, run.scene, materials).into_bytes(),
+            packing_svg(packing, materials, diameters).into_bytes(),
         );
     }
+    if out.wants(Format::Png) {
+        add(PACKING_PNG, packing_png(packing, materials, diameters)?);
+    }
     let mut pictures = Pictures { out, add };
+    if out.wants(Format::Svg) || out.wants(Format::Png) {
+        let psd = psd_chart(packing, Some(&run.scene.grading));
+        pictures.chart((PSD_SVG, PSD_PNG), &psd)?;
+        pictures.chart(
+            (POROSITY_MAP_SVG, POROSITY_MAP_PNG),
+            &porosity_map_chart(packing),
+        )?;
+    }
     if let Some((summary, history)) = run.optimise {
         if out.wants(Format::Csv) {
             (pictures.add)(CONVERGENCE_CSV, convergence_csv(history)?);
         }
         let chart = convergence_chart(history, summary.target_porosity);
-        pictures.chart("convergence", &chart)?;
+        pictures.chart((CONVERGENCE_SVG, CONVERGENCE_PNG), &chart)?;
     }
     if let Some((settings, layered)) = run.layering {
         if out.wants(Format::Csv) {
             (pictures.add)(PROFILE_CSV, profile_csv(&layered.rows, materials)?);
         }
         let chart = profile_chart(&layered.rows, materials, settings);
-        pictures.chart("profile", &chart)?;
+        pictures.chart((PROFILE_SVG, PROFILE_PNG), &chart)?;
     }
     if let Some(FractureInfo {
         well,
@@ -222,7 +237,7 @@ pub fn write_outputs(
             (pictures.add)(WINDOW_CSV, window_csv(&window.steps)?);
         }
         let chart = window_chart(&window.steps, tolerance, &well.name);
-        pictures.chart("window", &chart)?;
+        pictures.chart((WINDOW_SVG, WINDOW_PNG), &chart)?;
     }
     write_set(dir, &files)
 }
@@ -234,13 +249,17 @@ struct Pictures<'o, F> {
 }
 
 impl<F: FnMut(&str, Vec<u8>)> Pictures<'_, F> {
-    /// `<stem>.svg` and `<stem>.png`, each if asked for.
-    fn chart(&mut self, stem: &str, chart: &impl Drawable) -> Result<(), OutputError> {
+    /// The chart as SVG and as PNG under `names`, each if asked for.
+    fn chart(
+        &mut self,
+        (svg, png): (&str, &str),
+        chart: &impl Drawable,
+    ) -> Result<(), OutputError> {
         if self.out.wants(Format::Svg) {
-            (self.add)(&format!("{stem}.svg"), chart.to_svg()?.into_bytes());
+            (self.add)(svg, chart.to_svg()?.into_bytes());
         }
         if self.out.wants(Format::Png) {
-            (self.add)(&format!("{stem}.png"), chart.to_png()?);
+            (self.add)(png, chart.to_png()?);
         }
         Ok(())
     }

@@ -3,7 +3,6 @@
 use std::fmt::Write;
 
 use super::palette;
-use crate::Scene;
 use crate::geometry::{Disk, Point};
 use crate::layering::Material;
 use crate::packer::Packing;
@@ -14,29 +13,44 @@ pub const PACKING_SVG: &str = "packing.svg";
 /// Width of the drawing in pixels; the height follows the domain's aspect.
 const WIDTH_PX: f64 = 800.0;
 /// Segments used to draw a circular domain.
-const CIRCLE_SEGMENTS: usize = 256;
+pub(super) const CIRCLE_SEGMENTS: usize = 256;
 /// Margin around the drawing, as a fraction of its shorter side.
 const MARGIN: f64 = 0.03;
 /// Stroke width in pixels.
 const STROKE_PX: f64 = 0.5;
-/// Fill of the smallest and of the largest disks (light to dark blue).
-const LIGHT: [f64; 3] = [198.0, 219.0, 239.0];
-const DARK: [f64; 3] = [8.0, 48.0, 107.0];
+
+/// The smallest and largest diameter of the packed disks (mm), the colour
+/// range of [`packing_svg`] when no grading is known (a packing read back
+/// from a CSV); `(0, 0)` without disks.
+pub fn diameter_range(packing: &Packing) -> (f64, f64) {
+    if packing.disks.is_empty() {
+        return (0.0, 0.0);
+    }
+    packing
+        .disks
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), d| {
+            (lo.min(2.0 * d.r), hi.max(2.0 * d.r))
+        })
+}
 
 /// The packing as an SVG document: the domain outline, wall disks in light
 /// grey, packed disks filled by material (one palette colour each, named in
 /// the title) when they carry one and `materials` are given, else light to
-/// dark from the scene's smallest to its largest diameter.
+/// dark from `diameters.0` to `diameters.1` (mm).
+///
+/// `diameters` is the scene's `(d_min, d_max)` when the scene is known, so
+/// that packings of one grading share their colours, else
+/// [`diameter_range`]; it is all the drawing needs besides the packing.
 ///
 /// The `viewBox` is in mm with y pointing up (flipped), plus a small margin;
 /// the drawing is 800 px wide. Numbers are written with 4 decimals (0.1 µm),
 /// so the same packing always gives the same text.
-pub fn packing_svg(packing: &Packing, scene: &Scene, materials: &[Material]) -> String {
+pub fn packing_svg(packing: &Packing, materials: &[Material], diameters: (f64, f64)) -> String {
     let outline = packing.domain.outline(CIRCLE_SEGMENTS);
-    let (lo, hi) = extent(&outline, packing);
-    let margin = MARGIN * (hi.x - lo.x).min(hi.y - lo.y);
-    let (x0, y0) = (lo.x - margin, lo.y - margin);
-    let (w, h) = (hi.x - lo.x + 2.0 * margin, hi.y - lo.y + 2.0 * margin);
+    let (lo, hi) = frame(&outline, packing);
+    let (x0, y0) = (lo.x, lo.y);
+    let (w, h) = (hi.x - lo.x, hi.y - lo.y);
     let height_px = (WIDTH_PX * h / w).round();
     let stroke = num(STROKE_PX * w / WIDTH_PX);
     // y up: a point at height y is drawn at lo.y + hi.y − y, inside the same box.
@@ -55,7 +69,7 @@ pub fn packing_svg(packing: &Packing, scene: &Scene, materials: &[Material]) -> 
         num(w),
         num(h)
     );
-    let by_material = !materials.is_empty() && !packing.materials.is_empty();
+    let by_material = by_material(packing, materials);
     let legend: Vec<String> = if by_material {
         materials
             .iter()
@@ -88,24 +102,65 @@ pub fn packing_svg(packing: &Packing, scene: &Scene, materials: &[Material]) -> 
     if !packing.boundary.is_empty() {
         let _ = writeln!(
             svg,
-            r##"<g fill="#d9d9d9" stroke="#a6a6a6" stroke-width="{stroke}">"##
+            r##"<g fill="{}" stroke="{}" stroke-width="{stroke}">"##,
+            hex(WALL_FILL),
+            hex(WALL_EDGE)
         );
         for disk in &packing.boundary {
             let _ = writeln!(svg, "{}/>", circle(disk, flip(disk.c.y)));
         }
         let _ = writeln!(svg, "</g>");
     }
-    let _ = writeln!(svg, r##"<g stroke="#1a1a1a" stroke-width="{stroke}">"##);
+    let _ = writeln!(
+        svg,
+        r##"<g stroke="{}" stroke-width="{stroke}">"##,
+        hex(DISK_EDGE)
+    );
     for (i, disk) in packing.disks.iter().enumerate() {
-        let fill = match packing.materials.get(i) {
-            Some(&m) if by_material => hex(palette::colour(usize::from(m))),
-            _ => colour(2.0 * disk.r, scene.d_min(), scene.d_max()),
-        };
+        let fill = hex(disk_fill(packing, i, by_material, diameters));
         let _ = writeln!(svg, r#"{} fill="{fill}"/>"#, circle(disk, flip(disk.c.y)));
     }
     let _ = writeln!(svg, "</g>");
     let _ = writeln!(svg, "</svg>");
     svg
+}
+
+/// Fill of the wall disks (light grey).
+pub(super) const WALL_FILL: [u8; 3] = [0xd9, 0xd9, 0xd9];
+/// Edge of the wall disks.
+pub(super) const WALL_EDGE: [u8; 3] = [0xa6, 0xa6, 0xa6];
+/// Edge of the packed disks (near black).
+pub(super) const DISK_EDGE: [u8; 3] = [0x1a, 0x1a, 0x1a];
+
+/// Whether disks are coloured by material: they carry one and materials are named.
+pub(super) fn by_material(packing: &Packing, materials: &[Material]) -> bool {
+    !materials.is_empty() && !packing.materials.is_empty()
+}
+
+/// Fill of packed disk `i`: its material's palette colour, else its diameter's shade.
+pub(super) fn disk_fill(
+    packing: &Packing,
+    i: usize,
+    by_material: bool,
+    diameters: (f64, f64),
+) -> [u8; 3] {
+    match packing.materials.get(i) {
+        Some(&m) if by_material => palette::colour(usize::from(m)),
+        _ => packing.disks.get(i).map_or(palette::ramp(0.5), |d| {
+            palette::diameter_colour(2.0 * d.r, diameters)
+        }),
+    }
+}
+
+/// The box drawn (mm): the outline and every disk, plus a margin of
+/// [`MARGIN`] of the shorter side all round.
+pub(super) fn frame(outline: &[Point], packing: &Packing) -> (Point, Point) {
+    let (lo, hi) = extent(outline, packing);
+    let margin = MARGIN * (hi.x - lo.x).min(hi.y - lo.y);
+    (
+        Point::new(lo.x - margin, lo.y - margin),
+        Point::new(hi.x + margin, hi.y + margin),
+    )
 }
 
 /// Bounding box of the outline and of every disk.
@@ -138,18 +193,6 @@ fn circle(disk: &Disk, y: f64) -> String {
     )
 }
 
-/// `#rrggbb` from light (`d_min`) to dark (`d_max`); mid-tone for a single size.
-fn colour(d: f64, d_min: f64, d_max: f64) -> String {
-    let t = if d_max > d_min {
-        ((d - d_min) / (d_max - d_min)).clamp(0.0, 1.0)
-    } else {
-        0.5
-    };
-    let t = if t.is_nan() { 0.5 } else { t };
-    let [r, g, b] = [0, 1, 2].map(|i| (LIGHT[i] + t * (DARK[i] - LIGHT[i])).round() as u8);
-    format!("#{r:02x}{g:02x}{b:02x}")
-}
-
 /// `#rrggbb`.
 fn hex([r, g, b]: [u8; 3]) -> String {
     format!("#{r:02x}{g:02x}{b:02x}")
@@ -170,20 +213,7 @@ fn num(v: f64) -> String {
 mod tests {
     use super::*;
     use crate::geometry::{Domain, WallMode};
-    use crate::grading::Grading;
-    use crate::packer::{PackStats, PackerSettings};
-
-    fn scene(grading: Grading) -> Scene {
-        Scene {
-            domain: Domain::rectangle(10.0, 20.0).expect("valid rectangle"),
-            walls: WallMode::Exact,
-            wall_disk_diameter: None,
-            grading,
-            gradient: None,
-            packer: PackerSettings::default(),
-            seed: 0,
-        }
-    }
+    use crate::packer::PackStats;
 
     fn packing(boundary: Vec<Disk>) -> Packing {
         Packing {
@@ -198,9 +228,8 @@ mod tests {
 
     #[test]
     fn draws_to_scale_with_y_up() {
-        let grading = Grading::uniform(2.0, 4.0, crate::grading::Basis::Number).expect("grading");
-        let scene = scene(grading);
-        let svg = packing_svg(&packing(Vec::new()), &scene, &[]);
+        // The colour range of a 2–4 mm grading.
+        let svg = packing_svg(&packing(Vec::new()), &[], (2.0, 4.0));
         // Margin 3 % of the shorter side (10 mm): 0.3 mm.
         assert!(
             svg.contains(r#"width="800" height="1555" viewBox="-0.3 -0.3 10.6 20.6""#),
@@ -219,19 +248,19 @@ mod tests {
             !svg.contains("#d9d9d9"),
             "no wall-disk group without wall disks"
         );
-        assert_eq!(svg, packing_svg(&packing(Vec::new()), &scene, &[]));
+        assert!(svg.starts_with("<?xml") && svg.trim_end().ends_with("</svg>"));
+        assert_eq!(svg, packing_svg(&packing(Vec::new()), &[], (2.0, 4.0)));
     }
 
     #[test]
     fn draws_materials_in_palette_colours() {
-        let scene = scene(Grading::constant(2.0).expect("grading"));
         let mut p = packing(Vec::new());
         p.materials = vec![1, 0];
         let named = |name: &str| Material {
             name: name.to_owned(),
             properties: Vec::new(),
         };
-        let svg = packing_svg(&p, &scene, &[named("ceramic"), named("metal")]);
+        let svg = packing_svg(&p, &[named("ceramic"), named("metal")], (2.0, 2.0));
         assert!(
             svg.contains("materials: ceramic #0072b2, metal #d55e00"),
             "{svg}"
@@ -242,8 +271,7 @@ mod tests {
 
     #[test]
     fn draws_wall_disks_in_grey() {
-        let scene = scene(Grading::constant(2.0).expect("grading"));
-        let svg = packing_svg(&packing(vec![Disk::new(0.0, 0.0, 0.5)]), &scene, &[]);
+        let svg = packing_svg(&packing(vec![Disk::new(0.0, 0.0, 0.5)]), &[], (2.0, 2.0));
         assert!(svg.contains(r##"<g fill="#d9d9d9""##), "{svg}");
         // The wall disk widens the box to y = −0.5, so y = 0 is drawn at 19.5.
         assert!(
@@ -253,20 +281,22 @@ mod tests {
     }
 
     #[test]
+    fn the_diameter_range_is_the_packed_disks_own() {
+        assert_eq!(
+            diameter_range(&packing(vec![Disk::new(0.0, 0.0, 9.0)])),
+            (2.0, 4.0)
+        );
+        let mut empty = packing(Vec::new());
+        empty.disks.clear();
+        assert_eq!(diameter_range(&empty), (0.0, 0.0));
+    }
+
+    #[test]
     fn numbers_are_short_and_stable() {
         assert_eq!(num(1.0), "1");
         assert_eq!(num(-0.00001), "0");
         assert_eq!(num(2.50), "2.5");
         assert_eq!(num(1.234_567), "1.2346");
         assert_eq!(num(100.0), "100");
-    }
-
-    #[test]
-    fn colours_run_light_to_dark() {
-        assert_eq!(colour(1.0, 1.0, 2.0), "#c6dbef");
-        assert_eq!(colour(2.0, 1.0, 2.0), "#08306b");
-        assert_eq!(colour(9.0, 1.0, 2.0), "#08306b");
-        assert_eq!(colour(1.2, 1.2, 1.2), colour(1.5, 1.0, 2.0));
-        assert_eq!(colour(f64::NAN, 1.0, 2.0), colour(1.5, 1.0, 2.0));
     }
 }

@@ -7,7 +7,7 @@ use crate::packer::Packing;
 use crate::packer::index::{Grid, SpatialIndex};
 
 /// Side of the local-porosity windows, in largest diameters.
-const WINDOW_DIAMETERS: f64 = 5.0;
+pub(super) const WINDOW_DIAMETERS: f64 = 5.0;
 
 /// What a packing achieved.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]

@@ -7,6 +7,7 @@ pub mod index;
 mod metrics;
 mod packing;
 mod placed;
+mod porosity_map;
 mod relaxation;
 mod rsa;
 mod settings;
@@ -16,6 +17,7 @@ pub use advancing_front::{PROGRESS_STEP, pack_genes, size_count};
 pub use deposition::pack_deposition;
 pub use metrics::{Metrics, measure};
 pub use packing::{PackError, PackStats, Packing};
+pub use porosity_map::{PorosityMap, porosity_map};
 pub use relaxation::pack_relaxation;
 pub use rsa::pack_rsa;
 pub use settings::{

@@ -61,8 +61,15 @@ pub struct LineChart {
 /// A chart that draws itself on any plotters backend; [`Drawable::to_svg`]
 /// and [`Drawable::to_png`] render it in memory.
 pub trait Drawable {
-    /// Pixel size of the chart.
+    /// Pixel size of the chart (for a chart whose size depends on its
+    /// content, its usual size; [`Drawable::size`] gives the actual one).
     const SIZE: (u32, u32);
+
+    /// Pixel size of this chart: [`Drawable::SIZE`] unless the chart's
+    /// content decides it (a map drawn to scale).
+    fn size(&self) -> (u32, u32) {
+        Self::SIZE
+    }
 
     /// Draw the chart on `root`.
     fn draw<DB: DrawingBackend>(
@@ -78,7 +85,7 @@ pub trait Drawable {
         register_font();
         let mut svg = String::new();
         {
-            let root = SVGBackend::with_string(&mut svg, Self::SIZE).into_drawing_area();
+            let root = SVGBackend::with_string(&mut svg, self.size()).into_drawing_area();
             self.draw(root)
                 .map_err(|e| OutputError::Plot(e.to_string()))?;
         }
@@ -91,22 +98,14 @@ pub trait Drawable {
     /// [`OutputError::Plot`] if plotters fails to draw or the PNG cannot be encoded.
     fn to_png(&self) -> Result<Vec<u8>, OutputError> {
         register_font();
-        let (w, h) = Self::SIZE;
+        let (w, h) = self.size();
         let mut rgb = vec![0u8; w as usize * h as usize * 3];
         {
-            let root = BitMapBackend::with_buffer(&mut rgb, Self::SIZE).into_drawing_area();
+            let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
             self.draw(root)
                 .map_err(|e| OutputError::Plot(e.to_string()))?;
         }
-        let mut png = Vec::new();
-        let mut encoder = png::Encoder::new(&mut png, w, h);
-        encoder.set_color(png::ColorType::Rgb);
-        encoder.set_depth(png::BitDepth::Eight);
-        let plot = |e: png::EncodingError| OutputError::Plot(e.to_string());
-        let mut writer = encoder.write_header().map_err(plot)?;
-        writer.write_image_data(&rgb).map_err(plot)?;
-        writer.finish().map_err(plot)?;
-        Ok(png)
+        encode_png(&rgb, (w, h))
     }
 }
 
@@ -196,6 +195,22 @@ impl LineChart {
     }
 }
 
+/// An RGB buffer of `size` pixels, row by row from the top, as PNG bytes.
+///
+/// # Errors
+/// [`OutputError::Plot`] if the encoder fails (a buffer of the wrong length).
+pub(super) fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>, OutputError> {
+    let mut png = Vec::new();
+    let mut encoder = png::Encoder::new(&mut png, w, h);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let plot = |e: png::EncodingError| OutputError::Plot(e.to_string());
+    let mut writer = encoder.write_header().map_err(plot)?;
+    writer.write_image_data(rgb).map_err(plot)?;
+    writer.finish().map_err(plot)?;
+    Ok(png)
+}
+
 /// A tick label: at most six decimals, trailing zeros dropped (`2`, `0.36`).
 pub(super) fn tidy(v: &f64) -> String {
     let rounded = (v * 1e6).round() / 1e6;
@@ -203,7 +218,7 @@ pub(super) fn tidy(v: &f64) -> String {
 }
 
 /// Register the bundled font once per process.
-fn register_font() {
+pub(super) fn register_font() {
     REGISTER.call_once(|| {
         // The bundled bytes are a valid font (checked by the tests below).
         let _ = plotters::style::register_font(FAMILY, FontStyle::Normal, FONT);

@@ -1,15 +1,22 @@
-//! Charts: a generic line chart (SVG and PNG, in memory) and the charts built on it.
+//! Charts: a generic line chart (SVG and PNG, in memory), the charts built
+//! on it, and the pictures of a packing (drawing, grading, porosity map).
 
 mod chart;
 mod compare;
 mod convergence;
+mod packing;
+mod porosity_map;
 mod profile;
+mod psd;
 mod stability;
 mod window;
 
 pub use chart::{Drawable, LineChart, Mark, Series};
 pub use compare::{CompareChart, variant_label};
 pub use convergence::convergence_chart;
+pub use packing::{PACKING_PNG, packing_png};
+pub use porosity_map::{POROSITY_MAP_PNG, POROSITY_MAP_SVG, PorosityMapChart, porosity_map_chart};
 pub use profile::profile_chart;
+pub use psd::{PSD_PNG, PSD_SVG, PsdChart, psd_chart};
 pub use stability::StabilityChart;
 pub use window::window_chart;

@@ -1,0 +1,464 @@
+//! `packing.png`: the drawing of `packing.svg` as an image, with a legend.
+//!
+//! The disks are rasterised here, straight into the pixel buffer, with
+//! anti-aliased edges: a million disks take a fraction of a second this way,
+//! where plotters' circles cost far more and have jagged edges. Plotters then
+//! draws the domain outline and the legend (text needs its font) on the
+//! same buffer.
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+use super::chart::{FAMILY, encode_png, register_font, tidy};
+use crate::geometry::{Disk, Point};
+use crate::layering::Material;
+use crate::output::OutputError;
+use crate::output::palette::{colour, ramp};
+use crate::output::svg::{
+    CIRCLE_SEGMENTS, DISK_EDGE, WALL_EDGE, WALL_FILL, by_material, disk_fill, frame,
+};
+use crate::packer::Packing;
+
+/// File name of the drawing as an image.
+pub const PACKING_PNG: &str = "packing.png";
+
+/// Pixels on the longer side of the image.
+const LONG_SIDE: u32 = 1600;
+/// Height of the legend strip under the drawing.
+const LEGEND_PX: u32 = 80;
+/// Narrowest image with a legend: a tall domain is centred in a wider image.
+const LEGEND_MIN_WIDTH: u32 = 900;
+/// Legend text size.
+const FONT_PX: u32 = 22;
+/// Side of a legend swatch, height of the colour bar.
+const SWATCH: i32 = 24;
+/// Length of the colour bar.
+const BAR: i32 = 320;
+/// Space between legend items and at the strip's ends.
+const GAP: i32 = 20;
+/// Width of the disks' edge line (pixels), thinner on disks under 4 px across.
+const EDGE_PX: f64 = 1.0;
+
+/// Where the drawing goes in the image: `px = (x − x0)·scale + left`, `py = (y1 − y)·scale`.
+#[derive(Debug, Clone, Copy)]
+struct Layout {
+    /// Image size (pixels).
+    size: (u32, u32),
+    /// Pixels per mm.
+    scale: f64,
+    /// Left and top edges of the drawn box (mm).
+    x0: f64,
+    y1: f64,
+    /// Pixels left of the drawing (it is centred in a wider image).
+    left: f64,
+    /// Whether the legend strip is drawn.
+    legend: bool,
+}
+
+impl Layout {
+    fn new(packing: &Packing, outline: &[Point]) -> Self {
+        let (lo, hi) = frame(outline, packing);
+        let (w, h) = ((hi.x - lo.x).max(1e-12), (hi.y - lo.y).max(1e-12));
+        let legend = !packing.disks.is_empty();
+        let strip = if legend { LEGEND_PX } else { 0 };
+        let long = f64::from(LONG_SIDE);
+        let by_width = long / w;
+        let by_height = f64::from(LONG_SIDE - strip) / h;
+        // The longer side of the image is exactly LONG_SIDE pixels.
+        let (scale, draw_w, draw_h) = if by_width <= by_height {
+            (by_width, LONG_SIDE, px(h * by_width))
+        } else {
+            (by_height, px(w * by_height), LONG_SIDE - strip)
+        };
+        let width = if legend {
+            draw_w.max(LEGEND_MIN_WIDTH)
+        } else {
+            draw_w
+        };
+        Layout {
+            size: (width, draw_h + strip),
+            scale,
+            x0: lo.x,
+            y1: hi.y,
+            left: 0.5 * f64::from(width - draw_w),
+            legend,
+        }
+    }
+
+    /// A point in pixels.
+    fn map(&self, p: Point) -> (f64, f64) {
+        (
+            (p.x - self.x0) * self.scale + self.left,
+            (self.y1 - p.y) * self.scale,
+        )
+    }
+}
+
+/// A pixel count from a length in pixels: rounded, at least 1.
+fn px(v: f64) -> u32 {
+    v.round().clamp(1.0, f64::from(u32::MAX)) as u32
+}
+
+/// The packing as a PNG image: what [`packing_svg`](crate::output::packing_svg)
+/// draws (the domain outline in black, wall disks light grey, packed disks
+/// by material or light to dark over `diameters`, in mm), 1600 px on the
+/// longer side, with a legend strip below: the diameter colour bar or the
+/// materials, the disk count and the porosity.
+///
+/// # Errors
+/// [`OutputError::Plot`] if plotters fails to draw or the PNG cannot be encoded.
+///
+/// # Performance
+/// Each disk is drawn straight into the buffer over its bounding box of
+/// pixels: O(disks + pixels). A million disks render in well under a
+/// second; most of the time goes to encoding the PNG.
+pub fn packing_png(
+    packing: &Packing,
+    materials: &[Material],
+    diameters: (f64, f64),
+) -> Result<Vec<u8>, OutputError> {
+    register_font();
+    let outline = packing.domain.outline(CIRCLE_SEGMENTS);
+    let layout = Layout::new(packing, &outline);
+    let (w, h) = layout.size;
+    let mut rgb = vec![255u8; w as usize * h as usize * 3];
+    let mut canvas = Canvas {
+        rgb: &mut rgb,
+        width: w as usize,
+        height: h as usize,
+    };
+    for disk in &packing.boundary {
+        canvas.disk(&layout, disk, WALL_FILL, WALL_EDGE);
+    }
+    let by_material = by_material(packing, materials);
+    for (i, disk) in packing.disks.iter().enumerate() {
+        let fill = disk_fill(packing, i, by_material, diameters);
+        canvas.disk(&layout, disk, fill, DISK_EDGE);
+    }
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+        let plot = |e: DrawingAreaErrorKind<_>| OutputError::Plot(e.to_string());
+        let mut ring: Vec<(i32, i32)> = outline
+            .iter()
+            .map(|&p| {
+                let (x, y) = layout.map(p);
+                (x.round() as i32, y.round() as i32)
+            })
+            .collect();
+        ring.extend(ring.first().copied());
+        root.draw(&PathElement::new(ring, BLACK.stroke_width(2)))
+            .map_err(plot)?;
+        if layout.legend {
+            let strip = root.margin(h - LEGEND_PX, 0, 0, 0);
+            let legend = if by_material {
+                Legend::Materials(materials)
+            } else {
+                Legend::Diameters(diameters)
+            };
+            draw_legend(&strip, packing, &legend).map_err(plot)?;
+        }
+        root.present().map_err(plot)?;
+    }
+    encode_png(&rgb, (w, h))
+}
+
+/// An RGB buffer, row by row from the top.
+struct Canvas<'a> {
+    rgb: &'a mut [u8],
+    width: usize,
+    height: usize,
+}
+
+impl Canvas<'_> {
+    /// Draw `disk` filled with `fill`, with an edge line of `edge`,
+    /// anti-aliased by the distance of each pixel's centre to the rim.
+    fn disk(&mut self, layout: &Layout, disk: &Disk, fill: [u8; 3], edge: [u8; 3]) {
+        let (cx, cy) = layout.map(disk.c);
+        let r = disk.r * layout.scale;
+        if !(cx.is_finite() && cy.is_finite() && r.is_finite() && r > 0.0) {
+            return;
+        }
+        // The edge line thins on small disks so that their fill still shows.
+        let line = EDGE_PX.min(0.25 * r);
+        let clip = |v: f64, n: usize| v.clamp(0.0, n as f64) as usize;
+        let (i0, i1) = (
+            clip(cx - r - 1.0, self.width),
+            clip(cx + r + 1.0, self.width),
+        );
+        let (j0, j1) = (
+            clip(cy - r - 1.0, self.height),
+            clip(cy + r + 1.0, self.height),
+        );
+        for j in j0..j1 {
+            let dy = j as f64 + 0.5 - cy;
+            let row = j * self.width;
+            for i in i0..i1 {
+                let dx = i as f64 + 0.5 - cx;
+                let dist = (dx * dx + dy * dy).sqrt();
+                // Covered share of the pixel, and the share inside the edge line.
+                let cover = (r - dist + 0.5).clamp(0.0, 1.0);
+                if cover == 0.0 {
+                    continue;
+                }
+                let inner = (r - line - dist + 0.5).clamp(0.0, 1.0);
+                let at = 3 * (row + i);
+                for k in 0..3 {
+                    let old = f64::from(self.rgb[at + k]);
+                    let new = old * (1.0 - cover)
+                        + f64::from(fill[k]) * inner
+                        + f64::from(edge[k]) * (cover - inner);
+                    self.rgb[at + k] = new.round().clamp(0.0, 255.0) as u8;
+                }
+            }
+        }
+    }
+}
+
+/// What the legend strip shows besides the counts.
+enum Legend<'a> {
+    /// The colour bar of the diameters (mm).
+    Diameters((f64, f64)),
+    /// One swatch per material.
+    Materials(&'a [Material]),
+}
+
+/// The legend strip: a colour bar or material swatches on the left, wall
+/// disks if any, the disk count and porosity on the right. An item that
+/// would run into the count is left out.
+fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    packing: &Packing,
+    legend: &Legend<'_>,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let (width, height) = area.dim_in_pixel();
+    let (width, mid) = (width as i32, height as i32 / 2);
+    let font = (FAMILY, FONT_PX).into_font();
+    let text = font.color(&BLACK).pos(Pos::new(HPos::Left, VPos::Center));
+    let text_width = |s: &str| -> Result<i32, DrawingAreaErrorKind<DB::ErrorType>> {
+        Ok(area.estimate_text_size(s, &text)?.0 as i32)
+    };
+    let solid: f64 = packing.disks.iter().map(Disk::area).sum();
+    let counts = format!(
+        "{} disks, porosity {:.3}",
+        packing.disks.len(),
+        1.0 - solid / packing.domain.area()
+    );
+    let right = width - GAP - text_width(&counts)?;
+    area.draw(&Text::new(
+        counts,
+        (width - GAP, mid),
+        font.color(&BLACK).pos(Pos::new(HPos::Right, VPos::Center)),
+    ))?;
+    let room = right - GAP;
+    let half = SWATCH / 2;
+    let swatch = |x: i32, [r, g, b]: [u8; 3]| {
+        Rectangle::new(
+            [(x, mid - half), (x + SWATCH, mid + half)],
+            RGBColor(r, g, b).filled(),
+        )
+    };
+    // Width of a swatch and its text, up to the next item.
+    let item = |s: &str| -> Result<i32, DrawingAreaErrorKind<DB::ErrorType>> {
+        Ok(SWATCH + 8 + text_width(s)? + GAP)
+    };
+    let mut x = GAP;
+    match legend {
+        Legend::Diameters((d_min, d_max)) if d_max > d_min => {
+            let label = "diameter (mm)";
+            let ticks = ticks(*d_min, *d_max);
+            let overhang = text_width(ticks.last().map_or("", String::as_str))? / 2;
+            let label_width = text_width(label)? + 12;
+            if x + label_width + BAR + overhang <= room {
+                let (top, bottom) = (mid - SWATCH, mid);
+                area.draw(&Text::new(label, (x, mid - half), text.clone()))?;
+                x += label_width;
+                for k in 0..BAR {
+                    let [r, g, b] = ramp(f64::from(k) / f64::from(BAR - 1));
+                    area.draw(&Rectangle::new(
+                        [(x + k, top), (x + k + 1, bottom)],
+                        RGBColor(r, g, b).filled(),
+                    ))?;
+                }
+                area.draw(&Rectangle::new(
+                    [(x, top), (x + BAR, bottom)],
+                    BLACK.stroke_width(1),
+                ))?;
+                let below = font.color(&BLACK).pos(Pos::new(HPos::Center, VPos::Top));
+                let last = ticks.len().saturating_sub(1).max(1) as i32;
+                for (k, tick) in ticks.iter().enumerate() {
+                    let at = x + (BAR - 1) * k as i32 / last;
+                    area.draw(&PathElement::new(
+                        vec![(at, bottom), (at, bottom + 4)],
+                        BLACK.stroke_width(1),
+                    ))?;
+                    area.draw(&Text::new(tick.clone(), (at, bottom + 6), below.clone()))?;
+                }
+                x += BAR + overhang + GAP;
+            }
+        }
+        Legend::Diameters((d, _)) => {
+            let label = format!("diameter {} mm", tidy(d));
+            if x + item(&label)? <= room {
+                area.draw(&swatch(x, ramp(0.5)))?;
+                area.draw(&Text::new(
+                    label.clone(),
+                    (x + SWATCH + 8, mid),
+                    text.clone(),
+                ))?;
+                x += item(&label)?;
+            }
+        }
+        Legend::Materials(materials) => {
+            for (i, m) in materials.iter().enumerate() {
+                if x + item(&m.name)? > room {
+                    break;
+                }
+                area.draw(&swatch(x, colour(i)))?;
+                area.draw(&Text::new(
+                    m.name.clone(),
+                    (x + SWATCH + 8, mid),
+                    text.clone(),
+                ))?;
+                x += item(&m.name)?;
+            }
+        }
+    }
+    let walls = "wall disks";
+    if !packing.boundary.is_empty() && x + item(walls)? <= room {
+        area.draw(&swatch(x, WALL_FILL))?;
+        area.draw(&Text::new(walls, (x + SWATCH + 8, mid), text))?;
+    }
+    Ok(())
+}
+
+/// Three tick labels from `lo` to `hi`, all with the decimals needed to
+/// show either end to 4 significant digits and to tell the ticks apart.
+fn ticks(lo: f64, hi: f64) -> Vec<String> {
+    // Decimals of `v` written with 4 significant digits, trailing zeros dropped.
+    let decimals_of = |v: f64| {
+        let places = (3.0 - v.abs().max(1e-12).log10().floor()).clamp(0.0, 6.0) as usize;
+        let s = format!("{v:.places$}");
+        let s = s.trim_end_matches('0');
+        s.find('.').map_or(0, |dot| s.len() - dot - 1)
+    };
+    let half = 0.5 * (hi - lo);
+    let apart = ((-half.log10()).ceil() + 1.0).clamp(0.0, 6.0) as usize;
+    let decimals = decimals_of(lo).max(decimals_of(hi)).max(apart);
+    [lo, lo + half, hi]
+        .iter()
+        .map(|v| format!("{v:.decimals$}"))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Domain, WallMode};
+    use crate::output::diameter_range;
+    use crate::packer::PackStats;
+
+    /// Width and height from a PNG's IHDR chunk, after checking the signature.
+    fn png_size(png: &[u8]) -> (u32, u32) {
+        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+        let decoder = png::Decoder::new(png);
+        let reader = decoder.read_info().expect("a PNG header");
+        let info = reader.info();
+        (info.width, info.height)
+    }
+
+    fn packing(domain: Domain, disks: Vec<Disk>) -> Packing {
+        Packing {
+            domain,
+            walls: WallMode::Exact,
+            boundary: Vec::new(),
+            disks,
+            materials: Vec::new(),
+            stats: PackStats::default(),
+        }
+    }
+
+    #[test]
+    fn a_tall_domain_is_1600_px_high_and_centred_in_a_legend_wide_image() {
+        // 15 × 20 mm plus 0.45 mm margins: 15.9 × 20.9 mm in 1520 px of
+        // height (the legend strip is 80 px), so 1156 px wide.
+        let p = packing(
+            Domain::rectangle(15.0, 20.0).expect("rectangle"),
+            vec![Disk::new(2.0, 2.0, 1.0), Disk::new(5.0, 15.0, 2.0)],
+        );
+        let png = packing_png(&p, &[], diameter_range(&p)).expect("renders");
+        assert_eq!(png_size(&png), (1156, 1600));
+        // 5.3 × 20.3 mm would be 397 px wide, narrower than the legend: 900 px.
+        let p = packing(
+            Domain::rectangle(5.0, 20.0).expect("rectangle"),
+            vec![Disk::new(2.0, 2.0, 1.0)],
+        );
+        let png = packing_png(&p, &[], (2.0, 2.0)).expect("renders");
+        assert_eq!(png_size(&png), (900, 1600));
+    }
+
+    #[test]
+    fn a_wide_domain_is_1600_px_wide() {
+        // 40.6 × 10.6 mm at 1600 / 40.6 px/mm: 418 px + 80 px of legend.
+        let p = packing(
+            Domain::rectangle(40.0, 10.0).expect("rectangle"),
+            vec![Disk::new(2.0, 2.0, 1.0)],
+        );
+        assert_eq!(
+            png_size(&packing_png(&p, &[], (1.0, 3.0)).expect("png")),
+            (1600, 498)
+        );
+        // Without disks there is no legend.
+        let empty = packing(
+            Domain::rectangle(40.0, 10.0).expect("rectangle"),
+            Vec::new(),
+        );
+        assert_eq!(
+            png_size(&packing_png(&empty, &[], (0.0, 0.0)).expect("png")),
+            (1600, 418)
+        );
+    }
+
+    #[test]
+    fn disks_are_filled_with_their_colour() {
+        let p = packing(
+            Domain::circle(Point::new(0.0, 0.0), 10.0).expect("circle"),
+            vec![Disk::new(-4.0, 0.0, 3.0), Disk::new(4.0, 0.0, 2.0)],
+        );
+        let layout = Layout::new(&p, &p.domain.outline(CIRCLE_SEGMENTS));
+        let mut rgb = vec![255u8; layout.size.0 as usize * layout.size.1 as usize * 3];
+        let mut canvas = Canvas {
+            rgb: &mut rgb,
+            width: layout.size.0 as usize,
+            height: layout.size.1 as usize,
+        };
+        for (i, d) in p.disks.iter().enumerate() {
+            canvas.disk(&layout, d, disk_fill(&p, i, false, (4.0, 6.0)), DISK_EDGE);
+        }
+        let pixel = |q: Point| {
+            let (x, y) = layout.map(q);
+            let at = 3 * (y as usize * layout.size.0 as usize + x as usize);
+            [rgb[at], rgb[at + 1], rgb[at + 2]]
+        };
+        // Centres: the larger disk darkest, the smaller lightest; between them white.
+        assert_eq!(pixel(Point::new(-4.0, 0.0)), ramp(1.0));
+        assert_eq!(pixel(Point::new(4.0, 0.0)), ramp(0.0));
+        assert_eq!(pixel(Point::new(0.5, 0.0)), [255, 255, 255]);
+        // The light disk has a dark rim: along its radius, some pixel is at
+        // least half edge colour (26) and the rest fill (198) or white.
+        let (x, y) = layout.map(Point::new(4.0, 0.0));
+        let row = y as usize * layout.size.0 as usize;
+        let darkest = (x as usize..(x + 2.0 * layout.scale + 2.0) as usize)
+            .map(|i| rgb[3 * (row + i)])
+            .min();
+        assert!(darkest < Some(150), "{darkest:?}");
+    }
+
+    #[test]
+    fn tick_labels_tell_the_sizes_apart() {
+        assert_eq!(ticks(1.2, 6.0), ["1.2", "3.6", "6.0"]);
+        assert_eq!(ticks(1.0, 1.1), ["1.000", "1.050", "1.100"]);
+        assert_eq!(ticks(1.275, 3.525), ["1.275", "2.400", "3.525"]);
+        assert_eq!(ticks(100.0, 300.0), ["100", "200", "300"]);
+    }
+}

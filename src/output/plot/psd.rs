@@ -1,0 +1,397 @@
+//! The grading chart: cumulative percent passing against diameter, the
+//! target curve and the packed disks' own, with the KS distance between them.
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::chart::{Drawable, FAMILY, tidy};
+use crate::grading::{Basis, Grading};
+use crate::output::palette::colour;
+use crate::packer::Packing;
+
+/// File name of the grading chart.
+pub const PSD_SVG: &str = "psd.svg";
+/// File name of the grading chart as an image.
+pub const PSD_PNG: &str = "psd.png";
+
+/// Points on which the target curve is evaluated (a step shows as a
+/// vertical line: one interval is under a pixel wide).
+const CURVE_POINTS: usize = 1000;
+/// Most steps drawn of the packed curve; with more distinct diameters it is
+/// evaluated on this many points instead.
+const MAX_STEPS: usize = 2000;
+/// Diameter ratio above which the diameter axis is logarithmic.
+const LOG_RATIO: f64 = 3.0;
+
+/// The grading chart of a packing: cumulative % passing (0–100) against
+/// diameter (mm; logarithmic when d_max/d_min > 3), in the grading's basis.
+///
+/// Built by [`psd_chart`]; drawn with [`Drawable::to_svg`] and [`Drawable::to_png`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct PsdChart {
+    /// The target curve as (diameter, % passing); empty without a grading.
+    target: Vec<(f64, f64)>,
+    /// The packed disks' step curve as (diameter, % passing).
+    packed: Vec<(f64, f64)>,
+    /// Number of packed disks.
+    disks: usize,
+    /// KS distance of the packed diameters to the target, when both exist.
+    ks: Option<f64>,
+    /// What percent passing counts.
+    basis: Basis,
+    /// Range of the diameter axis (mm).
+    x: (f64, f64),
+    /// Whether the diameter axis is logarithmic.
+    log_x: bool,
+}
+
+/// The grading chart of `packing` against `grading`, or of the packing
+/// alone without one (a packing read back from a CSV).
+///
+/// # Behavior
+/// The target is `grading`'s CDF evaluated on 1000 points; the packed curve
+/// steps at each distinct packed diameter, each disk weighted as the
+/// grading's basis says (number: 1, area: d², mass: d³; by number without a
+/// grading), exactly as [`Grading::ks_distance`] counts, and that distance
+/// is shown in the title. Above 2000 distinct diameters the packed curve is
+/// evaluated on 2000 points spread over its range instead, which moves a
+/// step by less than a pixel. A size-graded packing (each material with its
+/// own curve) is drawn against the one `grading` given, usually the
+/// scene's: its KS here is to that curve, not the per-material one of
+/// [`crate::measure`].
+pub fn psd_chart(packing: &Packing, grading: Option<&Grading>) -> PsdChart {
+    let mut diameters: Vec<f64> = packing
+        .disks
+        .iter()
+        .map(|d| 2.0 * d.r)
+        .filter(|d| d.is_finite() && *d > 0.0)
+        .collect();
+    diameters.sort_unstable_by(f64::total_cmp);
+    let basis = grading.map_or(Basis::Number, Grading::basis);
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for d in diameters
+        .first()
+        .into_iter()
+        .chain(diameters.last())
+        .copied()
+        .chain(grading.into_iter().flat_map(|g| [g.d_min(), g.d_max()]))
+    {
+        (lo, hi) = (lo.min(d), hi.max(d));
+    }
+    if lo > hi {
+        (lo, hi) = (1.0, 10.0);
+    }
+    let log_x = hi > LOG_RATIO * lo;
+    let x = if log_x {
+        let pad = (hi / lo).powf(0.04);
+        (lo / pad, hi * pad)
+    } else {
+        let pad = ((hi - lo) * 0.05).max(hi * 0.02);
+        (lo - pad, hi + pad)
+    };
+    let target = grading.map_or_else(Vec::new, |g| {
+        let mut xs = spaced(x.0, x.1, CURVE_POINTS, log_x);
+        xs.extend([g.d_min(), g.d_max()]);
+        xs.sort_unstable_by(f64::total_cmp);
+        xs.into_iter().map(|d| (d, 100.0 * g.cdf(d))).collect()
+    });
+    PsdChart {
+        target,
+        packed: staircase(&diameters, basis.exponent(), x, log_x),
+        disks: packing.disks.len(),
+        ks: grading
+            .filter(|_| !diameters.is_empty())
+            .map(|g| g.ks_distance(&diameters)),
+        basis,
+        x,
+        log_x,
+    }
+}
+
+/// `n + 1` points from `a` to `b` (both exact), evenly in ln d or in d.
+fn spaced(a: f64, b: f64, n: usize, log: bool) -> Vec<f64> {
+    let mut points: Vec<f64> = (0..=n)
+        .map(|i| {
+            let t = i as f64 / n as f64;
+            if log {
+                a * (b / a).powf(t)
+            } else {
+                a + t * (b - a)
+            }
+        })
+        .collect();
+    if let Some(last) = points.last_mut() {
+        *last = b;
+    }
+    points
+}
+
+/// The step curve (diameter, % passing) of `sorted` diameters, each weighing
+/// d^k, from the axis' left end at 0 % to its right end at 100 %.
+fn staircase(sorted: &[f64], k: i32, (x0, x1): (f64, f64), log_x: bool) -> Vec<(f64, f64)> {
+    let Some(&largest) = sorted.last() else {
+        return Vec::new();
+    };
+    // Relative to the largest diameter: no overflow, the largest weighs 1.
+    let weight = |d: f64| if k == 0 { 1.0 } else { (d / largest).powi(k) };
+    let total: f64 = sorted.iter().map(|&d| weight(d)).sum();
+    let mut knots = Vec::new();
+    let mut through = 0.0;
+    for group in sorted.chunk_by(|a, b| a == b) {
+        through += group.iter().map(|&d| weight(d)).sum::<f64>();
+        knots.push((group[0], through / total));
+    }
+    if let Some(last) = knots.last_mut() {
+        last.1 = 1.0;
+    }
+    if knots.len() > MAX_STEPS {
+        let (first, last) = (sorted[0], largest);
+        let mut j = 0;
+        knots = spaced(first, last, MAX_STEPS, log_x)
+            .into_iter()
+            .map(|d| {
+                while j < knots.len() && knots[j].0 <= d {
+                    j += 1;
+                }
+                (d, j.checked_sub(1).map_or(0.0, |i| knots[i].1))
+            })
+            .collect();
+    }
+    let mut points = Vec::with_capacity(2 * knots.len() + 2);
+    points.push((x0, 0.0));
+    let mut before = 0.0;
+    for (d, fraction) in knots {
+        points.push((d, 100.0 * before));
+        points.push((d, 100.0 * fraction));
+        before = fraction;
+    }
+    points.push((x1, 100.0 * before));
+    points
+}
+
+impl PsdChart {
+    fn title(&self) -> String {
+        let by = match self.basis {
+            Basis::Number => "number",
+            Basis::Mass => "area",
+            Basis::Mass3d => "mass",
+        };
+        match (self.target.is_empty(), self.ks) {
+            (false, Some(ks)) => format!("Grading by {by}: target and packed, KS = {ks:.4}"),
+            (false, None) => format!("Grading by {by}: target (no disk packed)"),
+            (true, _) => format!("Grading of the packing by {by}"),
+        }
+    }
+
+    fn y_label(&self) -> &'static str {
+        match self.basis {
+            Basis::Number => "% passing by number",
+            Basis::Mass => "% passing by area (d²)",
+            Basis::Mass3d => "% passing by mass (d³)",
+        }
+    }
+}
+
+impl Drawable for PsdChart {
+    const SIZE: (u32, u32) = (900, 560);
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, Shift>,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        root.fill(&WHITE)?;
+        let mut builder = ChartBuilder::on(&root);
+        builder
+            .caption(self.title(), (FAMILY, 22))
+            .margin(14)
+            .x_label_area_size(48)
+            .y_label_area_size(70);
+        let (x0, x1) = self.x;
+        let [r, g, b] = colour(0);
+        let packed_colour = RGBColor(r, g, b);
+        macro_rules! body {
+            ($chart:ident) => {{
+                $chart
+                    .configure_mesh()
+                    .x_desc(if self.log_x {
+                        "diameter (mm, log scale)"
+                    } else {
+                        "diameter (mm)"
+                    })
+                    .y_desc(self.y_label())
+                    .x_label_formatter(&tidy)
+                    .y_label_formatter(&tidy)
+                    .label_style((FAMILY, 14))
+                    .axis_desc_style((FAMILY, 16))
+                    .draw()?;
+                if !self.target.is_empty() {
+                    $chart
+                        .draw_series(LineSeries::new(
+                            self.target.iter().copied(),
+                            BLACK.stroke_width(2),
+                        ))?
+                        .label("target grading")
+                        .legend(|(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 24, y)], BLACK.stroke_width(3))
+                        });
+                }
+                if !self.packed.is_empty() {
+                    $chart
+                        .draw_series(LineSeries::new(
+                            self.packed.iter().copied(),
+                            packed_colour.stroke_width(2),
+                        ))?
+                        .label(format!(
+                            "packed, {} disk{}",
+                            self.disks,
+                            if self.disks == 1 { "" } else { "s" }
+                        ))
+                        .legend(move |(x, y)| {
+                            PathElement::new(
+                                vec![(x, y), (x + 24, y)],
+                                packed_colour.stroke_width(3),
+                            )
+                        });
+                }
+                $chart
+                    .configure_series_labels()
+                    .label_font((FAMILY, 14))
+                    .background_style(WHITE.mix(0.85))
+                    .border_style(BLACK)
+                    .position(SeriesLabelPosition::LowerRight)
+                    .draw()?;
+            }};
+        }
+        if self.log_x {
+            let mut chart = builder.build_cartesian_2d((x0..x1).log_scale(), 0.0..100.0)?;
+            body!(chart);
+        } else {
+            let mut chart = builder.build_cartesian_2d(x0..x1, 0.0..100.0)?;
+            body!(chart);
+        }
+        root.present()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Disk, Domain, WallMode};
+    use crate::grading::Interpolation;
+    use crate::packer::PackStats;
+
+    fn packing(diameters: &[f64]) -> Packing {
+        Packing {
+            domain: Domain::rectangle(100.0, 100.0).expect("rectangle"),
+            walls: WallMode::Exact,
+            boundary: Vec::new(),
+            disks: diameters
+                .iter()
+                .enumerate()
+                .map(|(i, &d)| Disk::new(10.0 * i as f64 + 5.0, 5.0, d / 2.0))
+                .collect(),
+            materials: Vec::new(),
+            stats: PackStats::default(),
+        }
+    }
+
+    #[test]
+    fn steps_weigh_disks_in_the_grading_s_basis() {
+        let p = packing(&[1.0, 2.0, 2.0]);
+        // By number: a third at 1, all at 2.
+        let g = Grading::uniform(1.0, 2.0, Basis::Number).expect("grading");
+        let chart = psd_chart(&p, Some(&g));
+        assert!(!chart.log_x);
+        let (x0, x1) = chart.x;
+        assert!(x0 < 1.0 && x1 > 2.0);
+        let third = 100.0 * (1.0 / 3.0);
+        assert_eq!(
+            chart.packed,
+            [
+                (x0, 0.0),
+                (1.0, 0.0),
+                (1.0, third),
+                (2.0, third),
+                (2.0, 100.0),
+                (x1, 100.0)
+            ]
+        );
+        assert_eq!(chart.ks, Some(g.ks_distance(&[1.0, 2.0, 2.0])));
+        // By area: weights 1, 4, 4.
+        let g = Grading::uniform(1.0, 2.0, Basis::Mass).expect("grading");
+        let chart = psd_chart(&p, Some(&g));
+        assert!(
+            (chart.packed[2].1 - 100.0 / 9.0).abs() < 1e-12,
+            "{:?}",
+            chart.packed
+        );
+        assert!(chart.title().contains("by area") && chart.title().contains("KS = "));
+        // The target runs 0 → 100 % over the axis.
+        assert_eq!(chart.target.first().map(|p| p.1), Some(0.0));
+        assert_eq!(chart.target.last().map(|p| p.1), Some(100.0));
+    }
+
+    #[test]
+    fn many_sizes_are_binned_and_wide_gradings_are_log() {
+        let diameters: Vec<f64> = (0..5000).map(|i| 1.0 + f64::from(i) * 1e-3).collect();
+        let chart = psd_chart(&packing(&diameters), None);
+        assert!(chart.log_x, "1 to 6 mm is a ratio above 3");
+        assert!(chart.target.is_empty() && chart.ks.is_none());
+        assert_eq!(chart.packed.len(), 2 * (MAX_STEPS + 1) + 2);
+        // Non-decreasing, ending at 100 %.
+        assert!(
+            chart
+                .packed
+                .windows(2)
+                .all(|w| w[0].1 <= w[1].1 && w[0].0 <= w[1].0)
+        );
+        assert_eq!(chart.packed.last().map(|p| p.1), Some(100.0));
+        assert!(chart.title().starts_with("Grading of the packing"));
+    }
+
+    fn svg_size(svg: &str) -> (u32, u32) {
+        assert!(
+            svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"),
+            "{svg}"
+        );
+        let attribute = |name: &str| -> u32 {
+            let start = svg.find(&format!("{name}=\"")).expect(name) + name.len() + 2;
+            let end = start + svg[start..].find('"').expect("closing quote");
+            svg[start..end].parse().expect("a number")
+        };
+        (attribute("width"), attribute("height"))
+    }
+
+    fn png_size(png: &[u8]) -> (u32, u32) {
+        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+        let reader = png::Decoder::new(png).read_info().expect("a PNG header");
+        (reader.info().width, reader.info().height)
+    }
+
+    #[test]
+    fn renders_svg_and_png_of_the_chart_s_size() {
+        let g = Grading::from_table(
+            &[(1.2, 0.0), (2.4, 10.0), (2.4, 90.0), (6.0, 100.0)],
+            Interpolation::Log,
+            Basis::Number,
+        )
+        .expect("grading");
+        let p = packing(&[1.5, 2.4, 2.4, 2.4, 2.4, 5.0]);
+        for chart in [
+            psd_chart(&p, Some(&g)),
+            psd_chart(&p, None),
+            psd_chart(&packing(&[]), Some(&g)),
+        ] {
+            let svg = chart.to_svg().expect("svg");
+            assert_eq!(svg_size(&svg), PsdChart::SIZE);
+            assert!(svg.contains("diameter (mm"), "{svg}");
+            assert_eq!(png_size(&chart.to_png().expect("png")), PsdChart::SIZE);
+        }
+        let svg = psd_chart(&p, Some(&g)).to_svg().expect("svg");
+        assert!(
+            svg.contains("target grading")
+                && svg.contains("packed, 6 disks")
+                && svg.contains("KS = ")
+        );
+    }
+}
