@@ -71,6 +71,9 @@ enum Command {
     /// Check an existing packing (a CSV from gapack or any tool) against a
     /// config: overlaps, containment, porosity, grading (KS). Exit 1 if it fails.
     Verify(cli::inspect::VerifyArgs),
+    /// Draw an existing packing (a CSV from gapack or any tool): packing,
+    /// psd and porosity_map as SVG and PNG; with --config, its domain and target grading.
+    Plot(cli::inspect::PlotArgs),
     /// Measure disks per second and peak memory per disk (MX quadtree vs grid)
     /// on square domains with the thesis' Table 3.4 grading; writes bench.csv.
     Bench(BenchArgs),
@@ -166,6 +169,7 @@ fn main() -> ExitCode {
         Command::Stability(args) => run_stability(&args),
         Command::Validate(args) => cli::inspect::run_validate(&args),
         Command::Verify(args) => cli::inspect::run_verify(&args),
+        Command::Plot(args) => cli::inspect::run_plot(&args),
         Command::Bench(args) => run_bench(&args),
     };
     match result {

@@ -245,3 +245,134 @@ fn output_dir_of_the_config_is_used_and_an_unwritable_one_fails_cleanly() {
     );
     assert_eq!(fs::read_to_string(dir.join("blocked")).unwrap(), "a file");
 }
+
+/// Width and height from a PNG's IHDR chunk, after checking the signature.
+fn png_size(bytes: &[u8]) -> (u32, u32) {
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "not a PNG");
+    assert_eq!(&bytes[12..16], b"IHDR");
+    let be = |i: usize| u32::from_be_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
+    (be(16), be(20))
+}
+
+/// A well-formed SVG document: its root element opens and closes, with a size.
+fn assert_svg(text: &str, name: &str) {
+    assert!(text.contains("<svg"), "{name}: no <svg");
+    assert!(text.trim_end().ends_with("</svg>"), "{name}: not closed");
+    assert!(
+        text.contains("width=\"") && text.contains("height=\""),
+        "{name}: no size"
+    );
+}
+
+#[test]
+fn every_format_is_written_and_the_pictures_are_valid_images() {
+    let dir = scratch("all-formats");
+    fs::write(
+        dir.join("sq.toml"),
+        format!(
+            "{SQUARE}[output]\nformats = [\"csv\", \"json\", \"vtk\", \"lammps\", \"yade\", \"pfc\", \"mercury\", \"esys\", \"svg\", \"png\"]\ndensity = 2500.0\n"
+        ),
+    )
+    .unwrap();
+    let out = gapack(&dir, &["pack", "sq.toml", "--quiet"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let mut written: Vec<String> = fs::read_dir(dir.join("out/sq"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    written.sort();
+    assert_eq!(
+        written,
+        [
+            "boundary.vtk",
+            "packing.csv",
+            "packing.geo",
+            "packing.json",
+            "packing.lammps",
+            "packing.mercury.data",
+            "packing.p2dat",
+            "packing.png",
+            "packing.svg",
+            "packing.vtk",
+            "packing.yade.txt",
+            "porosity_map.png",
+            "porosity_map.svg",
+            "psd.png",
+            "psd.svg",
+            "summary.json",
+        ]
+    );
+    let read = |name: &str| fs::read(dir.join("out/sq").join(name)).unwrap();
+    // A square domain: the packing picture is 1600 px high (plus its legend strip), wide enough for it.
+    let (w, h) = png_size(&read("packing.png"));
+    assert!(h >= 1600 && w >= 1600 - 100 && w <= 1700, "{w} × {h}");
+    assert_eq!(png_size(&read("psd.png")), (900, 560));
+    let (w, h) = png_size(&read("porosity_map.png"));
+    assert!(w > 400 && h > 400, "{w} × {h}");
+    for svg in ["packing.svg", "psd.svg", "porosity_map.svg"] {
+        assert_svg(&String::from_utf8(read(svg)).unwrap(), svg);
+    }
+    // The default density reaches the LAMMPS file (kg/m³ with lengths in metres).
+    let lammps = String::from_utf8(read("packing.lammps")).unwrap();
+    let atoms = lammps.split("Atoms # sphere").nth(1).unwrap();
+    let first: Vec<&str> = atoms
+        .lines()
+        .find(|l| !l.trim().is_empty())
+        .unwrap()
+        .split_whitespace()
+        .collect();
+    assert_eq!(first[3], "2500");
+}
+
+#[test]
+fn plot_draws_a_table_from_any_tool_and_refuses_a_bad_one() {
+    let dir = scratch("plot");
+    fs::write(dir.join("sq.toml"), SQUARE).unwrap();
+    fs::write(
+        dir.join("foreign.csv"),
+        "# from another code\nx,y,diameter,material\n1,1,2,sand\n3.5,1,1.5,clay\n",
+    )
+    .unwrap();
+    let out = gapack(&dir, &["plot", "foreign.csv"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(
+        stdout(&out),
+        ".: packing, psd and porosity_map (.svg, .png) of foreign.csv (2 disks of 2 materials)\n"
+    );
+    for name in ["packing", "psd", "porosity_map"] {
+        png_size(&fs::read(dir.join(format!("{name}.png"))).unwrap());
+        assert_svg(
+            &fs::read_to_string(dir.join(format!("{name}.svg"))).unwrap(),
+            name,
+        );
+    }
+    // With the config: its domain frames the picture, its grading is the PSD's target.
+    let with = gapack(
+        &dir,
+        &[
+            "plot",
+            "foreign.csv",
+            "--config",
+            "sq.toml",
+            "--out",
+            "pics",
+            "--quiet",
+        ],
+    );
+    assert!(with.status.success(), "{}", stderr(&with));
+    assert!(with.stdout.is_empty());
+    assert!(
+        fs::read_to_string(dir.join("pics/psd.svg"))
+            .unwrap()
+            .contains("target")
+    );
+
+    fs::write(dir.join("bad.csv"), "x,y,r\n1,1,0.5\n2,2,oops\n").unwrap();
+    let bad = gapack(&dir, &["plot", "bad.csv", "--out", "nothing"]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert_eq!(
+        stderr(&bad),
+        "error: bad.csv:3:5: column r: expected a number, got \"oops\"\n"
+    );
+    assert!(!dir.join("nothing").exists(), "nothing may be written");
+}

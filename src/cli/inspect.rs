@@ -9,11 +9,12 @@ use gapack::check::{Check, check};
 use gapack::config::{Config, ConfigName};
 use gapack::fracture::{Extent, MM_PER_M};
 use gapack::geometry::predicates::OVERLAP_REL;
-use gapack::output::{PackingTable, read_packing_csv};
+use gapack::layering::Material;
+use gapack::output::{PackingTable, diameter_range, read_packing_csv, write_pictures};
 use gapack::packer::{PEAK_BYTES_PER_DISK, estimated_peak_bytes};
-use gapack::{Packing, Scene, Shape};
+use gapack::{Domain, Packing, Point, Scene, Shape, WallMode};
 
-use crate::{Failure, default_out, load_config};
+use crate::{Failure, default_out, load_config, report};
 
 /// `gapack validate` arguments.
 #[derive(Args)]
@@ -33,6 +34,26 @@ pub struct VerifyArgs {
     /// In a fracture batch, the well the packing belongs to [default: the only well].
     #[arg(long, value_name = "NAME")]
     well: Option<String>,
+}
+
+/// `gapack plot` arguments.
+#[derive(Args)]
+pub struct PlotArgs {
+    /// The packing: a CSV with columns x, y and r (or radius, d, diameter), material optional.
+    packing: PathBuf,
+    /// The config it was packed from: its domain outline, colour scale and
+    /// target grading [default: the disks' bounding box, their own sizes, no target].
+    #[arg(long, value_name = "CONFIG")]
+    config: Option<PathBuf>,
+    /// In a fracture batch, the well the packing belongs to [default: the only well].
+    #[arg(long, value_name = "NAME")]
+    well: Option<String>,
+    /// Output directory [default: the packing's own directory].
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// No result line.
+    #[arg(long)]
+    quiet: bool,
 }
 
 /// `gapack validate`: the config's scene (or each well's) and what a run
@@ -241,6 +262,104 @@ pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
         )));
     }
     Ok(())
+}
+
+/// `gapack plot`: the pictures of an existing packing (`packing`, `psd`,
+/// `porosity_map`, as SVG and PNG), next to it unless `--out` says otherwise.
+pub fn run_plot(args: &PlotArgs) -> Result<(), Failure> {
+    let table = read_table(&args.packing)?;
+    let loaded = match &args.config {
+        Some(path) => Some(load_config(Some(path)).map_err(Failure::Input)?),
+        None => None,
+    };
+    let (packing, materials, diameters, grading) = match &loaded {
+        Some((config, origin)) => {
+            let scene = pick_scene(config, args.well.as_deref(), origin)?;
+            let packing = packing_of(&table, scene, config);
+            let named = packing
+                .materials
+                .iter()
+                .all(|&m| usize::from(m) < config.materials.len());
+            let (packing, materials) = if named {
+                (packing, config.materials.clone())
+            } else {
+                // Names the config does not list: colour by the table's own.
+                (
+                    Packing {
+                        materials: table.materials.clone(),
+                        ..packing
+                    },
+                    own_materials(&table),
+                )
+            };
+            (
+                packing,
+                materials,
+                (scene.d_min(), scene.d_max()),
+                Some(&scene.grading),
+            )
+        }
+        None => {
+            let domain = bounding_box(&table)?;
+            let packing = Packing {
+                domain,
+                walls: WallMode::Exact,
+                boundary: Vec::new(),
+                disks: table.disks.clone(),
+                materials: table.materials.clone(),
+                stats: Default::default(),
+            };
+            let diameters = diameter_range(&packing);
+            (packing, own_materials(&table), diameters, None)
+        }
+    };
+    let dir = match &args.out {
+        Some(dir) => dir.clone(),
+        None => args
+            .packing
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
+    };
+    write_pictures(&dir, &packing, &materials, diameters, grading)
+        .context("cannot write the pictures")
+        .map_err(Failure::Run)?;
+    report(args.quiet, || {
+        format!(
+            "{}: packing, psd and porosity_map (.svg, .png) of {} ({table})",
+            dir.display(),
+            args.packing.display()
+        )
+    });
+    Ok(())
+}
+
+/// The table's own material names as materials without properties.
+fn own_materials(table: &PackingTable) -> Vec<Material> {
+    table
+        .material_names
+        .iter()
+        .map(|name| Material {
+            name: name.clone(),
+            properties: Vec::new(),
+        })
+        .collect()
+}
+
+/// The disks' bounding box as the domain, when no config gives one.
+fn bounding_box(table: &PackingTable) -> Result<Domain, Failure> {
+    let (mut lo, mut hi) = (
+        Point::new(f64::INFINITY, f64::INFINITY),
+        Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
+    );
+    for d in &table.disks {
+        lo = Point::new(lo.x.min(d.c.x - d.r), lo.y.min(d.c.y - d.r));
+        hi = Point::new(hi.x.max(d.c.x + d.r), hi.y.max(d.c.y + d.r));
+    }
+    let corners = [lo, Point::new(hi.x, lo.y), hi, Point::new(lo.x, hi.y)];
+    Domain::polygon(&corners)
+        .context("cannot frame the disks")
+        .map_err(Failure::Input)
 }
 
 /// Whether the KS distance (the per-material one for size-graded scenes) is within the limit.

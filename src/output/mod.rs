@@ -39,6 +39,6 @@ pub use read::{PackingTable, ReadError, read_packing_csv};
 pub use run::{
     COMPARE_PNG, COMPARE_SVG, CONVERGENCE_PNG, CONVERGENCE_SVG, FractureInfo, PROFILE_PNG,
     PROFILE_SVG, RunInfo, STABILITY_PNG, STABILITY_SVG, WINDOW_PNG, WINDOW_SVG, write_compare,
-    write_outputs, write_stability, write_table,
+    write_outputs, write_pictures, write_stability, write_table,
 };
 pub use svg::{PACKING_SVG, diameter_range, packing_svg};

@@ -27,6 +27,7 @@ use crate::Scene;
 use crate::compare::CompareRun;
 use crate::fracture::{Extent, Well, Window};
 use crate::ga::{Generation, Layered};
+use crate::grading::Grading;
 use crate::layering::{LayeringSettings, Material};
 use crate::packer::{Metrics, Packing};
 use crate::stability::StabilityRun;
@@ -194,25 +195,13 @@ pub fn write_outputs(
     if out.wants(Format::Esys) {
         add(ESYS_GEOMETRY, esys_geometry(packing, materials, opts)?);
     }
-    let diameters = (run.scene.d_min(), run.scene.d_max());
-    if out.wants(Format::Svg) {
-        add(
-            PACKING_SVG,
-            packing_svg(packing, materials, diameters).into_bytes(),
-        );
-    }
-    if out.wants(Format::Png) {
-        add(PACKING_PNG, packing_png(packing, materials, diameters)?);
-    }
     let mut pictures = Pictures { out, add };
-    if out.wants(Format::Svg) || out.wants(Format::Png) {
-        let psd = psd_chart(packing, Some(&run.scene.grading));
-        pictures.chart((PSD_SVG, PSD_PNG), &psd)?;
-        pictures.chart(
-            (POROSITY_MAP_SVG, POROSITY_MAP_PNG),
-            &porosity_map_chart(packing),
-        )?;
-    }
+    pictures.packing(
+        packing,
+        materials,
+        (run.scene.d_min(), run.scene.d_max()),
+        Some(&run.scene.grading),
+    )?;
     if let Some((summary, history)) = run.optimise {
         if out.wants(Format::Csv) {
             (pictures.add)(CONVERGENCE_CSV, convergence_csv(history)?);
@@ -249,6 +238,31 @@ struct Pictures<'o, F> {
 }
 
 impl<F: FnMut(&str, Vec<u8>)> Pictures<'_, F> {
+    /// The pictures of a packing, each in the formats asked for: the
+    /// packing coloured by diameter (over `diameters`) or material, its
+    /// grading against `grading`, its porosity map.
+    fn packing(
+        &mut self,
+        packing: &Packing,
+        materials: &[Material],
+        diameters: (f64, f64),
+        grading: Option<&Grading>,
+    ) -> Result<(), OutputError> {
+        if self.out.wants(Format::Svg) {
+            let svg = packing_svg(packing, materials, diameters);
+            (self.add)(PACKING_SVG, svg.into_bytes());
+        }
+        if self.out.wants(Format::Png) {
+            (self.add)(PACKING_PNG, packing_png(packing, materials, diameters)?);
+        }
+        if self.out.wants(Format::Svg) || self.out.wants(Format::Png) {
+            self.chart((PSD_SVG, PSD_PNG), &psd_chart(packing, grading))?;
+            let map = porosity_map_chart(packing);
+            self.chart((POROSITY_MAP_SVG, POROSITY_MAP_PNG), &map)?;
+        }
+        Ok(())
+    }
+
     /// The chart as SVG and as PNG under `names`, each if asked for.
     fn chart(
         &mut self,
@@ -263,6 +277,29 @@ impl<F: FnMut(&str, Vec<u8>)> Pictures<'_, F> {
         }
         Ok(())
     }
+}
+
+/// Write the pictures of an existing packing into `dir` atomically:
+/// `packing`, `psd` and `porosity_map`, each as SVG and PNG. `diameters`
+/// spans the colour scale; `grading`, if known, is the target of the PSD chart.
+///
+/// # Errors
+/// [`OutputError`] naming the directory or file and the cause.
+pub fn write_pictures(
+    dir: &Path,
+    packing: &Packing,
+    materials: &[Material],
+    diameters: (f64, f64),
+    grading: Option<&Grading>,
+) -> Result<(), OutputError> {
+    let out = OutputSettings {
+        formats: vec![Format::Svg, Format::Png],
+        ..OutputSettings::default()
+    };
+    let mut files = Vec::new();
+    let add = |name: &str, bytes: Vec<u8>| files.push((dir.join(name), bytes));
+    Pictures { out: &out, add }.packing(packing, materials, diameters, grading)?;
+    write_set(dir, &files)
 }
 
 /// Write one table (`wells.csv`) into `dir` atomically, creating `dir` if needed.
