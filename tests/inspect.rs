@@ -303,9 +303,8 @@ fn every_format_is_written_and_the_pictures_are_valid_images() {
         ]
     );
     let read = |name: &str| fs::read(dir.join("out/sq").join(name)).unwrap();
-    // A square domain: the packing picture is 1600 px high (plus its legend strip), wide enough for it.
-    let (w, h) = png_size(&read("packing.png"));
-    assert!(h >= 1600 && w >= 1600 - 100 && w <= 1700, "{w} × {h}");
+    // A square domain: 1600 px high including an 80 px legend strip, so the square is 1520 px.
+    assert_eq!(png_size(&read("packing.png")), (1520, 1600));
     assert_eq!(png_size(&read("psd.png")), (900, 560));
     let (w, h) = png_size(&read("porosity_map.png"));
     assert!(w > 400 && h > 400, "{w} × {h}");
