@@ -144,12 +144,38 @@ impl LineChart {
         (x0..x1, y0..y1)
     }
 
+    /// Where the legend hides the fewest data: the upper or the lower right
+    /// corner, whichever holds fewer points.
+    fn legend_corner(
+        &self,
+        xs: &std::ops::Range<f64>,
+        ys: &std::ops::Range<f64>,
+    ) -> SeriesLabelPosition {
+        let right = xs.start + 0.6 * (xs.end - xs.start);
+        let (low, high) = (
+            ys.start + 0.35 * (ys.end - ys.start),
+            ys.start + 0.65 * (ys.end - ys.start),
+        );
+        let points = self.series.iter().flat_map(|s| &s.points);
+        let (mut upper, mut lower) = (0, 0);
+        for &(_, y) in points.filter(|(x, _)| *x >= right) {
+            upper += usize::from(y >= high);
+            lower += usize::from(y <= low);
+        }
+        if lower < upper {
+            SeriesLabelPosition::LowerRight
+        } else {
+            SeriesLabelPosition::UpperRight
+        }
+    }
+
     fn draw_on<DB: DrawingBackend>(
         &self,
         root: DrawingArea<DB, Shift>,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
         root.fill(&WHITE)?;
         let (xs, ys) = self.bounds();
+        let corner = self.legend_corner(&xs, &ys);
         let mut chart = ChartBuilder::on(&root)
             .caption(&self.title, (FAMILY, 22))
             .margin(14)
@@ -189,7 +215,7 @@ impl LineChart {
             .label_font((FAMILY, 14))
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
+            .position(corner)
             .draw()?;
         root.present()
     }
@@ -204,6 +230,7 @@ pub(super) fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>, Outp
     let mut encoder = png::Encoder::new(&mut png, w, h);
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_adaptive_filter(png::AdaptiveFilterType::Adaptive);
     let plot = |e: png::EncodingError| OutputError::Plot(e.to_string());
     let mut writer = encoder.write_header().map_err(plot)?;
     writer.write_image_data(rgb).map_err(plot)?;
