@@ -268,12 +268,24 @@ fn packs_default_scene() {
         svg.contains("<svg") && svg.matches("<circle").count() == rows,
         "{rows} disks"
     );
-    // Nothing else, in particular no leftover temporary file.
+    // The default formats (csv, svg, png) and nothing else, in particular no leftover temporary file.
+    let mut written: Vec<String> = fs::read_dir(dir.join("result"))
+        .expect("read result")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    written.sort();
     assert_eq!(
-        fs::read_dir(dir.join("result"))
-            .expect("read result")
-            .count(),
-        3
+        written,
+        [
+            "packing.csv",
+            "packing.png",
+            "packing.svg",
+            "porosity_map.png",
+            "porosity_map.svg",
+            "psd.png",
+            "psd.svg",
+            "summary.json"
+        ]
     );
     let _ = fs::remove_dir_all(&dir);
 }
