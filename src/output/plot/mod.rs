@@ -9,6 +9,8 @@ mod porosity_map;
 mod profile;
 mod psd;
 mod stability;
+#[cfg(test)]
+mod testing;
 mod window;
 
 pub use chart::{Drawable, LineChart, Mark, Series};

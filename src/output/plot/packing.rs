@@ -354,29 +354,11 @@ fn ticks(lo: f64, hi: f64) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Domain, WallMode};
+    use crate::geometry::Domain;
     use crate::output::diameter_range;
-    use crate::packer::PackStats;
+    use crate::output::plot::testing::{packing_of as packing, png_size};
 
     /// Width and height from a PNG's IHDR chunk, after checking the signature.
-    fn png_size(png: &[u8]) -> (u32, u32) {
-        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
-        let decoder = png::Decoder::new(png);
-        let reader = decoder.read_info().expect("a PNG header");
-        let info = reader.info();
-        (info.width, info.height)
-    }
-
-    fn packing(domain: Domain, disks: Vec<Disk>) -> Packing {
-        Packing {
-            domain,
-            walls: WallMode::Exact,
-            boundary: Vec::new(),
-            disks,
-            materials: Vec::new(),
-            stats: PackStats::default(),
-        }
-    }
 
     #[test]
     fn a_tall_domain_is_1600_px_high_and_centred_in_a_legend_wide_image() {

@@ -285,6 +285,7 @@ impl Drawable for PorosityMapChart {
 mod tests {
     use super::*;
     use crate::geometry::{Disk, Domain, WallMode};
+    use crate::output::plot::testing::{png_size, svg_size};
     use crate::packer::PackStats;
 
     fn packing(domain: Domain) -> Packing {
@@ -304,22 +305,6 @@ mod tests {
             materials: Vec::new(),
             stats: PackStats::default(),
         }
-    }
-
-    fn svg_size(svg: &str) -> (u32, u32) {
-        assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
-        let attribute = |name: &str| -> u32 {
-            let start = svg.find(&format!("{name}=\"")).expect(name) + name.len() + 2;
-            let end = start + svg[start..].find('"').expect("closing quote");
-            svg[start..end].parse().expect("a number")
-        };
-        (attribute("width"), attribute("height"))
-    }
-
-    fn png_size(png: &[u8]) -> (u32, u32) {
-        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
-        let reader = png::Decoder::new(png).read_info().expect("a PNG header");
-        (reader.info().width, reader.info().height)
     }
 
     #[test]

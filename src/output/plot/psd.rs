@@ -278,6 +278,7 @@ mod tests {
     use super::*;
     use crate::geometry::{Disk, Domain, WallMode};
     use crate::grading::Interpolation;
+    use crate::output::plot::testing::{png_size, svg_size};
     use crate::packer::PackStats;
 
     fn packing(diameters: &[f64]) -> Packing {
@@ -347,25 +348,6 @@ mod tests {
         );
         assert_eq!(chart.packed.last().map(|p| p.1), Some(100.0));
         assert!(chart.title().starts_with("Grading of the packing"));
-    }
-
-    fn svg_size(svg: &str) -> (u32, u32) {
-        assert!(
-            svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"),
-            "{svg}"
-        );
-        let attribute = |name: &str| -> u32 {
-            let start = svg.find(&format!("{name}=\"")).expect(name) + name.len() + 2;
-            let end = start + svg[start..].find('"').expect("closing quote");
-            svg[start..end].parse().expect("a number")
-        };
-        (attribute("width"), attribute("height"))
-    }
-
-    fn png_size(png: &[u8]) -> (u32, u32) {
-        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
-        let reader = png::Decoder::new(png).read_info().expect("a PNG header");
-        (reader.info().width, reader.info().height)
     }
 
     #[test]
