@@ -40,6 +40,11 @@ pub enum OutputError {
     /// The JSON serialiser failed.
     #[error("cannot format JSON")]
     Json(#[from] serde_json::Error),
+    /// The packing failed the independent check made before writing it
+    /// (overlaps, disks outside the domain, or a summary that does not match
+    /// the disks): nothing was written.
+    #[error("the packing fails the check before writing, nothing was written: {0}")]
+    Invalid(String),
     /// A chart could not be drawn or encoded.
     #[error("cannot draw a chart: {0}")]
     Plot(String),

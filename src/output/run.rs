@@ -24,9 +24,11 @@ use super::plot::{
 };
 use super::svg::{PACKING_SVG, packing_svg};
 use crate::Scene;
+use crate::check::check;
 use crate::compare::CompareRun;
 use crate::fracture::{Extent, Well, Window};
 use crate::ga::{Generation, Layered};
+use crate::geometry::predicates::OVERLAP_REL;
 use crate::grading::Grading;
 use crate::layering::{LayeringSettings, Material};
 use crate::packer::{Metrics, Packing};
@@ -165,6 +167,7 @@ pub fn write_outputs(
     metrics: &Metrics,
     run: &RunInfo<'_>,
 ) -> Result<(), OutputError> {
+    confirm(packing, metrics)?;
     let out = run.output;
     let materials = run.materials;
     let opts = &out.export;
@@ -229,6 +232,58 @@ pub fn write_outputs(
         pictures.chart((WINDOW_SVG, WINDOW_PNG), &chart)?;
     }
     write_set(dir, &files)
+}
+
+/// Largest difference between the summary's porosity and the one the check
+/// recomputes from the disks (both sum the same areas, in other orders).
+const SUMMARY_AGREEMENT: f64 = 1e-9;
+
+/// The check made before any packing is written, independent of the
+/// generator and of [`crate::measure`]: [`crate::check::check`] must find no
+/// overlap and no disk outside the domain, `metrics` must report no overlap
+/// with the wall disks either, and its counts and porosity must match the
+/// disks.
+fn confirm(packing: &Packing, metrics: &Metrics) -> Result<(), OutputError> {
+    let c = check(&packing.disks, &packing.domain, None);
+    let mut faults = Vec::new();
+    if c.malformed > 0 {
+        faults.push(format!("{} malformed disks", c.malformed));
+    }
+    if let Some((a, b, depth)) = c.worst_overlap {
+        faults.push(format!(
+            "{} overlapping pairs, the deepest {depth:.2e} of the radii sum (disks {a} and {b})",
+            c.overlaps
+        ));
+    }
+    if let Some((i, by)) = c.worst_outside {
+        faults.push(format!(
+            "{} disks outside the domain, the farthest by {by:.2e} mm (disk {i})",
+            c.outside
+        ));
+    }
+    if metrics.max_overlap > OVERLAP_REL {
+        faults.push(format!(
+            "an overlap of {:.2e} of the radii sum with a wall disk or between disks",
+            metrics.max_overlap
+        ));
+    }
+    if metrics.particles != c.particles {
+        faults.push(format!(
+            "the summary counts {} disks, the packing holds {}",
+            metrics.particles, c.particles
+        ));
+    }
+    if !((metrics.porosity - c.porosity).abs() <= SUMMARY_AGREEMENT) {
+        faults.push(format!(
+            "the summary's porosity {} differs from the disks' {}",
+            metrics.porosity, c.porosity
+        ));
+    }
+    if faults.is_empty() {
+        Ok(())
+    } else {
+        Err(OutputError::Invalid(faults.join("; ")))
+    }
 }
 
 /// Adds a run's charts to its files in the picture formats asked for.
@@ -324,4 +379,72 @@ fn write_set(dir: &Path, files: &[(PathBuf, Vec<u8>)]) -> Result<(), OutputError
         let _ = fs::remove_dir(dir);
     }
     written
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Disk, Point};
+    use crate::{measure, pack};
+
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("gapack-run-{name}-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        dir
+    }
+
+    fn config() -> crate::config::Config {
+        crate::config::parse(
+            "[domain]\nshape = \"rectangle\"\nwidth = 10\nheight = 10\n[grading]\nconstant = 1.0\n",
+            "t.toml",
+        )
+        .expect("valid config")
+    }
+
+    #[test]
+    fn a_valid_packing_is_written() {
+        let config = config();
+        let packing = pack(&config.scene).expect("packs");
+        let metrics = measure(&packing, &config.scene);
+        let dir = scratch("valid");
+        let run = RunInfo::new(&config.scene, "t.toml", 0.0, &config.output);
+        write_outputs(&dir, &packing, &metrics, &run).expect("written");
+        assert!(dir.join(PACKING_CSV).exists());
+        let _ = fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn an_overlap_or_a_disk_outside_or_a_wrong_summary_is_never_written() {
+        let config = config();
+        let good = pack(&config.scene).expect("packs");
+        let metrics = measure(&good, &config.scene);
+        let run = RunInfo::new(&config.scene, "t.toml", 0.0, &config.output);
+        let faults = [
+            // The second disk moved onto the first.
+            {
+                let mut p = good.clone();
+                p.disks[1].c = p.disks[0].c + Point::new(0.5, 0.0).coords;
+                (p, "overlapping pairs")
+            },
+            // One disk pushed through the wall.
+            {
+                let mut p = good.clone();
+                p.disks[0].c.x = -0.2;
+                (p, "outside the domain")
+            },
+            // One disk more than the summary says.
+            {
+                let mut p = good.clone();
+                p.disks.push(Disk::new(100.0, 100.0, 0.0001));
+                (p, "the summary counts")
+            },
+        ];
+        for (i, (packing, expected)) in faults.into_iter().enumerate() {
+            let dir = scratch(&format!("fault{i}"));
+            let err = write_outputs(&dir, &packing, &metrics, &run).expect_err(expected);
+            assert!(matches!(err, OutputError::Invalid(_)), "{err}");
+            assert!(err.to_string().contains(expected), "{err}");
+            assert!(!dir.exists(), "nothing may be written");
+        }
+    }
 }
