@@ -273,7 +273,8 @@ fn confirm(packing: &Packing, metrics: &Metrics) -> Result<(), OutputError> {
             metrics.particles, c.particles
         ));
     }
-    if !((metrics.porosity - c.porosity).abs() <= SUMMARY_AGREEMENT) {
+    let gap = (metrics.porosity - c.porosity).abs();
+    if gap.is_nan() || gap > SUMMARY_AGREEMENT {
         faults.push(format!(
             "the summary's porosity {} differs from the disks' {}",
             metrics.porosity, c.porosity
