@@ -149,6 +149,9 @@ struct RunArgs {
     /// Neither progress bar nor result line.
     #[arg(long)]
     quiet: bool,
+    /// Run even if the scene is over the config's [limits] (particles, memory).
+    #[arg(long)]
+    force: bool,
 }
 
 /// A failed run: the error and the exit code it maps to.
@@ -639,7 +642,7 @@ fn lay_out_shown(
 /// The config of a run (seed overridden), its origin for messages, and the
 /// output directory.
 fn prepare(path: Option<&Path>, run: &RunArgs) -> Result<(Config, String, PathBuf), Failure> {
-    let (mut config, origin) = load_config(path).map_err(Failure::Input)?;
+    let (mut config, origin) = load_config(path, run.force).map_err(Failure::Input)?;
     if let Some(seed) = run.seed {
         config.scene.seed = seed;
     }
@@ -778,17 +781,19 @@ fn run_bench(args: &BenchArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// The config and the origin named in messages and in `summary.json`.
-fn load_config(path: Option<&Path>) -> anyhow::Result<(Config, String)> {
+/// The config and the origin named in messages and in `summary.json`;
+/// `force` skips the `[limits]` refusals.
+fn load_config(path: Option<&Path>, force: bool) -> anyhow::Result<(Config, String)> {
+    let options = config::ParseOptions { force };
     let Some(path) = path else {
         return Ok((
-            config::parse(DEFAULT_CONFIG, DEFAULT_ORIGIN)?,
+            config::parse_with(DEFAULT_CONFIG, DEFAULT_ORIGIN, options)?,
             DEFAULT_ORIGIN.to_owned(),
         ));
     };
     let origin = path.display().to_string();
     let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {origin}"))?;
-    Ok((config::parse(&text, &origin)?, origin))
+    Ok((config::parse_with(&text, &origin, options)?, origin))
 }
 
 /// `out/<config file stem>`, or `out/default` for the embedded scene.

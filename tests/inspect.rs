@@ -375,3 +375,32 @@ fn plot_draws_a_table_from_any_tool_and_refuses_a_bad_one() {
     );
     assert!(!dir.join("nothing").exists(), "nothing may be written");
 }
+
+#[test]
+fn a_scene_over_the_limits_is_refused_with_its_estimate_unless_forced() {
+    let dir = scratch("limits");
+    fs::write(
+        dir.join("sq.toml"),
+        format!("{SQUARE}[limits]\nmax_particles = 50\n"),
+    )
+    .unwrap();
+    let refused = gapack(&dir, &["pack", "sq.toml"]);
+    assert_eq!(refused.status.code(), Some(2));
+    let message = stderr(&refused);
+    assert!(
+        message.starts_with("error: sq.toml:9:17: limits.max_particles: the scene holds up to an estimated 2.183e2 disks (about 0.0 s to pack"),
+        "{message}"
+    );
+    assert!(
+        message.contains("or run with --force to go ahead"),
+        "{message}"
+    );
+    assert!(!dir.join("out").exists());
+    let validate = gapack(&dir, &["validate", "sq.toml"]);
+    assert_eq!(validate.status.code(), Some(2));
+    let forced = gapack(&dir, &["validate", "sq.toml", "--force"]);
+    assert!(forced.status.success(), "{}", stderr(&forced));
+    let packed = gapack(&dir, &["pack", "sq.toml", "--force", "--quiet"]);
+    assert!(packed.status.success(), "{}", stderr(&packed));
+    assert!(dir.join("out/sq/packing.csv").exists());
+}

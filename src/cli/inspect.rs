@@ -21,6 +21,9 @@ use crate::{Failure, default_out, load_config, report};
 pub struct ValidateArgs {
     /// Config (TOML) to check.
     config: PathBuf,
+    /// Describe the scene even if it is over the config's [limits].
+    #[arg(long)]
+    force: bool,
 }
 
 /// `gapack verify` arguments.
@@ -59,7 +62,7 @@ pub struct PlotArgs {
 /// `gapack validate`: the config's scene (or each well's) and what a run
 /// would write, without running it.
 pub fn run_validate(args: &ValidateArgs) -> Result<(), Failure> {
-    let (config, origin) = load_config(Some(&args.config)).map_err(Failure::Input)?;
+    let (config, origin) = load_config(Some(&args.config), args.force).map_err(Failure::Input)?;
     println!("{origin}: valid");
     for line in describe(&config, &args.config) {
         println!("  {line}");
@@ -222,7 +225,7 @@ fn tidy(v: f64) -> String {
 /// `gapack verify`: read the packing, check it against the config's domain
 /// and grading, print the findings; exit 1 when it fails.
 pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
-    let (config, origin) = load_config(Some(&args.config)).map_err(Failure::Input)?;
+    let (config, origin) = load_config(Some(&args.config), true).map_err(Failure::Input)?;
     let scene = pick_scene(&config, args.well.as_deref(), &origin)?;
     let table = read_table(&args.packing)?;
     let graded = scene.gradient.is_some();
@@ -269,7 +272,8 @@ pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
 pub fn run_plot(args: &PlotArgs) -> Result<(), Failure> {
     let table = read_table(&args.packing)?;
     let loaded = match &args.config {
-        Some(path) => Some(load_config(Some(path)).map_err(Failure::Input)?),
+        // Nothing is packed: the [limits] do not apply.
+        Some(path) => Some(load_config(Some(path), true).map_err(Failure::Input)?),
         None => None,
     };
     let (packing, materials, diameters, grading) = match &loaded {

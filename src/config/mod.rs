@@ -17,5 +17,5 @@ mod tests;
 
 pub use error::{ConfigError, Location};
 pub use names::{ConfigName, METHOD};
-pub use parse::{Config, DEFAULT_CONFIG, DEFAULT_ORIGIN, parse};
-pub use validate::DEFAULT_MAX_MEMORY_MB;
+pub use parse::{Config, DEFAULT_CONFIG, DEFAULT_ORIGIN, ParseOptions, parse, parse_with};
+pub use validate::{DEFAULT_MAX_MEMORY_MB, DEFAULT_MAX_PARTICLES};

@@ -55,6 +55,27 @@ pub const DEFAULT_ORIGIN: &str = "embedded default";
 /// # Ok::<(), gapack::config::ConfigError>(())
 /// ```
 pub fn parse(text: &str, origin: &str) -> Result<Config, ConfigError> {
+    parse_with(text, origin, ParseOptions::default())
+}
+
+/// How [`parse_with`] treats a config.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ParseOptions {
+    /// Skip the `[limits]` checks (`max_particles`, `max_memory_mb`): the
+    /// CLI's `--force`, for a run the user knows the machine can take.
+    pub force: bool,
+}
+
+/// [`parse`] with options.
+///
+/// # Errors
+/// As [`parse`], but for the limit refusals when `options.force` is set.
+pub fn parse_with(text: &str, origin: &str, options: ParseOptions) -> Result<Config, ConfigError> {
     let raw: RawConfig = toml::from_str(text).map_err(|e| from_toml_error(&e, text, origin))?;
-    Validator { text, origin }.config(raw)
+    Validator {
+        text,
+        origin,
+        force: options.force,
+    }
+    .config(raw)
 }

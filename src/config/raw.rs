@@ -172,4 +172,5 @@ pub(crate) struct RawOptimise {
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawLimits {
     pub max_memory_mb: Option<Spanned<f64>>,
+    pub max_particles: Option<Spanned<i64>>,
 }

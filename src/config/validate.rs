@@ -37,6 +37,16 @@ use crate::packer::{
 /// `limits.max_memory_mb` when not given.
 pub const DEFAULT_MAX_MEMORY_MB: f64 = 4096.0;
 
+/// `limits.max_particles` when not given: about a minute of packing.
+pub const DEFAULT_MAX_PARTICLES: u64 = 20_000_000;
+
+/// Packing rate assumed by the time estimates (disks/s): the MX quadtree's
+/// measured rate on 10⁵–10⁶ disks (`gapack bench`), rounded down.
+const PACK_RATE: f64 = 400_000.0;
+
+/// Hint of every limit refusal.
+const FORCE_HINT: &str = ", or run with --force to go ahead";
+
 /// Largest `packer.attempts`: more tries per disk than this would run for hours.
 const MAX_ATTEMPTS: i64 = 10_000_000;
 
@@ -151,6 +161,8 @@ impl GradingPlan {
 pub(crate) struct Validator<'a> {
     pub text: &'a str,
     pub origin: &'a str,
+    /// Skip the `[limits]` checks (particles, memory): `--force`.
+    pub force: bool,
 }
 
 impl Validator<'_> {
@@ -194,6 +206,7 @@ impl Validator<'_> {
             .map(|l| self.layering(l, &materials))
             .transpose()?;
         let limit = self.limit(raw.limits.as_ref())?;
+        let particles = self.particles_limit(raw.limits.as_ref())?;
         let (grading, gradient) = self.curves(grading, &raw, &materials, layering.as_ref())?;
         let seed = raw.seed.as_ref().map_or(0, |s| *s.get_ref());
         let scene_of = |domain, walls, wall_disk_diameter| Scene {
@@ -210,6 +223,7 @@ impl Validator<'_> {
                 let built = self.build_domain(&plan, raw_domain)?;
                 let scene = scene_of(built, plan.walls, plan.wall_disk);
                 self.check_width(&scene, &plan.width_key)?;
+                self.check_particles(&scene, &plan.width_key, particles.clone())?;
                 self.check_memory(&scene, &plan.width_key, limit.clone())?;
                 (scene, None)
             }
@@ -237,6 +251,7 @@ impl Validator<'_> {
                             },
                             other => other,
                         })?;
+                    self.check_particles(&scene, &well.width_key, particles.clone())?;
                     self.check_memory(&scene, &well.width_key, limit.clone())?;
                     wells.push(Well {
                         name: well.name.clone(),
@@ -557,23 +572,27 @@ impl Validator<'_> {
         let genes = size_count(&scene.domain, scene.d_min()) as f64 + RULE_GENES as f64;
         let disks = scene.domain.area() / scene.mean_disk_area();
         let estimate_mb = settings.peak_bytes(scene) / BYTES_PER_MB;
-        if estimate_mb <= limit_mb {
+        if self.force || estimate_mb <= limit_mb {
             return Ok(());
         }
         let (key, span, hint) = match (limit_key, &raw.get_ref().population) {
-            (Some(k), _) => (k.key, k.span, "; raise it to allow this run".to_owned()),
+            (Some(k), _) => (
+                k.key,
+                k.span,
+                format!("; raise it to allow this run{FORCE_HINT}"),
+            ),
             (None, Some(p)) => (
                 "optimise.population".to_owned(),
                 p.span(),
                 format!(
-                    "; lower it, or set limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB})"
+                    "; lower it, or set limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB}){FORCE_HINT}"
                 ),
             ),
             (None, None) => (
                 "optimise".to_owned(),
                 raw.span(),
                 format!(
-                    "; set a smaller optimise.population or limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB})"
+                    "; set a smaller optimise.population or limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB}){FORCE_HINT}"
                 ),
             ),
         };
@@ -1036,6 +1055,61 @@ impl Validator<'_> {
         })
     }
 
+    /// `limits.max_particles` and the key that set it, if given.
+    fn particles_limit(
+        &self,
+        raw: Option<&RawLimits>,
+    ) -> Result<(u64, Option<KeyAt>), ConfigError> {
+        match raw.and_then(|l| l.max_particles.as_ref()) {
+            None => Ok((DEFAULT_MAX_PARTICLES, None)),
+            Some(v) => {
+                let key = "limits.max_particles";
+                let n = self.whole(key, v, 1, None)?;
+                Ok((
+                    n as u64,
+                    Some(KeyAt {
+                        key: key.to_owned(),
+                        span: v.span(),
+                    }),
+                ))
+            }
+        }
+    }
+
+    /// Refuse a scene that could hold more disks than the limit (the solid
+    /// upper bound: the domain filled with disks of the grading's mean area).
+    fn check_particles(
+        &self,
+        scene: &Scene,
+        width_key: &KeyAt,
+        (limit, limit_key): (u64, Option<KeyAt>),
+    ) -> Result<(), ConfigError> {
+        let disks = scene.domain.area() / scene.mean_disk_area();
+        if self.force || disks <= limit as f64 {
+            return Ok(());
+        }
+        let (blame, hint) = match limit_key {
+            Some(k) => (k, format!("; raise it to allow this scene{FORCE_HINT}")),
+            None => (
+                width_key.clone(),
+                format!(
+                    "; set limits.max_particles (default {DEFAULT_MAX_PARTICLES}) to raise the limit{FORCE_HINT}"
+                ),
+            ),
+        };
+        Err(ConfigError::Scene {
+            at: self.at(&blame.span),
+            key: blame.key,
+            error: PackError::TooManyParticles {
+                disks,
+                seconds: disks / PACK_RATE,
+                rate: PACK_RATE,
+                limit,
+            },
+            hint,
+        })
+    }
+
     /// Refuse a scene whose estimated peak memory is over the limit.
     fn check_memory(
         &self,
@@ -1045,18 +1119,18 @@ impl Validator<'_> {
     ) -> Result<(), ConfigError> {
         let bytes = estimated_peak_bytes(scene);
         let estimate_mb = bytes / BYTES_PER_MB;
-        if estimate_mb <= limit_mb {
+        if self.force || estimate_mb <= limit_mb {
             return Ok(());
         }
         let (blame, hint) = match limit_key {
-            Some(k) => (k, "; raise it to allow this scene".to_owned()),
+            Some(k) => (k, format!("; raise it to allow this scene{FORCE_HINT}")),
             None => (
                 KeyAt {
                     key: width_key.key.clone(),
                     span: width_key.span.clone(),
                 },
                 format!(
-                    "; set limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB}) to raise the limit"
+                    "; set limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB}) to raise the limit{FORCE_HINT}"
                 ),
             ),
         };

@@ -61,6 +61,20 @@ pub enum PackError {
         /// The most wall disks allowed.
         max: usize,
     },
+    /// The scene could hold more disks than allowed.
+    #[error(
+        "the scene holds up to an estimated {disks:.3e} disks (about {seconds:.1} s to pack at {rate:.1e} disks/s), over the limit of {limit} disks"
+    )]
+    TooManyParticles {
+        /// Estimated disks (an upper bound: the domain filled solid with disks of the mean area).
+        disks: f64,
+        /// Estimated packing time (s).
+        seconds: f64,
+        /// The packing rate the time assumes (disks/s).
+        rate: f64,
+        /// The limit.
+        limit: u64,
+    },
     /// The scene would need more memory than allowed.
     #[error(
         "the scene needs an estimated {estimate_mb:.0} MB ({disks:.3e} disks), over the limit of {limit_mb:.0} MB"
