@@ -40,9 +40,6 @@ pub const DEFAULT_MAX_MEMORY_MB: f64 = 4096.0;
 /// `limits.max_particles` when not given: about a minute of packing.
 pub const DEFAULT_MAX_PARTICLES: u64 = 20_000_000;
 
-/// Packing rate assumed by the time estimates (disks/s): the MX quadtree's
-/// measured rate on 10⁵–10⁶ disks (`gapack bench`), rounded down.
-const PACK_RATE: f64 = 400_000.0;
 
 /// Hint of every limit refusal.
 const FORCE_HINT: &str = ", or run with --force to go ahead";
@@ -1100,12 +1097,7 @@ impl Validator<'_> {
         Err(ConfigError::Scene {
             at: self.at(&blame.span),
             key: blame.key,
-            error: PackError::TooManyParticles {
-                disks,
-                seconds: disks / PACK_RATE,
-                rate: PACK_RATE,
-                limit,
-            },
+            error: PackError::TooManyParticles { disks, limit },
             hint,
         })
     }

@@ -37,6 +37,10 @@ pub struct PackStats {
     pub witness_checks: u64,
 }
 
+/// Packing rate assumed by the time estimates of the limits (disks/s): the
+/// MX quadtree's measured rate on 10⁵–10⁶ disks (`gapack bench`), rounded down.
+pub const PACK_RATE: f64 = 400_000.0;
+
 /// Why a scene cannot be packed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
@@ -63,15 +67,13 @@ pub enum PackError {
     },
     /// The scene could hold more disks than allowed.
     #[error(
-        "the scene holds up to an estimated {disks:.3e} disks (about {seconds:.1} s to pack at {rate:.1e} disks/s), over the limit of {limit} disks"
+        "the scene holds up to an estimated {disks:.3e} disks (about {:.1} s to pack at {:.1e} disks/s), over the limit of {limit} disks",
+        .disks / PACK_RATE,
+        PACK_RATE
     )]
     TooManyParticles {
         /// Estimated disks (an upper bound: the domain filled solid with disks of the mean area).
         disks: f64,
-        /// Estimated packing time (s).
-        seconds: f64,
-        /// The packing rate the time assumes (disks/s).
-        rate: f64,
         /// The limit.
         limit: u64,
     },
