@@ -116,8 +116,65 @@ struct StabilityArgs {
 struct OptimiseArgs {
     /// Config (TOML) with an [optimise] table.
     config: PathBuf,
+    /// Write the search's state to <out>/checkpoint.json every N generations
+    /// (0: never); it is also written when Ctrl-C or SIGTERM stops the
+    /// search, and removed when the search ends by itself.
+    #[arg(long, default_value_t = 10, value_name = "N")]
+    checkpoint_every: usize,
+    /// Go on from <out>/checkpoint.json (same config and seed), to the same
+    /// result as a run never stopped.
+    #[arg(long)]
+    resume: bool,
     #[command(flatten)]
     run: RunArgs,
+}
+
+/// File name of a search's checkpoint, in the output directory.
+const CHECKPOINT_JSON: &str = "checkpoint.json";
+
+/// `checkpoint.json`: the search's state and what it belongs to.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct CheckpointFile {
+    /// gapack version that wrote it.
+    gapack_version: String,
+    /// The config as given.
+    config: String,
+    /// FNV-1a of the config text and the seed: a checkpoint resumes only the run it came from.
+    identity: String,
+    /// The search.
+    search: gapack::ga::Checkpoint,
+}
+
+/// FNV-1a (64 bits) of the config's text and the seed, as hex.
+fn run_identity(path: &Path, seed: u64) -> Result<String, Failure> {
+    let text = std::fs::read(path)
+        .with_context(|| format!("cannot read {}", path.display()))
+        .map_err(Failure::Input)?;
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for byte in text.iter().chain(&seed.to_le_bytes()) {
+        h ^= u64::from(*byte);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    Ok(format!("{h:016x}"))
+}
+
+/// Read `<out>/checkpoint.json` and check it belongs to this config and seed.
+fn read_checkpoint(out: &Path, identity: &str) -> Result<gapack::ga::Checkpoint, Failure> {
+    let path = out.join(CHECKPOINT_JSON);
+    let text = std::fs::read_to_string(&path)
+        .with_context(|| format!("--resume: cannot read {}", path.display()))
+        .map_err(Failure::Input)?;
+    let file: CheckpointFile = serde_json::from_str(&text)
+        .with_context(|| format!("--resume: {} is not a gapack checkpoint", path.display()))
+        .map_err(Failure::Input)?;
+    if file.identity != identity {
+        return Err(Failure::Input(anyhow::anyhow!(
+            "--resume: {} was written for another config or seed ({}); run without --resume to start afresh",
+            path.display(),
+            file.config
+        )));
+    }
+    Ok(file.search)
 }
 
 #[derive(Args)]
@@ -510,20 +567,56 @@ fn run_optimise(args: &OptimiseArgs) -> Result<(), Failure> {
     };
     let scene = &config.scene;
     let stop = stop_flag();
+    let identity = run_identity(&args.config, scene.seed)?;
     let problem = PorosityProblem::new(scene, settings);
-    let search = Search::start(&problem, Limits::from(&settings), scene.seed);
+    let limits = Limits::from(&settings);
+    let search = if args.resume {
+        let checkpoint = read_checkpoint(&out, &identity)?;
+        Search::resume(&problem, limits, &checkpoint)
+            .context("--resume")
+            .map_err(Failure::Input)?
+    } else {
+        Search::start(&problem, limits, scene.seed)
+    };
     let initial_range = PorosityProblem::range(search.initial());
-    if !problem.feasible(initial_range) && !args.run.quiet {
+    if !problem.feasible(initial_range) && !args.run.quiet && !args.resume {
         eprintln!(
             "note: target porosity {} lies outside the range of the initial population, [{:.4}, {:.4}]; searching beyond it",
             settings.target_porosity, initial_range[0], initial_range[1]
         );
     }
     let bar = progress_bar(settings.generations, args.run.quiet);
-    let evolution = search.run(&stop, |g| {
-        bar.set_position(g.index as u64);
-        bar.set_message(format!("best porosity {:.4}", g.best.value));
-    });
+    let checkpoint_path = out.join(CHECKPOINT_JSON);
+    let mut save_failed: Option<anyhow::Error> = None;
+    let evolution = search.run_saving(
+        &stop,
+        |g| {
+            bar.set_position(g.index as u64);
+            bar.set_message(format!("best porosity {:.4}", g.best.value));
+        },
+        args.checkpoint_every,
+        |checkpoint| {
+            let file = CheckpointFile {
+                gapack_version: env!("CARGO_PKG_VERSION").to_owned(),
+                config: args.config.display().to_string(),
+                identity: identity.clone(),
+                search: checkpoint.clone(),
+            };
+            let saved = serde_json::to_vec(&file)
+                .context("cannot format the checkpoint")
+                .and_then(|bytes| {
+                    std::fs::create_dir_all(&out)
+                        .with_context(|| format!("cannot create {}", out.display()))?;
+                    gapack::output::write_atomic(&checkpoint_path, &bytes)
+                        .context("cannot write the checkpoint")
+                });
+            if let Err(e) = saved {
+                // Stop at the next generation: the best so far is still written.
+                stop.store(true, Ordering::Relaxed);
+                save_failed.get_or_insert(e);
+            }
+        },
+    );
     bar.finish_and_clear();
 
     let reached = evolution.stop == StopReason::Reached;
@@ -574,6 +667,26 @@ fn run_optimise(args: &OptimiseArgs) -> Result<(), Failure> {
         ..RunInfo::new(&best_scene, &origin, evolution.seconds, &config.output)
     };
     write(&out, &packing, &metrics, &run)?;
+    if let Some(e) = save_failed {
+        return Err(Failure::Run(e.context(format!(
+            "the search stopped, its best packing is written to {}",
+            out.display()
+        ))));
+    }
+    if evolution.stop == StopReason::Interrupted && checkpoint_path.exists() && !args.run.quiet {
+        eprintln!(
+            "note: stopped after generation {}; `gapack optimise {} --resume` goes on from {}",
+            evolution.history.len().saturating_sub(1),
+            args.config.display(),
+            checkpoint_path.display()
+        );
+    }
+    if evolution.stop != StopReason::Interrupted && checkpoint_path.exists() {
+        // The search is over: nothing is left to resume.
+        std::fs::remove_file(&checkpoint_path)
+            .with_context(|| format!("cannot remove {}", checkpoint_path.display()))
+            .map_err(Failure::Run)?;
+    }
     report(args.run.quiet, || {
         let layering = layered
             .as_ref()

@@ -40,7 +40,6 @@ pub const DEFAULT_MAX_MEMORY_MB: f64 = 4096.0;
 /// `limits.max_particles` when not given: about a minute of packing.
 pub const DEFAULT_MAX_PARTICLES: u64 = 20_000_000;
 
-
 /// Hint of every limit refusal.
 const FORCE_HINT: &str = ", or run with --force to go ahead";
 

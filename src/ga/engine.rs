@@ -45,6 +45,10 @@ use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rayon::prelude::*;
 
+use super::checkpoint::{
+    Checkpoint, bits, floats, generation_bits, generation_of, key_bits, key_of, score_bits,
+    score_of,
+};
 use super::operators::{Crossover, Mutation};
 use super::score::{Fit, Score};
 use super::settings::OptimiseSettings;
@@ -203,6 +207,18 @@ pub struct Evolution<O> {
     pub explored: [f64; 2],
 }
 
+/// A checkpoint that does not belong to the problem it is resumed on.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "the checkpoint holds genomes of {found} genes, the search needs {genes}: it was written for another scene"
+)]
+pub struct ResumeError {
+    /// Genes per genome the problem needs.
+    pub genes: usize,
+    /// Genes per genome in the checkpoint (0: no population).
+    pub found: usize,
+}
+
 /// Identity of a phenotype: the sequence genes read and a fingerprint of
 /// them and of the parameter genes.
 type Key = (usize, u128);
@@ -244,14 +260,23 @@ pub struct Search<'a, P: Problem> {
 impl<'a, P: Problem> Search<'a, P> {
     /// Draw and evaluate generation 0 of a search seeded by `seed`.
     pub fn start(problem: &'a P, limits: Limits, seed: u64) -> Self {
-        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
-        let population = limits.population.max(2);
+        let mut search = Search::fresh(problem, limits, Xoshiro256PlusPlus::seed_from_u64(seed));
+        let population = search.limits.population.max(2);
         let genomes: Vec<Vec<f64>> = (0..population)
-            .map(|i| problem.initial(i, population, &mut rng))
+            .map(|i| problem.initial(i, population, &mut search.rng))
             .collect();
+        let members = search.evaluate(genomes);
+        search.initial = members.iter().map(|m| m.score).collect();
+        search.reinsert(members);
+        search.record(0);
+        search
+    }
+
+    /// A search with its operators and no genomes yet.
+    fn fresh(problem: &'a P, limits: Limits, rng: Xoshiro256PlusPlus) -> Self {
         let n = problem.sequence();
         let variation = problem.variation();
-        let mut search = Search {
+        Search {
             problem,
             limits,
             rng,
@@ -279,12 +304,7 @@ impl<'a, P: Problem> Search<'a, P> {
             best: (Vec::new(), Score::WORST, P::Outcome::default()),
             history: Vec::new(),
             stagnant: 0,
-        };
-        let members = search.evaluate(genomes);
-        search.initial = members.iter().map(|m| m.score).collect();
-        search.reinsert(members);
-        search.record(0);
-        search
+        }
     }
 
     /// Scores of the initial genomes, in [`Problem::initial`] order.
@@ -295,9 +315,22 @@ impl<'a, P: Problem> Search<'a, P> {
     /// Run generations until a stop rule holds; `stop` is polled between
     /// generations, `progress` gets generation 0 and then each generation.
     pub fn run(
+        self,
+        stop: &AtomicBool,
+        progress: impl FnMut(&Generation),
+    ) -> Evolution<P::Outcome> {
+        self.run_saving(stop, progress, 0, |_| {})
+    }
+
+    /// [`Search::run`], handing `save` a [`Checkpoint`] after every `every`-th
+    /// generation (never for 0) and when the stop flag ends the search, so
+    /// that [`Search::resume`] can go on from there.
+    pub fn run_saving(
         mut self,
         stop: &AtomicBool,
         mut progress: impl FnMut(&Generation),
+        every: usize,
+        mut save: impl FnMut(&Checkpoint),
     ) -> Evolution<P::Outcome> {
         if let Some(g) = self.history.last() {
             progress(g);
@@ -308,6 +341,7 @@ impl<'a, P: Problem> Search<'a, P> {
                 break StopReason::Reached;
             }
             if stop.load(Ordering::Relaxed) {
+                save(&self.checkpoint());
                 break StopReason::Interrupted;
             }
             if generation > self.limits.generations {
@@ -324,6 +358,9 @@ impl<'a, P: Problem> Search<'a, P> {
             if let Some(g) = self.history.last() {
                 progress(g);
             }
+            if every > 0 && generation.is_multiple_of(every) {
+                save(&self.checkpoint());
+            }
         };
         let (genes, best, outcome) = self.best;
         Evolution {
@@ -336,6 +373,91 @@ impl<'a, P: Problem> Search<'a, P> {
             seconds: self.start.elapsed().as_secs_f64(),
             explored: self.explored,
         }
+    }
+
+    /// The state after the last generation recorded.
+    pub fn checkpoint(&self) -> Checkpoint {
+        let mut seen: Vec<_> = self
+            .seen
+            .iter()
+            .map(|(&k, s)| (key_bits(k), score_bits(s)))
+            .collect();
+        seen.sort_unstable_by_key(|e| e.0);
+        Checkpoint {
+            rng: self.rng.clone(),
+            population: self
+                .population
+                .iter()
+                .map(|m| (bits(&m.genes), key_bits(m.key), score_bits(&m.score)))
+                .collect(),
+            initial: self.initial.iter().map(score_bits).collect(),
+            seen,
+            evaluations: self.evaluations,
+            explored: [self.explored[0].to_bits(), self.explored[1].to_bits()],
+            best: (bits(&self.best.0), score_bits(&self.best.1)),
+            history: self.history.iter().map(generation_bits).collect(),
+            stagnant: self.stagnant,
+            seconds: self.start.elapsed().as_secs_f64().to_bits(),
+        }
+    }
+
+    /// Go on with a search from `checkpoint` under `limits` (the time limit
+    /// counts the time spent before it). The best genome's outcome is
+    /// evaluated again (evaluations are pure, so it is the same), not counted.
+    ///
+    /// # Errors
+    /// [`ResumeError`] when the checkpoint does not fit the problem (another
+    /// genome length, or no population).
+    pub fn resume(
+        problem: &'a P,
+        limits: Limits,
+        checkpoint: &Checkpoint,
+    ) -> Result<Self, ResumeError> {
+        let genes = problem.genes();
+        let fits = !checkpoint.population.is_empty()
+            && !checkpoint.history.is_empty()
+            && checkpoint
+                .population
+                .iter()
+                .map(|m| m.0.len())
+                .chain([checkpoint.best.0.len()])
+                .all(|n| n == genes);
+        if !fits {
+            return Err(ResumeError {
+                genes,
+                found: checkpoint.genes(),
+            });
+        }
+        let mut search = Search::fresh(problem, limits, checkpoint.rng.clone());
+        let spent = Duration::try_from_secs_f64(f64::from_bits(checkpoint.seconds))
+            .unwrap_or(Duration::ZERO);
+        search.start = Instant::now()
+            .checked_sub(spent)
+            .unwrap_or_else(Instant::now);
+        search.population = checkpoint
+            .population
+            .iter()
+            .map(|(g, k, s)| Member {
+                genes: floats(g),
+                key: key_of(*k),
+                score: score_of(s),
+            })
+            .collect();
+        search.initial = checkpoint.initial.iter().map(score_of).collect();
+        search.seen = checkpoint
+            .seen
+            .iter()
+            .map(|(k, s)| (key_of(*k), score_of(s)))
+            .collect();
+        search.lengths = search.seen.keys().map(|k| k.0).collect();
+        search.evaluations = checkpoint.evaluations;
+        search.explored = checkpoint.explored.map(f64::from_bits);
+        let best_genes = floats(&checkpoint.best.0);
+        let outcome = problem.evaluate(&best_genes).outcome;
+        search.best = (best_genes, score_of(&checkpoint.best.1), outcome);
+        search.history = checkpoint.history.iter().map(generation_of).collect();
+        search.stagnant = checkpoint.stagnant;
+        Ok(search)
     }
 
     /// One generation: select, breed, evaluate the new children, reinsert.
@@ -615,5 +737,96 @@ mod tests {
         assert_eq!(a.genes, b.genes);
         assert_eq!(a.evaluations, b.evaluations);
         assert_eq!(a.history.len(), b.history.len());
+    }
+
+    #[test]
+    fn a_resumed_search_ends_as_the_uninterrupted_one() {
+        let problem = Mean {
+            calls: Mutex::new(Vec::new()),
+        };
+        // A target no genome meets: the search runs to its generation limit.
+        let limits = Limits {
+            generations: 14,
+            stagnation: 100,
+            ..limits()
+        };
+        let go = AtomicBool::new(false);
+        let without = |h: &[Generation]| -> Vec<Generation> {
+            h.iter()
+                .map(|g| Generation { seconds: 0.0, ..*g })
+                .collect()
+        };
+        let full = Search::start(&problem, limits, 4).run(&go, |_| {});
+        let mut saved: Vec<Checkpoint> = Vec::new();
+        let again = Search::start(&problem, limits, 4).run_saving(
+            &go,
+            |_| {},
+            5,
+            |c| saved.push(c.clone()),
+        );
+        assert_eq!(again.genes, full.genes, "saving changes nothing");
+        assert_eq!(saved.len(), 2, "after generations 5 and 10");
+        for checkpoint in &saved {
+            // Through text and back, exactly.
+            let text = serde_json::to_string(checkpoint).unwrap();
+            let back: Checkpoint = serde_json::from_str(&text).unwrap();
+            assert_eq!(&back, checkpoint);
+            let resumed = Search::resume(&problem, limits, &back)
+                .unwrap()
+                .run(&go, |_| {});
+            assert_eq!(resumed.genes, full.genes);
+            assert_eq!(resumed.best, full.best);
+            assert_eq!(resumed.outcome, full.outcome);
+            assert_eq!(resumed.evaluations, full.evaluations);
+            assert_eq!(resumed.explored, full.explored);
+            assert_eq!(resumed.stop, full.stop);
+            assert_eq!(without(&resumed.history), without(&full.history));
+        }
+        // An interrupted search saves where it stopped.
+        let mut at_stop = None;
+        let stop = AtomicBool::new(true);
+        let _ = Search::start(&problem, limits, 4).run_saving(
+            &stop,
+            |_| {},
+            0,
+            |c| at_stop = Some(c.clone()),
+        );
+        assert_eq!(at_stop.map(|c| c.generations()), Some(1));
+    }
+
+    #[test]
+    fn a_checkpoint_of_another_problem_is_refused() {
+        struct Longer(Mean);
+        impl Problem for Longer {
+            type Outcome = f64;
+            fn genes(&self) -> usize {
+                7
+            }
+            fn sequence(&self) -> usize {
+                4
+            }
+            fn initial(&self, i: usize, n: usize, rng: &mut Xoshiro256PlusPlus) -> Vec<f64> {
+                let mut g = self.0.initial(i, n, rng);
+                g.push(0.5);
+                g
+            }
+            fn evaluate(&self, genes: &[f64]) -> Evaluation<f64> {
+                self.0.evaluate(&genes[..6])
+            }
+            fn reached(&self, score: &Score) -> bool {
+                self.0.reached(score)
+            }
+        }
+        let mean = Mean {
+            calls: Mutex::new(Vec::new()),
+        };
+        let checkpoint = Search::start(&mean, limits(), 1).checkpoint();
+        let longer = Longer(Mean {
+            calls: Mutex::new(Vec::new()),
+        });
+        let err = Search::resume(&longer, limits(), &checkpoint)
+            .err()
+            .unwrap();
+        assert_eq!(err, ResumeError { genes: 7, found: 6 });
     }
 }

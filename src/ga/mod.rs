@@ -3,6 +3,7 @@
 //! number of threads. The packer is its fitness kernel through
 //! [`PorosityProblem`]; the packer knows nothing of the GA.
 
+mod checkpoint;
 mod engine;
 mod layering;
 mod operators;
@@ -10,8 +11,9 @@ mod porosity;
 mod score;
 mod settings;
 
+pub use checkpoint::Checkpoint;
 pub use engine::{
-    Evaluation, Evolution, Generation, Limits, Problem, Search, StopReason, Variation,
+    Evaluation, Evolution, Generation, Limits, Problem, ResumeError, Search, StopReason, Variation,
 };
 pub use layering::{Layered, LayeringProblem, lay_out};
 pub use porosity::{PorosityProblem, RULE_GENES};

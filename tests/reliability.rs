@@ -1,0 +1,187 @@
+//! Long runs on a real process: SIGINT and SIGTERM stop `gapack optimise`
+//! cleanly with the best packing so far and a checkpoint; `--resume` goes on
+//! to the same result as a run never stopped.
+
+mod common;
+
+use std::fs;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::thread::sleep;
+use std::time::{Duration, Instant};
+
+use common::{gapack, scratch};
+
+/// A search that cannot reach its target and runs its 20 generations (about
+/// 2 s): long enough to be stopped part-way.
+const LONG: &str = "seed = 2\n[domain]\nshape = \"rectangle\"\nwidth = 30\nheight = 30\n[grading]\nuniform = [1.0, 2.0]\n[optimise]\ntarget_porosity = 0.05\npopulation = 32\ngenerations = 20\nstagnation = 1000\ntime_limit_s = 600\n[output]\nformats = [\"csv\"]\n";
+
+/// Start `gapack optimise long.toml --out <out>` in `dir`, send `signal` once
+/// its first checkpoint is on disk, and wait for it; the exit code.
+fn stopped_by(dir: &Path, out: &str, signal: &str) -> Option<i32> {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gapack"))
+        .args([
+            "optimise",
+            "long.toml",
+            "--out",
+            out,
+            "--checkpoint-every",
+            "1",
+        ])
+        .current_dir(dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start gapack");
+    // Wait for generation 1's checkpoint: the search is under way.
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while !dir.join(out).join("checkpoint.json").exists() && Instant::now() < deadline {
+        sleep(Duration::from_millis(20));
+    }
+    let sent = Command::new("sh")
+        .args(["-c", &format!("kill -{signal} {}", child.id())])
+        .status()
+        .expect("run kill");
+    assert!(sent.success());
+    child.wait().expect("wait for gapack").code()
+}
+
+fn summary(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// `convergence.csv` without its seconds column.
+fn history(path: &Path) -> Vec<String> {
+    fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .map(|l| l.rsplit_once(',').unwrap().0.to_owned())
+        .collect()
+}
+
+#[test]
+fn sigint_stops_with_the_best_so_far_and_resume_reaches_the_uninterrupted_result() {
+    let dir = scratch("sigint");
+    fs::write(dir.join("long.toml"), LONG).unwrap();
+    let whole = gapack(
+        &dir,
+        &["optimise", "long.toml", "--out", "whole", "--quiet"],
+    );
+    assert!(
+        whole.status.success(),
+        "{}",
+        String::from_utf8_lossy(&whole.stderr)
+    );
+    assert!(
+        !dir.join("whole/checkpoint.json").exists(),
+        "a finished search leaves no checkpoint"
+    );
+
+    assert_eq!(
+        stopped_by(&dir, "parts", "INT"),
+        Some(0),
+        "a clean stop exits 0"
+    );
+    let stopped = summary(&dir.join("parts/summary.json"));
+    assert_eq!(stopped["interrupted"], true);
+    let generations = stopped["generations"].as_u64().unwrap();
+    assert!(generations < 20, "stopped part-way, at {generations}");
+    assert!(
+        dir.join("parts/packing.csv").exists(),
+        "the best so far is written"
+    );
+    assert!(dir.join("parts/checkpoint.json").exists());
+
+    let resumed = gapack(
+        &dir,
+        &[
+            "optimise",
+            "long.toml",
+            "--out",
+            "parts",
+            "--resume",
+            "--quiet",
+        ],
+    );
+    assert!(
+        resumed.status.success(),
+        "{}",
+        String::from_utf8_lossy(&resumed.stderr)
+    );
+    assert_eq!(
+        fs::read(dir.join("parts/packing.csv")).unwrap(),
+        fs::read(dir.join("whole/packing.csv")).unwrap(),
+        "the resumed search ends on the same packing"
+    );
+    assert_eq!(
+        history(&dir.join("parts/convergence.csv")),
+        history(&dir.join("whole/convergence.csv"))
+    );
+    let (a, b) = (
+        summary(&dir.join("whole/summary.json")),
+        summary(&dir.join("parts/summary.json")),
+    );
+    for key in [
+        "porosity",
+        "evaluations",
+        "generations",
+        "stop",
+        "particles",
+    ] {
+        assert_eq!(a[key], b[key], "{key}");
+    }
+    assert!(!dir.join("parts/checkpoint.json").exists());
+}
+
+#[test]
+fn sigterm_stops_cleanly_too() {
+    let dir = scratch("sigterm");
+    fs::write(dir.join("long.toml"), LONG).unwrap();
+    assert_eq!(stopped_by(&dir, "out", "TERM"), Some(0));
+    assert_eq!(summary(&dir.join("out/summary.json"))["interrupted"], true);
+    assert!(dir.join("out/checkpoint.json").exists());
+    // No temporary file is left behind.
+    let leftovers: Vec<_> = fs::read_dir(dir.join("out"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+}
+
+#[test]
+fn resume_refuses_a_checkpoint_of_another_run_or_none() {
+    let dir = scratch("resume-other");
+    fs::write(dir.join("long.toml"), LONG).unwrap();
+    let none = gapack(&dir, &["optimise", "long.toml", "--out", "out", "--resume"]);
+    assert_eq!(none.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&none.stderr)
+            .starts_with("error: --resume: cannot read out/checkpoint.json")
+    );
+
+    assert_eq!(stopped_by(&dir, "out", "INT"), Some(0));
+    let other_seed = gapack(
+        &dir,
+        &[
+            "optimise",
+            "long.toml",
+            "--out",
+            "out",
+            "--resume",
+            "--seed",
+            "7",
+        ],
+    );
+    assert_eq!(other_seed.status.code(), Some(2));
+    let message = String::from_utf8_lossy(&other_seed.stderr);
+    assert!(
+        message.contains("was written for another config or seed"),
+        "{message}"
+    );
+
+    fs::write(dir.join("out/checkpoint.json"), "{ not json").unwrap();
+    let garbled = gapack(&dir, &["optimise", "long.toml", "--out", "out", "--resume"]);
+    assert_eq!(garbled.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&garbled.stderr).contains("is not a gapack checkpoint"));
+}
