@@ -185,3 +185,68 @@ fn resume_refuses_a_checkpoint_of_another_run_or_none() {
     assert_eq!(garbled.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&garbled.stderr).contains("is not a gapack checkpoint"));
 }
+
+#[test]
+fn a_failed_write_leaves_the_earlier_outputs_intact() {
+    let dir = scratch("earlier-intact");
+    fs::write(
+        dir.join("long.toml"),
+        LONG.replace("generations = 20", "generations = 1"),
+    )
+    .unwrap();
+    let first = gapack(&dir, &["optimise", "long.toml", "--out", "out", "--quiet"]);
+    assert!(first.status.success());
+    let before: Vec<(String, Vec<u8>)> = {
+        let mut files: Vec<_> = fs::read_dir(dir.join("out"))
+            .unwrap()
+            .map(|e| {
+                let e = e.unwrap();
+                (
+                    e.file_name().to_string_lossy().into_owned(),
+                    fs::read(e.path()).unwrap(),
+                )
+            })
+            .collect();
+        files.sort();
+        files
+    };
+    // A second run with another seed: its convergence.csv cannot replace
+    // the old one (a directory is in the way), so no file may change.
+    fs::remove_file(dir.join("out/convergence.csv")).unwrap();
+    fs::create_dir(dir.join("out/convergence.csv")).unwrap();
+    let second = gapack(
+        &dir,
+        &[
+            "optimise",
+            "long.toml",
+            "--out",
+            "out",
+            "--seed",
+            "9",
+            "--quiet",
+        ],
+    );
+    assert_eq!(second.status.code(), Some(1));
+    let message = String::from_utf8_lossy(&second.stderr);
+    assert!(
+        message.contains(
+            "error: cannot write the outputs: cannot replace out/convergence.csv: a directory is in the way"
+        ),
+        "{message}"
+    );
+    for (name, bytes) in before.iter().filter(|(n, _)| n != "convergence.csv") {
+        assert_eq!(
+            &fs::read(dir.join("out").join(name)).unwrap(),
+            bytes,
+            "{name} changed"
+        );
+    }
+    let names: Vec<String> = fs::read_dir(dir.join("out"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(
+        names.iter().all(|n| !n.starts_with('.')),
+        "temporary files left: {names:?}"
+    );
+}
