@@ -540,6 +540,38 @@ fn builds_scene_over_the_memory_limit_refused() {
 }
 
 #[test]
+fn builds_scene_too_fine_for_its_coordinates_refused() {
+    // A circle 2 km from the origin: coordinates spaced 2.3e-10 mm apart,
+    // 1 mm disks below 1e-6 of them. The centre sets the coordinate.
+    fails_with(
+        "[domain]\nshape = \"circle\"\nradius = 10\ncenter = [2e6, -5]\n[grading]\nconstant = 1\n",
+        "t.toml:4:10: domain.center: the smallest diameter, 1 mm, is less than 0.000001 of the \
+         largest coordinate, 2000010 mm: floating point spaces coordinates there 2.3e-10 mm \
+         apart, too coarse to keep disks from overlapping; bring the domain nearer the origin, \
+         or pack a smaller domain or larger disks",
+    );
+    // The vertex farthest out is named.
+    let far = "[domain]\nshape = \"polygon\"\nvertices = [[0, 0], [10, 0], [3e6, 5], [0, 5]]\n\
+               [grading]\nconstant = 1\n";
+    let e = err(far);
+    assert_eq!(e.key(), Some("domain.vertices[2]"));
+    assert_eq!((e.location().line, e.location().column), (3, 30));
+    // Sizes: a tiny grading in a plain rectangle blames its longer side;
+    // a fracture, its height.
+    let e = err(&rect("width = 20\nheight = 30", "").replace("constant = 1.2", "constant = 1e-5"));
+    assert_eq!(e.key(), Some("domain.height"));
+    let fracture =
+        "[fracture]\nwidth_mm = 2\nheight_m = 5000\n[grading]\nuniform = [0.002, 0.004]\n";
+    let e = err(fracture);
+    assert_eq!(e.key(), Some("fracture.height_m"));
+    assert_eq!(e.location().line, 3);
+    // At the limit the scene is accepted: the packer keeps its disks apart there.
+    let edge = "[domain]\nshape = \"circle\"\nradius = 10\ncenter = [999990, 0]\n\
+                [grading]\nconstant = 1\n";
+    assert!(parse(edge, "t").is_ok());
+}
+
+#[test]
 fn builds_optimise_settings_with_defaults_and_refuses_absurd_runs() {
     let ok = parse(
         &rect(

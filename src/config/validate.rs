@@ -26,6 +26,7 @@ use crate::Scene;
 use crate::compare::CompareSettings;
 use crate::fracture::{Extent, FractureRun, Well};
 use crate::ga::{OptimiseSettings, RULE_GENES};
+use crate::geometry::predicates::RESOLUTION_REL;
 use crate::geometry::{Domain, GeometryError, Point, WallMode};
 use crate::grading::{Basis, Grading, Interpolation};
 use crate::layering::{LayeringMode, LayeringSettings, SizeGradient};
@@ -219,6 +220,7 @@ impl Validator<'_> {
                 let built = self.build_domain(&plan, raw_domain)?;
                 let scene = scene_of(built, plan.walls, plan.wall_disk);
                 self.check_width(&scene, &plan.width_key)?;
+                self.check_resolution(&scene, &coordinate_key(&plan, raw_domain))?;
                 self.check_particles(&scene, &plan.width_key, particles.clone())?;
                 self.check_memory(&scene, &plan.width_key, limit.clone())?;
                 (scene, None)
@@ -247,6 +249,13 @@ impl Validator<'_> {
                             },
                             other => other,
                         })?;
+                    let f = well.fracture;
+                    let longest = if f.width.max(f.tip_width.unwrap_or(0.0)) > f.length {
+                        &well.width_key
+                    } else {
+                        &well.length_key
+                    };
+                    self.check_resolution(&scene, longest)?;
                     self.check_particles(&scene, &well.width_key, particles.clone())?;
                     self.check_memory(&scene, &well.width_key, limit.clone())?;
                     wells.push(Well {
@@ -1101,6 +1110,28 @@ impl Validator<'_> {
         })
     }
 
+    /// Refuse a scene whose smallest disk is below
+    /// [`RESOLUTION_REL`] of its largest |coordinate|, blaming `key` (the
+    /// key that sets that coordinate): floating point could not keep its
+    /// disks from overlapping there.
+    fn check_resolution(&self, scene: &Scene, key: &KeyAt) -> Result<(), ConfigError> {
+        let (lo, hi) = scene.domain.bounds();
+        let coordinate = [lo.x, lo.y, hi.x, hi.y]
+            .into_iter()
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        let d_min = scene.d_min();
+        if d_min >= RESOLUTION_REL * coordinate {
+            return Ok(());
+        }
+        Err(ConfigError::Scene {
+            at: self.at(&key.span),
+            key: key.key.clone(),
+            error: PackError::Unresolvable { d_min, coordinate },
+            hint: "; bring the domain nearer the origin, or pack a smaller domain or larger disks"
+                .to_owned(),
+        })
+    }
+
     /// Refuse a scene whose estimated peak memory is over the limit.
     fn check_memory(
         &self,
@@ -1135,6 +1166,54 @@ impl Validator<'_> {
             },
             hint,
         })
+    }
+}
+
+/// The key of `[domain]` whose value sets the domain's largest |coordinate|.
+fn coordinate_key(plan: &DomainPlan, d: &RawDomain) -> KeyAt {
+    let key_at = |key: &str, span: Option<Range<usize>>| KeyAt {
+        key: format!("domain.{key}"),
+        span: span.unwrap_or_else(|| d.shape.span()),
+    };
+    let span = |v: &Option<Spanned<f64>>| v.as_ref().map(Spanned::span);
+    match &plan.shape {
+        ShapePlan::Rectangle { width, height } if width >= height => {
+            key_at("width", span(&d.width))
+        }
+        ShapePlan::Rectangle { .. } => key_at("height", span(&d.height)),
+        ShapePlan::Trapezoid {
+            bottom,
+            top,
+            height,
+        } => {
+            // The farthest abscissa is the bottom's right end or the top's.
+            if *height >= bottom.max(0.5 * (bottom + top)) {
+                key_at("height", span(&d.height))
+            } else if bottom >= top {
+                key_at("bottom", span(&d.bottom))
+            } else {
+                key_at("top", span(&d.top))
+            }
+        }
+        ShapePlan::Circle { center, radius } => {
+            if center.x.abs().max(center.y.abs()) >= *radius {
+                key_at("center", d.center.as_ref().map(Spanned::span))
+            } else {
+                key_at("radius", span(&d.radius))
+            }
+        }
+        ShapePlan::Polygon(points) => {
+            let far = |p: &Point| p.x.abs().max(p.y.abs());
+            let i = (0..points.len())
+                .max_by(|&a, &b| far(&points[a]).total_cmp(&far(&points[b])))
+                .unwrap_or(0);
+            let vertex = d
+                .vertices
+                .as_ref()
+                .and_then(|v| v.get_ref().get(i))
+                .map(Spanned::span);
+            key_at(&format!("vertices[{i}]"), vertex)
+        }
     }
 }
 

@@ -343,6 +343,92 @@ impl Domain {
         }
     }
 
+    /// The domain moved by `v`.
+    ///
+    /// # Behavior
+    /// Every point moves by `v`, rounded to the nearest representable point
+    /// (exactly by [`Domain::local_offset`]'s). Circles stay circles and
+    /// polygons polygons; a rectangle or trapezoid moved by a non-zero `v`
+    /// becomes a polygon (their shapes are anchored at the origin). Area and
+    /// inradius are kept as they are.
+    pub fn translated(&self, v: Vector2<f64>) -> Domain {
+        if v == Vector2::zeros() {
+            return self.clone();
+        }
+        let vertices: Vec<Point> = self.vertices.iter().map(|&p| p + v).collect();
+        let shape = match &self.shape {
+            Shape::Circle { center, radius } => Shape::Circle {
+                center: center + v,
+                radius: *radius,
+            },
+            _ => Shape::Polygon {
+                vertices: vertices.clone(),
+            },
+        };
+        let walls = self
+            .walls
+            .iter()
+            .map(|w| match *w {
+                Wall::Segment { a, b } => Wall::Segment { a: a + v, b: b + v },
+                Wall::Circle { center, radius } => Wall::Circle {
+                    center: center + v,
+                    radius,
+                },
+            })
+            .collect();
+        Domain {
+            shape,
+            edges: edges_of(&vertices),
+            vertices,
+            walls,
+            reflex: self.reflex.iter().map(|&p| p + v).collect(),
+            area: self.area,
+            centroid: self.centroid + v,
+            bounds: (self.bounds.0 + v, self.bounds.1 + v),
+            inradius: self.inradius,
+        }
+    }
+
+    /// The move that brings a domain far from the origin next to it,
+    /// exactly: along each axis where the domain lies more than twice its
+    /// extent from the origin, minus its lowest coordinate; zero along the
+    /// others (every shape anchored at the origin stays where it is).
+    ///
+    /// # Behavior
+    /// Rounding error in a computed point grows with its coordinates, not
+    /// with the disks: at 10⁶ mm an ulp is 1.2·10⁻¹⁰ mm. Packed where it
+    /// was, a domain that far out lost candidates tangent to two disks to
+    /// [`FEASIBLE_REL`](super::predicates::FEASIBLE_REL) and the packer
+    /// stopped after a few disks. Moved by this offset, its coordinates
+    /// start at 0 along that axis. The move is exact: every coordinate `x`
+    /// of the domain and the lowest `lo` are within a factor of two of each
+    /// other, so `x − lo` is a floating-point number (Sterbenz's lemma).
+    /// So a domain whose lowest corner is the origin packs to the same disks
+    /// wherever it is moved (as long as its vertices move exactly), but for
+    /// one rounding of each centre moved back.
+    ///
+    /// # Example
+    /// ```
+    /// use gapack::{Domain, Point};
+    /// let far = Domain::circle(Point::new(1e6 + 3.0, -2e6), 10.0).unwrap();
+    /// let v = far.local_offset();
+    /// assert_eq!((v.x, v.y), (-999_993.0, 2_000_010.0));
+    /// assert_eq!(far.translated(v).bounds().0, Point::origin());
+    /// assert_eq!(Domain::rectangle(4.0, 3.0).unwrap().local_offset().norm(), 0.0);
+    /// ```
+    pub fn local_offset(&self) -> Vector2<f64> {
+        let (lo, hi) = self.bounds;
+        let extent = (hi.x - lo.x).max(hi.y - lo.y);
+        let axis = |lo: f64, hi: f64| {
+            if lo >= 2.0 * extent || hi <= -2.0 * extent {
+                -lo
+            } else {
+                0.0
+            }
+        };
+        Vector2::new(axis(lo.x, hi.x), axis(lo.y, hi.y))
+    }
+
     /// The shape the domain was built from.
     pub fn shape(&self) -> &Shape {
         &self.shape

@@ -61,7 +61,7 @@ pub fn measure(packing: &Packing, scene: &Scene) -> Metrics {
     let nb = packing.boundary.len();
     let (lo, hi) = domain.bounds();
     // With no disk at all, buckets of the grading's size keep the grid small.
-    let bucket = (2.0 * r_max).max(scene.d_max()).max(1e-9);
+    let bucket = (2.0 * r_max).max(scene.d_max());
     let margin = Point::new(2.0 * r_max, 2.0 * r_max).coords;
     let mut grid = Grid::new(lo - margin, hi + margin, bucket);
     for (id, d) in all.iter().enumerate() {
@@ -176,7 +176,11 @@ fn local_porosity(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64) -> (
 fn clearance(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64, p: Point) -> f64 {
     let wall = packing.domain.signed_distance(p);
     let mut best = wall;
-    let mut half = (4.0 * r_max).max(1e-9);
+    // Every centre lies within the domain's bounds: a box of half side
+    // `reach` around a point of the domain holds them all.
+    let (lo, hi) = packing.domain.bounds();
+    let reach = (hi - lo).norm() + r_max;
+    let mut half = (4.0 * r_max).max(reach / 1024.0);
     loop {
         let mut found = f64::INFINITY;
         let (lo, hi) = (
@@ -189,7 +193,7 @@ fn clearance(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64, p: Point)
         });
         best = best.min(found);
         // Disks outside the box are at least `half − r_max` away.
-        if best <= half - r_max || half > 1e9 {
+        if best <= half - r_max || half > reach {
             return best;
         }
         half *= 2.0;

@@ -74,8 +74,36 @@ pub fn pack(scene: &Scene) -> Result<Packing, PackError> {
 pub fn pack_observed(scene: &Scene, progress: &mut dyn FnMut(u64)) -> Result<Packing, PackError> {
     match scene.packer.method {
         Method::AdvancingFront => advancing_front::pack(scene, progress),
-        Method::Rsa => pack_rsa(scene),
-        Method::Deposition => pack_deposition(scene),
-        Method::Relaxation => pack_relaxation(scene),
+        Method::Rsa => near_origin(scene, pack_rsa),
+        Method::Deposition => near_origin(scene, pack_deposition),
+        Method::Relaxation => near_origin(scene, pack_relaxation),
     }
+}
+
+/// Pack `scene` with `generate` next to the origin and move the packing back.
+///
+/// # Behavior
+/// The domain is moved by [`Domain::local_offset`](crate::Domain::local_offset)
+/// (exactly; nothing moves for a domain near the origin), so that rounding
+/// in the generator scales with the domain's extent, not with how far from
+/// the origin it lies. The centres are moved back with one rounding each,
+/// and the packing holds the scene's own domain.
+fn near_origin(
+    scene: &Scene,
+    generate: impl FnOnce(&Scene) -> Result<Packing, PackError>,
+) -> Result<Packing, PackError> {
+    let v = scene.domain.local_offset();
+    if v.x == 0.0 && v.y == 0.0 {
+        return generate(scene);
+    }
+    let local = Scene {
+        domain: scene.domain.translated(v),
+        ..scene.clone()
+    };
+    let mut packing = generate(&local)?;
+    for d in packing.disks.iter_mut().chain(packing.boundary.iter_mut()) {
+        d.c -= v;
+    }
+    packing.domain = scene.domain.clone();
+    Ok(packing)
 }

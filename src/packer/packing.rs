@@ -1,5 +1,6 @@
 //! The one `Packing` type every generator returns and every metric and writer takes.
 
+use crate::geometry::predicates::RESOLUTION_REL;
 use crate::geometry::{Disk, Domain, WallMode};
 
 /// A packing: the domain, the packed disks and, for `walls = "disks"`, the wall disks.
@@ -76,6 +77,19 @@ pub enum PackError {
         disks: f64,
         /// The limit.
         limit: u64,
+    },
+    /// The smallest disk is too small for floating point to keep it apart
+    /// from its neighbours where the domain lies: its diameter is less than
+    /// [`RESOLUTION_REL`] of the largest |coordinate|.
+    #[error(
+        "the smallest diameter, {d_min} mm, is less than {RESOLUTION_REL} of the largest coordinate, {coordinate} mm: floating point spaces coordinates there {:.1e} mm apart, too coarse to keep disks from overlapping",
+        .coordinate.next_up() - .coordinate
+    )]
+    Unresolvable {
+        /// Smallest diameter of the grading (mm).
+        d_min: f64,
+        /// Largest |coordinate| of the domain (mm).
+        coordinate: f64,
     },
     /// The scene would need more memory than allowed.
     #[error(

@@ -7,7 +7,7 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use super::index::{Grid, SpatialIndex};
 use super::{PackError, PackStats, Packing, size_count};
 use crate::Scene;
-use crate::geometry::predicates::FEASIBLE_REL;
+use crate::geometry::predicates::{FEASIBLE_REL, clear_disk_walls};
 use crate::geometry::{Disk, Domain, Point, WallMode};
 
 /// Stream offset so positions never share random numbers with the sizes.
@@ -75,7 +75,7 @@ impl<'a> Placed<'a> {
     /// Whether a disk of radius `r` at `p` is inside the domain and clear of every disk.
     pub fn clear(&self, p: Point, r: f64) -> bool {
         let slack = 1.0 - FEASIBLE_REL;
-        if self.domain.signed_distance(p) < r * slack {
+        if !clear_disk_walls(self.domain, p, r) {
             return false;
         }
         let half = r + self.r_max;

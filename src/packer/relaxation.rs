@@ -116,9 +116,11 @@ pub fn pack_relaxation(scene: &Scene) -> Result<Packing, PackError> {
 }
 
 /// The unit direction into the domain at `p`: the signed distance's
-/// gradient, by central differences over a step of a millionth of `r`.
+/// gradient, by central differences over a step of a millionth of `r`, or
+/// of 10⁻¹² of `p`'s coordinates if that is larger (a step far below their
+/// spacing would difference rounding).
 fn inward(domain: &crate::geometry::Domain, p: Point, r: f64) -> nalgebra::Vector2<f64> {
-    let h = (r * 1e-6).max(1e-12);
+    let h = (r * 1e-6).max(p.x.abs().max(p.y.abs()) * 1e-12);
     let dx = domain.signed_distance(Point::new(p.x + h, p.y))
         - domain.signed_distance(Point::new(p.x - h, p.y));
     let dy = domain.signed_distance(Point::new(p.x, p.y + h))

@@ -29,6 +29,8 @@ pub(super) struct WellPlan {
     pub fill: Option<Fill>,
     pub fracture: Fracture,
     pub width_key: KeyAt,
+    /// The key that sets how long it is (blamed when it is too long to resolve its disks).
+    pub length_key: KeyAt,
 }
 
 /// The keys of the normalised form, in the order messages list them.
@@ -104,7 +106,7 @@ impl Validator<'_> {
             }
             let defaults = Defaults {
                 width: width.zip(key_of("width_mm", &f.width_mm)),
-                height,
+                height: height.zip(key_of("height_m", &f.height_m)),
                 tip: tip.zip(key_of("tip_width_mm", &f.tip_width_mm)),
             };
             let mut plans: Vec<WellPlan> = Vec::with_capacity(wells.len());
@@ -150,6 +152,10 @@ impl Validator<'_> {
                     key: "fracture".to_owned(),
                     span: raw.span(),
                 }),
+                length_key: key_of("length_ratio", &f.length_ratio).unwrap_or(KeyAt {
+                    key: "fracture".to_owned(),
+                    span: raw.span(),
+                }),
             }]
         } else {
             let need = |key: &str| {
@@ -166,11 +172,16 @@ impl Validator<'_> {
                 span: raw.span(),
             });
             let tip = tip.zip(key_of("tip_width_mm", &f.tip_width_mm));
+            let length_key = key_of("height_m", &f.height_m).unwrap_or(KeyAt {
+                key: "fracture".to_owned(),
+                span: raw.span(),
+            });
             vec![WellPlan {
                 name: "fracture".to_owned(),
                 fill: None,
                 fracture: self.tapered(width, height, tip, &width_key)?,
                 width_key,
+                length_key,
             }]
         };
         if let (Extent::Window { .. }, Some(tapered)) = (
@@ -237,9 +248,15 @@ impl Validator<'_> {
             ),
             None => defaults.width.clone().ok_or_else(|| missing("width_mm"))?,
         };
-        let height = match &w.height_m {
-            Some(v) => self.positive(&format!("{path}.height_m"), v)?,
-            None => defaults.height.ok_or_else(|| missing("height_m"))?,
+        let (height, length_key) = match &w.height_m {
+            Some(v) => (
+                self.positive(&format!("{path}.height_m"), v)?,
+                KeyAt {
+                    key: format!("{path}.height_m"),
+                    span: v.span(),
+                },
+            ),
+            None => defaults.height.clone().ok_or_else(|| missing("height_m"))?,
         };
         let tip = match &w.tip_width_mm {
             Some(v) => Some((
@@ -260,6 +277,7 @@ impl Validator<'_> {
                 .transpose()?,
             fracture: self.tapered(width, height, tip, &width_key)?,
             width_key,
+            length_key,
         })
     }
 
@@ -298,6 +316,6 @@ impl Validator<'_> {
 /// What `[fracture]` gives every well of a batch that does not give its own.
 struct Defaults {
     width: Option<(f64, KeyAt)>,
-    height: Option<f64>,
+    height: Option<(f64, KeyAt)>,
     tip: Option<(f64, KeyAt)>,
 }
