@@ -656,3 +656,41 @@ fn material_density_must_be_positive() {
         "{e}"
     );
 }
+
+// ---- Scenes that would need absurd time or memory ---------------------------
+
+#[test]
+fn wall_disks_finer_than_a_hundredth_of_d_min_are_refused() {
+    // 20 µm wall disks for 1.2 mm particles: 4 million wall disks, minutes
+    // of packing for 400 particles.
+    fails_with(
+        &rect(
+            "width = 20\nheight = 20\nwalls = \"disks\"\nwall_disk = 0.00002",
+            "",
+        ),
+        "t.toml:6:13: domain.wall_disk: must be at least 1/100 of the smallest diameter \
+         (1.2 mm), 0.012 mm: finer wall disks only slow the packer, got 0.00002",
+    );
+    // A hundredth is accepted.
+    let text = rect(
+        "width = 20\nheight = 20\nwalls = \"disks\"\nwall_disk = 0.012",
+        "",
+    );
+    assert!(parse(&text, "t.toml").is_ok());
+    let text = "[fracture]\nwidth_mm = 8.6\nheight_m = 0.0625\nwalls = \"disks\"\nwall_disk = 1e-3\n\
+                [grading]\nconstant = 1.2\n";
+    assert_eq!(err(text).key(), Some("fracture.wall_disk"));
+}
+
+#[test]
+fn too_many_wall_disks_are_refused_at_the_walls_key() {
+    // A 2 mm × 300 m slot: 600 m of boundary in wall disks of 0.1 mm
+    // (d_min/12) is 6 million wall disks, over the cap; it used to pass
+    // validation and fail only when packed (or pack without walls with the
+    // comparison methods).
+    let e = err(&rect("width = 2\nheight = 300000\nwalls = \"disks\"", ""));
+    assert!(matches!(e, ConfigError::Scene { .. }), "{e}");
+    assert_eq!(e.key(), Some("domain.walls"));
+    assert_eq!((e.location().line, e.location().column), (5, 9));
+    assert!(e.to_string().contains("more than 4194304 disks"), "{e}");
+}

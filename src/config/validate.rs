@@ -46,6 +46,12 @@ const MAX_ITERATIONS: i64 = 1_000_000;
 /// Largest `compare.repeats`.
 const MAX_REPEATS: i64 = 1000;
 
+/// Smallest `wall_disk` as a fraction of the smallest diameter. Finer wall
+/// disks leave the same packing (the wall is already flat to 1 %) while the
+/// packer's work at a wall grows with the wall disks a particle touches: a
+/// 400-disk square packs in 0.15 s at 1/100 and in minutes at 1/50 000.
+const MIN_WALL_DISK_FRACTION: f64 = 0.01;
+
 /// Bytes in one MB as `limits.max_memory_mb` counts them (2^20).
 const BYTES_PER_MB: f64 = 1024.0 * 1024.0;
 
@@ -210,6 +216,8 @@ impl Validator<'_> {
                 let built = self.build_domain(&plan, raw_domain)?;
                 let scene = scene_of(built, plan.walls, plan.wall_disk);
                 self.check_width(&scene, &plan.width_key)?;
+                let walls = (raw_domain.walls.as_ref(), raw_domain.wall_disk.as_ref());
+                self.check_walls(&scene, "domain", walls, &plan.width_key)?;
                 self.check_memory(&scene, &plan.width_key, limit.clone())?;
                 (scene, None)
             }
@@ -237,6 +245,12 @@ impl Validator<'_> {
                             },
                             other => other,
                         })?;
+                    let walls = raw.fracture.as_ref().map(Spanned::get_ref);
+                    let walls = (
+                        walls.and_then(|f| f.walls.as_ref()),
+                        walls.and_then(|f| f.wall_disk.as_ref()),
+                    );
+                    self.check_walls(&scene, "fracture", walls, &well.width_key)?;
                     self.check_memory(&scene, &well.width_key, limit.clone())?;
                     wells.push(Well {
                         name: well.name.clone(),
@@ -1032,6 +1046,57 @@ impl Validator<'_> {
             at: self.at(&width_key.span),
             key: width_key.key.clone(),
             error: PackError::DomainTooNarrow { inscribed, d_min },
+            hint: String::new(),
+        })
+    }
+
+    /// With `walls = "disks"` in table `table` (its `walls` and `wall_disk`
+    /// keys as given): refuse a `wall_disk` finer than
+    /// [`MIN_WALL_DISK_FRACTION`] of the smallest diameter, and a boundary
+    /// that needs more than [`Domain::MAX_BOUNDARY_DISKS`] wall disks
+    /// (blaming `wall_disk` if given, else `walls`).
+    fn check_walls(
+        &self,
+        scene: &Scene,
+        table: &str,
+        (walls, wall_disk): (Option<&Spanned<String>>, Option<&Spanned<f64>>),
+        width_key: &KeyAt,
+    ) -> Result<(), ConfigError> {
+        if scene.walls != WallMode::Disks {
+            return Ok(());
+        }
+        let d_min = scene.d_min();
+        let key = format!("{table}.wall_disk");
+        if let Some(v) = wall_disk {
+            let least = d_min * MIN_WALL_DISK_FRACTION;
+            if *v.get_ref() < least {
+                return Err(ConfigError::OutOfRange {
+                    at: self.at(&v.span()),
+                    key,
+                    range: format!(
+                        "at least 1/{:.0} of the smallest diameter ({d_min} mm), {least} mm: finer wall disks only slow the packer",
+                        1.0 / MIN_WALL_DISK_FRACTION
+                    ),
+                    value: *v.get_ref(),
+                });
+            }
+        }
+        let diameter = scene.wall_disk();
+        if scene.domain.boundary_disk_count(diameter).is_some() {
+            return Ok(());
+        }
+        let (key, span) = match (wall_disk, walls) {
+            (Some(v), _) => (key, v.span()),
+            (None, Some(w)) => (format!("{table}.walls"), w.span()),
+            (None, None) => (width_key.key.clone(), width_key.span.clone()),
+        };
+        Err(ConfigError::Scene {
+            at: self.at(&span),
+            key,
+            error: PackError::TooManyWallDisks {
+                diameter,
+                max: Domain::MAX_BOUNDARY_DISKS,
+            },
             hint: String::new(),
         })
     }

@@ -25,7 +25,8 @@ use crate::geometry::{Disk, Point};
 /// Pack `scene` by relaxation.
 ///
 /// # Errors
-/// [`PackError::DomainTooNarrow`] when no disk of the grading fits.
+/// [`PackError::DomainTooNarrow`] when no disk of the grading fits;
+/// [`PackError::TooManyWallDisks`] when the wall disks would be too many.
 pub fn pack_relaxation(scene: &Scene) -> Result<Packing, PackError> {
     check_fits(scene)?;
     let settings = scene.packer.relaxation;
