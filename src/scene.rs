@@ -45,6 +45,19 @@ impl Scene {
             .unwrap_or(self.d_min() * Self::DEFAULT_WALL_DISK_FRACTION)
     }
 
+    /// Diameter of the largest disk that fits inside the walls (mm): the
+    /// domain's inscribed diameter, less one wall-disk diameter with
+    /// `walls = "disks"` (wall disks are centred on the boundary, so each
+    /// reaches half its diameter into the domain). A scene whose smallest
+    /// disk is larger packs nothing.
+    pub fn inscribed_diameter(&self) -> f64 {
+        let inscribed = 2.0 * self.domain.inradius();
+        match self.walls {
+            WallMode::Exact => inscribed,
+            WallMode::Disks => (inscribed - self.wall_disk()).max(0.0),
+        }
+    }
+
     /// Smallest diameter any size can have (mm), over both curves in size-graded mode.
     pub fn d_min(&self) -> f64 {
         self.curves()

@@ -725,3 +725,63 @@ fn builds_scene_over_the_particle_limit_refused_unless_forced() {
     ));
     assert_eq!(e.key(), Some("limits.max_particles"));
 }
+
+// ---- Scenes that would need absurd time or memory ---------------------------
+
+#[test]
+fn wall_disks_finer_than_a_hundredth_of_d_min_are_refused() {
+    // 20 µm wall disks for 1.2 mm particles: 4 million wall disks, minutes
+    // of packing for 400 particles.
+    fails_with(
+        &rect(
+            "width = 20\nheight = 20\nwalls = \"disks\"\nwall_disk = 0.00002",
+            "",
+        ),
+        "t.toml:6:13: domain.wall_disk: must be at least 1/100 of the smallest diameter \
+         (1.2 mm), 0.012 mm: finer wall disks only slow the packer, got 0.00002",
+    );
+    // A hundredth is accepted.
+    let text = rect(
+        "width = 20\nheight = 20\nwalls = \"disks\"\nwall_disk = 0.012",
+        "",
+    );
+    assert!(parse(&text, "t.toml").is_ok());
+    let text = "[fracture]\nwidth_mm = 8.6\nheight_m = 0.0625\nwalls = \"disks\"\nwall_disk = 1e-3\n\
+                [grading]\nconstant = 1.2\n";
+    assert_eq!(err(text).key(), Some("fracture.wall_disk"));
+}
+
+#[test]
+fn too_many_wall_disks_are_refused_at_the_walls_key() {
+    // A 2 mm × 300 m slot: 600 m of boundary in wall disks of 0.1 mm
+    // (d_min/12) is 6 million wall disks, over the cap; it used to pass
+    // validation and fail only when packed (or pack without walls with the
+    // comparison methods).
+    let e = err(&rect("width = 2\nheight = 300000\nwalls = \"disks\"", ""));
+    assert!(matches!(e, ConfigError::Scene { .. }), "{e}");
+    assert_eq!(e.key(), Some("domain.walls"));
+    assert_eq!((e.location().line, e.location().column), (5, 9));
+    assert!(e.to_string().contains("more than 4194304 disks"), "{e}");
+}
+
+#[test]
+fn wall_disks_that_leave_no_room_are_refused_at_the_width() {
+    // 50 mm wall disks, centred on the walls of a 20 mm wide slot, cover it
+    // (found by fuzzing: the advancing front packed 0 disks and relaxation
+    // pushed 1500 disks about for seconds).
+    let text = rect(
+        "width = 20\nheight = 92\nwalls = \"disks\"\nwall_disk = 50",
+        "",
+    );
+    let e = err(&text);
+    assert_eq!(e.key(), Some("domain.width"));
+    let message = e.to_string();
+    assert!(
+        message.contains("the largest disk that fits inside its walls has diameter 0.0000 mm")
+            && message
+                .contains("the wall disks (50.0000 mm, centred on the boundary) take that room"),
+        "{message}"
+    );
+    // 18 mm wall disks leave 2 mm: room for the 1.2 mm disks.
+    assert!(parse(&text.replace("wall_disk = 50", "wall_disk = 18"), "t.toml").is_ok());
+}

@@ -53,6 +53,12 @@ const MAX_ITERATIONS: i64 = 1_000_000;
 /// Largest `compare.repeats`.
 const MAX_REPEATS: i64 = 1000;
 
+/// Smallest `wall_disk` as a fraction of the smallest diameter. Finer wall
+/// disks leave the same packing (the wall is already flat to 1 %) while the
+/// packer's work at a wall grows with the wall disks a particle touches: a
+/// 400-disk square packs in 0.15 s at 1/100 and in minutes at 1/50 000.
+const MIN_WALL_DISK_FRACTION: f64 = 0.01;
+
 /// Bytes in one MB as `limits.max_memory_mb` counts them (2^20).
 const BYTES_PER_MB: f64 = 1024.0 * 1024.0;
 
@@ -222,6 +228,8 @@ impl Validator<'_> {
                 self.check_width(&scene, &plan.width_key)?;
                 self.check_resolution(&scene, &coordinate_key(&plan, raw_domain))?;
                 self.check_particles(&scene, &plan.width_key, particles.clone())?;
+                let walls = (raw_domain.walls.as_ref(), raw_domain.wall_disk.as_ref());
+                self.check_walls(&scene, "domain", walls, &plan.width_key)?;
                 self.check_memory(&scene, &plan.width_key, limit.clone())?;
                 (scene, None)
             }
@@ -257,6 +265,12 @@ impl Validator<'_> {
                     };
                     self.check_resolution(&scene, longest)?;
                     self.check_particles(&scene, &well.width_key, particles.clone())?;
+                    let walls = raw.fracture.as_ref().map(Spanned::get_ref);
+                    let walls = (
+                        walls.and_then(|f| f.walls.as_ref()),
+                        walls.and_then(|f| f.wall_disk.as_ref()),
+                    );
+                    self.check_walls(&scene, "fracture", walls, &well.width_key)?;
                     self.check_memory(&scene, &well.width_key, limit.clone())?;
                     wells.push(Well {
                         name: well.name.clone(),
@@ -1045,18 +1059,27 @@ impl Validator<'_> {
         }
     }
 
-    /// Refuse a domain whose largest inscribed disk is smaller than the smallest disk.
+    /// Refuse a domain whose largest disk inside the walls (wall disks
+    /// included) is smaller than the smallest disk.
     fn check_width(&self, scene: &Scene, width_key: &KeyAt) -> Result<(), ConfigError> {
-        let inscribed = 2.0 * scene.domain.inradius();
+        let inscribed = scene.inscribed_diameter();
         let d_min = scene.d_min();
         if inscribed >= d_min {
             return Ok(());
         }
+        let hint = if scene.walls == WallMode::Disks && 2.0 * scene.domain.inradius() >= d_min {
+            format!(
+                "; the wall disks ({:.4} mm, centred on the boundary) take that room: use smaller wall disks or walls = \"exact\"",
+                scene.wall_disk()
+            )
+        } else {
+            String::new()
+        };
         Err(ConfigError::Scene {
             at: self.at(&width_key.span),
             key: width_key.key.clone(),
             error: PackError::DomainTooNarrow { inscribed, d_min },
-            hint: String::new(),
+            hint,
         })
     }
 
@@ -1129,6 +1152,57 @@ impl Validator<'_> {
             error: PackError::Unresolvable { d_min, coordinate },
             hint: "; bring the domain nearer the origin, or pack a smaller domain or larger disks"
                 .to_owned(),
+        })
+    }
+
+    /// With `walls = "disks"` in table `table` (its `walls` and `wall_disk`
+    /// keys as given): refuse a `wall_disk` finer than
+    /// [`MIN_WALL_DISK_FRACTION`] of the smallest diameter, and a boundary
+    /// that needs more than [`Domain::MAX_BOUNDARY_DISKS`] wall disks
+    /// (blaming `wall_disk` if given, else `walls`).
+    fn check_walls(
+        &self,
+        scene: &Scene,
+        table: &str,
+        (walls, wall_disk): (Option<&Spanned<String>>, Option<&Spanned<f64>>),
+        width_key: &KeyAt,
+    ) -> Result<(), ConfigError> {
+        if scene.walls != WallMode::Disks {
+            return Ok(());
+        }
+        let d_min = scene.d_min();
+        let key = format!("{table}.wall_disk");
+        if let Some(v) = wall_disk {
+            let least = d_min * MIN_WALL_DISK_FRACTION;
+            if *v.get_ref() < least {
+                return Err(ConfigError::OutOfRange {
+                    at: self.at(&v.span()),
+                    key,
+                    range: format!(
+                        "at least 1/{:.0} of the smallest diameter ({d_min} mm), {least} mm: finer wall disks only slow the packer",
+                        1.0 / MIN_WALL_DISK_FRACTION
+                    ),
+                    value: *v.get_ref(),
+                });
+            }
+        }
+        let diameter = scene.wall_disk();
+        if scene.domain.boundary_disk_count(diameter).is_some() {
+            return Ok(());
+        }
+        let (key, span) = match (wall_disk, walls) {
+            (Some(v), _) => (key, v.span()),
+            (None, Some(w)) => (format!("{table}.walls"), w.span()),
+            (None, None) => (width_key.key.clone(), width_key.span.clone()),
+        };
+        Err(ConfigError::Scene {
+            at: self.at(&span),
+            key,
+            error: PackError::TooManyWallDisks {
+                diameter,
+                max: Domain::MAX_BOUNDARY_DISKS,
+            },
+            hint: String::new(),
         })
     }
 

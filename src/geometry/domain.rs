@@ -439,6 +439,14 @@ impl Domain {
         self.area
     }
 
+    /// Length of the boundary (mm).
+    pub fn perimeter(&self) -> f64 {
+        match self.shape {
+            Shape::Circle { radius, .. } => TAU * radius,
+            _ => self.edges.iter().map(|e| e.d.norm()).sum(),
+        }
+    }
+
     /// Axis-aligned bounds `(min, max)`.
     pub fn bounds(&self) -> (Point, Point) {
         self.bounds

@@ -154,7 +154,7 @@ fn pack_filled(scene: &Scene, genes: impl Iterator<Item = f64>) -> Result<Packin
 /// [`pack_genes`] with the front advancing up (lowest ordinate first).
 fn pack_up(scene: &Scene, genes: impl Iterator<Item = f64>) -> Result<Packing, PackError> {
     let d_min = scene.d_min();
-    let inscribed = 2.0 * scene.domain.inradius();
+    let inscribed = scene.inscribed_diameter();
     if inscribed < d_min {
         return Err(PackError::DomainTooNarrow { inscribed, d_min });
     }

@@ -38,7 +38,8 @@ const EPS: f64 = 1e-9;
 /// Pack `scene` by ballistic deposition.
 ///
 /// # Errors
-/// [`PackError::DomainTooNarrow`] when no disk of the grading fits.
+/// [`PackError::DomainTooNarrow`] when no disk of the grading fits;
+/// [`PackError::TooManyWallDisks`] when the wall disks would be too many.
 pub fn pack_deposition(scene: &Scene) -> Result<Packing, PackError> {
     check_fits(scene)?;
     let mut placed = Placed::new(scene);

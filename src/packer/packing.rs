@@ -48,10 +48,11 @@ pub const PACK_RATE: f64 = 400_000.0;
 pub enum PackError {
     /// No disk of the grading fits inside the domain.
     #[error(
-        "the domain is too narrow: its largest inscribed disk has diameter {inscribed:.4} mm, smaller than the smallest disk ({d_min:.4} mm)"
+        "the domain is too narrow: the largest disk that fits inside its walls has diameter {inscribed:.4} mm, smaller than the smallest disk ({d_min:.4} mm)"
     )]
     DomainTooNarrow {
-        /// Diameter of the largest inscribed disk (mm).
+        /// Diameter of the largest disk that fits inside the walls (mm), see
+        /// [`crate::Scene::inscribed_diameter`].
         inscribed: f64,
         /// Smallest diameter of the grading (mm).
         d_min: f64,

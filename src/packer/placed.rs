@@ -22,11 +22,20 @@ pub(super) fn radii(scene: &Scene) -> impl Iterator<Item = f64> + '_ {
     (0..count).map(move |_| scene.grading.sample(rng.r#gen::<f64>()) / 2.0)
 }
 
-/// Refuse a scene no disk of the grading fits in, as the advancing front does.
+/// Refuse, as the advancing front does, a scene no disk of the grading fits
+/// in, and one whose wall disks would be too many to make (packing it
+/// without them would leave the walls out unannounced).
 pub(super) fn check_fits(scene: &Scene) -> Result<(), PackError> {
-    let (inscribed, d_min) = (2.0 * scene.domain.inradius(), scene.d_min());
+    let (inscribed, d_min) = (scene.inscribed_diameter(), scene.d_min());
     if inscribed < d_min {
         return Err(PackError::DomainTooNarrow { inscribed, d_min });
+    }
+    let diameter = scene.wall_disk();
+    if scene.walls == WallMode::Disks && scene.domain.boundary_disk_count(diameter).is_none() {
+        return Err(PackError::TooManyWallDisks {
+            diameter,
+            max: Domain::MAX_BOUNDARY_DISKS,
+        });
     }
     Ok(())
 }
@@ -111,6 +120,37 @@ impl<'a> Placed<'a> {
             disks: self.disks,
             materials: Vec::new(),
             stats: self.stats,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grading::Grading;
+    use crate::packer::{Method, PackerSettings, pack};
+
+    #[test]
+    fn comparison_generators_refuse_too_many_wall_disks() {
+        // 80 mm of boundary in wall disks of 10 nm: 8 million, over the cap.
+        // These generators used to pack without any wall disk instead.
+        for method in [Method::Rsa, Method::Deposition, Method::Relaxation] {
+            let scene = Scene {
+                domain: Domain::rectangle(20.0, 20.0).unwrap(),
+                walls: WallMode::Disks,
+                wall_disk_diameter: Some(1e-5),
+                grading: Grading::constant(1.0).unwrap(),
+                gradient: None,
+                packer: PackerSettings {
+                    method,
+                    ..PackerSettings::default()
+                },
+                seed: 0,
+            };
+            assert!(
+                matches!(pack(&scene), Err(PackError::TooManyWallDisks { .. })),
+                "{method:?}"
+            );
         }
     }
 }

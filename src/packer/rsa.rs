@@ -21,7 +21,8 @@ use crate::geometry::{Disk, Point};
 /// Pack `scene` by random sequential addition.
 ///
 /// # Errors
-/// [`PackError::DomainTooNarrow`] when no disk of the grading fits.
+/// [`PackError::DomainTooNarrow`] when no disk of the grading fits;
+/// [`PackError::TooManyWallDisks`] when the wall disks would be too many.
 pub fn pack_rsa(scene: &Scene) -> Result<Packing, PackError> {
     check_fits(scene)?;
     let mut placed = Placed::new(scene);
