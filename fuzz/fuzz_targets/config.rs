@@ -10,7 +10,7 @@ use gapack::check::check;
 use gapack::config::{Config, parse};
 use gapack::fracture::{Extent, settle};
 use gapack::packer::{estimated_peak_bytes, size_count};
-use gapack::{Method, Scene, measure, pack};
+use gapack::{Method, Scene, WallMode, measure, pack};
 use libfuzzer_sys::fuzz_target;
 
 /// Scenes expected to hold at most this many disks are packed and checked;
@@ -61,18 +61,26 @@ fn run(config: &Config) {
 }
 
 /// The estimates `gapack validate` and the memory checks use; returns the
-/// expected disk count.
+/// expected disk count, wall disks included.
 fn estimate(config: &Config, scene: &Scene) -> f64 {
     let disks = scene.estimated_disks();
     let _ = estimated_peak_bytes(scene);
     let _ = size_count(&scene.domain, scene.d_min());
-    let _ = (scene.d_min(), scene.d_max(), scene.wall_disk());
-    let _ = scene.domain.boundary_disk_count(scene.wall_disk());
+    let _ = (scene.d_min(), scene.d_max());
     if let Some(optimise) = &config.optimise {
         let _ = optimise.peak_bytes(scene);
     }
     assert!(!disks.is_nan(), "estimated disks NaN for {scene:?}");
-    disks
+    let walls = match scene.walls {
+        WallMode::Exact => 0.0,
+        // Validation refuses a boundary over the wall-disk cap.
+        WallMode::Disks => scene
+            .domain
+            .boundary_disk_count(scene.wall_disk())
+            .expect("an accepted config's wall disks are within the cap")
+            as f64,
+    };
+    disks + walls
 }
 
 fn pack_and_check(scene: &Scene) {
@@ -87,8 +95,19 @@ fn pack_and_check(scene: &Scene) {
 fn assert_valid(scene: &Scene, packing: &gapack::Packing) {
     let result = check(&packing.disks, &packing.domain, Some(&scene.grading));
     let _ = measure(packing, scene);
+    // Wall disks are the walls: a packing with walls = "disks" has them.
+    assert_eq!(
+        packing.boundary.is_empty(),
+        scene.walls == WallMode::Exact,
+        "wall disks missing or stray: {} for {:?}",
+        packing.boundary.len(),
+        scene.walls
+    );
     // Relaxation reports the overlap it leaves instead of guaranteeing none.
     if scene.packer.method != Method::Relaxation {
-        assert!(result.valid(), "invalid packing: {result:?}\nscene: {scene:?}");
+        assert!(
+            result.valid(),
+            "invalid packing: {result:?}\nscene: {scene:?}"
+        );
     }
 }
