@@ -22,6 +22,7 @@
 //! `PROPTEST_RNG_SEED=N cargo test --test pipeline` explores others.
 
 use std::fmt::Write as _;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc;
 use std::time::Duration;
 
@@ -29,7 +30,7 @@ use gapack::check::check;
 use gapack::geometry::predicates::OVERLAP_REL;
 use gapack::{Basis, Grading, Interpolation, Method, measure, pack};
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
+use proptest::test_runner::{RngSeed, TestRunner};
 
 /// Longest a scene of at most ~3000 disks may take to pack and measure.
 const TIME_CAP: Duration = Duration::from_secs(20);
@@ -494,46 +495,80 @@ fn pack_in_time(scene: gapack::Scene) -> Option<std::thread::Result<Outcome>> {
     rx.recv_timeout(TIME_CAP).ok()
 }
 
-proptest! {
-    #![proptest_config(ProptestConfig {
-        cases: 200,
+/// Texts each run draws.
+const CASES: u32 = 200;
+
+/// What became of the texts drawn.
+static PACKED: AtomicUsize = AtomicUsize::new(0);
+static REFUSED_BY_CONFIG: AtomicUsize = AtomicUsize::new(0);
+static REFUSED_BY_PACKER: AtomicUsize = AtomicUsize::new(0);
+
+#[test]
+fn config_text_parses_packs_and_checks() {
+    let mut runner = TestRunner::new(ProptestConfig {
+        cases: CASES,
         rng_seed: rng_seed(),
         ..ProptestConfig::default()
-    })]
-
-    #[test]
-    fn config_text_parses_packs_and_checks(config in config()) {
-        let parsed = gapack::config::parse(&config.text, "random.toml");
-        let Ok(parsed) = parsed else {
-            // A typed error with a place to act: nothing more to check.
-            let e = parsed.unwrap_err();
-            prop_assert!(e.to_string().starts_with("random.toml:"), "{e}");
-            return Ok(());
-        };
-        prop_assert_eq!(parsed.scene.packer.method, config.method);
-        let outcome = pack_in_time(parsed.scene.clone());
-        let Some(outcome) = outcome else {
-            return Err(TestCaseError::fail(format!("no packing within {TIME_CAP:?}")));
-        };
-        let Ok(outcome) = outcome else {
-            return Err(TestCaseError::fail("the packer panicked"));
-        };
-        let (c, m) = match outcome {
-            Ok(pair) => pair,
-            // A typed refusal (a domain no disk fits): nothing to check.
-            Err(e) => {
-                prop_assert!(!e.to_string().is_empty());
-                return Ok(());
-            }
-        };
-        prop_assert_eq!(c.particles, m.particles);
-        prop_assert!(
-            (c.porosity - m.porosity).abs() <= 1e-12,
-            "porosity: check {} vs measure {}", c.porosity, m.porosity
-        );
-        if config.method != Method::Relaxation {
-            prop_assert!(c.valid(), "{c:?}");
-            prop_assert!(m.max_overlap <= OVERLAP_REL, "measured overlap {}", m.max_overlap);
-        }
+    });
+    if let Err(e) = runner.run(&config(), one_text) {
+        panic!("{e}");
     }
+    let (packed, config, packer) = (
+        PACKED.load(Ordering::Relaxed),
+        REFUSED_BY_CONFIG.load(Ordering::Relaxed),
+        REFUSED_BY_PACKER.load(Ordering::Relaxed),
+    );
+    eprintln!(
+        "{CASES} config texts: {packed} packed and checked, {config} refused by the config, {packer} by the packer"
+    );
+    // A generator that only produced refusals would check nothing.
+    assert!(packed as f64 >= 0.9 * CASES as f64, "only {packed} packed");
+}
+
+/// One text through parse, pack, measure and check.
+fn one_text(config: ConfigText) -> Result<(), TestCaseError> {
+    let parsed = gapack::config::parse(&config.text, "random.toml");
+    let Ok(parsed) = parsed else {
+        // A typed error with a place to act: nothing more to check.
+        let e = parsed.unwrap_err();
+        prop_assert!(e.to_string().starts_with("random.toml:"), "{e}");
+        REFUSED_BY_CONFIG.fetch_add(1, Ordering::Relaxed);
+        return Ok(());
+    };
+    prop_assert_eq!(parsed.scene.packer.method, config.method);
+    let outcome = pack_in_time(parsed.scene.clone());
+    let Some(outcome) = outcome else {
+        return Err(TestCaseError::fail(format!(
+            "no packing within {TIME_CAP:?}"
+        )));
+    };
+    let Ok(outcome) = outcome else {
+        return Err(TestCaseError::fail("the packer panicked"));
+    };
+    let (c, m) = match outcome {
+        Ok(pair) => pair,
+        // A typed refusal (a domain no disk fits): nothing to check.
+        Err(e) => {
+            prop_assert!(!e.to_string().is_empty());
+            REFUSED_BY_PACKER.fetch_add(1, Ordering::Relaxed);
+            return Ok(());
+        }
+    };
+    prop_assert_eq!(c.particles, m.particles);
+    prop_assert!(
+        (c.porosity - m.porosity).abs() <= 1e-12,
+        "porosity: check {} vs measure {}",
+        c.porosity,
+        m.porosity
+    );
+    if config.method != Method::Relaxation {
+        prop_assert!(c.valid(), "{c:?}");
+        prop_assert!(
+            m.max_overlap <= OVERLAP_REL,
+            "measured overlap {}",
+            m.max_overlap
+        );
+    }
+    PACKED.fetch_add(1, Ordering::Relaxed);
+    Ok(())
 }
