@@ -214,6 +214,8 @@ fn clearance_above(
             Point::new(p.x + half, p.y + half),
         );
         let settled = grid.try_visit_box(lo, hi, |j| {
+            #[cfg(test)]
+            tests::CANDIDATES.with(|c| c.set(c.get() + 1));
             let d = all[j as usize];
             found = found.min((p - d.c).norm() - d.r);
             if found <= floor {
@@ -318,7 +320,36 @@ fn largest_hole(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64, d_min:
 
 #[cfg(test)]
 mod tests {
+    use std::cell::Cell;
+
     use super::*;
+
+    thread_local! {
+        /// Disks the clearance queries of this thread visited.
+        pub(super) static CANDIDATES: Cell<u64> = const { Cell::new(0) };
+    }
+
+    #[test]
+    fn hole_search_settles_most_samples_with_one_disk() {
+        // A wide grading (d from 0.1 µm to 3 mm, found by fuzzing): every
+        // sample used to visit every disk within 2 r_max, 0.87 s for a
+        // packing made in a few ms. A sample no better than the best so far
+        // now stops at the first disk proving it, and the disk that settled
+        // the previous sample is tried first; the hole found is the same.
+        let text = "[domain]\nshape = \"rectangle\"\nwidth = 40\nheight = 20\n\
+                    [grading]\ntable = [[0.0001, 0], [0.001, 0.0001], [3, 100]]\n";
+        let scene = crate::config::parse(text, "t").unwrap().scene;
+        let packing = crate::pack(&scene).unwrap();
+        CANDIDATES.with(|c| c.set(0));
+        let m = measure(&packing, &scene);
+        let visited = CANDIDATES.with(Cell::get) as f64;
+        let (lo, hi) = packing.domain.bounds();
+        let step = hole_step(hi - lo, packing.disks.len(), scene.d_min());
+        let per_sample = visited / samples(hi - lo, step);
+        // About 2.8, against 128 when every sample ran a full query.
+        assert!(per_sample < 10.0, "{per_sample} disks visited per sample");
+        assert!(m.largest_hole > 0.0 && m.largest_hole < scene.d_max());
+    }
 
     /// Grid points the largest-hole search visits for these bounds and step.
     fn samples(extent: nalgebra::Vector2<f64>, step: f64) -> f64 {
