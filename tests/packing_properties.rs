@@ -69,11 +69,7 @@ fn grading_strategy() -> impl Strategy<Value = Grading> {
 /// `PROPTEST_RNG_SEED=N cargo test` explores others (failures found are
 /// kept in `packing_properties.proptest-regressions` and replayed first).
 fn rng_seed() -> RngSeed {
-    let seed = std::env::var("PROPTEST_RNG_SEED")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(0x6761_7061_636B);
-    RngSeed::Fixed(seed)
+    common::rng_seed(0x6761_7061_636B)
 }
 
 fn scene_strategy() -> impl Strategy<Value = Scene> {

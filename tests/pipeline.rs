@@ -21,6 +21,8 @@
 //! The texts drawn are the same on every run (a fixed seed);
 //! `PROPTEST_RNG_SEED=N cargo test --test pipeline` explores others.
 
+mod common;
+
 use std::fmt::Write as _;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc;
@@ -40,11 +42,7 @@ const MAX_DISKS: f64 = 3000.0;
 
 /// The texts drawn: the same on every run, so that CI is repeatable.
 fn rng_seed() -> RngSeed {
-    let seed = std::env::var("PROPTEST_RNG_SEED")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(0x7069_7065_6C69_6E65);
-    RngSeed::Fixed(seed)
+    common::rng_seed(0x7069_7065_6C69_6E65)
 }
 
 /// A `[grading]` as written, and the curve it gives (for sizing the domain).

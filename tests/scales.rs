@@ -25,11 +25,7 @@ use proptest::test_runner::RngSeed;
 
 /// The scenes drawn: the same on every run, so that CI is repeatable.
 fn rng_seed() -> RngSeed {
-    let seed = std::env::var("PROPTEST_RNG_SEED")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(0x7363_616C_6573);
-    RngSeed::Fixed(seed)
+    common::rng_seed(0x7363_616C_6573)
 }
 
 /// A domain's shape before it is scaled and moved (unit: about a diameter).

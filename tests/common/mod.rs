@@ -6,6 +6,17 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use gapack::{Domain, Grading, PackerSettings, Scene, WallMode};
+use proptest::test_runner::RngSeed;
+
+/// The seed of a property test's draws: `default`, the same on every run so
+/// that CI is repeatable, or `PROPTEST_RNG_SEED=N` to explore others.
+pub fn rng_seed(default: u64) -> RngSeed {
+    let seed = std::env::var("PROPTEST_RNG_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(default);
+    RngSeed::Fixed(seed)
+}
 
 /// A fresh, empty scratch directory for one test, under `target/`.
 pub fn scratch(name: &str) -> PathBuf {
