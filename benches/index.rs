@@ -16,30 +16,18 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use gapack::geometry::{Disk, Point};
 use gapack::output::{Drawable, LineChart, Mark, Series};
 use gapack::packer::index::{Grid, MxQuadtree, SpatialIndex};
-use gapack::{Domain, Grading, PackerSettings, Scene, WallMode, pack};
+use gapack::{PackerSettings, pack};
 use kiddo::{Chebyshev, KdTree};
 use rstar::primitives::GeomWithData;
 use rstar::{AABB, RTree};
 
+mod common;
+
 /// The disks of a packing of about `n` disks (Table 3.4, square domain).
 fn disks(n: f64) -> Vec<Disk> {
-    let grading = Grading::from_table(
-        gapack::grading::THESIS_TABLE_3_4,
-        Default::default(),
-        Default::default(),
-    )
-    .expect("valid table");
-    let side = (n * grading.mean_disk_area() / 0.82).sqrt();
-    let scene = Scene {
-        domain: Domain::rectangle(side, side).expect("valid side"),
-        walls: WallMode::Exact,
-        wall_disk_diameter: None,
-        grading,
-        gradient: None,
-        packer: PackerSettings::default(),
-        seed: 1,
-    };
-    pack(&scene).expect("packs").disks
+    pack(&common::square(n, PackerSettings::default()))
+        .expect("packs")
+        .disks
 }
 
 /// One structure under test: insert in order, then box queries.

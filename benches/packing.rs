@@ -3,21 +3,9 @@
 //! Run: `cargo bench --bench packing`. Setup (scene building) is not timed.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use gapack::{Domain, Grading, IndexKind, PackerSettings, Scene, WallMode, pack};
+use gapack::{IndexKind, PackerSettings, pack};
 
-fn table_3_4() -> Grading {
-    Grading::from_table(
-        gapack::grading::THESIS_TABLE_3_4,
-        Default::default(),
-        Default::default(),
-    )
-    .expect("valid table")
-}
-
-/// Side of the square holding about `n` disks of Table 3.4 at the bulk porosity 0.18.
-fn side_for(n: f64) -> f64 {
-    (n * table_3_4().mean_disk_area() / 0.82).sqrt()
-}
+mod common;
 
 fn packing(c: &mut Criterion) {
     let mut group = c.benchmark_group("pack");
@@ -27,18 +15,11 @@ fn packing(c: &mut Criterion) {
             ("mx-quadtree", IndexKind::MxQuadtree),
             ("grid", IndexKind::Grid),
         ] {
-            let scene = Scene {
-                domain: Domain::rectangle(side_for(n), side_for(n)).expect("valid side"),
-                walls: WallMode::Exact,
-                wall_disk_diameter: None,
-                grading: table_3_4(),
-                gradient: None,
-                packer: PackerSettings {
-                    index,
-                    ..PackerSettings::default()
-                },
-                seed: 1,
+            let packer = PackerSettings {
+                index,
+                ..PackerSettings::default()
             };
+            let scene = common::square(n, packer);
             let disks = pack(&scene).expect("packs").disks.len() as u64;
             group.throughput(Throughput::Elements(disks));
             group.bench_with_input(BenchmarkId::new(name, n as u64), &scene, |b, s| {

@@ -5,35 +5,15 @@
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use gapack::output::{Drawable, diameter_range, packing_png, porosity_map_chart, psd_chart};
-use gapack::{Domain, Grading, PackerSettings, Scene, WallMode, pack};
+use gapack::{PackerSettings, pack};
 
-fn table_3_4() -> Grading {
-    Grading::from_table(
-        gapack::grading::THESIS_TABLE_3_4,
-        Default::default(),
-        Default::default(),
-    )
-    .expect("valid table")
-}
-
-/// Side of the square holding about `n` disks of Table 3.4 at the bulk porosity 0.18.
-fn side_for(n: f64) -> f64 {
-    (n * table_3_4().mean_disk_area() / 0.82).sqrt()
-}
+mod common;
 
 fn pictures(c: &mut Criterion) {
     let mut group = c.benchmark_group("pictures");
     group.sample_size(10);
     for n in [1e4, 1e5, 1e6] {
-        let scene = Scene {
-            domain: Domain::rectangle(side_for(n), side_for(n)).expect("valid side"),
-            walls: WallMode::Exact,
-            wall_disk_diameter: None,
-            grading: table_3_4(),
-            gradient: None,
-            packer: PackerSettings::default(),
-            seed: 1,
-        };
+        let scene = common::square(n, PackerSettings::default());
         let packing = pack(&scene).expect("packs");
         group.throughput(Throughput::Elements(packing.disks.len() as u64));
         let id = |name| BenchmarkId::new(name, n as u64);
