@@ -395,17 +395,13 @@ mod tests {
     fn empty_share_counts_the_unfilled_part() {
         let domain = Domain::rectangle(10.0, 10.0).unwrap();
         // One disk in the lower-left corner: most of the square is empty.
-        let packing = Packing {
+        let packing = Packing::of_disks(
             domain,
-            walls: crate::geometry::WallMode::Exact,
-            boundary: Vec::new(),
-            disks: vec![crate::geometry::Disk {
+            vec![crate::geometry::Disk {
                 c: Point::new(0.5, 0.5),
                 r: 0.5,
             }],
-            materials: Vec::new(),
-            stats: Default::default(),
-        };
+        );
         let share = empty_share(&packing, 1.0, 1.0);
         assert!(share > 0.9 && share < 1.0, "{share}");
     }

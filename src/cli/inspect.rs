@@ -12,7 +12,7 @@ use gapack::geometry::predicates::OVERLAP_REL;
 use gapack::layering::Material;
 use gapack::output::{PackingTable, diameter_range, read_packing_csv, write_pictures};
 use gapack::packer::{PEAK_BYTES_PER_DISK, estimated_peak_bytes};
-use gapack::{Domain, Packing, Point, Scene, Shape, WallMode};
+use gapack::{Domain, Packing, Point, Scene, Shape};
 
 use crate::{Failure, default_out, load_config, report};
 
@@ -306,12 +306,8 @@ pub fn run_plot(args: &PlotArgs) -> Result<(), Failure> {
         None => {
             let domain = bounding_box(&table)?;
             let packing = Packing {
-                domain,
-                walls: WallMode::Exact,
-                boundary: Vec::new(),
-                disks: table.disks.clone(),
                 materials: table.materials.clone(),
-                stats: Default::default(),
+                ..Packing::of_disks(domain, table.disks.clone())
             };
             let diameters = diameter_range(&packing);
             (packing, own_materials(&table), diameters, None)
@@ -435,16 +431,13 @@ fn packing_of(table: &PackingTable, scene: &Scene, config: &Config) -> Packing {
         })
         .collect();
     Packing {
-        domain: scene.domain.clone(),
         walls: scene.walls,
-        boundary: Vec::new(),
-        disks: table.disks.clone(),
         materials: table
             .materials
             .iter()
             .map(|&m| by_config[usize::from(m)])
             .collect(),
-        stats: Default::default(),
+        ..Packing::of_disks(scene.domain.clone(), table.disks.clone())
     }
 }
 

@@ -279,14 +279,7 @@ mod tests {
             length: 46.0,
             tip_width: None,
         };
-        let packing = Packing {
-            domain: cut.domain().unwrap(),
-            walls: WallMode::Exact,
-            boundary: Vec::new(),
-            disks,
-            materials: Vec::new(),
-            stats: Default::default(),
-        };
+        let packing = Packing::of_disks(cut.domain().unwrap(), disks);
         let step = measure_core(&packing, &cut, 1.0, Instant::now());
         assert!((step.porosity - (1.0 - std::f64::consts::FRAC_PI_4)).abs() < 1e-9);
         // Corner columns touch 3 disks, the middle one 4.

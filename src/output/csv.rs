@@ -316,17 +316,16 @@ pub fn packing_csv(packing: &Packing, materials: &[Material]) -> Result<Vec<u8>,
 mod tests {
     use super::*;
     use crate::geometry::{Disk, Domain, WallMode};
-    use crate::packer::PackStats;
 
     #[test]
     fn rows_in_placement_order_with_round_trip_numbers() {
         let packing = Packing {
-            domain: Domain::rectangle(10.0, 10.0).expect("valid rectangle"),
             walls: WallMode::Disks,
             boundary: vec![Disk::new(0.0, 0.0, 0.5)],
-            disks: vec![Disk::new(1.0, 2.0, 0.5), Disk::new(0.1 + 0.2, 7.25, 1e-7)],
-            materials: Vec::new(),
-            stats: PackStats::default(),
+            ..Packing::of_disks(
+                Domain::rectangle(10.0, 10.0).expect("valid rectangle"),
+                vec![Disk::new(1.0, 2.0, 0.5), Disk::new(0.1 + 0.2, 7.25, 1e-7)],
+            )
         };
         let text = String::from_utf8(packing_csv(&packing, &[]).expect("csv")).expect("utf-8");
         assert_eq!(

@@ -212,17 +212,15 @@ fn num(v: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Domain, WallMode};
-    use crate::packer::PackStats;
+    use crate::geometry::Domain;
 
     fn packing(boundary: Vec<Disk>) -> Packing {
         Packing {
-            domain: Domain::rectangle(10.0, 20.0).expect("valid rectangle"),
-            walls: WallMode::Exact,
             boundary,
-            disks: vec![Disk::new(1.0, 1.0, 1.0), Disk::new(5.0, 18.0, 2.0)],
-            materials: Vec::new(),
-            stats: PackStats::default(),
+            ..Packing::of_disks(
+                Domain::rectangle(10.0, 20.0).expect("valid rectangle"),
+                vec![Disk::new(1.0, 1.0, 1.0), Disk::new(5.0, 18.0, 2.0)],
+            )
         }
     }
 

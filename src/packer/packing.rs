@@ -21,6 +21,22 @@ pub struct Packing {
     pub stats: PackStats,
 }
 
+impl Packing {
+    /// Disks placed elsewhere (read from a table, or built by hand) in
+    /// `domain`, as a packing: exact walls, no wall disks, no materials, no
+    /// generator counters. Struct update syntax sets the rest.
+    pub fn of_disks(domain: Domain, disks: Vec<Disk>) -> Self {
+        Packing {
+            domain,
+            walls: WallMode::Exact,
+            boundary: Vec::new(),
+            disks,
+            materials: Vec::new(),
+            stats: PackStats::default(),
+        }
+    }
+}
+
 /// Counters of the generator's work, for reports and benchmarks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct PackStats {

@@ -62,15 +62,11 @@ pub struct PorosityMap {
 ///
 /// # Example
 /// ```
-/// use gapack::{Disk, Domain, Packing, PackStats, WallMode, porosity_map};
-/// let packing = Packing {
-///     domain: Domain::rectangle(80.0, 40.0).unwrap(),
-///     walls: WallMode::Exact,
-///     boundary: Vec::new(),
-///     disks: vec![Disk::new(5.0, 5.0, 1.0), Disk::new(75.0, 35.0, 2.0)],
-///     materials: Vec::new(),
-///     stats: PackStats::default(),
-/// };
+/// use gapack::{Disk, Domain, Packing, porosity_map};
+/// let packing = Packing::of_disks(
+///     Domain::rectangle(80.0, 40.0).unwrap(),
+///     vec![Disk::new(5.0, 5.0, 1.0), Disk::new(75.0, 35.0, 2.0)],
+/// );
 /// let map = porosity_map(&packing);
 /// // 5 largest diameters: cells of 20 mm, 4 × 2 of them.
 /// assert_eq!((map.cell, map.cols, map.rows), (20.0, 4, 2));
@@ -148,17 +144,10 @@ mod tests {
     use crate::Scene;
     use crate::geometry::{Disk, Domain, WallMode};
     use crate::grading::{Basis, Grading};
-    use crate::packer::{PackStats, PackerSettings, pack};
+    use crate::packer::{PackerSettings, pack};
 
     fn packing(domain: Domain, disks: Vec<Disk>) -> Packing {
-        Packing {
-            domain,
-            walls: WallMode::Exact,
-            boundary: Vec::new(),
-            disks,
-            materials: Vec::new(),
-            stats: PackStats::default(),
-        }
+        Packing::of_disks(domain, disks)
     }
 
     fn packed(domain: Domain) -> Packing {

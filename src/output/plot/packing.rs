@@ -356,22 +356,20 @@ mod tests {
     use super::*;
     use crate::geometry::Domain;
     use crate::output::diameter_range;
-    use crate::output::plot::testing::{packing_of as packing, png_size};
-
-    /// Width and height from a PNG's IHDR chunk, after checking the signature.
+    use crate::output::plot::testing::png_size;
 
     #[test]
     fn a_tall_domain_is_1600_px_high_and_centred_in_a_legend_wide_image() {
         // 15 × 20 mm plus 0.45 mm margins: 15.9 × 20.9 mm in 1520 px of
         // height (the legend strip is 80 px), so 1156 px wide.
-        let p = packing(
+        let p = Packing::of_disks(
             Domain::rectangle(15.0, 20.0).expect("rectangle"),
             vec![Disk::new(2.0, 2.0, 1.0), Disk::new(5.0, 15.0, 2.0)],
         );
         let png = packing_png(&p, &[], diameter_range(&p)).expect("renders");
         assert_eq!(png_size(&png), (1156, 1600));
         // 5.3 × 20.3 mm would be 397 px wide, narrower than the legend: 900 px.
-        let p = packing(
+        let p = Packing::of_disks(
             Domain::rectangle(5.0, 20.0).expect("rectangle"),
             vec![Disk::new(2.0, 2.0, 1.0)],
         );
@@ -382,7 +380,7 @@ mod tests {
     #[test]
     fn a_wide_domain_is_1600_px_wide() {
         // 40.6 × 10.6 mm at 1600 / 40.6 px/mm: 418 px + 80 px of legend.
-        let p = packing(
+        let p = Packing::of_disks(
             Domain::rectangle(40.0, 10.0).expect("rectangle"),
             vec![Disk::new(2.0, 2.0, 1.0)],
         );
@@ -391,7 +389,7 @@ mod tests {
             (1600, 498)
         );
         // Without disks there is no legend.
-        let empty = packing(
+        let empty = Packing::of_disks(
             Domain::rectangle(40.0, 10.0).expect("rectangle"),
             Vec::new(),
         );
@@ -403,7 +401,7 @@ mod tests {
 
     #[test]
     fn disks_are_filled_with_their_colour() {
-        let p = packing(
+        let p = Packing::of_disks(
             Domain::circle(Point::new(0.0, 0.0), 10.0).expect("circle"),
             vec![Disk::new(-4.0, 0.0, 3.0), Disk::new(4.0, 0.0, 2.0)],
         );

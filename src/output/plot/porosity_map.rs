@@ -284,9 +284,8 @@ impl Drawable for PorosityMapChart {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Disk, Domain, WallMode};
+    use crate::geometry::{Disk, Domain};
     use crate::output::plot::testing::{png_size, svg_size};
-    use crate::packer::PackStats;
 
     fn packing(domain: Domain) -> Packing {
         // A row of disks along the bottom, of diameter 1.
@@ -297,14 +296,7 @@ mod tests {
             .map(|x| Disk::new(x, lo.y + 3.0, 0.5))
             .filter(|d| domain.signed_distance(d.c) > d.r)
             .collect();
-        Packing {
-            domain,
-            walls: WallMode::Exact,
-            boundary: Vec::new(),
-            disks,
-            materials: Vec::new(),
-            stats: PackStats::default(),
-        }
+        Packing::of_disks(domain, disks)
     }
 
     #[test]

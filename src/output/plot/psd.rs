@@ -276,24 +276,19 @@ impl Drawable for PsdChart {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Disk, Domain, WallMode};
+    use crate::geometry::{Disk, Domain};
     use crate::grading::Interpolation;
     use crate::output::plot::testing::{png_size, svg_size};
-    use crate::packer::PackStats;
 
     fn packing(diameters: &[f64]) -> Packing {
-        Packing {
-            domain: Domain::rectangle(100.0, 100.0).expect("rectangle"),
-            walls: WallMode::Exact,
-            boundary: Vec::new(),
-            disks: diameters
+        Packing::of_disks(
+            Domain::rectangle(100.0, 100.0).expect("rectangle"),
+            diameters
                 .iter()
                 .enumerate()
                 .map(|(i, &d)| Disk::new(10.0 * i as f64 + 5.0, 5.0, d / 2.0))
                 .collect(),
-            materials: Vec::new(),
-            stats: PackStats::default(),
-        }
+        )
     }
 
     #[test]

@@ -20,18 +20,3 @@ pub(super) fn png_size(png: &[u8]) -> (u32, u32) {
     let reader = png::Decoder::new(png).read_info().expect("a PNG header");
     (reader.info().width, reader.info().height)
 }
-
-/// A packing of `disks` in `domain`, exact walls, no materials.
-pub(super) fn packing_of(
-    domain: crate::geometry::Domain,
-    disks: Vec<crate::geometry::Disk>,
-) -> crate::packer::Packing {
-    crate::packer::Packing {
-        domain,
-        walls: crate::geometry::WallMode::Exact,
-        boundary: Vec::new(),
-        disks,
-        materials: Vec::new(),
-        stats: crate::packer::PackStats::default(),
-    }
-}
