@@ -153,18 +153,7 @@ fn pack_filled(scene: &Scene, genes: impl Iterator<Item = f64>) -> Result<Packin
 
 /// [`pack_genes`] with the front advancing up (lowest ordinate first).
 fn pack_up(scene: &Scene, genes: impl Iterator<Item = f64>) -> Result<Packing, PackError> {
-    let d_min = scene.d_min();
-    let inscribed = scene.inscribed_diameter();
-    if inscribed < d_min {
-        return Err(PackError::DomainTooNarrow { inscribed, d_min });
-    }
-    let diameter = scene.wall_disk();
-    if scene.walls == WallMode::Disks && scene.domain.boundary_disk_count(diameter).is_none() {
-        return Err(PackError::TooManyWallDisks {
-            diameter,
-            max: Domain::MAX_BOUNDARY_DISKS,
-        });
-    }
+    super::placed::check_fits(scene)?;
     match scene.packer.index {
         IndexKind::MxQuadtree => Front::<MxQuadtree>::new(scene).run(genes),
         IndexKind::Grid => Front::<Grid>::new(scene).run(genes),

@@ -22,7 +22,7 @@ pub(super) fn radii(scene: &Scene) -> impl Iterator<Item = f64> + '_ {
     (0..count).map(move |_| scene.grading.sample(rng.r#gen::<f64>()) / 2.0)
 }
 
-/// Refuse, as the advancing front does, a scene no disk of the grading fits
+/// Refuse, for every method, a scene no disk of the grading fits
 /// in, and one whose wall disks would be too many to make (packing it
 /// without them would leave the walls out unannounced).
 pub(super) fn check_fits(scene: &Scene) -> Result<(), PackError> {
