@@ -156,8 +156,14 @@ impl Chord {
 /// as for [`intersect_circle_circle`].
 #[inline]
 pub fn chord_circle_circle(c1: Point, r1: f64, c2: Point, r2: f64) -> Option<Chord> {
-    let dx = c2.x - c1.x;
-    let dy = c2.y - c1.y;
+    chord_of_offset(c2.x - c1.x, c2.y - c1.y, r1, r2)
+}
+
+/// [`chord_circle_circle`] from the second centre's offset `(dx, dy)` from
+/// the first, for a caller that already holds it (the advancing front keeps
+/// each neighbour's offset from the front).
+#[inline]
+pub fn chord_of_offset(dx: f64, dy: f64, r1: f64, r2: f64) -> Option<Chord> {
     let d2 = dx * dx + dy * dy;
     if d2 == 0.0 {
         return None;

@@ -72,7 +72,7 @@ use super::sizer::Sizer;
 use super::{Fill, FrontRules, IndexKind, PackError, PackStats, Packing};
 use crate::Scene;
 use crate::geometry::predicates::{
-    FEASIBLE_REL, WITNESS_REL, chord_circle_circle, clear_disk_disk, clear_disk_walls,
+    FEASIBLE_REL, WITNESS_REL, chord_of_offset, clear_disk_disk, clear_disk_walls,
     intersect_circle_circle, intersect_circle_line, max_radius_ray_disk,
 };
 use crate::geometry::{Disk, Domain, Point, Wall, WallMode};
@@ -790,7 +790,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let rf = front.r + r;
         self.cands.clear();
         for n in &self.near {
-            if let Some(chord) = chord_circle_circle(front.c, rf, n.disk.c, n.disk.r + r) {
+            if let Some(chord) = chord_of_offset(n.rel.x, n.rel.y, rf, n.disk.r + r) {
                 let (at, off) = (chord.points(front.c), chord.offsets());
                 self.cands.push(Cand {
                     at: at[0],
@@ -875,7 +875,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         }
         for n in &self.near {
             let o = n.disk;
-            let (dx, dy) = (o.c.x - front.c.x, o.c.y - front.c.y);
+            let (dx, dy) = (n.rel.x, n.rel.y);
             let dist = (dx * dx + dy * dy).sqrt();
             let rj = o.r + reach;
             if dist == 0.0 {
