@@ -156,7 +156,12 @@ fn describe(config: &Config, path: &Path) -> Vec<String> {
         .dir
         .as_ref()
         .map_or_else(|| default_out(Some(path)), PathBuf::from);
-    let formats: Vec<&str> = config.output.formats.iter().map(|f| f.name()).collect();
+    let formats: Vec<&str> = config
+        .output
+        .formats
+        .iter()
+        .map(|f| f.config_name())
+        .collect();
     lines.push(format!(
         "output: {} ({}; summary.json always)",
         out.display(),

@@ -205,6 +205,18 @@ pub trait ConfigName {
     fn config_name(&self) -> &'static str;
 }
 
+impl ConfigName for Format {
+    fn config_name(&self) -> &'static str {
+        FORMATS.name_of(*self)
+    }
+}
+
+impl ConfigName for LengthUnit {
+    fn config_name(&self) -> &'static str {
+        UNITS.name_of(*self)
+    }
+}
+
 impl ConfigName for WallMode {
     fn config_name(&self) -> &'static str {
         WALLS.name_of(*self)
@@ -286,12 +298,8 @@ mod tests {
         assert_eq!(FrontRules::Thesis.config_name(), "thesis");
         assert_eq!(Interpolation::Linear.config_name(), "linear");
         assert_eq!(SHAPES.get("hexagon"), None);
-        for f in Format::ALL {
-            assert_eq!(FORMATS.name_of(f), f.name());
-        }
-        for u in LengthUnit::ALL {
-            assert_eq!(UNITS.name_of(u), u.name());
-        }
+        assert_eq!(Format::Lammps.config_name(), "lammps");
+        assert_eq!(LengthUnit::Millimetre.config_name(), "mm");
         let circle = Shape::Circle {
             center: crate::geometry::Point::new(0.0, 0.0),
             radius: 1.0,

@@ -26,43 +26,8 @@ pub enum Format {
 }
 
 impl Format {
-    /// Every format, in the order the names are listed in messages.
-    pub const ALL: [Format; 10] = [
-        Format::Csv,
-        Format::Json,
-        Format::Vtk,
-        Format::Lammps,
-        Format::Yade,
-        Format::Pfc,
-        Format::Mercury,
-        Format::Esys,
-        Format::Svg,
-        Format::Png,
-    ];
-
     /// The formats written when `[output] formats` is not given.
     pub const DEFAULT: [Format; 3] = [Format::Csv, Format::Svg, Format::Png];
-
-    /// The name written in a config.
-    pub fn name(self) -> &'static str {
-        match self {
-            Format::Csv => "csv",
-            Format::Json => "json",
-            Format::Vtk => "vtk",
-            Format::Lammps => "lammps",
-            Format::Yade => "yade",
-            Format::Pfc => "pfc",
-            Format::Mercury => "mercury",
-            Format::Esys => "esys",
-            Format::Svg => "svg",
-            Format::Png => "png",
-        }
-    }
-
-    /// The format named `name`, if it is one.
-    pub fn from_name(name: &str) -> Option<Format> {
-        Format::ALL.into_iter().find(|f| f.name() == name)
-    }
 }
 
 /// Length unit of the DEM exports (LAMMPS, YADE, PFC, MercuryDPM, ESyS).
@@ -79,9 +44,6 @@ pub enum LengthUnit {
 }
 
 impl LengthUnit {
-    /// Every unit, in the order the names are listed in messages.
-    pub const ALL: [LengthUnit; 2] = [LengthUnit::Metre, LengthUnit::Millimetre];
-
     /// The unit's length for one millimetre (0.001 for metres).
     pub fn per_mm(self) -> f64 {
         match self {
@@ -97,19 +59,6 @@ impl LengthUnit {
             LengthUnit::Metre => 1.0,
             LengthUnit::Millimetre => 1e-9,
         }
-    }
-
-    /// The name written in a config and in file headers (`"m"`, `"mm"`).
-    pub fn name(self) -> &'static str {
-        match self {
-            LengthUnit::Metre => "m",
-            LengthUnit::Millimetre => "mm",
-        }
-    }
-
-    /// The unit named `name`, if it is one.
-    pub fn from_name(name: &str) -> Option<LengthUnit> {
-        LengthUnit::ALL.into_iter().find(|u| u.name() == name)
     }
 }
 
@@ -163,22 +112,5 @@ impl Default for OutputSettings {
             formats: Format::DEFAULT.to_vec(),
             export: ExportOptions::default(),
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn names_round_trip() {
-        for f in Format::ALL {
-            assert_eq!(Format::from_name(f.name()), Some(f));
-        }
-        for u in LengthUnit::ALL {
-            assert_eq!(LengthUnit::from_name(u.name()), Some(u));
-        }
-        assert_eq!(Format::from_name("xyz"), None);
-        assert_eq!(LengthUnit::from_name("km"), None);
     }
 }

@@ -3,6 +3,7 @@
 use super::common::{
     Num, Text, VERSION, density, disk_materials, extent, labels, r_max, type_count, type_id,
 };
+use crate::config::ConfigName;
 use crate::layering::Material;
 use crate::output::OutputError;
 use crate::output::format::{ExportOptions, LengthUnit};
@@ -63,8 +64,8 @@ pub fn lammps_data(
     let mut t = Text::with_lines(n + 24);
     t.line(format_args!(
         "gapack {VERSION}: {n} disks, atom_style sphere, lengths in {} ({units}), density in kg/{}^3",
-        opts.units.name(),
-        opts.units.name()
+        opts.units.config_name(),
+        opts.units.config_name()
     ));
     t.line(format_args!(""));
     t.line(format_args!("{n} atoms"));

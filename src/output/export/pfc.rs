@@ -1,6 +1,7 @@
 //! `packing.p2dat`: a PFC2D command file (PFC 6 / 7 syntax).
 
 use super::common::{Num, Text, VERSION, density, disk_materials, extent, labels, r_max};
+use crate::config::ConfigName;
 use crate::geometry::Shape;
 use crate::layering::Material;
 use crate::output::OutputError;
@@ -65,7 +66,7 @@ pub fn pfc_commands(
     let mut t = Text::with_lines(n + groups.len() + 16);
     t.line(format_args!(
         "; gapack {VERSION}: {n} disks for PFC2D, lengths in {u}, density in kg/{u}^3",
-        u = opts.units.name()
+        u = opts.units.config_name()
     ));
     t.line(format_args!("; run with: program call 'packing.p2dat'"));
     t.line(format_args!("model new"));

@@ -1,6 +1,7 @@
 //! `packing.yade.txt`: spheres for YADE's `ymport.text` / `ymport.textExt`.
 
 use super::common::{Num, Text, VERSION, disk_materials, labels};
+use crate::config::ConfigName;
 use crate::layering::Material;
 use crate::output::OutputError;
 use crate::output::format::ExportOptions;
@@ -53,13 +54,13 @@ pub fn yade_text(
         t.line(format_args!("#format x_y_z_r"));
         t.line(format_args!(
             "# gapack {VERSION}: {n} disks, lengths in {}",
-            opts.units.name()
+            opts.units.config_name()
         ));
     } else {
         t.line(format_args!("#format x_y_z_r_matId"));
         t.line(format_args!(
             "# gapack {VERSION}: {n} disks, lengths in {}, matId = O.materials id: {}",
-            opts.units.name(),
+            opts.units.config_name(),
             ids.join(", ")
         ));
     }
