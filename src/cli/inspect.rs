@@ -234,21 +234,20 @@ pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
     let scene = pick_scene(&config, args.well.as_deref(), &origin)?;
     let table = read_table(&args.packing)?;
     let graded = scene.gradient.is_some();
-    let result = check(
+    let mut result = check(
         &table.disks,
         &scene.domain,
         (!graded).then_some(&scene.grading),
     );
-    let psd_ks = if graded {
-        Some(scene.psd_ks(&packing_of(&table, scene, &config)))
-    } else {
-        result.psd_ks
-    };
-    let lines = findings(&result, &table, psd_ks);
+    if graded {
+        // Size-graded: each material against its own curve.
+        result.psd_ks = Some(scene.psd_ks(&packing_of(&table, scene, &config)));
+    }
+    let lines = findings(&result, &table);
     println!(
         "{} against {origin}: {}",
         args.packing.display(),
-        if result.valid() && ks_kept(&result, psd_ks) {
+        if result.valid() && result.grading_kept() {
             "valid"
         } else {
             "FAILED"
@@ -263,7 +262,7 @@ pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
             args.packing.display()
         )));
     }
-    if !ks_kept(&result, psd_ks) {
+    if !result.grading_kept() {
         return Err(Failure::Run(anyhow!(
             "{}: the sizes do not follow the config's grading",
             args.packing.display()
@@ -367,11 +366,6 @@ fn bounding_box(table: &PackingTable) -> Result<Domain, Failure> {
         .map_err(Failure::Input)
 }
 
-/// Whether the KS distance (the per-material one for size-graded scenes) is within the limit.
-fn ks_kept(result: &Check, psd_ks: Option<f64>) -> bool {
-    psd_ks.is_none_or(|ks| ks <= result.ks_limit)
-}
-
 /// The scene a packing of `config` was made for: its own, or the named well's.
 fn pick_scene<'c>(
     config: &'c Config,
@@ -447,7 +441,7 @@ fn packing_of(table: &PackingTable, scene: &Scene, config: &Config) -> Packing {
 }
 
 /// The lines `gapack verify` prints under its verdict.
-fn findings(c: &Check, table: &PackingTable, psd_ks: Option<f64>) -> Vec<String> {
+fn findings(c: &Check, table: &PackingTable) -> Vec<String> {
     let row = |i: usize| format!("row {}", i + 1);
     let mut lines = vec![format!(
         "{table}, porosity {:.4} (solid {:.4} of {:.4} mm²)",
@@ -476,15 +470,16 @@ fn findings(c: &Check, table: &PackingTable, psd_ks: Option<f64>) -> Vec<String>
             row(i)
         ),
     });
-    lines.push(match psd_ks {
+    let kept = c.grading_kept();
+    lines.push(match c.psd_ks {
         None => "grading: not checked".to_owned(),
         Some(ks) => format!(
             "grading: KS distance {ks:.4} {} {:.4} (sampling noise of {} sizes + {}): {}",
-            if ks <= c.ks_limit { "≤" } else { ">" },
+            if kept { "≤" } else { ">" },
             c.ks_limit,
             c.particles,
             gapack::check::KS_MARGIN,
-            if ks <= c.ks_limit { "kept" } else { "bent" }
+            if kept { "kept" } else { "bent" }
         ),
     });
     lines
