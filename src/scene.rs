@@ -82,6 +82,13 @@ impl Scene {
         self.domain.area() * (1.0 - Self::TYPICAL_POROSITY) / self.mean_disk_area()
     }
 
+    /// The most disks the domain could hold: filled solid with disks of the
+    /// grading's mean area. The upper bound the particle and memory limits
+    /// and the buffers are sized by.
+    pub fn max_disks(&self) -> f64 {
+        self.domain.area() / self.mean_disk_area()
+    }
+
     /// Smallest mean disk area of the curves (mm²): more disks than any
     /// curve alone would give are not expected.
     pub fn mean_disk_area(&self) -> f64 {

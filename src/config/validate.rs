@@ -475,7 +475,7 @@ impl Validator<'_> {
         raw: &Spanned<RawLayering>,
     ) -> Result<(), ConfigError> {
         // The most particles this domain holds: solid at the densest (0.9).
-        let particles = (0.9 * scene.domain.area() / scene.mean_disk_area()).floor();
+        let particles = (0.9 * scene.max_disks()).floor();
         if settings.bins as f64 <= particles {
             return Ok(());
         }
@@ -588,12 +588,12 @@ impl Validator<'_> {
         raw: &Spanned<RawOptimise>,
         (limit_mb, limit_key): (f64, Option<KeyAt>),
     ) -> Result<(), ConfigError> {
-        let genes = size_count(&scene.domain, scene.d_min()) as f64 + RULE_GENES as f64;
-        let disks = scene.domain.area() / scene.mean_disk_area();
         let estimate_mb = settings.peak_bytes(scene) / BYTES_PER_MB;
         if self.force || estimate_mb <= limit_mb {
             return Ok(());
         }
+        let genes = size_count(&scene.domain, scene.d_min()) as f64 + RULE_GENES as f64;
+        let disks = scene.max_disks();
         let (key, span, hint) = match (limit_key, &raw.get_ref().population) {
             (Some(k), _) => (
                 k.key,
@@ -1112,7 +1112,7 @@ impl Validator<'_> {
         width_key: &KeyAt,
         (limit, limit_key): (u64, Option<KeyAt>),
     ) -> Result<(), ConfigError> {
-        let disks = scene.domain.area() / scene.mean_disk_area();
+        let disks = scene.max_disks();
         if self.force || disks <= limit as f64 {
             return Ok(());
         }

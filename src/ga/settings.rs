@@ -31,7 +31,7 @@ impl OptimiseSettings {
     /// evaluated at once, beside the packer's own peak.
     pub fn peak_bytes(&self, scene: &Scene) -> f64 {
         let genes = size_count(&scene.domain, scene.d_min()) as f64 + RULE_GENES as f64;
-        let disks = scene.domain.area() / scene.mean_disk_area();
+        let disks = scene.max_disks();
         let population = self.population as f64;
         population * (4.0 * genes * 8.0 + disks * 24.0) + estimated_peak_bytes(scene)
     }

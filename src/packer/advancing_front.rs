@@ -272,7 +272,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let mut bound = vec![f32::INFINITY; first_packed];
         let wall_r = obs.iter().fold(0.0f64, |m, o| m.max(o.r));
         let r_max = (scene.d_max() / 2.0).max(wall_r);
-        let expected = (domain.area() / scene.mean_disk_area()).ceil() as usize;
+        let expected = scene.max_disks().ceil() as usize;
         obs.reserve(expected);
         witness.reserve(expected);
         bound.reserve(expected);

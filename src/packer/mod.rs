@@ -35,7 +35,7 @@ pub const PEAK_BYTES_PER_DISK: f64 = 100.0;
 /// Counts disks as if the domain were filled solid with disks of the
 /// grading's mean area (an upper bound), times [`PEAK_BYTES_PER_DISK`].
 pub fn estimated_peak_bytes(scene: &Scene) -> f64 {
-    scene.domain.area() / scene.mean_disk_area() * PEAK_BYTES_PER_DISK
+    scene.max_disks() * PEAK_BYTES_PER_DISK
 }
 
 /// Pack a scene with its packer's method (the advancing front by default),
