@@ -12,7 +12,7 @@ pub const PACKING_SVG: &str = "packing.svg";
 
 /// Width of the drawing in pixels; the height follows the domain's aspect.
 const WIDTH_PX: f64 = 800.0;
-/// Segments used to draw a circular domain.
+/// Segments of a circular domain's outline, in the drawings and the exports.
 pub(super) const CIRCLE_SEGMENTS: usize = 256;
 /// Margin around the drawing, as a fraction of its shorter side.
 const MARGIN: f64 = 0.03;

@@ -7,14 +7,12 @@ use super::common::{Text, disk_materials};
 use crate::config::ConfigName;
 use crate::geometry::{Domain, Point, Shape};
 use crate::output::json::summary;
+use crate::output::svg::CIRCLE_SEGMENTS;
 use crate::output::{OutputError, RunInfo};
 use crate::packer::{Metrics, Packing};
 
 /// File name of the packing as JSON.
 pub const PACKING_JSON: &str = "packing.json";
-
-/// Points on the outline of a circular domain.
-const CIRCLE_SEGMENTS: usize = 256;
 
 /// The domain's axis-aligned bounds (mm).
 #[derive(Serialize)]

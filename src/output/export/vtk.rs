@@ -6,6 +6,7 @@ use crate::config::ConfigName;
 use crate::layering::Material;
 use crate::output::OutputError;
 use crate::output::format::ExportOptions;
+use crate::output::svg::CIRCLE_SEGMENTS;
 use crate::packer::Packing;
 
 /// File name of the disks for ParaView.
@@ -13,9 +14,6 @@ pub const PACKING_VTK: &str = "packing.vtk";
 
 /// File name of the domain outline for ParaView.
 pub const BOUNDARY_VTK: &str = "boundary.vtk";
-
-/// Points on the outline of a circular domain.
-const CIRCLE_SEGMENTS: usize = 256;
 
 /// The packed disks (not the wall disks) as a legacy VTK file (version 3.0,
 /// ASCII POLYDATA) for ParaView and VisIt.
