@@ -46,7 +46,8 @@ pub(super) struct Placed<'a> {
     walls: WallMode,
     pub disks: Vec<Disk>,
     first_packed: usize,
-    grid: Grid,
+    /// Grid over the centres of `disks`, bucketed by `r_max`.
+    pub grid: Grid,
     pub r_max: f64,
     /// Radius of the wall disks (0 with exact walls).
     pub wall_r: f64,

@@ -32,8 +32,9 @@ pub fn pack_relaxation(scene: &Scene) -> Result<Packing, PackError> {
     check_fits(scene)?;
     let settings = scene.packer.relaxation;
     let domain = &scene.domain;
+    // Only the wall disks: they do not move.
     let placed = Placed::new(scene);
-    let walls: Vec<Disk> = placed.disks.clone();
+    let walls = &placed.disks;
     // Wall disks, centred on the boundary, take a strip half their diameter
     // wide from the area left to the particles: counting it keeps large wall
     // disks from crowding the domain with disks that cannot separate.
@@ -56,24 +57,14 @@ pub fn pack_relaxation(scene: &Scene) -> Result<Packing, PackError> {
         };
         disks.push(Disk { c, r });
     }
-    let r_max = placed.r_max;
     let mut stats = placed.stats;
     stats.sizes_drawn = disks.len() as u64;
-    // Wall disks do not move: one grid holds them for the whole run, queried
-    // as far as their own radius reaches. The moving disks get a grid per
-    // sweep sized by their own largest radius, so wall disks larger than the
-    // particles do not widen every query (a 5 mm wall disk made each sweep
-    // of 1 mm disks visit 25 times the neighbours).
-    let wall_r = walls.iter().fold(0.0f64, |m, d| m.max(d.r));
+    // Wall disks do not move: `placed`'s grid holds them for the whole run,
+    // queried as far as their own radius reaches. The moving disks get a
+    // grid per sweep sized by their own largest radius, so wall disks larger
+    // than the particles do not widen every query (a 5 mm wall disk made
+    // each sweep of 1 mm disks visit 25 times the neighbours).
     let r_moving = disks.iter().fold(0.0f64, |m, d| m.max(d.r));
-    let wall_grid = (!walls.is_empty()).then(|| {
-        let margin = Point::new(r_max, r_max).coords;
-        let mut grid = Grid::new(lo - margin, hi + margin, 2.0 * r_max);
-        for (id, d) in walls.iter().enumerate() {
-            grid.insert(id as u32, d.c);
-        }
-        grid
-    });
     let margin = Point::new(2.0 * r_moving, 2.0 * r_moving).coords;
     let mut push = vec![Point::origin().coords; n];
     for _ in 0..settings.iterations {
@@ -114,9 +105,11 @@ pub fn pack_relaxation(scene: &Scene) -> Result<Packing, PackError> {
                     Point::new(d.c.x + half, d.c.y + half),
                 )
             };
-            if let Some(walls_near) = &wall_grid {
-                let (qlo, qhi) = near(wall_r);
-                walls_near.visit_box(qlo, qhi, |j| repel(j as usize, walls[j as usize], 1.0));
+            if !walls.is_empty() {
+                let (qlo, qhi) = near(placed.wall_r);
+                placed
+                    .grid
+                    .visit_box(qlo, qhi, |j| repel(j as usize, walls[j as usize], 1.0));
             }
             let (qlo, qhi) = near(r_moving);
             grid.visit_box(qlo, qhi, |k| {
@@ -138,7 +131,7 @@ pub fn pack_relaxation(scene: &Scene) -> Result<Packing, PackError> {
             d.c += v;
         }
     }
-    let mut packing = Placed::new(scene).into_packing();
+    let mut packing = placed.into_packing();
     packing.disks = disks;
     packing.stats = stats;
     Ok(packing)
