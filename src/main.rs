@@ -132,9 +132,10 @@ struct OptimiseArgs {
 /// File name of a search's checkpoint, in the output directory.
 const CHECKPOINT_JSON: &str = "checkpoint.json";
 
-/// `checkpoint.json`: the search's state and what it belongs to.
+/// `checkpoint.json`: the search's state and what it belongs to. The search
+/// is borrowed when written, owned when read.
 #[derive(serde::Serialize, serde::Deserialize)]
-struct CheckpointFile {
+struct CheckpointFile<'a> {
     /// gapack version that wrote it.
     gapack_version: String,
     /// The config as given.
@@ -142,7 +143,7 @@ struct CheckpointFile {
     /// FNV-1a of the config text and the seed: a checkpoint resumes only the run it came from.
     identity: String,
     /// The search.
-    search: gapack::ga::Checkpoint,
+    search: std::borrow::Cow<'a, gapack::ga::Checkpoint>,
 }
 
 /// FNV-1a (64 bits) of the config's text and the seed, as hex.
@@ -174,7 +175,7 @@ fn read_checkpoint(out: &Path, identity: &str) -> Result<gapack::ga::Checkpoint,
             file.config
         )));
     }
-    Ok(file.search)
+    Ok(file.search.into_owned())
 }
 
 #[derive(Args)]
@@ -600,7 +601,7 @@ fn run_optimise(args: &OptimiseArgs) -> Result<(), Failure> {
                 gapack_version: env!("CARGO_PKG_VERSION").to_owned(),
                 config: args.config.display().to_string(),
                 identity: identity.clone(),
-                search: checkpoint.clone(),
+                search: std::borrow::Cow::Borrowed(checkpoint),
             };
             let saved = serde_json::to_vec(&file)
                 .context("cannot format the checkpoint")
