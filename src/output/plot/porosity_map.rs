@@ -51,6 +51,9 @@ pub struct PorosityMapChart {
     map: PorosityMap,
     /// The domain's outline (mm).
     outline: Vec<Point>,
+    /// Each cell's part inside the domain (mm), with its porosity (NaN where
+    /// masked); clipped once, drawn for every format.
+    cells: Vec<(Vec<(f64, f64)>, f64)>,
     /// Range of each axis (mm), widened beyond the grid on a thin domain.
     x: (f64, f64),
     y: (f64, f64),
@@ -88,8 +91,23 @@ pub fn porosity_map_chart(packing: &Packing) -> PorosityMapChart {
     } else {
         (lo, hi)
     };
+    let outline = packing.domain.outline(CIRCLE_SEGMENTS);
+    // Each cell clipped to the domain: the map fills it exactly.
+    let cells = map
+        .values
+        .iter()
+        .enumerate()
+        .filter_map(|(i, &v)| {
+            let (col, row) = (i % map.cols, i / map.cols);
+            let x0 = map.origin.x + col as f64 * map.cell;
+            let y0 = map.origin.y + row as f64 * map.cell;
+            let part = clip_polygon_box(&outline, x0, x0 + map.cell, y0, y0 + map.cell);
+            (!part.is_empty()).then(|| (part.iter().map(|p| (p.x, p.y)).collect(), v))
+        })
+        .collect();
     PorosityMapChart {
-        outline: packing.domain.outline(CIRCLE_SEGMENTS),
+        outline,
+        cells,
         x: (centre.0 - half_w, centre.0 + half_w),
         y: (centre.1 - half_h, centre.1 + half_h),
         plot: (plot_w as u32, plot_h as u32),
@@ -249,26 +267,14 @@ impl Drawable for PorosityMapChart {
             .label_style((FAMILY, 14))
             .axis_desc_style((FAMILY, 16))
             .draw()?;
-        let map = &self.map;
-        // Each cell is drawn clipped to the domain: the map fills it exactly.
-        let cells = map.values.iter().enumerate().filter_map(|(i, &v)| {
-            let (col, row) = (i % map.cols, i / map.cols);
-            let x0 = map.origin.x + col as f64 * map.cell;
-            let y0 = map.origin.y + row as f64 * map.cell;
-            let part = clip_polygon_box(&self.outline, x0, x0 + map.cell, y0, y0 + map.cell);
+        chart.draw_series(self.cells.iter().map(|(part, v)| {
             let fill = if v.is_finite() {
-                self.colour(v)
+                self.colour(*v)
             } else {
                 MASKED
             };
-            (!part.is_empty()).then(|| {
-                Polygon::new(
-                    part.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>(),
-                    fill.filled(),
-                )
-            })
-        });
-        chart.draw_series(cells)?;
+            Polygon::new(part.clone(), fill.filled())
+        }))?;
         let ring: Vec<(f64, f64)> = self
             .outline
             .iter()
