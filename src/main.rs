@@ -760,11 +760,7 @@ fn prepare(path: Option<&Path>, run: &RunArgs) -> Result<(Config, String, PathBu
     if let Some(seed) = run.seed {
         config.scene.seed = seed;
     }
-    let out = run
-        .out
-        .clone()
-        .or_else(|| config.output.dir.as_ref().map(PathBuf::from))
-        .unwrap_or_else(|| default_out(path));
+    let out = output_dir(run.out.as_deref(), &config, path);
     Ok((config, origin, out))
 }
 
@@ -908,6 +904,15 @@ fn load_config(path: Option<&Path>, force: bool) -> anyhow::Result<(Config, Stri
     let origin = path.display().to_string();
     let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {origin}"))?;
     Ok((config::parse_with(&text, &origin, options)?, origin))
+}
+
+/// Where a run of the config at `path` writes: `--out`, else `[output] dir`,
+/// else [`default_out`].
+fn output_dir(cli_out: Option<&Path>, config: &Config, path: Option<&Path>) -> PathBuf {
+    cli_out
+        .map(Path::to_path_buf)
+        .or_else(|| config.output.dir.as_ref().map(PathBuf::from))
+        .unwrap_or_else(|| default_out(path))
 }
 
 /// `out/<config file stem>`, or `out/default` for the embedded scene.

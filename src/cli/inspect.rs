@@ -14,7 +14,7 @@ use gapack::output::{PackingTable, diameter_range, read_packing_csv, write_pictu
 use gapack::packer::{PEAK_BYTES_PER_DISK, estimated_peak_bytes};
 use gapack::{Domain, Packing, Point, Scene, Shape};
 
-use crate::{Failure, default_out, load_config, report};
+use crate::{Failure, load_config, output_dir, report};
 
 /// `gapack validate` arguments.
 #[derive(Args)]
@@ -151,11 +151,7 @@ fn describe(config: &Config, path: &Path) -> Vec<String> {
             o.population
         ));
     }
-    let out = config
-        .output
-        .dir
-        .as_ref()
-        .map_or_else(|| default_out(Some(path)), PathBuf::from);
+    let out = output_dir(None, config, Some(path));
     let formats: Vec<&str> = config
         .output
         .formats
