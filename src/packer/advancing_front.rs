@@ -713,9 +713,14 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         if share > 0.0 && gap > 0.0 && !one_contact {
             self.gather_neighbours(f, r, gap);
         }
+        // A front too far from the walls for the largest radius is too far
+        // for every smaller one the bisection tries.
+        let front = self.obs[f as usize];
+        let reach = (front.r + 2.0 * r) * (1.0 + WALL_MARGIN_REL);
+        let near_wall = self.scene.domain.signed_distance(front.c) <= reach;
         let (mut lo, mut hi) = (self.r_min, r);
         let mut fits = |rho: f64| {
-            (share < 1.0 && self.fits_two_contacts(f, rho))
+            (share < 1.0 && self.fits_two_contacts(f, rho, near_wall))
                 || (share > 0.0 && self.free_arcs(f, rho, gap, Measure::Pseudo) > 0.0)
         };
         if !fits(lo) {
@@ -733,15 +738,16 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
     }
 
     /// Whether a disk of radius `r` has a feasible two-contact spot at front
-    /// `f` with the neighbours in `self.near` (or no candidate to judge by).
-    fn fits_two_contacts(&mut self, f: u32, r: f64) -> bool {
+    /// `f` with the neighbours in `self.near` (or no candidate to judge by);
+    /// the walls are tested only when `near_wall`.
+    fn fits_two_contacts(&mut self, f: u32, r: f64, near_wall: bool) -> bool {
         let clear = 1.0 - FEASIBLE_REL;
         for n in &mut self.near {
             let c = (r + n.disk.r) * clear;
             n.clear2 = c * c;
         }
-        self.tangent_candidates(f, r, true);
-        self.cands.is_empty() || self.cands.iter().any(|c| self.feasible(c, r, true))
+        self.tangent_candidates(f, r, near_wall);
+        self.cands.is_empty() || self.cands.iter().any(|c| self.feasible(c, r, near_wall))
     }
 
     /// Neighbours of front `f` whose halo, widened by `gap` radii, meets the
