@@ -144,3 +144,69 @@ pub fn run(
     }
     Ok(rows)
 }
+
+/// `gapack bench` arguments.
+#[derive(clap::Args)]
+pub struct BenchArgs {
+    /// Largest disk count measured: 10⁴, 10⁵ and 10⁶ up to this.
+    #[arg(long, default_value_t = 1_000_000, value_name = "N")]
+    max: u64,
+    /// Runs per configuration; the fastest is kept.
+    #[arg(long, default_value_t = 3, value_name = "N")]
+    repeats: usize,
+    /// Output directory for bench.csv.
+    #[arg(long, value_name = "DIR", default_value = "out/bench")]
+    out: std::path::PathBuf,
+}
+
+/// `gapack bench`: print one table row per measured configuration, then write bench.csv.
+pub fn run_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
+    use crate::cli::Failure;
+    use anyhow::Context;
+    use gapack::jobs::{DirStore, Store};
+    let targets: Vec<u64> = [10_000, 100_000, 1_000_000]
+        .into_iter()
+        .filter(|&n| n <= args.max)
+        .collect();
+    if targets.is_empty() {
+        return Err(Failure::Input(anyhow::anyhow!(
+            "--max {} is below the smallest benchmark (10000 disks)",
+            args.max
+        )));
+    }
+    println!(
+        "{:>9} {:>9} {:>12} {:>9} {:>9} {:>9} {:>12} {:>10}",
+        "target", "side_mm", "index", "disks", "porosity", "seconds", "disks/s", "bytes/disk"
+    );
+    let rows = run(&targets, args.repeats, |r| {
+        println!(
+            "{:>9} {:>9.1} {:>12} {:>9} {:>9.4} {:>9.3} {:>12.0} {:>10.1}",
+            r.target,
+            r.side_mm,
+            r.index,
+            r.disks,
+            r.porosity,
+            r.seconds,
+            r.disks_per_second,
+            r.peak_bytes_per_disk
+        );
+    })
+    .context("cannot run the benchmark")
+    .map_err(Failure::Run)?;
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for row in &rows {
+        w.serialize(row)
+            .context("cannot format bench.csv")
+            .map_err(Failure::Run)?;
+    }
+    let bytes = w
+        .into_inner()
+        .context("cannot format bench.csv")
+        .map_err(Failure::Run)?;
+    DirStore::new(&args.out)
+        .write(&[("bench.csv".to_owned(), bytes)])
+        .context("cannot write bench.csv")
+        .map_err(Failure::Run)?;
+    println!("{}", args.out.join("bench.csv").display());
+    Ok(())
+}

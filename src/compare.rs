@@ -8,7 +8,8 @@
 use std::time::Instant;
 
 use crate::Scene;
-use crate::packer::{IndexKind, Method, PackError, measure, pack};
+use crate::cancel::Cancel;
+use crate::packer::{IndexKind, Method, PackError, measure, pack_observed};
 
 /// `[compare]`: which methods, and how many seeds each.
 #[derive(Debug, Clone, PartialEq)]
@@ -110,7 +111,8 @@ pub struct CompareRun {
 }
 
 /// Run every variant of `settings` on `scene`, `repeats` seeds each from
-/// the scene's seed, calling `done` after each run (for progress).
+/// the scene's seed, calling `done` after each run (for progress). Once
+/// `cancel` is raised the runs finished so far are returned.
 ///
 /// # Errors
 /// The packer's, for a scene no disk of the grading fits in.
@@ -118,6 +120,7 @@ pub fn compare(
     scene: &Scene,
     settings: &CompareSettings,
     target: Option<f64>,
+    cancel: &Cancel,
     mut done: impl FnMut(&CompareRun),
 ) -> Result<Vec<CompareRun>, PackError> {
     let mut runs = Vec::new();
@@ -126,7 +129,11 @@ pub fn compare(
             let seed = scene.seed.wrapping_add(k);
             let s = variant.apply(scene, seed);
             let start = Instant::now();
-            let packing = pack(&s)?;
+            let packing = match pack_observed(&s, &mut |_| {}, cancel) {
+                Ok(packing) => packing,
+                Err(PackError::Cancelled(_)) => return Ok(runs),
+                Err(e) => return Err(e),
+            };
             let seconds = start.elapsed().as_secs_f64();
             let m = measure(&packing, &s);
             let run = CompareRun {
@@ -209,7 +216,7 @@ mod tests {
             methods: vec![Method::AdvancingFront, Method::Rsa],
             repeats: 2,
         };
-        let runs = compare(&scene, &settings, Some(0.3), |_| {}).unwrap();
+        let runs = compare(&scene, &settings, Some(0.3), &Cancel::new(), |_| {}).unwrap();
         assert_eq!(runs.len(), 10);
         let err = |r: &CompareRun| r.target_error.unwrap();
         let front = pareto(&runs, err);

@@ -9,6 +9,7 @@
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
+pub mod cancel;
 pub mod check;
 pub mod compare;
 pub mod config;
@@ -16,6 +17,7 @@ pub mod fracture;
 pub mod ga;
 pub mod geometry;
 pub mod grading;
+pub mod jobs;
 pub mod layering;
 pub mod output;
 pub mod packer;

@@ -14,16 +14,16 @@
 //! and keeps the sizes within the sampling noise of their number plus
 //! [`crate::check::KS_MARGIN`] of the grading. A case no disk fits in is refused, not failed.
 
-use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use crate::Scene;
+use crate::cancel::{Cancel, Cancelled};
 use crate::compare::Variant;
 use crate::geometry::predicates::OVERLAP_REL;
 use crate::geometry::{Domain, GeometryError, Point};
 use crate::grading::Grading;
 use crate::packer::index::{Grid, SpatialIndex};
-use crate::packer::{Method, PackError, Packing, measure, pack};
+use crate::packer::{Method, PackError, Packing, measure, pack_observed};
 
 /// Grading widths d_max/d_min swept.
 pub const RATIOS: [f64; 6] = [1.0, 1.1, 2.0, 4.0, 8.0, 16.0];
@@ -203,14 +203,16 @@ impl StabilityRun {
     }
 }
 
-/// Run `variants` on `cases` (all of them: [`Case::all`]), each run on its
-/// own thread and abandoned at `cap` (it finishes in the background; every
-/// generator terminates), calling `done` after each.
+/// Run `variants` on `cases` (all of them: [`Case::all`]), each run on
+/// the calling thread and stopped at `cap` (a deadline the generators
+/// honour), calling `done` after each. Once `cancel` is raised the runs
+/// finished so far are returned.
 pub fn sweep(
     base: &Scene,
     cases: &[Case],
     variants: &[Variant],
     cap: Duration,
+    cancel: &Cancel,
     mut done: impl FnMut(&StabilityRun),
 ) -> Vec<StabilityRun> {
     let mut runs = Vec::new();
@@ -218,7 +220,13 @@ pub fn sweep(
         let scene = case.scene(base);
         for &variant in variants {
             let run = match &scene {
-                Ok(scene) => run_one(case, variant, variant.apply(scene, scene.seed), cap),
+                Ok(scene) => {
+                    let scene = variant.apply(scene, scene.seed);
+                    match run_one(case, variant, &scene, &cancel.with_deadline(cap)) {
+                        Some(run) => run,
+                        None => return runs,
+                    }
+                }
                 Err(_) => StabilityRun {
                     status: Status::Refused,
                     seconds: 0.0,
@@ -232,35 +240,31 @@ pub fn sweep(
     runs
 }
 
-/// One run, capped.
-fn run_one(case: Case, variant: Variant, scene: Scene, cap: Duration) -> StabilityRun {
-    let (tx, rx) = mpsc::channel();
+/// One run, stopped at `capped`'s deadline (timed out); `None` when its flag is raised.
+fn run_one(case: Case, variant: Variant, scene: &Scene, capped: &Cancel) -> Option<StabilityRun> {
     let start = Instant::now();
-    let worker = scene.clone();
-    std::thread::spawn(move || {
-        let _ = tx.send(pack(&worker));
-    });
     let mut run = StabilityRun {
-        seconds: cap.as_secs_f64(),
+        seconds: start.elapsed().as_secs_f64(),
         ..StabilityRun::empty(case, variant)
     };
-    match rx.recv_timeout(cap) {
-        Ok(Ok(packing)) => {
+    match pack_observed(scene, &mut |_| {}, capped) {
+        Ok(packing) => {
             run.seconds = start.elapsed().as_secs_f64();
-            let m = measure(&packing, &scene);
+            let m = measure(&packing, scene);
             run.status = Status::Finished;
             run.particles = m.particles;
             run.max_overlap = m.max_overlap;
             run.psd_ks = m.psd_ks;
             run.empty = empty_share(&packing, scene.d_min(), scene.d_max());
         }
-        Ok(Err(PackError::DomainTooNarrow { .. })) => {
+        Err(PackError::DomainTooNarrow { .. }) => {
             run.status = Status::Refused;
             run.seconds = start.elapsed().as_secs_f64();
         }
-        Ok(Err(_)) | Err(_) => {}
+        Err(PackError::Cancelled(Cancelled::Flag)) => return None,
+        Err(_) => run.seconds = start.elapsed().as_secs_f64(),
     }
-    run
+    Some(run)
 }
 
 /// Share of the domain where a disk of `d_min` could be centred (sampled on
@@ -365,7 +369,14 @@ mod tests {
             width: 20.0,
         };
         let variants = Variant::expand(&[Method::AdvancingFront, Method::Relaxation]);
-        let runs = sweep(&base(), &[case], &variants, Duration::from_secs(60), |_| {});
+        let runs = sweep(
+            &base(),
+            &[case],
+            &variants,
+            Duration::from_secs(60),
+            &Cancel::new(),
+            |_| {},
+        );
         assert_eq!(runs.len(), 5);
         for r in &runs[..4] {
             assert!(r.passed(), "{r:?}");
@@ -386,7 +397,14 @@ mod tests {
             width: 20.0,
         };
         let variants = Variant::expand(&[Method::Relaxation]);
-        let runs = sweep(&base(), &[case], &variants, Duration::from_nanos(1), |_| {});
+        let runs = sweep(
+            &base(),
+            &[case],
+            &variants,
+            Duration::from_nanos(1),
+            &Cancel::new(),
+            |_| {},
+        );
         assert_eq!(runs[0].status, Status::TimedOut);
         assert!(!runs[0].passed());
     }

@@ -128,7 +128,7 @@ fn wells_match_the_thesis_and_windows_match_the_full_packs() {
                     well.name
                 );
             }
-            let window = settle(well, 0.005).unwrap();
+            let window = settle(well, 0.005, &gapack::cancel::Cancel::new()).unwrap();
             let last = window.last().unwrap();
             println!(
                 "{name} {}: window {:.1} mm, porosity {:.4} ± {:.4} (full {phi:.4}), {} of {} disks",

@@ -4,10 +4,10 @@
 
 mod common;
 
+use gapack::cancel::Cancel;
 use std::fs;
 use std::path::Path;
 use std::process::Command;
-use std::sync::atomic::AtomicBool;
 
 use common::{gapack, scratch};
 use gapack::config;
@@ -77,7 +77,7 @@ fn ga_is_never_worse_than_its_baseline_and_meets_the_goal() {
             &settings,
             cfg.materials.len(),
             cfg.scene.seed,
-            &AtomicBool::new(false),
+            &Cancel::new(),
             |_| {},
         );
         println!(
@@ -113,14 +113,7 @@ fn size_graded_packing_follows_its_profile() {
         scene.seed = seed;
         let packing = pack(&scene).unwrap();
         assert_eq!(packing.materials.len(), packing.disks.len());
-        let l = lay_out(
-            &packing,
-            &settings,
-            2,
-            seed,
-            &AtomicBool::new(false),
-            |_| {},
-        );
+        let l = lay_out(&packing, &settings, 2, seed, &Cancel::new(), |_| {});
         let m = measure(&packing, &scene);
         println!(
             "seed {seed}: {} disks, RMS {:.4}, KS {:.3}",

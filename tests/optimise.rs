@@ -5,10 +5,10 @@
 
 mod common;
 
+use gapack::cancel::Cancel;
 use std::fs;
 use std::path::Path;
 use std::process::Command;
-use std::sync::atomic::AtomicBool;
 use std::thread;
 use std::time::{Duration, Instant};
 
@@ -69,7 +69,7 @@ fn thesis_ap_runs_reach_the_target_with_the_grading_honoured() {
         let scene = cfg.scene;
         let problem = PorosityProblem::new(&scene, settings);
         let result = Search::start(&problem, Limits::from(&settings), scene.seed)
-            .run(&AtomicBool::new(false), |_| {});
+            .run(&Cancel::new(), |_| {});
         let packing = result.outcome.expect("a packing");
         let m = measure(&packing, &scene);
         println!(
@@ -105,8 +105,7 @@ fn a_tighter_grading_limit_is_honoured() {
     let cfg = config::parse(&text, "ap3-tight").unwrap();
     let settings = cfg.optimise.unwrap();
     let problem = PorosityProblem::new(&cfg.scene, settings);
-    let result =
-        Search::start(&problem, Limits::from(&settings), 2).run(&AtomicBool::new(false), |_| {});
+    let result = Search::start(&problem, Limits::from(&settings), 2).run(&Cancel::new(), |_| {});
     let m = measure(&result.outcome.unwrap(), &cfg.scene);
     assert!(m.psd_ks <= 0.03, "KS {}", m.psd_ks);
     assert!(

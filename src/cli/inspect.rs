@@ -1,30 +1,19 @@
-//! `gapack validate` and `gapack verify`: look at a config or a packing
-//! without packing anything.
+//! `gapack verify` and `gapack plot`: look at an existing packing without
+//! packing anything.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, anyhow};
 use clap::Args;
 use gapack::check::{Check, check};
-use gapack::config::{Config, ConfigName};
-use gapack::fracture::{Extent, MM_PER_M};
+use gapack::config::Config;
 use gapack::geometry::predicates::OVERLAP_REL;
 use gapack::layering::Material;
-use gapack::output::{PackingTable, diameter_range, read_packing_csv, write_pictures};
-use gapack::packer::{PEAK_BYTES_PER_DISK, estimated_peak_bytes};
-use gapack::{Domain, Packing, Point, Scene, Shape};
+use gapack::output::{PackingTable, diameter_range, read_packing_csv, render_pictures};
+use gapack::{Domain, Packing, Point, Scene};
 
-use crate::{Failure, load_config, output_dir, report};
-
-/// `gapack validate` arguments.
-#[derive(Args)]
-pub struct ValidateArgs {
-    /// Config (TOML) to check.
-    config: PathBuf,
-    /// Describe the scene even if it is over the config's [limits].
-    #[arg(long)]
-    force: bool,
-}
+use super::{Failure, load_config, report};
+use gapack::jobs::{DirStore, Store};
 
 /// `gapack verify` arguments.
 #[derive(Args)]
@@ -59,174 +48,10 @@ pub struct PlotArgs {
     quiet: bool,
 }
 
-/// `gapack validate`: the config's scene (or each well's) and what a run
-/// would write, without running it.
-pub fn run_validate(args: &ValidateArgs) -> Result<(), Failure> {
-    let (config, origin) = load_config(Some(&args.config), args.force).map_err(Failure::Input)?;
-    println!("{origin}: valid");
-    for line in describe(&config, &args.config) {
-        println!("  {line}");
-    }
-    Ok(())
-}
-
-/// What `gapack validate` prints: the job, the scenes, the outputs.
-fn describe(config: &Config, path: &Path) -> Vec<String> {
-    let scene = &config.scene;
-    let mut lines = Vec::new();
-    let job = if let Some(o) = &config.optimise {
-        format!(
-            "job: gapack optimise: target porosity {} ± {}, population {}, at most {} generations, {} s",
-            o.target_porosity, o.tolerance, o.population, o.generations, o.time_limit_s
-        )
-    } else if config.layering.is_some() {
-        "job: gapack layer (or gapack pack for the packing alone)".to_owned()
-    } else if let Some(run) = &config.fracture {
-        format!(
-            "job: gapack pack: {} fracture{}, {}",
-            run.wells.len(),
-            if run.wells.len() == 1 { "" } else { "s" },
-            match run.extent {
-                Extent::Full => "packed whole".to_owned(),
-                Extent::Window { tolerance } =>
-                    format!("representative windows (porosity tolerance {tolerance})"),
-            }
-        )
-    } else {
-        "job: gapack pack".to_owned()
-    };
-    lines.push(job);
-    if let Some(l) = &config.layering {
-        lines.push(format!(
-            "layering: {} material(s), {} along {}, {} bins",
-            config.materials.len(),
-            l.mode.config_name(),
-            l.axis.config_name(),
-            l.bins
-        ));
-    }
-    let g = &scene.grading;
-    lines.push(format!(
-        "grading: d {} to {} mm ({} basis, {} interpolation){}, seed {}",
-        tidy(scene.d_min()),
-        tidy(scene.d_max()),
-        g.basis().config_name(),
-        g.interpolation().config_name(),
-        if scene.gradient.is_some() {
-            ", size-graded"
-        } else {
-            ""
-        },
-        scene.seed
-    ));
-    lines.push(format!(
-        "packer: {}, {} index, {} rules, fill {}",
-        scene.packer.method.config_name(),
-        scene.packer.index.config_name(),
-        scene.packer.rules.config_name(),
-        scene.packer.fill.config_name()
-    ));
-    match &config.fracture {
-        Some(run) => {
-            for well in &run.wells {
-                let f = well.fracture;
-                let taper = f
-                    .tip_width
-                    .map_or(String::new(), |t| format!(" tapering to {} mm", tidy(t)));
-                lines.push(format!(
-                    "well {}: {} mm wide{taper}, {} m high; {}",
-                    well.name,
-                    tidy(f.width),
-                    tidy(f.length / MM_PER_M),
-                    scene_line(&well.scene)
-                ));
-            }
-        }
-        None => lines.push(format!("domain: {}", scene_line(scene))),
-    }
-    if let Some(o) = &config.optimise {
-        lines.push(format!(
-            "search memory: about {} ({} genomes)",
-            memory(o.peak_bytes(scene)),
-            o.population
-        ));
-    }
-    let out = output_dir(None, config, Some(path));
-    let formats: Vec<&str> = config
-        .output
-        .formats
-        .iter()
-        .map(|f| f.config_name())
-        .collect();
-    lines.push(format!(
-        "output: {} ({}; summary.json always)",
-        out.display(),
-        if formats.is_empty() {
-            "no format".to_owned()
-        } else {
-            formats.join(", ")
-        }
-    ));
-    lines
-}
-
-/// `rectangle 8.6 × 62.5 mm, area 537.5 mm², exact walls: about 340 disks (at most 430), peak memory 0.04 MB`.
-fn scene_line(scene: &Scene) -> String {
-    let domain = &scene.domain;
-    let shape = match domain.shape() {
-        Shape::Rectangle { width, height } => {
-            format!("rectangle {} × {} mm", tidy(*width), tidy(*height))
-        }
-        Shape::Polygon { vertices } => format!("polygon of {} vertices", vertices.len()),
-        Shape::Circle { radius, .. } => format!("circle of radius {} mm", tidy(*radius)),
-        Shape::Trapezoid {
-            bottom,
-            top,
-            height,
-        } => format!(
-            "trapezoid {} / {} × {} mm",
-            tidy(*bottom),
-            tidy(*top),
-            tidy(*height)
-        ),
-    };
-    let bytes = estimated_peak_bytes(scene);
-    format!(
-        "{shape}, area {} mm², walls {}: about {:.0} disks (at most {:.0}), peak memory about {}",
-        tidy(domain.area()),
-        scene.walls.config_name(),
-        scene.estimated_disks(),
-        bytes / PEAK_BYTES_PER_DISK,
-        memory(bytes)
-    )
-}
-
-/// `12 kB`, `1.6 MB`, `2.3 GB` (powers of 1024).
-fn memory(bytes: f64) -> String {
-    let kb = bytes / 1024.0;
-    if kb < 1024.0 {
-        format!("{kb:.0} kB")
-    } else if kb < 1024.0 * 1024.0 {
-        format!("{:.1} MB", kb / 1024.0)
-    } else {
-        format!("{:.1} GB", kb / (1024.0 * 1024.0))
-    }
-}
-
-/// Four significant digits, no trailing zeros.
-fn tidy(v: f64) -> String {
-    let s = format!("{}", (v * 1e4).round() / 1e4);
-    if v.abs() >= 1e4 || s.len() <= 8 {
-        s
-    } else {
-        format!("{v:.4}")
-    }
-}
-
 /// `gapack verify`: read the packing, check it against the config's domain
 /// and grading, print the findings; exit 1 when it fails.
 pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
-    let (config, origin) = load_config(Some(&args.config), true).map_err(Failure::Input)?;
+    let (config, origin) = load_config(&args.config, true)?;
     let scene = pick_scene(&config, args.well.as_deref(), &origin)?;
     let table = read_table(&args.packing)?;
     let graded = scene.gradient.is_some();
@@ -273,7 +98,7 @@ pub fn run_plot(args: &PlotArgs) -> Result<(), Failure> {
     let table = read_table(&args.packing)?;
     let loaded = match &args.config {
         // Nothing is packed: the [limits] do not apply.
-        Some(path) => Some(load_config(Some(path), true).map_err(Failure::Input)?),
+        Some(path) => Some(load_config(path, true)?),
         None => None,
     };
     let (packing, materials, diameters, grading) = match &loaded {
@@ -321,7 +146,11 @@ pub fn run_plot(args: &PlotArgs) -> Result<(), Failure> {
             .filter(|p| !p.as_os_str().is_empty())
             .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
     };
-    write_pictures(&dir, &packing, &materials, diameters, grading)
+    let files = render_pictures(&packing, &materials, diameters, grading)
+        .context("cannot draw the pictures")
+        .map_err(Failure::Run)?;
+    DirStore::new(&dir)
+        .write(&files)
         .context("cannot write the pictures")
         .map_err(Failure::Run)?;
     report(args.quiet, || {

@@ -18,10 +18,11 @@ use std::time::Instant;
 
 use super::{Fracture, Well};
 use crate::Scene;
+use crate::cancel::Cancel;
 use crate::geometry::predicates::{CONTACT_REL, area_disk_box, overlap_disk_disk};
 use crate::geometry::{Disk, GeometryError, Point};
 use crate::packer::index::{Grid, SpatialIndex};
-use crate::packer::{PackError, Packing, pack};
+use crate::packer::{PackError, Packing, pack_observed};
 
 /// Largest diameters left out of the measure at each end of a window.
 pub const END_DIAMETERS: f64 = 3.0;
@@ -101,9 +102,9 @@ impl Window {
 /// its core like any window); `settled` then says whether it settled.
 ///
 /// # Errors
-/// The packer's, for a window no disk fits in; the domain's, for a fracture
-/// whose sizes are not positive.
-pub fn settle(well: &Well, tolerance: f64) -> Result<Window, WindowError> {
+/// The packer's, for a window no disk fits in or once `cancel` is raised;
+/// the domain's, for a fracture whose sizes are not positive.
+pub fn settle(well: &Well, tolerance: f64, cancel: &Cancel) -> Result<Window, WindowError> {
     let start = Instant::now();
     let d_max = well.scene.d_max();
     let mut length = (FIRST_DIAMETERS * d_max).min(well.fracture.length);
@@ -115,7 +116,7 @@ pub fn settle(well: &Well, tolerance: f64) -> Result<Window, WindowError> {
             domain: cut.domain()?,
             ..well.scene.clone()
         };
-        let packing = pack(&scene)?;
+        let packing = pack_observed(&scene, &mut |_| {}, cancel)?;
         let step = measure_core(&packing, &cut, d_max, begun);
         let settled = steps.last().is_some_and(|prev| {
             (step.porosity - prev.porosity).abs() <= tolerance
@@ -290,7 +291,7 @@ mod tests {
     #[test]
     fn windows_double_until_settled_and_stay_short_of_a_long_fracture() {
         let w = well(4.0, 20000.0);
-        let window = settle(&w, 0.005).unwrap();
+        let window = settle(&w, 0.005, &Cancel::new()).unwrap();
         assert!(window.settled);
         let lengths: Vec<f64> = window.steps.iter().map(|s| s.length).collect();
         for pair in lengths.windows(2) {
@@ -308,7 +309,7 @@ mod tests {
     #[test]
     fn a_short_fracture_is_packed_whole() {
         let w = well(4.0, 30.0);
-        let window = settle(&w, 1e-6).unwrap();
+        let window = settle(&w, 1e-6, &Cancel::new()).unwrap();
         assert!(!window.settled);
         assert_eq!(window.last().unwrap().length, 30.0);
     }

@@ -35,7 +35,6 @@
 
 use std::collections::{BTreeSet, HashMap, HashSet};
 use std::rc::Rc;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use genevo::algorithm::EvaluatedPopulation;
@@ -52,6 +51,7 @@ use super::checkpoint::{
 use super::operators::{Crossover, Mutation};
 use super::score::{Fit, Score};
 use super::settings::OptimiseSettings;
+use crate::cancel::{Cancel, Cancelled};
 
 /// One immigrant per this many genomes of the population, each generation.
 const IMMIGRANT_SHARE: usize = 8;
@@ -74,6 +74,20 @@ pub trait Problem: Sync {
 
     /// Score a genome: a pure function of the genes it reads.
     fn evaluate(&self, genes: &[f64]) -> Evaluation<Self::Outcome>;
+
+    /// [`Problem::evaluate`], giving up once `cancel` is raised; problems
+    /// whose evaluations take long (a packing) look at it while they work.
+    ///
+    /// # Errors
+    /// [`Cancelled`] when `cancel` is raised.
+    fn evaluate_until(
+        &self,
+        genes: &[f64],
+        cancel: &Cancel,
+    ) -> Result<Evaluation<Self::Outcome>, Cancelled> {
+        cancel.check()?;
+        Ok(self.evaluate(genes))
+    }
 
     /// Whether a score is good enough to stop the search.
     fn reached(&self, score: &Score) -> bool;
@@ -260,16 +274,33 @@ pub struct Search<'a, P: Problem> {
 impl<'a, P: Problem> Search<'a, P> {
     /// Draw and evaluate generation 0 of a search seeded by `seed`.
     pub fn start(problem: &'a P, limits: Limits, seed: u64) -> Self {
+        match Search::start_until(problem, limits, seed, &Cancel::new()) {
+            Ok(search) => search,
+            // A token nobody holds is never raised: this arm is never taken.
+            Err(_) => Search::fresh(problem, limits, Xoshiro256PlusPlus::seed_from_u64(seed)),
+        }
+    }
+
+    /// [`Search::start`], giving up once `cancel` is raised.
+    ///
+    /// # Errors
+    /// [`Cancelled`] when `cancel` is raised before generation 0 is evaluated.
+    pub fn start_until(
+        problem: &'a P,
+        limits: Limits,
+        seed: u64,
+        cancel: &Cancel,
+    ) -> Result<Self, Cancelled> {
         let mut search = Search::fresh(problem, limits, Xoshiro256PlusPlus::seed_from_u64(seed));
         let population = search.limits.population.max(2);
         let genomes: Vec<Vec<f64>> = (0..population)
             .map(|i| problem.initial(i, population, &mut search.rng))
             .collect();
-        let members = search.evaluate(genomes);
+        let members = search.evaluate(genomes, cancel)?;
         search.initial = members.iter().map(|m| m.score).collect();
         search.reinsert(members);
         search.record(0);
-        search
+        Ok(search)
     }
 
     /// A search with its operators and no genomes yet.
@@ -313,21 +344,18 @@ impl<'a, P: Problem> Search<'a, P> {
     }
 
     /// Run generations until a stop rule holds; `stop` is polled between
-    /// generations, `progress` gets generation 0 and then each generation.
-    pub fn run(
-        self,
-        stop: &AtomicBool,
-        progress: impl FnMut(&Generation),
-    ) -> Evolution<P::Outcome> {
+    /// generations and inside evaluations (a generation cut short is
+    /// dropped whole), `progress` gets generation 0 and then each generation.
+    pub fn run(self, stop: &Cancel, progress: impl FnMut(&Generation)) -> Evolution<P::Outcome> {
         self.run_saving(stop, progress, 0, |_| {})
     }
 
     /// [`Search::run`], handing `save` a [`Checkpoint`] after every `every`-th
-    /// generation (never for 0) and when the stop flag ends the search, so
+    /// generation (never for 0) and when the stop token ends the search, so
     /// that [`Search::resume`] can go on from there.
     pub fn run_saving(
         mut self,
-        stop: &AtomicBool,
+        stop: &Cancel,
         mut progress: impl FnMut(&Generation),
         every: usize,
         mut save: impl FnMut(&Checkpoint),
@@ -340,7 +368,7 @@ impl<'a, P: Problem> Search<'a, P> {
             if self.problem.reached(&self.best.1) {
                 break StopReason::Reached;
             }
-            if stop.load(Ordering::Relaxed) {
+            if stop.is_cancelled() {
                 save(&self.checkpoint());
                 break StopReason::Interrupted;
             }
@@ -353,7 +381,11 @@ impl<'a, P: Problem> Search<'a, P> {
             if self.start.elapsed() >= self.limits.time_limit {
                 break StopReason::TimeLimit;
             }
-            self.step();
+            if self.step(stop).is_err() {
+                // The state is that of the last whole generation.
+                save(&self.checkpoint());
+                break StopReason::Interrupted;
+            }
             self.record(generation);
             if let Some(g) = self.history.last() {
                 progress(g);
@@ -461,10 +493,12 @@ impl<'a, P: Problem> Search<'a, P> {
     }
 
     /// One generation: select, breed, evaluate the new children, reinsert.
-    fn step(&mut self) {
+    /// Cancelled, it leaves the search as it was (the random stream too).
+    fn step(&mut self, cancel: &Cancel) -> Result<(), Cancelled> {
         let before = self.best.1;
+        let rng = self.rng.clone();
         let (Some(first), Some(last)) = (self.population.first(), self.population.last()) else {
-            return; // generation 0 always leaves genomes; nothing to breed from otherwise
+            return Ok(()); // generation 0 always leaves genomes; nothing to breed from otherwise
         };
         let (first, last) = (Fit(first.score), Fit(last.score));
         let offspring = {
@@ -502,18 +536,30 @@ impl<'a, P: Problem> Search<'a, P> {
             }
             offspring
         };
-        let members = self.evaluate(offspring);
+        let members = match self.evaluate(offspring, cancel) {
+            Ok(members) => members,
+            Err(why) => {
+                self.rng = rng;
+                return Err(why);
+            }
+        };
         self.reinsert(members);
         if self.best.1.improves_on(&before) {
             self.stagnant = 0;
         } else {
             self.stagnant += 1;
         }
+        Ok(())
     }
 
     /// Score `genomes`: known phenotypes from memory, the others evaluated
     /// in parallel (each distinct genome once); the best outcome is kept.
-    fn evaluate(&mut self, genomes: Vec<Vec<f64>>) -> Vec<Member> {
+    /// Cancelled, nothing is recorded.
+    fn evaluate(
+        &mut self,
+        genomes: Vec<Vec<f64>>,
+        cancel: &Cancel,
+    ) -> Result<Vec<Member>, Cancelled> {
         let known: Vec<Option<Key>> = genomes.iter().map(|g| self.known(g)).collect();
         let mut fresh = HashSet::new();
         let todo: Vec<usize> = (0..genomes.len())
@@ -522,8 +568,8 @@ impl<'a, P: Problem> Search<'a, P> {
         let problem = self.problem;
         let results: Vec<Evaluation<P::Outcome>> = todo
             .par_iter()
-            .map(|&i| problem.evaluate(&genomes[i]))
-            .collect();
+            .map(|&i| problem.evaluate_until(&genomes[i], cancel))
+            .collect::<Result<_, _>>()?;
         self.evaluations += results.len() as u64;
         let mut keys = known;
         for (&i, e) in todo.iter().zip(results) {
@@ -539,7 +585,7 @@ impl<'a, P: Problem> Search<'a, P> {
                 self.best = (genomes[i].clone(), e.score, e.outcome);
             }
         }
-        genomes
+        Ok(genomes
             .into_iter()
             .zip(keys)
             .filter_map(|(genes, key)| {
@@ -548,7 +594,7 @@ impl<'a, P: Problem> Search<'a, P> {
                 let score = self.seen.get(&key).copied()?;
                 Some(Member { genes, key, score })
             })
-            .collect()
+            .collect())
     }
 
     /// The key of an evaluated phenotype `genes` belongs to, if any.
@@ -676,7 +722,7 @@ mod tests {
         };
         let search = Search::start(&problem, limits(), 1);
         let first = search.initial()[0];
-        let result = search.run(&AtomicBool::new(false), |_| {});
+        let result = search.run(&Cancel::new(), |_| {});
         assert!(result.best.cmp_quality(&first).is_le());
         assert!((result.outcome - 0.3).abs() < 0.02, "{}", result.outcome);
         let calls = problem.calls.into_inner().unwrap();
@@ -704,14 +750,21 @@ mod tests {
         let problem = Mean {
             calls: Mutex::new(Vec::new()),
         };
-        let stopped = Search::start(&problem, limits(), 2).run(&AtomicBool::new(true), |_| {});
+        let stopped = Search::start(&problem, limits(), 2).run(
+            &{
+                let c = Cancel::new();
+                c.cancel();
+                c
+            },
+            |_| {},
+        );
         assert_eq!(stopped.stop, StopReason::Interrupted);
         assert_eq!(stopped.history.len(), 1);
         let short = Limits {
             generations: 3,
             ..limits()
         };
-        let r = Search::start(&problem, short, 2).run(&AtomicBool::new(false), |_| {});
+        let r = Search::start(&problem, short, 2).run(&Cancel::new(), |_| {});
         assert!(matches!(
             r.stop,
             StopReason::Generations | StopReason::Reached
@@ -729,9 +782,7 @@ mod tests {
                 .num_threads(threads)
                 .build()
                 .unwrap();
-            pool.install(|| {
-                Search::start(&problem, limits(), 9).run(&AtomicBool::new(false), |_| {})
-            })
+            pool.install(|| Search::start(&problem, limits(), 9).run(&Cancel::new(), |_| {}))
         };
         let (a, b) = (run(1), run(3));
         assert_eq!(a.genes, b.genes);
@@ -750,7 +801,7 @@ mod tests {
             stagnation: 100,
             ..limits()
         };
-        let go = AtomicBool::new(false);
+        let go = Cancel::new();
         let without = |h: &[Generation]| -> Vec<Generation> {
             h.iter()
                 .map(|g| Generation { seconds: 0.0, ..*g })
@@ -784,7 +835,8 @@ mod tests {
         }
         // An interrupted search saves where it stopped.
         let mut at_stop = None;
-        let stop = AtomicBool::new(true);
+        let stop = Cancel::new();
+        stop.cancel();
         let _ = Search::start(&problem, limits, 4).run_saving(
             &stop,
             |_| {},

@@ -13,7 +13,6 @@
 //! and copies of it with a few particles changed, so the search starts from
 //! the baseline and, with (μ + λ) survival, never ends worse than it.
 
-use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 use rand::Rng;
@@ -21,6 +20,7 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 
 use super::engine::{Evaluation, Generation, Limits, Problem, Search, StopReason};
 use super::score::Score;
+use crate::cancel::Cancel;
 use crate::layering::{
     BinAreas, Frame, LayeringMode, LayeringSettings, ProfileRow, baseline, profile_rows, rms_error,
 };
@@ -161,7 +161,7 @@ pub fn lay_out(
     settings: &LayeringSettings,
     materials: usize,
     seed: u64,
-    stop: &AtomicBool,
+    stop: &Cancel,
     progress: impl FnMut(&Generation),
 ) -> Layered {
     let materials = materials.max(1);

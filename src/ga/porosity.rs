@@ -35,7 +35,8 @@ use super::engine::{Evaluation, Problem, Variation};
 use super::score::Score;
 use super::settings::OptimiseSettings;
 use crate::Scene;
-use crate::packer::{MAX_DEFERRED, MAX_GAP, Packing, pack_genes, size_count};
+use crate::cancel::{Cancel, Cancelled};
+use crate::packer::{MAX_DEFERRED, MAX_GAP, PackError, Packing, pack_genes_watched, size_count};
 
 /// Packing-rule genes after the grading genes: one-contact share, gap /
 /// [`MAX_GAP`], then 1 − max_deferred / [`MAX_DEFERRED`].
@@ -101,6 +102,17 @@ impl<'a> PorosityProblem<'a> {
     }
 }
 
+impl PorosityProblem<'_> {
+    /// The evaluation of a genome whose scene cannot be packed.
+    fn unpacked(&self) -> Evaluation<Option<Packing>> {
+        Evaluation {
+            score: Score::WORST,
+            outcome: None,
+            read: self.sizes,
+        }
+    }
+}
+
 impl Problem for PorosityProblem<'_> {
     type Outcome = Option<Packing>;
 
@@ -132,13 +144,22 @@ impl Problem for PorosityProblem<'_> {
     }
 
     fn evaluate(&self, genes: &[f64]) -> Evaluation<Option<Packing>> {
+        // A token nobody else holds is never raised.
+        self.evaluate_until(genes, &Cancel::new())
+            .unwrap_or_else(|_| self.unpacked())
+    }
+
+    fn evaluate_until(
+        &self,
+        genes: &[f64],
+        cancel: &Cancel,
+    ) -> Result<Evaluation<Option<Packing>>, Cancelled> {
         let scene = self.scene_of(genes);
-        let Ok(packing) = pack_genes(&scene, genes[..self.sizes].iter().copied()) else {
-            return Evaluation {
-                score: Score::WORST,
-                outcome: None,
-                read: self.sizes,
-            };
+        let sizes = genes[..self.sizes].iter().copied();
+        let packing = match pack_genes_watched(&scene, sizes, &mut |_| {}, cancel) {
+            Ok(packing) => packing,
+            Err(PackError::Cancelled(why)) => return Err(why),
+            Err(_) => return Ok(self.unpacked()),
         };
         let solid: f64 = packing.disks.iter().map(|d| d.area()).sum();
         let porosity = 1.0 - solid / packing.domain.area();
@@ -148,11 +169,11 @@ impl Problem for PorosityProblem<'_> {
             error: (porosity - self.settings.target_porosity).powi(2),
             value: porosity,
         };
-        Evaluation {
+        Ok(Evaluation {
             score,
             read: packing.stats.sizes_drawn as usize,
             outcome: Some(packing),
-        }
+        })
     }
 
     fn reached(&self, score: &Score) -> bool {

@@ -1,8 +1,10 @@
-//! Writers: the only library module that touches files.
+//! Renderers: every output file of a run made in memory, and the atomic
+//! writes a file store uses to put a set of them in place.
 //!
-//! One file per format; each renders to memory first, and
-//! [`write_outputs`] then writes the whole set atomically (all temporary
-//! files first, then all renames), so a failure leaves no new output behind.
+//! One file per format; [`render_outputs`] makes a run's whole set after an
+//! independent check of the packing, and [`write_all_atomic`] writes a set
+//! (all temporary files first, then all renames), so a failure leaves no new
+//! output behind.
 
 mod atomic;
 mod csv;
@@ -37,8 +39,8 @@ pub use plot::{
 };
 pub use read::{PackingTable, ReadError, read_packing_csv};
 pub use run::{
-    COMPARE_PNG, COMPARE_SVG, CONVERGENCE_PNG, CONVERGENCE_SVG, FractureInfo, PROFILE_PNG,
-    PROFILE_SVG, RunInfo, STABILITY_PNG, STABILITY_SVG, WINDOW_PNG, WINDOW_SVG, write_compare,
-    write_outputs, write_pictures, write_stability, write_table,
+    COMPARE_PNG, COMPARE_SVG, CONVERGENCE_PNG, CONVERGENCE_SVG, Files, FractureInfo, PROFILE_PNG,
+    PROFILE_SVG, RunInfo, STABILITY_PNG, STABILITY_SVG, WINDOW_PNG, WINDOW_SVG, render_compare,
+    render_outputs, render_pictures, render_stability,
 };
 pub use svg::{PACKING_SVG, diameter_range, packing_svg};

@@ -1,9 +1,5 @@
 //! Writing the outputs of a run, as one atomic set.
 
-use std::fs;
-use std::path::{Path, PathBuf};
-
-use super::atomic::write_all_atomic;
 use super::csv::{COMPARE_CSV, STABILITY_CSV, compare_csv, stability_csv};
 use super::csv::{
     CONVERGENCE_CSV, PACKING_CSV, PROFILE_CSV, WINDOW_CSV, convergence_csv, packing_csv,
@@ -48,21 +44,23 @@ pub const COMPARE_SVG: &str = "compare.svg";
 /// File name of the comparison chart as an image.
 pub const COMPARE_PNG: &str = "compare.png";
 
-/// Write a comparison into `dir` atomically: `compare.csv`, `compare.svg`, `compare.png`.
+/// The files of a run: a name relative to the run's folder and the bytes.
+pub type Files = Vec<(String, Vec<u8>)>;
+
+/// The files of a comparison: `compare.csv`, `compare.svg`, `compare.png`.
 ///
 /// # Errors
-/// [`OutputError`] naming the directory or file and the cause.
-pub fn write_compare(dir: &Path, runs: &[CompareRun], has_target: bool) -> Result<(), OutputError> {
+/// [`OutputError`] when a table or chart cannot be made.
+pub fn render_compare(runs: &[CompareRun], has_target: bool) -> Result<Files, OutputError> {
     let chart = CompareChart {
         runs: runs.to_vec(),
         has_target,
     };
-    let files = [
-        (dir.join(COMPARE_CSV), compare_csv(runs)?),
-        (dir.join(COMPARE_SVG), chart.to_svg()?.into_bytes()),
-        (dir.join(COMPARE_PNG), chart.to_png()?),
-    ];
-    write_set(dir, &files)
+    Ok(vec![
+        (COMPARE_CSV.to_owned(), compare_csv(runs)?),
+        (COMPARE_SVG.to_owned(), chart.to_svg()?.into_bytes()),
+        (COMPARE_PNG.to_owned(), chart.to_png()?),
+    ])
 }
 
 /// File name of the stability map.
@@ -70,20 +68,19 @@ pub const STABILITY_SVG: &str = "stability.svg";
 /// File name of the stability map as an image.
 pub const STABILITY_PNG: &str = "stability.png";
 
-/// Write a stability sweep into `dir` atomically: `stability.csv`, `stability.svg`, `stability.png`.
+/// The files of a stability sweep: `stability.csv`, `stability.svg`, `stability.png`.
 ///
 /// # Errors
-/// [`OutputError`] naming the directory or file and the cause.
-pub fn write_stability(dir: &Path, runs: &[StabilityRun]) -> Result<(), OutputError> {
+/// [`OutputError`] when a table or chart cannot be made.
+pub fn render_stability(runs: &[StabilityRun]) -> Result<Files, OutputError> {
     let chart = StabilityChart {
         runs: runs.to_vec(),
     };
-    let files = [
-        (dir.join(STABILITY_CSV), stability_csv(runs)?),
-        (dir.join(STABILITY_SVG), chart.to_svg()?.into_bytes()),
-        (dir.join(STABILITY_PNG), chart.to_png()?),
-    ];
-    write_set(dir, &files)
+    Ok(vec![
+        (STABILITY_CSV.to_owned(), stability_csv(runs)?),
+        (STABILITY_SVG.to_owned(), chart.to_svg()?.into_bytes()),
+        (STABILITY_PNG.to_owned(), chart.to_png()?),
+    ])
 }
 
 /// File name of a fracture window's chart.
@@ -146,7 +143,7 @@ impl<'a> RunInfo<'a> {
     }
 }
 
-/// Write the outputs of a run into `dir`, as `run.output` asks:
+/// The outputs of a run, as `run.output` asks:
 /// `summary.json` always; `csv`: `packing.csv` and the run's tables
 /// (`convergence.csv` with a search, `profile.csv` with layering,
 /// `window.csv` with a fracture window); `json`: `packing.json`; `vtk`:
@@ -155,24 +152,26 @@ impl<'a> RunInfo<'a> {
 /// against the target (`psd`), its local porosity (`porosity_map`) and the
 /// run's charts.
 ///
-/// `dir` is created if needed. Everything is rendered in memory first and
-/// the files are written as one atomic set: on failure none of them is new,
-/// and a directory created for them is removed again.
+/// Everything is rendered in memory, after the packing has passed an
+/// independent check; a store then writes the files as one atomic set.
 ///
 /// # Errors
-/// [`OutputError`] naming the directory or file and the cause.
-pub fn write_outputs(
-    dir: &Path,
+/// [`OutputError::Invalid`] when the packing fails the check, or another
+/// [`OutputError`] when a file cannot be made.
+pub fn render_outputs(
     packing: &Packing,
     metrics: &Metrics,
     run: &RunInfo<'_>,
-) -> Result<(), OutputError> {
+) -> Result<Files, OutputError> {
     confirm(packing, metrics)?;
     let out = run.output;
     let materials = run.materials;
     let opts = &out.export;
-    let mut files = vec![(dir.join(SUMMARY_JSON), summary_json(packing, metrics, run)?)];
-    let mut add = |name: &str, bytes: Vec<u8>| files.push((dir.join(name), bytes));
+    let mut files = vec![(
+        SUMMARY_JSON.to_owned(),
+        summary_json(packing, metrics, run)?,
+    )];
+    let mut add = |name: &str, bytes: Vec<u8>| files.push((name.to_owned(), bytes));
     if out.wants(Format::Csv) {
         add(PACKING_CSV, packing_csv(packing, materials)?);
     }
@@ -231,7 +230,7 @@ pub fn write_outputs(
         let chart = window_chart(&window.steps, tolerance, &well.name);
         pictures.chart((WINDOW_SVG, WINDOW_PNG), &chart)?;
     }
-    write_set(dir, &files)
+    Ok(files)
 }
 
 /// Largest difference between the summary's porosity and the one the check
@@ -335,51 +334,26 @@ impl<F: FnMut(&str, Vec<u8>)> Pictures<'_, F> {
     }
 }
 
-/// Write the pictures of an existing packing into `dir` atomically:
-/// `packing`, `psd` and `porosity_map`, each as SVG and PNG. `diameters`
-/// spans the colour scale; `grading`, if known, is the target of the PSD chart.
+/// The pictures of an existing packing: `packing`, `psd` and
+/// `porosity_map`, each as SVG and PNG. `diameters` spans the colour scale;
+/// `grading`, if known, is the target of the PSD chart.
 ///
 /// # Errors
-/// [`OutputError`] naming the directory or file and the cause.
-pub fn write_pictures(
-    dir: &Path,
+/// [`OutputError`] when a picture cannot be made.
+pub fn render_pictures(
     packing: &Packing,
     materials: &[Material],
     diameters: (f64, f64),
     grading: Option<&Grading>,
-) -> Result<(), OutputError> {
+) -> Result<Files, OutputError> {
     let out = OutputSettings {
         formats: vec![Format::Svg, Format::Png],
         ..OutputSettings::default()
     };
     let mut files = Vec::new();
-    let add = |name: &str, bytes: Vec<u8>| files.push((dir.join(name), bytes));
+    let add = |name: &str, bytes: Vec<u8>| files.push((name.to_owned(), bytes));
     Pictures { out: &out, add }.packing(packing, materials, diameters, grading)?;
-    write_set(dir, &files)
-}
-
-/// Write one table (`wells.csv`) into `dir` atomically, creating `dir` if needed.
-///
-/// # Errors
-/// [`OutputError`] naming the directory or file and the cause.
-pub fn write_table(dir: &Path, name: &str, bytes: Vec<u8>) -> Result<(), OutputError> {
-    write_set(dir, &[(dir.join(name), bytes)])
-}
-
-/// Create `dir` if needed and write `files` atomically; a directory created
-/// here is removed again if the writing fails.
-fn write_set(dir: &Path, files: &[(PathBuf, Vec<u8>)]) -> Result<(), OutputError> {
-    let created = !dir.exists();
-    fs::create_dir_all(dir).map_err(|source| OutputError::CreateDir {
-        path: dir.to_path_buf(),
-        source,
-    })?;
-    let written = write_all_atomic(files);
-    if written.is_err() && created {
-        // Only succeeds if the directory is still empty, as it should be.
-        let _ = fs::remove_dir(dir);
-    }
-    written
+    Ok(files)
 }
 
 #[cfg(test)]
@@ -387,12 +361,6 @@ mod tests {
     use super::*;
     use crate::geometry::{Disk, Point};
     use crate::{measure, pack};
-
-    fn scratch(name: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("gapack-run-{name}-{}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        dir
-    }
 
     fn config() -> crate::config::Config {
         crate::config::parse(
@@ -407,11 +375,9 @@ mod tests {
         let config = config();
         let packing = pack(&config.scene).expect("packs");
         let metrics = measure(&packing, &config.scene);
-        let dir = scratch("valid");
         let run = RunInfo::new(&config.scene, "t.toml", 0.0, &config.output);
-        write_outputs(&dir, &packing, &metrics, &run).expect("written");
-        assert!(dir.join(PACKING_CSV).exists());
-        let _ = fs::remove_dir_all(&dir);
+        let files = render_outputs(&packing, &metrics, &run).expect("rendered");
+        assert!(files.iter().any(|(name, _)| name == PACKING_CSV));
     }
 
     #[test]
@@ -440,12 +406,10 @@ mod tests {
                 (p, "the summary counts")
             },
         ];
-        for (i, (packing, expected)) in faults.into_iter().enumerate() {
-            let dir = scratch(&format!("fault{i}"));
-            let err = write_outputs(&dir, &packing, &metrics, &run).expect_err(expected);
+        for (packing, expected) in faults {
+            let err = render_outputs(&packing, &metrics, &run).expect_err(expected);
             assert!(matches!(err, OutputError::Invalid(_)), "{err}");
             assert!(err.to_string().contains(expected), "{err}");
-            assert!(!dir.exists(), "nothing may be written");
         }
     }
 }

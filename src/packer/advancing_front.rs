@@ -64,6 +64,7 @@
 
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
+use std::cell::Cell;
 use std::collections::VecDeque;
 
 use super::arcs::{Arcs, Measure};
@@ -71,6 +72,7 @@ use super::index::{Grid, MxQuadtree, SpatialIndex};
 use super::sizer::Sizer;
 use super::{Fill, FrontRules, IndexKind, PackError, PackStats, Packing};
 use crate::Scene;
+use crate::cancel::Cancel;
 use crate::geometry::predicates::{
     FEASIBLE_REL, WITNESS_REL, chord_of_offset, clear_disk_disk, clear_disk_walls,
     intersect_circle_circle, intersect_circle_line, max_radius_ray_disk,
@@ -103,23 +105,54 @@ pub fn size_count(domain: &Domain, d_min: f64) -> u64 {
     (domain.area() / a_min).ceil() as u64
 }
 
-/// Sizes drawn between two calls of a packing's progress callback.
+/// Sizes drawn between two calls of a packing's progress callback, and
+/// between two looks at its cancel token.
 pub const PROGRESS_STEP: u64 = 4096;
 
 /// Pack a scene with the advancing-front generator, sizes drawn from its
 /// grading; `progress` is told the sizes drawn so far every [`PROGRESS_STEP`].
-pub fn pack(scene: &Scene, progress: &mut dyn FnMut(u64)) -> Result<Packing, PackError> {
+///
+/// # Errors
+/// As [`pack_genes`], and [`PackError::Cancelled`] once `cancel` is raised.
+pub fn pack(
+    scene: &Scene,
+    progress: &mut dyn FnMut(u64),
+    cancel: &Cancel,
+) -> Result<Packing, PackError> {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(scene.seed);
     let count = size_count(&scene.domain, scene.d_min());
-    pack_genes(
-        scene,
-        (0..count).map(move |i| {
-            if i % PROGRESS_STEP == 0 {
-                progress(i);
+    let genes = (0..count).map(move |_| rng.r#gen::<f64>());
+    pack_genes_watched(scene, genes, progress, cancel)
+}
+
+/// [`pack_genes`], telling `progress` how many genes were read every
+/// [`PROGRESS_STEP`] and stopping once `cancel` is raised.
+///
+/// # Errors
+/// As [`pack_genes`], and [`PackError::Cancelled`] when stopped.
+pub fn pack_genes_watched(
+    scene: &Scene,
+    genes: impl Iterator<Item = f64>,
+    progress: &mut dyn FnMut(u64),
+    cancel: &Cancel,
+) -> Result<Packing, PackError> {
+    let stopped = Cell::new(None);
+    let watched = genes.enumerate().map_while(|(i, u)| {
+        let i = i as u64;
+        if i.is_multiple_of(PROGRESS_STEP) {
+            progress(i);
+            if let Err(why) = cancel.check() {
+                stopped.set(Some(why));
+                return None;
             }
-            rng.r#gen::<f64>()
-        }),
-    )
+        }
+        Some(u)
+    });
+    let packing = pack_genes(scene, watched);
+    match stopped.get() {
+        Some(why) => Err(why.into()),
+        None => packing,
+    }
 }
 
 /// Pack a scene with the sizes drawn by the given genes, in order: each gene

@@ -17,12 +17,15 @@
 //! disks do not overlap. The run stops when a size finds no column whose
 //! top it can start from: the pile has reached the top of the domain.
 
+use std::cell::Cell;
+
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
-use super::placed::{POSITION_STREAM, Placed, check_fits, radii};
+use super::placed::{POSITION_STREAM, Placed, check_fits, radii, unless_stopped};
 use super::{PackError, Packing};
 use crate::Scene;
+use crate::cancel::Cancel;
 use crate::geometry::predicates::{intersect_circle_circle, intersect_circle_line};
 use crate::geometry::{Disk, Point, Wall};
 
@@ -40,7 +43,8 @@ const EPS: f64 = 1e-9;
 /// # Errors
 /// [`PackError::DomainTooNarrow`] when no disk of the grading fits;
 /// [`PackError::TooManyWallDisks`] when the wall disks would be too many.
-pub fn pack_deposition(scene: &Scene) -> Result<Packing, PackError> {
+pub fn pack_deposition(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackError> {
+    let stopped = Cell::new(None);
     check_fits(scene)?;
     let mut placed = Placed::new(scene);
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(scene.seed ^ POSITION_STREAM);
@@ -53,7 +57,7 @@ pub fn pack_deposition(scene: &Scene) -> Result<Packing, PackError> {
             Wall::Circle { .. } => None,
         })
         .collect();
-    'sizes: for r in radii(scene) {
+    'sizes: for r in radii(scene, cancel, &stopped) {
         placed.stats.sizes_drawn += 1;
         for _ in 0..START_TRIES {
             let x = lo.x + r + (hi.x - lo.x - 2.0 * r).max(0.0) * rng.r#gen::<f64>();
@@ -79,7 +83,7 @@ pub fn pack_deposition(scene: &Scene) -> Result<Packing, PackError> {
         placed.stats.sizes_unplaced += 1;
         break;
     }
-    Ok(placed.into_packing())
+    unless_stopped(placed.into_packing(), &stopped)
 }
 
 /// The highest point of the vertical line at `x` where a disk of radius `r`

@@ -13,7 +13,7 @@ mod rsa;
 mod settings;
 mod sizer;
 
-pub use advancing_front::{PROGRESS_STEP, pack_genes, size_count};
+pub use advancing_front::{PROGRESS_STEP, pack_genes, pack_genes_watched, size_count};
 pub use deposition::pack_deposition;
 pub use metrics::{Metrics, measure};
 pub use packing::{PackError, PackStats, Packing};
@@ -26,6 +26,7 @@ pub use settings::{
 };
 
 use crate::Scene;
+use crate::cancel::Cancel;
 
 /// Upper bound of the packer's peak memory per disk (bytes), checked by `gapack bench`.
 pub const PEAK_BYTES_PER_DISK: f64 = 100.0;
@@ -62,21 +63,26 @@ pub fn estimated_peak_bytes(scene: &Scene) -> f64 {
 /// assert!(packing.disks.len() > 80);
 /// ```
 pub fn pack(scene: &Scene) -> Result<Packing, PackError> {
-    pack_observed(scene, &mut |_| {})
+    pack_observed(scene, &mut |_| {}, &Cancel::new())
 }
 
 /// [`pack`], telling `progress` how many sizes have been drawn so far, every
 /// [`PROGRESS_STEP`] sizes (advancing front only: the comparison generators
-/// do not report). About [`Scene::estimated_disks`] sizes are drawn in all.
+/// do not report), and stopping within a few thousand sizes once `cancel`
+/// is raised. About [`Scene::estimated_disks`] sizes are drawn in all.
 ///
 /// # Errors
-/// As [`pack`].
-pub fn pack_observed(scene: &Scene, progress: &mut dyn FnMut(u64)) -> Result<Packing, PackError> {
+/// As [`pack`], and [`PackError::Cancelled`] when stopped.
+pub fn pack_observed(
+    scene: &Scene,
+    progress: &mut dyn FnMut(u64),
+    cancel: &Cancel,
+) -> Result<Packing, PackError> {
     match scene.packer.method {
-        Method::AdvancingFront => advancing_front::pack(scene, progress),
-        Method::Rsa => near_origin(scene, pack_rsa),
-        Method::Deposition => near_origin(scene, pack_deposition),
-        Method::Relaxation => near_origin(scene, pack_relaxation),
+        Method::AdvancingFront => advancing_front::pack(scene, progress, cancel),
+        Method::Rsa => near_origin(scene, |s| pack_rsa(s, cancel)),
+        Method::Deposition => near_origin(scene, |s| pack_deposition(s, cancel)),
+        Method::Relaxation => near_origin(scene, |s| pack_relaxation(s, cancel)),
     }
 }
 

@@ -83,6 +83,9 @@ pub enum PackError {
         /// The most wall disks allowed.
         max: usize,
     },
+    /// The run was cancelled, or its time cap passed, before it finished.
+    #[error("{0}")]
+    Cancelled(#[from] crate::cancel::Cancelled),
     /// The scene could hold more disks than allowed.
     #[error(
         "the scene holds up to an estimated {disks:.3e} disks (about {:.1} s to pack at {:.1e} disks/s), over the limit of {limit} disks",

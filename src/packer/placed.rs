@@ -1,25 +1,55 @@
 //! What the comparison generators share: the sizes a scene draws, and the
 //! disks placed so far (wall disks first) with a grid to query them.
 
+use std::cell::Cell;
+
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
 use super::index::{Grid, SpatialIndex};
 use super::{PackError, PackStats, Packing, size_count};
 use crate::Scene;
+use crate::cancel::{Cancel, Cancelled};
 use crate::geometry::predicates::{FEASIBLE_REL, clear_disk_walls};
 use crate::geometry::{Disk, Domain, Point, WallMode};
 
 /// Stream offset so positions never share random numbers with the sizes.
 pub(super) const POSITION_STREAM: u64 = 0xD1B5_4A32_D192_ED03;
 
+/// Sizes drawn between two looks at the cancel token by the comparison generators.
+const CANCEL_STEP: u64 = 64;
+
 /// The radii `pack` would draw for `scene`, in order: the same seeded
 /// stream through the grading's inverse CDF, `ceil(area / smallest disk
-/// area)` of them.
-pub(super) fn radii(scene: &Scene) -> impl Iterator<Item = f64> + '_ {
+/// area)` of them. The stream ends early once `cancel` is raised, and
+/// `stopped` then says why.
+pub(super) fn radii<'a>(
+    scene: &'a Scene,
+    cancel: &'a Cancel,
+    stopped: &'a Cell<Option<Cancelled>>,
+) -> impl Iterator<Item = f64> + 'a {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(scene.seed);
     let count = size_count(&scene.domain, scene.d_min());
-    (0..count).map(move |_| scene.grading.sample(rng.r#gen::<f64>()) / 2.0)
+    (0..count).map_while(move |i| {
+        if i.is_multiple_of(CANCEL_STEP)
+            && let Err(why) = cancel.check()
+        {
+            stopped.set(Some(why));
+            return None;
+        }
+        Some(scene.grading.sample(rng.r#gen::<f64>()) / 2.0)
+    })
+}
+
+/// `packing`, or the reason the sizes stopped early.
+pub(super) fn unless_stopped(
+    packing: Packing,
+    stopped: &Cell<Option<Cancelled>>,
+) -> Result<Packing, PackError> {
+    match stopped.get() {
+        Some(why) => Err(why.into()),
+        None => Ok(packing),
+    }
 }
 
 /// Refuse, for every method, a scene no disk of the grading fits

@@ -14,13 +14,16 @@
 //! after the set number of sweeps. What overlap is left stays in the
 //! packing: the metrics report it, nothing hides it.
 
+use std::cell::Cell;
+
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
 use super::index::{Grid, SpatialIndex};
-use super::placed::{POSITION_STREAM, Placed, check_fits, radii};
+use super::placed::{POSITION_STREAM, Placed, check_fits, radii, unless_stopped};
 use super::{PackError, Packing};
 use crate::Scene;
+use crate::cancel::Cancel;
 use crate::geometry::{Disk, Point};
 
 /// Pack `scene` by relaxation.
@@ -28,7 +31,8 @@ use crate::geometry::{Disk, Point};
 /// # Errors
 /// [`PackError::DomainTooNarrow`] when no disk of the grading fits;
 /// [`PackError::TooManyWallDisks`] when the wall disks would be too many.
-pub fn pack_relaxation(scene: &Scene) -> Result<Packing, PackError> {
+pub fn pack_relaxation(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackError> {
+    let stopped = Cell::new(None);
     check_fits(scene)?;
     let settings = scene.packer.relaxation;
     let domain = &scene.domain;
@@ -45,7 +49,7 @@ pub fn pack_relaxation(scene: &Scene) -> Result<Packing, PackError> {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(scene.seed ^ POSITION_STREAM);
     let (lo, hi) = domain.bounds();
     let mut disks: Vec<Disk> = Vec::with_capacity(n);
-    for r in radii(scene).take(n) {
+    for r in radii(scene, cancel, &stopped).take(n) {
         let c = loop {
             let p = Point::new(
                 lo.x + (hi.x - lo.x) * rng.r#gen::<f64>(),
@@ -68,6 +72,7 @@ pub fn pack_relaxation(scene: &Scene) -> Result<Packing, PackError> {
     let margin = Point::new(2.0 * r_moving, 2.0 * r_moving).coords;
     let mut push = vec![Point::origin().coords; n];
     for _ in 0..settings.iterations {
+        cancel.check()?;
         stats.front_attempts += 1;
         let mut grid = Grid::new(lo - margin, hi + margin, 2.0 * r_moving);
         for (id, d) in disks.iter().enumerate() {
@@ -134,7 +139,7 @@ pub fn pack_relaxation(scene: &Scene) -> Result<Packing, PackError> {
     let mut packing = placed.into_packing();
     packing.disks = disks;
     packing.stats = stats;
-    Ok(packing)
+    unless_stopped(packing, &stopped)
 }
 
 /// The unit direction into the domain at `p`: the signed distance's
@@ -203,7 +208,7 @@ mod tests {
         // for 2000 sweeps); now a disk visits its neighbours' cells and the
         // handful of wall disks.
         VISITS.with(|v| v.set(0));
-        let packing = pack_relaxation(&walled(10.0)).unwrap();
+        let packing = pack_relaxation(&walled(10.0), &Cancel::new()).unwrap();
         let sweeps = packing.stats.front_attempts;
         let per_disk = VISITS.with(Cell::get) as f64 / (sweeps as f64 * packing.disks.len() as f64);
         assert!(
@@ -219,8 +224,14 @@ mod tests {
         // that fit into a 40 mm square with 10 mm wall disks, and a 20 mm
         // wide slot with 50 mm wall disks (found by fuzzing) relaxed 1500
         // disks that could never separate for seconds.
-        let thin = pack_relaxation(&walled(0.1)).unwrap().disks.len() as f64;
-        let thick = pack_relaxation(&walled(10.0)).unwrap().disks.len() as f64;
+        let thin = pack_relaxation(&walled(0.1), &Cancel::new())
+            .unwrap()
+            .disks
+            .len() as f64;
+        let thick = pack_relaxation(&walled(10.0), &Cancel::new())
+            .unwrap()
+            .disks
+            .len() as f64;
         // Free areas: 1600 − 160 × 0.05 = 1592 and 1600 − 160 × 5 = 800 mm².
         assert!(
             (thick / thin - 800.0 / 1592.0).abs() < 0.01,
@@ -228,7 +239,7 @@ mod tests {
         );
         // No room at all inside the wall disks: refused, not relaxed.
         assert!(matches!(
-            pack_relaxation(&walled(39.5)),
+            pack_relaxation(&walled(39.5), &Cancel::new()),
             Err(PackError::DomainTooNarrow { .. })
         ));
     }

@@ -10,12 +10,15 @@
 //! packing stays loose (jamming near 0.45 porosity for equal disks), which
 //! is what users of trial generation meet before they compact.
 
+use std::cell::Cell;
+
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
-use super::placed::{POSITION_STREAM, Placed, check_fits, radii};
+use super::placed::{POSITION_STREAM, Placed, check_fits, radii, unless_stopped};
 use super::{PackError, Packing};
 use crate::Scene;
+use crate::cancel::Cancel;
 use crate::geometry::{Disk, Point};
 
 /// Pack `scene` by random sequential addition.
@@ -23,13 +26,14 @@ use crate::geometry::{Disk, Point};
 /// # Errors
 /// [`PackError::DomainTooNarrow`] when no disk of the grading fits;
 /// [`PackError::TooManyWallDisks`] when the wall disks would be too many.
-pub fn pack_rsa(scene: &Scene) -> Result<Packing, PackError> {
+pub fn pack_rsa(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackError> {
+    let stopped = Cell::new(None);
     check_fits(scene)?;
     let mut placed = Placed::new(scene);
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(scene.seed ^ POSITION_STREAM);
     let (lo, hi) = scene.domain.bounds();
     let attempts = scene.packer.attempts.max(1);
-    for r in radii(scene) {
+    for r in radii(scene, cancel, &stopped) {
         placed.stats.sizes_drawn += 1;
         let (x0, x1, y0, y1) = (lo.x + r, hi.x - r, lo.y + r, hi.y - r);
         let mut spot = None;
@@ -52,5 +56,5 @@ pub fn pack_rsa(scene: &Scene) -> Result<Packing, PackError> {
             }
         }
     }
-    Ok(placed.into_packing())
+    unless_stopped(placed.into_packing(), &stopped)
 }

@@ -1,0 +1,420 @@
+//! Plans and outcomes in words, the same for every front end: what
+//! `gapack validate` prints, the CLI's result lines, the service's log.
+
+use super::plan::{Job, Plan};
+use super::run::{Outcome, Report};
+use crate::config::ConfigName;
+use crate::fracture::{Extent, MM_PER_M};
+use crate::ga::Layered;
+use crate::geometry::predicates::OVERLAP_REL;
+use crate::packer::{Metrics, PEAK_BYTES_PER_DISK, estimated_peak_bytes};
+use crate::stability::{self, Status};
+use crate::{Scene, Shape};
+
+impl Plan {
+    /// What the job will do, a line each: the job, the grading, the packer,
+    /// each scene (each well with its own fill), memory, the outputs going
+    /// to `location`.
+    pub fn describe(&self, location: &str) -> Vec<String> {
+        let config = &self.config;
+        let scene = &config.scene;
+        let mut lines = Vec::new();
+        let job = match &self.job {
+            Job::Pack => "job: pack".to_owned(),
+            Job::Wells { batch } => {
+                let n = config.fracture.as_ref().map_or(0, |f| f.wells.len());
+                format!(
+                    "job: pack: {n} fracture{}{}, {}",
+                    if n == 1 { "" } else { "s" },
+                    if *batch {
+                        " (a folder each, and wells.csv)"
+                    } else {
+                        ""
+                    },
+                    match self.extent() {
+                        Some(Extent::Window { tolerance }) =>
+                            format!("representative windows (porosity tolerance {tolerance})"),
+                        _ => "packed whole".to_owned(),
+                    }
+                )
+            }
+            Job::Optimise {
+                settings: o,
+                resume,
+                ..
+            } => format!(
+                "job: optimise{}: target porosity {} ± {}, population {}, at most {} generations, {} s",
+                if *resume {
+                    " (resumed from the checkpoint)"
+                } else {
+                    ""
+                },
+                o.target_porosity,
+                o.tolerance,
+                o.population,
+                o.generations,
+                o.time_limit_s
+            ),
+            Job::Layer { .. } => "job: layer: pack once, then lay the materials out".to_owned(),
+            Job::Compare { .. } => format!(
+                "job: compare: {} method variants × {} seeds",
+                crate::compare::Variant::expand(&config.compare.methods).len(),
+                config.compare.repeats
+            ),
+            Job::Stability { time_cap } => format!(
+                "job: stability: {} cases × {} method variants, each capped at {} s",
+                stability::Case::all().len(),
+                stability::variants(&config.compare.methods).len(),
+                time_cap.as_secs_f64()
+            ),
+        };
+        lines.push(job);
+        if let Some(l) = &config.layering {
+            lines.push(format!(
+                "layering: {} material(s), {} along {}, {} bins",
+                config.materials.len(),
+                l.mode.config_name(),
+                l.axis.config_name(),
+                l.bins
+            ));
+        }
+        let g = &scene.grading;
+        lines.push(format!(
+            "grading: d {} to {} mm ({} basis, {} interpolation){}, seed {}",
+            tidy(scene.d_min()),
+            tidy(scene.d_max()),
+            g.basis().config_name(),
+            g.interpolation().config_name(),
+            if scene.gradient.is_some() {
+                ", size-graded"
+            } else {
+                ""
+            },
+            scene.seed
+        ));
+        lines.push(format!(
+            "packer: {}, {} index, {} rules, fill {}",
+            scene.packer.method.config_name(),
+            scene.packer.index.config_name(),
+            scene.packer.rules.config_name(),
+            scene.packer.fill.config_name()
+        ));
+        match &config.fracture {
+            Some(run) => {
+                for well in &run.wells {
+                    let f = well.fracture;
+                    let taper = f
+                        .tip_width
+                        .map_or(String::new(), |t| format!(" tapering to {} mm", tidy(t)));
+                    lines.push(format!(
+                        "well {}: {} mm wide{taper}, {} m high, fill {}; {}",
+                        well.name,
+                        tidy(f.width),
+                        tidy(f.length / MM_PER_M),
+                        well.scene.packer.fill.config_name(),
+                        scene_line(&well.scene)
+                    ));
+                }
+            }
+            None => lines.push(format!("domain: {}", scene_line(scene))),
+        }
+        if let Job::Optimise { settings: o, .. } = &self.job {
+            lines.push(format!(
+                "search memory: about {} ({} genomes)",
+                memory(o.peak_bytes(scene)),
+                o.population
+            ));
+        }
+        let formats: Vec<&str> = match &self.job {
+            Job::Compare { .. } => vec!["compare.csv, .svg, .png"],
+            Job::Stability { .. } => vec!["stability.csv, .svg, .png"],
+            _ => config
+                .output
+                .formats
+                .iter()
+                .map(|f| f.config_name())
+                .collect(),
+        };
+        lines.push(format!(
+            "output: {location} ({}; summary.json and manifest.json always)",
+            if formats.is_empty() {
+                "no format".to_owned()
+            } else {
+                formats.join(", ")
+            }
+        ));
+        for w in &self.warnings {
+            lines.push(format!("warning: {}", w.message));
+        }
+        lines
+    }
+}
+
+impl Outcome {
+    /// The result in a line or a few: what was made, where, how well, how fast.
+    pub fn lines(&self) -> Vec<String> {
+        let at = &self.location;
+        let mut lines = Vec::new();
+        match &self.report {
+            Report::Pack {
+                metrics, seconds, ..
+            } => lines.push(pack_line(at, metrics, *seconds)),
+            Report::Wells {
+                wells,
+                batch,
+                total,
+            } => {
+                for w in wells {
+                    let dir = format!("{at}/{}", w.folder.trim_end_matches('/'));
+                    let dir = dir.trim_end_matches('/');
+                    lines.push(match &w.window {
+                        Some((steps, settled)) if !steps.is_empty() => {
+                            let last = &steps[steps.len() - 1];
+                            format!(
+                                "{dir}: window {:.1} mm of {:.0} mm ({:.1}%), porosity {:.4} ± {:.4}, coordination {:.2}, {} disks, {} windows in {}{}",
+                                last.length,
+                                w.length,
+                                100.0 * last.length / w.length,
+                                last.porosity,
+                                last.spread,
+                                last.coordination,
+                                last.particles,
+                                steps.len(),
+                                duration(w.row.seconds),
+                                if *settled {
+                                    ""
+                                } else {
+                                    " (not settled: the whole fracture was packed)"
+                                }
+                            )
+                        }
+                        _ => pack_line(dir, &w.metrics, w.row.seconds),
+                    });
+                }
+                if *batch {
+                    lines.push(format!(
+                        "{at}/wells.csv: {} wells in {}{}",
+                        wells.len(),
+                        duration(wells.iter().map(|w| w.row.seconds).sum()),
+                        if wells.len() < *total {
+                            format!(" (interrupted: {} of {total} wells)", wells.len())
+                        } else {
+                            String::new()
+                        }
+                    ));
+                }
+            }
+            Report::Optimise {
+                metrics,
+                summary,
+                layered,
+                ..
+            } => {
+                let layering = layered
+                    .as_ref()
+                    .map_or(String::new(), |l| format!("; {}", layering_line(l)));
+                lines.push(format!(
+                    "{at}: porosity {:.4} (target {}, error {:.4}), psd_ks {:.3}, {} disks, {} evaluations in {} generations, {} ({}){layering}",
+                    metrics.porosity,
+                    summary.target_porosity,
+                    summary.error,
+                    metrics.psd_ks,
+                    metrics.particles,
+                    summary.evaluations,
+                    summary.generations,
+                    duration(self.seconds()),
+                    summary.stop,
+                ));
+            }
+            Report::Layer {
+                metrics, layered, ..
+            } => lines.push(format!(
+                "{at}: {} disks, porosity {:.4}, {}",
+                metrics.particles,
+                metrics.porosity,
+                layering_line(layered)
+            )),
+            Report::Compare {
+                runs,
+                variants,
+                total,
+            } => {
+                for variant in variants {
+                    let mine: Vec<_> = runs.iter().filter(|r| r.variant == *variant).collect();
+                    if mine.is_empty() {
+                        continue;
+                    }
+                    let n = mine.len() as f64;
+                    let mean = |f: &dyn Fn(&crate::compare::CompareRun) -> f64| {
+                        mine.iter().map(|r| f(r)).sum::<f64>() / n
+                    };
+                    let worst_overlap = mine.iter().map(|r| r.max_overlap).fold(0.0, f64::max);
+                    lines.push(format!(
+                        "{:<40} {} runs: {} disks, porosity {:.4}, psd_ks {:.3}, max overlap {}, coordination {:.2}, {} each",
+                        crate::output::variant_label(variant),
+                        mine.len(),
+                        mean(&|r| r.particles as f64).round(),
+                        mean(&|r| r.porosity),
+                        mean(&|r| r.psd_ks),
+                        overlap(worst_overlap),
+                        mean(&|r| r.coordination),
+                        duration(mean(&|r| r.seconds)),
+                    ));
+                }
+                lines.push(format!(
+                    "{at}: compare.csv, compare.svg, compare.png{}",
+                    interrupted_runs(runs.len(), *total)
+                ));
+            }
+            Report::Stability {
+                runs,
+                variants,
+                total,
+            } => {
+                for variant in variants {
+                    let mine: Vec<_> = runs.iter().filter(|r| r.variant == *variant).collect();
+                    let count = |f: &dyn Fn(&stability::StabilityRun) -> bool| {
+                        mine.iter().filter(|r| f(r)).count()
+                    };
+                    let finished = |r: &stability::StabilityRun| r.status == Status::Finished;
+                    lines.push(format!(
+                        "{:<40} pass {:>3}, fail {:>3} (overlap {}, empty {}, KS {}), refused {:>3}, timed out {:>3}",
+                        crate::output::variant_label(variant),
+                        count(&|r| r.passed()),
+                        count(&|r| finished(r) && !r.passed()),
+                        count(&|r| finished(r) && r.max_overlap > OVERLAP_REL),
+                        count(&|r| finished(r) && r.empty > stability::MAX_EMPTY),
+                        count(&|r| finished(r) && r.grading_bent()),
+                        count(&|r| r.status == Status::Refused),
+                        count(&|r| r.status == Status::TimedOut),
+                    ));
+                }
+                lines.push(format!(
+                    "{at}: stability.csv, stability.svg, stability.png{}",
+                    interrupted_runs(runs.len(), *total)
+                ));
+            }
+        }
+        lines
+    }
+
+    /// Wall-clock time of the job's main work (s): the packing, or the whole search.
+    pub fn seconds(&self) -> f64 {
+        match &self.report {
+            Report::Pack { seconds, .. } | Report::Layer { seconds, .. } => *seconds,
+            Report::Optimise { history, .. } => history.last().map_or(0.0, |g| g.seconds),
+            Report::Wells { wells, .. } => wells.iter().map(|w| w.row.seconds).sum(),
+            Report::Compare { runs, .. } => runs.iter().map(|r| r.seconds).sum(),
+            Report::Stability { runs, .. } => runs.iter().map(|r| r.seconds).sum(),
+        }
+    }
+}
+
+/// ` (interrupted: 12 of 144 runs)` when cut short.
+fn interrupted_runs(done: usize, total: usize) -> String {
+    if done < total {
+        format!(" (interrupted: {done} of {total} runs)")
+    } else {
+        String::new()
+    }
+}
+
+/// `out/x: 345 disks, porosity 0.2139, psd_ks 0.061, max overlap 0, coordination 3.69, packed in 0.3 ms`.
+fn pack_line(at: &str, metrics: &Metrics, seconds: f64) -> String {
+    format!(
+        "{at}: {} disks, porosity {:.4}, psd_ks {:.3}, max overlap {}, coordination {:.2}, packed in {}",
+        metrics.particles,
+        metrics.porosity,
+        metrics.psd_ks,
+        overlap(metrics.max_overlap),
+        metrics.coordination,
+        duration(seconds),
+    )
+}
+
+/// `profile RMS 0.0123 (baseline 0.0187), GA 1.20 s, baseline 2.1 ms`.
+fn layering_line(l: &Layered) -> String {
+    if l.stop.is_none() {
+        format!("profile RMS {:.4} (size-graded)", l.rms)
+    } else {
+        format!(
+            "profile RMS {:.4} (baseline {:.4}), GA {} ({} evaluations), baseline {}",
+            l.rms,
+            l.baseline_rms,
+            duration(l.seconds),
+            l.evaluations,
+            duration(l.baseline_seconds)
+        )
+    }
+}
+
+/// `rectangle 8.6 × 62.5 mm, area 537.5 mm², walls exact: about 340 disks (at most 430), peak memory about 41 kB`.
+fn scene_line(scene: &Scene) -> String {
+    let domain = &scene.domain;
+    let shape = match domain.shape() {
+        Shape::Rectangle { width, height } => {
+            format!("rectangle {} × {} mm", tidy(*width), tidy(*height))
+        }
+        Shape::Polygon { vertices } => format!("polygon of {} vertices", vertices.len()),
+        Shape::Circle { radius, .. } => format!("circle of radius {} mm", tidy(*radius)),
+        Shape::Trapezoid {
+            bottom,
+            top,
+            height,
+        } => format!(
+            "trapezoid {} / {} × {} mm",
+            tidy(*bottom),
+            tidy(*top),
+            tidy(*height)
+        ),
+    };
+    let bytes = estimated_peak_bytes(scene);
+    format!(
+        "{shape}, area {} mm², walls {}: about {:.0} disks (at most {:.0}), peak memory about {}",
+        tidy(domain.area()),
+        scene.walls.config_name(),
+        scene.estimated_disks(),
+        bytes / PEAK_BYTES_PER_DISK,
+        memory(bytes)
+    )
+}
+
+/// `12 kB`, `1.6 MB`, `2.3 GB` (powers of 1024).
+fn memory(bytes: f64) -> String {
+    let kb = bytes / 1024.0;
+    if kb < 1024.0 {
+        format!("{kb:.0} kB")
+    } else if kb < 1024.0 * 1024.0 {
+        format!("{:.1} MB", kb / 1024.0)
+    } else {
+        format!("{:.1} GB", kb / (1024.0 * 1024.0))
+    }
+}
+
+/// Four significant digits, no trailing zeros.
+fn tidy(v: f64) -> String {
+    let s = format!("{}", (v * 1e4).round() / 1e4);
+    if v.abs() >= 1e4 || s.len() <= 8 {
+        s
+    } else {
+        format!("{v:.4}")
+    }
+}
+
+/// `0` for no overlap, else 2 significant digits.
+fn overlap(v: f64) -> String {
+    if v == 0.0 {
+        "0".to_owned()
+    } else {
+        format!("{v:.1e}")
+    }
+}
+
+/// `0.4 ms`, `812.3 ms`, `3.21 s`.
+pub fn duration(seconds: f64) -> String {
+    if seconds < 1.0 {
+        format!("{:.1} ms", seconds * 1e3)
+    } else {
+        format!("{seconds:.2} s")
+    }
+}

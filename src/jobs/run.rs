@@ -1,0 +1,817 @@
+//! [`run`]: any plan, with an observer, a cancel token and a store.
+
+use std::borrow::Cow;
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use super::error::JobError;
+use super::event::{Event, Observer, Stage, Warning, WarningKind};
+use super::plan::{Job, JobKind, Plan};
+use super::store::{Store, StoreError};
+use crate::cancel::{Cancel, Cancelled};
+use crate::compare::{CompareRun, Variant, compare};
+use crate::config::Config;
+use crate::fracture::{Extent, MM_PER_M, Well, WindowError, WindowStep, settle};
+use crate::ga::{
+    Checkpoint, Generation, Layered, Limits, OptimiseSettings, PorosityProblem, Search, StopReason,
+    lay_out,
+};
+use crate::layering::LayeringSettings;
+use crate::output::{
+    FractureInfo, OptimiseSummary, RunInfo, WELLS_CSV, WellRow, render_compare, render_outputs,
+    render_stability, variant_label, wells_csv,
+};
+use crate::packer::{Metrics, PackError, Packing, measure, pack_observed};
+use crate::stability::{self, StabilityRun};
+
+/// File name of the list of a run's files, in its folder.
+pub const MANIFEST_JSON: &str = "manifest.json";
+
+/// File name of a search's checkpoint, in the run's folder.
+pub const CHECKPOINT_JSON: &str = "checkpoint.json";
+
+/// What a job gives back: what it made, where, and whether it was cut short.
+#[derive(Debug, Clone)]
+#[non_exhaustive]
+pub struct Outcome {
+    /// Which job ran.
+    pub kind: JobKind,
+    /// Where its files are ([`Store::location`]).
+    pub location: String,
+    /// Whether it was cancelled and returns only what it had finished.
+    pub interrupted: bool,
+    /// Every file of the run (as listed in `manifest.json`, which is one of them).
+    pub files: Vec<String>,
+    /// The job's own results.
+    pub report: Report,
+}
+
+/// A job's own results.
+#[derive(Debug, Clone)]
+#[non_exhaustive]
+pub enum Report {
+    /// One scene packed.
+    Pack {
+        /// The packing written.
+        packing: Packing,
+        /// Its measurements.
+        metrics: Metrics,
+        /// Time to pack (s).
+        seconds: f64,
+    },
+    /// Fractures packed, whole or as windows.
+    Wells {
+        /// Each well finished, in order.
+        wells: Vec<WellOutcome>,
+        /// Whether they were written to folders of their own with `wells.csv`.
+        batch: bool,
+        /// Wells in the batch.
+        total: usize,
+    },
+    /// A target-porosity search.
+    Optimise {
+        /// The best packing found (materials laid out if the config asks).
+        packing: Packing,
+        /// Its measurements.
+        metrics: Metrics,
+        /// What `summary.json` records of the search.
+        summary: OptimiseSummary,
+        /// One record per generation.
+        history: Vec<Generation>,
+        /// The layering, when the config has one.
+        layered: Option<Layered>,
+        /// Whether a checkpoint was kept to resume from.
+        resumable: bool,
+    },
+    /// One packing with its materials laid out.
+    Layer {
+        /// The packing written.
+        packing: Packing,
+        /// Its measurements.
+        metrics: Metrics,
+        /// The layering.
+        layered: Layered,
+        /// Time to pack (s).
+        seconds: f64,
+    },
+    /// A comparison of generators.
+    Compare {
+        /// The runs finished, in order.
+        runs: Vec<CompareRun>,
+        /// The variants run, in order.
+        variants: Vec<Variant>,
+        /// Runs planned.
+        total: usize,
+    },
+    /// A stability sweep.
+    Stability {
+        /// The runs finished, in order.
+        runs: Vec<StabilityRun>,
+        /// The variants run, in order.
+        variants: Vec<Variant>,
+        /// Runs planned.
+        total: usize,
+    },
+}
+
+/// One fracture of a `[fracture]` run.
+#[derive(Debug, Clone)]
+#[non_exhaustive]
+pub struct WellOutcome {
+    /// Its folder in the store (`""` for the only fracture of a run, else `name/`).
+    pub folder: String,
+    /// Its row of `wells.csv`.
+    pub row: WellRow,
+    /// Its length (mm).
+    pub length: f64,
+    /// The windows grown, in window mode, and whether they settled.
+    pub window: Option<(Vec<WindowStep>, bool)>,
+    /// The packing's measurements (the last window's in window mode).
+    pub metrics: Metrics,
+}
+
+/// Run `plan`: events to `observer`, stopped by `cancel`, files to `store`.
+///
+/// # Behavior
+/// Every file set goes to the store whole or not at all, after the packing
+/// has passed an independent check. At the end the run's `manifest.json`
+/// lists its files, and files an earlier run left in the same place that
+/// this run did not write are removed. A cancelled job returns what it
+/// finished: the search its best packing so far (and a checkpoint), a
+/// batch its finished wells, a comparison or sweep its finished runs; a
+/// job with nothing finished writes nothing and returns
+/// [`JobError::Cancelled`].
+///
+/// # Errors
+/// [`JobError`]: bad input, a scene that cannot be packed, an output or
+/// store failure, or a cancel before anything was finished.
+pub fn run(
+    plan: &Plan,
+    observer: &mut dyn Observer,
+    cancel: &Cancel,
+    store: &mut dyn Store,
+) -> Result<Outcome, JobError> {
+    observer.event(&Event::Started { job: plan.kind });
+    for warning in &plan.warnings {
+        observer.event(&Event::Warning(warning.clone()));
+    }
+    let mut job = Running {
+        plan,
+        observer,
+        store,
+        files: Vec::new(),
+    };
+    let (report, interrupted) = match &plan.job {
+        Job::Pack => job.pack(cancel)?,
+        Job::Wells { batch } => job.wells(*batch, cancel)?,
+        Job::Optimise {
+            settings,
+            resume,
+            checkpoint_every,
+        } => job.optimise(settings, *resume, *checkpoint_every, cancel)?,
+        Job::Layer { settings } => job.layer(settings, cancel)?,
+        Job::Compare { target } => job.compare(*target, cancel)?,
+        Job::Stability { time_cap } => job.stability(*time_cap, cancel)?,
+    };
+    let files = job.finish(interrupted)?;
+    Ok(Outcome {
+        kind: plan.kind,
+        location: job.store.location(),
+        interrupted,
+        files,
+        report,
+    })
+}
+
+/// `manifest.json`: the files of the run in a folder, and what run it was.
+#[derive(Debug, Serialize, Deserialize)]
+struct Manifest {
+    gapack_version: String,
+    job: JobKind,
+    config: String,
+    identity: String,
+    seed: u64,
+    interrupted: bool,
+    files: Vec<String>,
+}
+
+/// `checkpoint.json`: the search's state and what run it belongs to. The
+/// search is borrowed when written, owned when read.
+#[derive(Serialize, Deserialize)]
+struct CheckpointFile<'a> {
+    /// gapack version that wrote it.
+    gapack_version: String,
+    /// The config's origin.
+    config: String,
+    /// The plan's identity (config text and seed).
+    identity: String,
+    /// The seed (files written before it was recorded have none).
+    #[serde(default)]
+    seed: Option<u64>,
+    /// The search.
+    search: Cow<'a, Checkpoint>,
+}
+
+/// A job under way: its plan, its observer, its store and the files written so far.
+struct Running<'p> {
+    plan: &'p Plan,
+    observer: &'p mut dyn Observer,
+    store: &'p mut dyn Store,
+    files: Vec<String>,
+}
+
+impl Running<'_> {
+    fn config(&self) -> &Config {
+        &self.plan.config
+    }
+
+    fn event(&mut self, event: Event) {
+        self.observer.event(&event);
+    }
+
+    /// Write a set of files under `folder` and record them.
+    fn write(&mut self, folder: &str, files: Vec<(String, Vec<u8>)>) -> Result<(), JobError> {
+        let files: Vec<(String, Vec<u8>)> = files
+            .into_iter()
+            .map(|(name, bytes)| (format!("{folder}{name}"), bytes))
+            .collect();
+        self.store.write(&files)?;
+        let names: Vec<String> = files.into_iter().map(|(name, _)| name).collect();
+        self.event(Event::Written {
+            files: names.clone(),
+        });
+        self.files.extend(names);
+        Ok(())
+    }
+
+    /// Check, render and write one packing's outputs.
+    fn write_packing(
+        &mut self,
+        folder: &str,
+        packing: &Packing,
+        metrics: &Metrics,
+        run: &RunInfo<'_>,
+    ) -> Result<(), JobError> {
+        let files = render_outputs(packing, metrics, run)?;
+        self.write(folder, files)
+    }
+
+    /// Pack `scene` with progress events; a cancel is [`JobError::Cancelled`].
+    fn pack_scene(
+        &mut self,
+        scene: &crate::Scene,
+        what: &str,
+        cancel: &Cancel,
+    ) -> Result<(Packing, f64), JobError> {
+        self.event(Event::Stage {
+            stage: Stage::Pack,
+            total: Some(scene.estimated_disks().round() as u64),
+        });
+        let start = Instant::now();
+        let observer = &mut *self.observer;
+        let packing = pack_observed(
+            scene,
+            &mut |done| {
+                observer.event(&Event::Progress {
+                    stage: Stage::Pack,
+                    done,
+                })
+            },
+            cancel,
+        );
+        let seconds = start.elapsed().as_secs_f64();
+        match packing {
+            Ok(mut packing) => {
+                single_material(&mut packing, self.config());
+                Ok((packing, seconds))
+            }
+            Err(PackError::Cancelled(_)) => Err(JobError::Cancelled),
+            Err(source) => Err(JobError::Pack {
+                what: what.to_owned(),
+                source,
+            }),
+        }
+    }
+
+    fn pack(&mut self, cancel: &Cancel) -> Result<(Report, bool), JobError> {
+        let plan = self.plan;
+        let scene = &plan.config.scene;
+        let (packing, seconds) = self.pack_scene(scene, "the scene", cancel)?;
+        let metrics = measure(&packing, scene);
+        let run = RunInfo {
+            materials: &plan.config.materials,
+            ..RunInfo::new(scene, &plan.origin, seconds, &plan.config.output)
+        };
+        self.write_packing("", &packing, &metrics, &run)?;
+        Ok((
+            Report::Pack {
+                packing,
+                metrics,
+                seconds,
+            },
+            false,
+        ))
+    }
+
+    fn wells(&mut self, batch: bool, cancel: &Cancel) -> Result<(Report, bool), JobError> {
+        let plan = self.plan;
+        let Some(run) = &plan.config.fracture else {
+            return Err(JobError::Input(format!(
+                "{}: the config has no [fracture] table",
+                plan.origin
+            )));
+        };
+        if batch {
+            self.event(Event::Stage {
+                stage: Stage::Wells,
+                total: Some(run.wells.len() as u64),
+            });
+        }
+        let mut wells = Vec::with_capacity(run.wells.len());
+        let mut interrupted = false;
+        for (index, well) in run.wells.iter().enumerate() {
+            let folder = if batch {
+                format!("{}/", well.name)
+            } else {
+                String::new()
+            };
+            match self.well(well, run.extent, folder, cancel) {
+                Ok(done) => {
+                    self.event(Event::Well {
+                        index,
+                        name: well.name.clone(),
+                        particles: done.row.particles,
+                        porosity: done.row.porosity,
+                        seconds: done.row.seconds,
+                    });
+                    wells.push(done);
+                }
+                Err(JobError::Cancelled) => {
+                    interrupted = true;
+                    break;
+                }
+                Err(e) => return Err(e),
+            }
+        }
+        if wells.is_empty() && interrupted {
+            return Err(JobError::Cancelled);
+        }
+        if batch {
+            let rows: Vec<WellRow> = wells.iter().map(|w| w.row.clone()).collect();
+            let table = wells_csv(&rows)?;
+            self.write("", vec![(WELLS_CSV.to_owned(), table)])?;
+        }
+        Ok((
+            Report::Wells {
+                wells,
+                batch,
+                total: run.wells.len(),
+            },
+            interrupted,
+        ))
+    }
+
+    /// Pack one fracture, whole or as a window, and write its outputs under `folder`.
+    fn well(
+        &mut self,
+        well: &Well,
+        extent: Extent,
+        folder: String,
+        cancel: &Cancel,
+    ) -> Result<WellOutcome, JobError> {
+        let plan = self.plan;
+        let (packing, scene, seconds, window) = match extent {
+            Extent::Full => {
+                let (packing, seconds) = self.pack_scene(&well.scene, &well.name, cancel)?;
+                (packing, Cow::Borrowed(&well.scene), seconds, None)
+            }
+            Extent::Window { tolerance } => {
+                let window = match settle(well, tolerance, cancel) {
+                    Ok(window) => window,
+                    Err(WindowError::Pack(PackError::Cancelled(_))) => {
+                        return Err(JobError::Cancelled);
+                    }
+                    Err(WindowError::Pack(source)) => {
+                        return Err(JobError::Pack {
+                            what: well.name.clone(),
+                            source,
+                        });
+                    }
+                    Err(e) => return Err(JobError::Input(format!("{}: {e}", well.name))),
+                };
+                let mut packing = window.packing.clone();
+                single_material(&mut packing, self.config());
+                let seconds = window.seconds;
+                (
+                    packing,
+                    Cow::Owned(window.scene.clone()),
+                    seconds,
+                    Some(window),
+                )
+            }
+        };
+        let metrics = measure(&packing, &scene);
+        let run = RunInfo {
+            materials: &plan.config.materials,
+            fracture: Some(FractureInfo {
+                well,
+                extent,
+                window: window.as_ref(),
+            }),
+            ..RunInfo::new(&scene, &plan.origin, seconds, &plan.config.output)
+        };
+        self.write_packing(&folder, &packing, &metrics, &run)?;
+        let f = well.fracture;
+        let mut row = WellRow {
+            well: well.name.clone(),
+            width_mm: f.width,
+            height_m: f.length / MM_PER_M,
+            particles: metrics.particles,
+            porosity: metrics.porosity,
+            psd_ks: metrics.psd_ks,
+            coordination: metrics.coordination,
+            seconds,
+        };
+        if let Some(last) = window.as_ref().and_then(|w| w.last()) {
+            row.porosity = last.porosity;
+            row.coordination = last.coordination;
+        }
+        Ok(WellOutcome {
+            folder,
+            row,
+            length: f.length,
+            window: window.map(|w| (w.steps, w.settled)),
+            metrics,
+        })
+    }
+
+    fn optimise(
+        &mut self,
+        settings: &OptimiseSettings,
+        resume: bool,
+        every: usize,
+        cancel: &Cancel,
+    ) -> Result<(Report, bool), JobError> {
+        let plan = self.plan;
+        let config = &plan.config;
+        let scene = &config.scene;
+        let problem = PorosityProblem::new(scene, *settings);
+        let limits = Limits::from(settings);
+        // The job's own token: a failed checkpoint stops the search without
+        // raising the front end's.
+        let stop = cancel.child();
+        let search = if resume {
+            let checkpoint = self.read_checkpoint()?;
+            Search::resume(&problem, limits, &checkpoint)
+                .map_err(|e| JobError::Input(format!("{CHECKPOINT_JSON}: {e}")))?
+        } else {
+            Search::start_until(&problem, limits, plan.seed(), &stop)
+                .map_err(|_| JobError::Cancelled)?
+        };
+        let initial_range = PorosityProblem::range(search.initial());
+        if !problem.feasible(initial_range) && !resume {
+            self.event(Event::Warning(Warning {
+                kind: WarningKind::TargetOutsideInitialRange,
+                message: format!(
+                    "optimise.target_porosity = {} lies outside the range of the initial population, [{:.4}, {:.4}]; searching beyond it",
+                    settings.target_porosity, initial_range[0], initial_range[1]
+                ),
+            }));
+        }
+        self.event(Event::Stage {
+            stage: Stage::Optimise,
+            total: Some(settings.generations as u64),
+        });
+        let mut save_failed: Option<StoreError> = None;
+        let mut saved = false;
+        let evolution = {
+            let observer = &mut *self.observer;
+            let store = &mut *self.store;
+            search.run_saving(
+                &stop,
+                |g| observer.event(&generation(Stage::Optimise, g)),
+                every,
+                |checkpoint| {
+                    let file = CheckpointFile {
+                        gapack_version: env!("CARGO_PKG_VERSION").to_owned(),
+                        config: plan.origin.clone(),
+                        identity: plan.identity.clone(),
+                        seed: Some(plan.seed()),
+                        search: Cow::Borrowed(checkpoint),
+                    };
+                    let written = serde_json::to_vec(&file)
+                        .map_err(|e| StoreError::Write(e.into()))
+                        .and_then(|bytes| store.write(&[(CHECKPOINT_JSON.to_owned(), bytes)]));
+                    match written {
+                        Ok(()) => saved = true,
+                        Err(e) => {
+                            // Stop at the next generation: the best so far is still written.
+                            stop.cancel();
+                            save_failed.get_or_insert(e);
+                        }
+                    }
+                },
+            )
+        };
+        let interrupted = evolution.stop == StopReason::Interrupted;
+        let reached = evolution.stop == StopReason::Reached;
+        let range = evolution.explored;
+        let feasible = reached || problem.feasible(range);
+        if !feasible && !interrupted {
+            self.event(Event::Warning(Warning {
+                kind: WarningKind::TargetOutOfReach,
+                message: format!(
+                    "optimise.target_porosity = {} is out of reach: the packings that honour the grading span [{:.4}, {:.4}]; the nearest one, {:.4}, is written",
+                    settings.target_porosity, range[0], range[1], evolution.best.value
+                ),
+            }));
+        }
+        let Some(mut packing) = evolution.outcome else {
+            return Err(JobError::NothingPacked);
+        };
+        let best_scene = problem.scene_of(&evolution.genes);
+        let layered = config
+            .layering
+            .as_ref()
+            .map(|l| self.lay_out(&packing, l, &stop));
+        match &layered {
+            Some(l) => packing.materials = l.assignment.clone(),
+            None => single_material(&mut packing, config),
+        }
+        let metrics = measure(&packing, &best_scene);
+        let summary = OptimiseSummary {
+            target_porosity: settings.target_porosity,
+            tolerance: settings.tolerance,
+            best_porosity: metrics.porosity,
+            error: (metrics.porosity - settings.target_porosity).abs(),
+            max_psd_ks: settings.max_psd_ks,
+            evaluations: evolution.evaluations,
+            generations: evolution.history.len().saturating_sub(1),
+            population: settings.population,
+            feasible,
+            achievable_range: range,
+            initial_range,
+            interrupted,
+            stop: evolution.stop.describe(),
+        };
+        let run = RunInfo {
+            materials: &config.materials,
+            optimise: Some((&summary, &evolution.history)),
+            layering: config.layering.as_ref().zip(layered.as_ref()),
+            fracture: whole_fracture(config),
+            ..RunInfo::new(&best_scene, &plan.origin, evolution.seconds, &config.output)
+        };
+        self.write_packing("", &packing, &metrics, &run)?;
+        if let Some(e) = save_failed {
+            return Err(JobError::Checkpoint(e));
+        }
+        let resumable = interrupted && saved;
+        if resumable {
+            self.files.push(CHECKPOINT_JSON.to_owned());
+        } else {
+            // The search is over: nothing is left to resume.
+            self.store.remove(CHECKPOINT_JSON)?;
+        }
+        Ok((
+            Report::Optimise {
+                packing,
+                metrics,
+                summary,
+                history: evolution.history,
+                layered,
+                resumable,
+            },
+            interrupted,
+        ))
+    }
+
+    /// The store's checkpoint, if it belongs to this plan.
+    fn read_checkpoint(&self) -> Result<Checkpoint, JobError> {
+        let place = format!("{} in {}", CHECKPOINT_JSON, self.store.location());
+        let Some(bytes) = self.store.read(CHECKPOINT_JSON)? else {
+            return Err(JobError::Input(format!(
+                "there is no {place} to resume from"
+            )));
+        };
+        let file: CheckpointFile = serde_json::from_slice(&bytes)
+            .map_err(|e| JobError::Input(format!("{place} is not a gapack checkpoint: {e}")))?;
+        if file.identity != self.plan.identity {
+            let seed = file
+                .seed
+                .map_or_else(|| "unrecorded".to_owned(), |s| s.to_string());
+            return Err(JobError::Input(format!(
+                "{place} belongs to another run: config {} with seed {seed}; this run is {} with seed {} (the config's text or the seed differ)",
+                file.config,
+                self.plan.origin,
+                self.plan.seed()
+            )));
+        }
+        Ok(file.search.into_owned())
+    }
+
+    /// Lay the config's materials out on `packing`, with generation events.
+    fn lay_out(
+        &mut self,
+        packing: &Packing,
+        settings: &LayeringSettings,
+        stop: &Cancel,
+    ) -> Layered {
+        self.event(Event::Stage {
+            stage: Stage::Layering,
+            total: Some(settings.generations as u64),
+        });
+        let observer = &mut *self.observer;
+        lay_out(
+            packing,
+            settings,
+            self.plan.config.materials.len(),
+            self.plan.seed(),
+            stop,
+            |g| observer.event(&generation(Stage::Layering, g)),
+        )
+    }
+
+    fn layer(
+        &mut self,
+        settings: &LayeringSettings,
+        cancel: &Cancel,
+    ) -> Result<(Report, bool), JobError> {
+        let plan = self.plan;
+        let config = &plan.config;
+        let scene = &config.scene;
+        let (mut packing, seconds) = self.pack_scene(scene, "the scene", cancel)?;
+        let layered = self.lay_out(&packing, settings, cancel);
+        packing.materials = layered.assignment.clone();
+        let metrics = measure(&packing, scene);
+        let run = RunInfo {
+            materials: &config.materials,
+            layering: Some((settings, &layered)),
+            fracture: whole_fracture(config),
+            ..RunInfo::new(scene, &plan.origin, seconds, &config.output)
+        };
+        self.write_packing("", &packing, &metrics, &run)?;
+        let interrupted = layered.stop == Some(StopReason::Interrupted);
+        Ok((
+            Report::Layer {
+                packing,
+                metrics,
+                layered,
+                seconds,
+            },
+            interrupted,
+        ))
+    }
+
+    fn compare(
+        &mut self,
+        target: Option<f64>,
+        cancel: &Cancel,
+    ) -> Result<(Report, bool), JobError> {
+        let config = &self.plan.config;
+        let settings = &config.compare;
+        let variants = Variant::expand(&settings.methods);
+        let total = variants.len() * settings.repeats;
+        self.event(Event::Stage {
+            stage: Stage::Compare,
+            total: Some(total as u64),
+        });
+        let observer = &mut *self.observer;
+        let mut index = 0;
+        let runs = compare(&config.scene, settings, target, cancel, |r| {
+            observer.event(&Event::Run {
+                stage: Stage::Compare,
+                index,
+                label: variant_label(&r.variant),
+            });
+            index += 1;
+        })
+        .map_err(|source| JobError::Pack {
+            what: "the scene".to_owned(),
+            source,
+        })?;
+        let interrupted = runs.len() < total;
+        if runs.is_empty() && interrupted {
+            return Err(JobError::Cancelled);
+        }
+        let files = render_compare(&runs, target.is_some())?;
+        self.write("", files)?;
+        Ok((
+            Report::Compare {
+                runs,
+                variants,
+                total,
+            },
+            interrupted,
+        ))
+    }
+
+    fn stability(
+        &mut self,
+        cap: std::time::Duration,
+        cancel: &Cancel,
+    ) -> Result<(Report, bool), JobError> {
+        let config = &self.plan.config;
+        let variants = stability::variants(&config.compare.methods);
+        let cases = stability::Case::all();
+        let total = cases.len() * variants.len();
+        self.event(Event::Stage {
+            stage: Stage::Stability,
+            total: Some(total as u64),
+        });
+        let observer = &mut *self.observer;
+        let mut index = 0;
+        let runs = stability::sweep(&config.scene, &cases, &variants, cap, cancel, |r| {
+            observer.event(&Event::Run {
+                stage: Stage::Stability,
+                index,
+                label: format!("{} {}", variant_label(&r.variant), r.case.shape.name()),
+            });
+            index += 1;
+        });
+        let interrupted = runs.len() < total;
+        if runs.is_empty() && interrupted {
+            return Err(JobError::Cancelled);
+        }
+        let files = render_stability(&runs)?;
+        self.write("", files)?;
+        Ok((
+            Report::Stability {
+                runs,
+                variants,
+                total,
+            },
+            interrupted,
+        ))
+    }
+
+    /// Write the manifest and remove the files an earlier run left that
+    /// this one did not write; the files of the run, manifest included.
+    fn finish(&mut self, interrupted: bool) -> Result<Vec<String>, JobError> {
+        let mut files = std::mem::take(&mut self.files);
+        files.push(MANIFEST_JSON.to_owned());
+        files.sort();
+        files.dedup();
+        let earlier: Vec<String> = match self.store.read(MANIFEST_JSON)? {
+            Some(bytes) => serde_json::from_slice::<Manifest>(&bytes)
+                .map(|m| m.files)
+                .unwrap_or_default(),
+            None => Vec::new(),
+        };
+        let manifest = Manifest {
+            gapack_version: env!("CARGO_PKG_VERSION").to_owned(),
+            job: self.plan.kind,
+            config: self.plan.origin.clone(),
+            identity: self.plan.identity.clone(),
+            seed: self.plan.seed(),
+            interrupted,
+            files: files.clone(),
+        };
+        let bytes =
+            serde_json::to_vec_pretty(&manifest).map_err(|e| StoreError::Write(e.into()))?;
+        self.store.write(&[(MANIFEST_JSON.to_owned(), bytes)])?;
+        for stale in earlier.iter().filter(|f| !files.contains(f)) {
+            self.store.remove(stale)?;
+        }
+        Ok(files)
+    }
+}
+
+/// A generation record as an event.
+fn generation(stage: Stage, g: &Generation) -> Event {
+    Event::Generation {
+        stage,
+        index: g.index,
+        best: g.best.value,
+        feasible: g.best.is_feasible(),
+        mean: g.mean_value,
+        worst: g.worst_value,
+        evaluations: g.evaluations,
+        seconds: g.seconds,
+    }
+}
+
+/// With one material, every disk is of it (the files then name it).
+fn single_material(packing: &mut Packing, config: &Config) {
+    if config.materials.len() == 1 && packing.materials.is_empty() {
+        packing.materials = vec![0; packing.disks.len()];
+    }
+}
+
+/// The one fracture of a `[fracture]` config that `optimise` or `layer`
+/// packs whole (a batch or a window is refused by the config).
+fn whole_fracture(config: &Config) -> Option<FractureInfo<'_>> {
+    config.fracture.as_ref().and_then(|run| {
+        run.wells.first().map(|well| FractureInfo {
+            well,
+            extent: Extent::Full,
+            window: None,
+        })
+    })
+}
+
+impl From<Cancelled> for JobError {
+    fn from(_: Cancelled) -> Self {
+        JobError::Cancelled
+    }
+}
