@@ -250,3 +250,94 @@ fn a_failed_write_leaves_the_earlier_outputs_intact() {
         "temporary files left: {names:?}"
     );
 }
+
+/// Start gapack with `args` in `dir`, send SIGINT once `ready` holds (or
+/// after 60 s), and wait; the exit code and what it printed on stderr.
+fn interrupted(dir: &Path, args: &[&str], ready: impl Fn() -> bool) -> (Option<i32>, String) {
+    let child = Command::new(env!("CARGO_BIN_EXE_gapack"))
+        .args(args)
+        .current_dir(dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start gapack");
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while !ready() && Instant::now() < deadline {
+        sleep(Duration::from_millis(20));
+    }
+    let sent = Command::new("sh")
+        .args(["-c", &format!("kill -INT {}", child.id())])
+        .status()
+        .expect("run kill");
+    assert!(sent.success());
+    let output = child.wait_with_output().expect("wait for gapack");
+    (
+        output.status.code(),
+        String::from_utf8_lossy(&output.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn the_resume_hint_runs_as_printed() {
+    let dir = scratch("hint");
+    fs::write(dir.join("long.toml"), LONG).unwrap();
+    let whole = gapack(
+        &dir,
+        &[
+            "optimise",
+            "long.toml",
+            "--out",
+            "whole",
+            "--seed",
+            "7",
+            "--quiet",
+        ],
+    );
+    assert!(whole.status.success());
+    let args = [
+        "optimise",
+        "long.toml",
+        "--out",
+        "elsewhere/parts",
+        "--seed",
+        "7",
+        "--checkpoint-every",
+        "1",
+    ];
+    let checkpoint = dir.join("elsewhere/parts/checkpoint.json");
+    let (code, stderr) = interrupted(&dir, &args, || checkpoint.exists());
+    assert_eq!(code, Some(0), "{stderr}");
+    let hinted = stderr
+        .split('`')
+        .nth(1)
+        .unwrap_or_else(|| panic!("a hint between backquotes: {stderr}"));
+    let words: Vec<&str> = hinted.split_whitespace().collect();
+    assert_eq!(words[0], "gapack", "{hinted}");
+    let resumed = gapack(&dir, &words[1..]);
+    assert!(
+        resumed.status.success(),
+        "`{hinted}` failed: {}",
+        String::from_utf8_lossy(&resumed.stderr)
+    );
+    assert_eq!(
+        fs::read(dir.join("elsewhere/parts/packing.csv")).unwrap(),
+        fs::read(dir.join("whole/packing.csv")).unwrap(),
+        "the hinted command ends on the uninterrupted result"
+    );
+}
+
+#[test]
+fn an_interrupted_stability_sweep_writes_the_runs_it_finished() {
+    let dir = scratch("sweep");
+    let config = concat!(env!("CARGO_MANIFEST_DIR"), "/configs/default.toml");
+    let start = Instant::now();
+    let (code, stderr) = interrupted(&dir, &["stability", config, "--out", "s"], || {
+        start.elapsed() > Duration::from_secs(2)
+    });
+    assert_eq!(code, Some(0), "{stderr}");
+    let table = fs::read_to_string(dir.join("s/stability.csv")).expect("the table is written");
+    let manifest = summary(&dir.join("s/manifest.json"));
+    assert_eq!(manifest["interrupted"], true);
+    assert!(table.lines().count() > 1, "some runs finished: {table}");
+    assert!(stderr.contains("stopped"), "{stderr}");
+}

@@ -1,4 +1,5 @@
-//! The layering problem (DESIGN §5, FGM): the packing's geometry is fixed;
+//! The layering problem (docs/ARCHITECTURE.md, "The genetic algorithm";
+//! FGM): the packing's geometry is fixed;
 //! the genes assign a material to each particle so that the area fractions
 //! in bins along the axis follow a target profile.
 //!

@@ -1,8 +1,9 @@
-//! The target-porosity problem (DESIGN §5): grading genes and packing-rule
+//! The target-porosity problem (docs/ARCHITECTURE.md, "The genetic
+//! algorithm"): grading genes and packing-rule
 //! genes, fitness (porosity − target)², grading held within `max_psd_ks`.
 //!
 //! # Genome
-//! - `n` grading genes, n = ⌈domain area / smallest disk area⌉ (DESIGN §3):
+//! - `n` grading genes, n = ⌈domain area / smallest disk area⌉ (the sizes `pack` draws):
 //!   gene i is the percent passing of the i-th size drawn, a U in [0, 1]
 //!   mapped to a diameter by the curve's inverse CDF, so every gene is a
 //!   size the curve allows. Sizes left over when the domain is full are unused.

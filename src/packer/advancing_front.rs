@@ -1,4 +1,5 @@
-//! The advancing-front generator (DESIGN §3): each new disk is placed tangent
+//! The advancing-front generator (docs/ARCHITECTURE.md, "The advancing
+//! front"): each new disk is placed tangent
 //! to the current front and to one more obstacle, at the lowest feasible spot.
 //!
 //! # Behavior
