@@ -8,7 +8,8 @@
 use std::time::Instant;
 
 use crate::Scene;
-use crate::packer::{IndexKind, Method, PackError, measure, pack};
+use crate::metrics::measure;
+use crate::packer::{IndexKind, Method, PackError, pack};
 
 /// `[compare]`: which methods, and how many seeds each.
 #[derive(Debug, Clone, PartialEq)]

@@ -12,7 +12,7 @@ use gapack::geometry::predicates::OVERLAP_REL;
 use gapack::layering::Material;
 use gapack::output::{PackingTable, diameter_range, read_packing_csv, write_pictures};
 use gapack::packer::{PEAK_BYTES_PER_DISK, estimated_peak_bytes};
-use gapack::{Domain, Packing, Point, Scene, Shape};
+use gapack::{Domain, Packing, Point, Scene, Shape, psd_ks};
 
 use crate::{Failure, load_config, output_dir, report};
 
@@ -237,7 +237,7 @@ pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
     );
     if graded {
         // Size-graded: each material against its own curve.
-        result.psd_ks = Some(scene.psd_ks(&packing_of(&table, scene, &config)));
+        result.psd_ks = Some(psd_ks(&packing_of(&table, scene, &config), scene));
     }
     let lines = findings(&result, &table);
     println!(

@@ -1,10 +1,10 @@
 //! The local porosity of a packing on a regular grid of square cells, for a
 //! heat map that shows where a packing is loose or dense.
 
+use super::WINDOW_DIAMETERS;
 use crate::geometry::Point;
 use crate::geometry::predicates::area_disk_box;
 use crate::packer::Packing;
-use crate::packer::metrics::WINDOW_DIAMETERS;
 
 /// Most cells along the longer side of the domain's bounds.
 const MAX_CELLS: f64 = 200.0;

@@ -1,4 +1,9 @@
-//! Packing metrics: porosity, grading fidelity, overlaps, clearance, contacts, uniformity.
+//! Packing metrics: porosity, grading fidelity, overlaps, clearance,
+//! contacts, uniformity, and the porosity map.
+
+mod porosity_map;
+
+pub use porosity_map::{PorosityMap, porosity_map};
 
 use std::ops::ControlFlow;
 
@@ -9,7 +14,7 @@ use crate::packer::Packing;
 use crate::packer::index::{Grid, SpatialIndex};
 
 /// Side of the local-porosity windows, in largest diameters.
-pub(super) const WINDOW_DIAMETERS: f64 = 5.0;
+const WINDOW_DIAMETERS: f64 = 5.0;
 
 /// What a packing achieved.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -43,6 +48,35 @@ pub struct Metrics {
     /// grid of spacing d_min/2 (coarser where that would give more than 256
     /// points per packed disk) and refined locally.
     pub largest_hole: f64,
+}
+
+/// Kolmogorov–Smirnov distance of a packing's sizes to `scene`'s grading; in
+/// size-graded mode, the larger of each material's distance to its own curve.
+pub fn psd_ks(packing: &Packing, scene: &Scene) -> f64 {
+    // Only size-graded scenes tie a material to a curve; materials laid
+    // out on a finished packing all share the one grading.
+    let graded = scene.gradient.is_some();
+    let diameters = |material: u16| -> Vec<f64> {
+        packing
+            .disks
+            .iter()
+            .zip(packing.materials.iter().chain(std::iter::repeat(&0)))
+            .filter(|&(_, &m)| !graded || m == material)
+            .map(|(d, _)| 2.0 * d.r)
+            .collect()
+    };
+    scene
+        .curves()
+        .zip(0u16..)
+        .map(|(curve, m)| {
+            let own = diameters(m);
+            if own.is_empty() && graded {
+                0.0
+            } else {
+                curve.ks_distance(&own)
+            }
+        })
+        .fold(0.0, f64::max)
 }
 
 /// Measure a packing of `scene` against the scene's grading.
@@ -108,7 +142,7 @@ pub fn measure(packing: &Packing, scene: &Scene) -> Metrics {
         domain_area,
         solid_area,
         porosity: 1.0 - solid_area / domain_area,
-        psd_ks: scene.psd_ks(packing),
+        psd_ks: psd_ks(packing, scene),
         max_overlap,
         min_wall_clearance: if n == 0 { 0.0 } else { min_wall_clearance },
         coordination: if n == 0 {
