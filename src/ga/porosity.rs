@@ -35,7 +35,7 @@ use super::engine::{Evaluation, Problem, Variation};
 use super::score::Score;
 use super::settings::OptimiseSettings;
 use crate::Scene;
-use crate::metrics::psd_ks;
+use crate::metrics::{porosity, psd_ks, solid_area};
 use crate::packer::{MAX_DEFERRED, MAX_GAP, Packing, pack_genes, size_count};
 
 /// Packing-rule genes after the grading genes: one-contact share, gap /
@@ -141,8 +141,7 @@ impl Problem for PorosityProblem<'_> {
                 read: self.sizes,
             };
         };
-        let solid: f64 = packing.disks.iter().map(|d| d.area()).sum();
-        let porosity = 1.0 - solid / packing.domain.area();
+        let porosity = porosity(solid_area(&packing.disks), packing.domain.area());
         let ks = psd_ks(&packing, &scene);
         let score = Score {
             violation: (ks - self.settings.max_psd_ks).max(0.0),

@@ -1,7 +1,7 @@
 //! The local porosity of a packing on a regular grid of square cells, for a
 //! heat map that shows where a packing is loose or dense.
 
-use super::WINDOW_DIAMETERS;
+use super::{WINDOW_DIAMETERS, porosity};
 use crate::geometry::Point;
 use crate::geometry::predicates::area_disk_box;
 use crate::packer::Packing;
@@ -123,7 +123,7 @@ pub fn porosity_map(packing: &Packing) -> PorosityMap {
             if a < 0.5 * cell * cell {
                 f64::NAN
             } else {
-                (1.0 - s / a).clamp(0.0, 1.0)
+                porosity(s, a).clamp(0.0, 1.0)
             }
         })
         .collect();
