@@ -57,11 +57,6 @@ impl Frame {
         }
     }
 
-    /// The axis.
-    pub fn axis(&self) -> Axis {
-        self.axis
-    }
-
     /// The coordinate of `p` along the axis, clamped to [0, 1].
     pub fn s(&self, p: Point) -> f64 {
         let t = match self.axis {
