@@ -8,6 +8,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
+use gapack::metrics::{porosity, solid_area};
 use gapack::{Domain, Grading, IndexKind, PackerSettings, Scene, WallMode, pack};
 
 static CURRENT: AtomicUsize = AtomicUsize::new(0);
@@ -126,13 +127,12 @@ pub fn run(
                 // At least one repeat ran, so the packing is there.
                 let Some(packing) = packing else { continue };
                 let disks = packing.disks.len();
-                let solid: f64 = packing.disks.iter().map(|d| d.area()).sum();
                 let row = Row {
                     target,
                     side_mm: side,
                     index: name,
                     disks,
-                    porosity: 1.0 - solid / (side * side),
+                    porosity: porosity(solid_area(&packing.disks), side * side),
                     seconds: best,
                     disks_per_second: disks as f64 / best,
                     peak_bytes_per_disk: peak as f64 / disks.max(1) as f64,

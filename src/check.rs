@@ -10,6 +10,7 @@
 use crate::geometry::predicates::OVERLAP_REL;
 use crate::geometry::{Disk, Domain};
 use crate::grading::Grading;
+use crate::metrics::{porosity, solid_area};
 
 /// The KS distance beyond the sampling noise of n sizes (1.36/√n, the 95 %
 /// quantile of the KS statistic) that still counts as following the grading.
@@ -90,7 +91,7 @@ pub fn check(disks: &[Disk], domain: &Domain, grading: Option<&Grading>) -> Chec
     }
 
     let domain_area = domain.area();
-    let solid_area: f64 = ok.iter().map(|&i| disks[i].area()).sum();
+    let solid_area = solid_area(ok.iter().map(|&i| &disks[i]));
     let diameters: Vec<f64> = ok.iter().map(|&i| 2.0 * disks[i].r).collect();
     Check {
         particles: disks.len(),
@@ -101,7 +102,7 @@ pub fn check(disks: &[Disk], domain: &Domain, grading: Option<&Grading>) -> Chec
         worst_outside,
         domain_area,
         solid_area,
-        porosity: 1.0 - solid_area / domain_area,
+        porosity: porosity(solid_area, domain_area),
         psd_ks: grading.map(|g| g.ks_distance(&diameters)),
         ks_limit: ks_limit(ok.len()),
     }

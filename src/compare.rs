@@ -9,7 +9,8 @@ use std::time::Instant;
 
 use crate::Scene;
 use crate::cancel::Cancel;
-use crate::packer::{IndexKind, Method, PackError, measure, pack_observed};
+use crate::metrics::measure;
+use crate::packer::{IndexKind, Method, PackError, pack_observed};
 
 /// `[compare]`: which methods, and how many seeds each.
 #[derive(Debug, Clone, PartialEq)]

@@ -19,6 +19,8 @@ pub mod geometry;
 pub mod grading;
 pub mod jobs;
 pub mod layering;
+pub mod metrics;
+mod names;
 pub mod output;
 pub mod packer;
 mod scene;
@@ -26,8 +28,8 @@ pub mod stability;
 
 pub use geometry::{Disk, Domain, GeometryError, Point, Shape, Wall, WallMode};
 pub use grading::{Basis, Grading, GradingError, Interpolation};
-pub use packer::{
-    Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method, Metrics, PackError, PackStats,
-    PackerSettings, Packing, PorosityMap, measure, pack, pack_observed, porosity_map,
+pub use metrics::{Metrics, PorosityMap, measure, porosity_map, psd_ks};
+pub use packer::{PackError, PackStats, Packing, pack, pack_observed};
+pub use scene::{
+    Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method, PackerSettings, Scene,
 };
-pub use scene::Scene;

@@ -22,8 +22,9 @@ use crate::compare::Variant;
 use crate::geometry::predicates::OVERLAP_REL;
 use crate::geometry::{Domain, GeometryError, Point};
 use crate::grading::Grading;
+use crate::metrics::measure;
 use crate::packer::index::{Grid, SpatialIndex};
-use crate::packer::{Method, PackError, Packing, measure, pack_observed};
+use crate::packer::{Method, PackError, Packing, pack_observed};
 
 /// Grading widths d_max/d_min swept.
 pub const RATIOS: [f64; 6] = [1.0, 1.1, 2.0, 4.0, 8.0, 16.0];

@@ -10,7 +10,7 @@ use gapack::config::Config;
 use gapack::geometry::predicates::OVERLAP_REL;
 use gapack::layering::Material;
 use gapack::output::{PackingTable, diameter_range, read_packing_csv, render_pictures};
-use gapack::{Domain, Packing, Point, Scene};
+use gapack::{Domain, Packing, Point, Scene, psd_ks};
 
 use super::{Failure, load_config, report};
 use gapack::jobs::{DirStore, Store};
@@ -62,7 +62,7 @@ pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
     );
     if graded {
         // Size-graded: each material against its own curve.
-        result.psd_ks = Some(scene.psd_ks(&packing_of(&table, scene, &config)));
+        result.psd_ks = Some(psd_ks(&packing_of(&table, scene, &config), scene));
     }
     let lines = findings(&result, &table);
     println!(

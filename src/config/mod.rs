@@ -7,7 +7,6 @@
 
 mod error;
 mod locate;
-mod names;
 mod parse;
 mod raw;
 mod validate;
@@ -15,7 +14,7 @@ mod validate;
 #[cfg(test)]
 mod tests;
 
+pub use crate::names::{ConfigName, METHOD};
 pub use error::{ConfigError, Location};
-pub use names::{ConfigName, METHOD};
 pub use parse::{Config, DEFAULT_CONFIG, DEFAULT_ORIGIN, ParseOptions, parse, parse_with};
 pub use validate::{DEFAULT_MAX_MEMORY_MB, DEFAULT_MAX_PARTICLES};

@@ -13,10 +13,6 @@ use std::ops::Range;
 use toml::Spanned;
 
 use super::error::{ConfigError, Location};
-use super::names::{
-    BASES, CONTACTS, FILLS, INDEXES, INTERPOLATIONS, METHODS, Names, RULES, SHAPES, ShapeKind,
-    WALLS,
-};
 use super::parse::Config;
 use super::raw::{
     Pair, RawCompare, RawConfig, RawDomain, RawGrading, RawLayering, RawLimits, RawOptimise,
@@ -30,6 +26,10 @@ use crate::geometry::predicates::RESOLUTION_REL;
 use crate::geometry::{Domain, GeometryError, Point, WallMode};
 use crate::grading::{Basis, Grading, Interpolation};
 use crate::layering::{LayeringMode, LayeringSettings, SizeGradient};
+use crate::names::{
+    BASES, CONTACTS, FILLS, INDEXES, INTERPOLATIONS, METHODS, Names, RULES, SHAPES, ShapeKind,
+    WALLS,
+};
 use crate::packer::{
     DEFAULT_ATTEMPTS, MAX_DEFERRED, MAX_GAP, Method, PEAK_BYTES_PER_DISK, PackError,
     PackerSettings, Relaxation, estimated_peak_bytes, size_count,

@@ -19,8 +19,9 @@ use std::time::Instant;
 use super::{Fracture, Well};
 use crate::Scene;
 use crate::cancel::Cancel;
-use crate::geometry::predicates::{CONTACT_REL, area_disk_box, overlap_disk_disk};
+use crate::geometry::predicates::area_disk_box;
 use crate::geometry::{Disk, GeometryError, Point};
+use crate::metrics::{self, porosity, visit_near};
 use crate::packer::index::{Grid, SpatialIndex};
 use crate::packer::{PackError, Packing, pack_observed};
 
@@ -171,9 +172,9 @@ fn measure_core(packing: &Packing, cut: &Fracture, d_max: f64, begun: Instant) -
         };
         w * block
     };
-    let porosities: Vec<f64> = (0..blocks).map(|b| 1.0 - solid[b] / area(b)).collect();
+    let porosities: Vec<f64> = (0..blocks).map(|b| porosity(solid[b], area(b))).collect();
     let total: f64 = (0..blocks).map(area).sum();
-    let porosity = 1.0 - solid.iter().sum::<f64>() / total;
+    let porosity = porosity(solid.iter().sum(), total);
     let spread = if blocks < MIN_BLOCKS {
         f64::NAN
     } else {
@@ -216,23 +217,18 @@ fn coordination(disks: &[Disk], y0: f64, y1: f64) -> f64 {
             continue;
         }
         counted += 1;
-        let half = d.r + r_max;
-        let (qlo, qhi) = (
-            Point::new(d.c.x - half, d.c.y - half),
-            Point::new(d.c.x + half, d.c.y + half),
+        visit_near(
+            &grid,
+            disks,
+            r_max,
+            i,
+            |_| true,
+            |_, _, touching| {
+                contacts += usize::from(touching);
+            },
         );
-        grid.visit_box(qlo, qhi, |j| {
-            let o = disks[j as usize];
-            if j as usize != i && overlap_disk_disk(d.c, d.r, o.c, o.r) >= -CONTACT_REL {
-                contacts += 1;
-            }
-        });
     }
-    if counted == 0 {
-        0.0
-    } else {
-        contacts as f64 / counted as f64
-    }
+    metrics::coordination(contacts, counted)
 }
 
 #[cfg(test)]

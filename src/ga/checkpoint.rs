@@ -36,7 +36,8 @@ pub(super) type Key = (usize, [u64; 2]);
 
 impl Checkpoint {
     /// Generations recorded so far, generation 0 included.
-    pub fn generations(&self) -> usize {
+    #[cfg(test)]
+    pub(super) fn generations(&self) -> usize {
         self.history.len()
     }
 

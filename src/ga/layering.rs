@@ -65,14 +65,6 @@ impl LayeringProblem {
         genes.iter().map(|&u| self.material(u)).collect()
     }
 
-    /// The RMS profile error of an assignment.
-    pub fn rms(&self, assignment: &[usize]) -> f64 {
-        let mut areas = vec![0.0; self.areas.bins() * self.materials];
-        self.areas
-            .material_areas(self.materials, |i| assignment[i], &mut areas);
-        rms_error(&areas, &self.targets, self.materials)
-    }
-
     fn material(&self, u: f64) -> usize {
         ((u * self.materials as f64) as usize).min(self.materials - 1)
     }

@@ -37,6 +37,7 @@ use super::score::Score;
 use super::settings::OptimiseSettings;
 use crate::Scene;
 use crate::cancel::{Cancel, Cancelled};
+use crate::metrics::{porosity, psd_ks, solid_area};
 use crate::packer::{MAX_DEFERRED, MAX_GAP, PackError, Packing, pack_genes_watched, size_count};
 
 /// Packing-rule genes after the grading genes: one-contact share, gap /
@@ -162,9 +163,8 @@ impl Problem for PorosityProblem<'_> {
             Err(PackError::Cancelled(why)) => return Err(why),
             Err(_) => return Ok(self.unpacked()),
         };
-        let solid: f64 = packing.disks.iter().map(|d| d.area()).sum();
-        let porosity = 1.0 - solid / packing.domain.area();
-        let ks = scene.psd_ks(&packing);
+        let porosity = porosity(solid_area(&packing.disks), packing.domain.area());
+        let ks = psd_ks(&packing, &scene);
         let score = Score {
             violation: (ks - self.settings.max_psd_ks).max(0.0),
             error: (porosity - self.settings.target_porosity).powi(2),

@@ -274,19 +274,6 @@ pub fn overlap_disk_disk(c1: Point, r1: f64, c2: Point, r2: f64) -> f64 {
     (r1 + r2 - d) / (r1 + r2)
 }
 
-/// Distance from `p` to the segment `a`–`b`.
-#[inline]
-pub fn distance_point_segment(p: Point, a: Point, b: Point) -> f64 {
-    let ab = b - a;
-    let len2 = ab.norm_squared();
-    let t = if len2 > 0.0 {
-        ((p - a).dot(&ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p - (a + ab * t)).norm()
-}
-
 /// Area of the intersection of the disks (`c1`, `r1`) and (`c2`, `r2`), exactly.
 ///
 /// # Behavior

@@ -7,7 +7,8 @@ use crate::config::ConfigName;
 use crate::fracture::{Extent, MM_PER_M};
 use crate::ga::Layered;
 use crate::geometry::predicates::OVERLAP_REL;
-use crate::packer::{Metrics, PEAK_BYTES_PER_DISK, estimated_peak_bytes};
+use crate::metrics::Metrics;
+use crate::packer::{PEAK_BYTES_PER_DISK, estimated_peak_bytes};
 use crate::stability::{self, Status};
 use crate::{Scene, Shape};
 

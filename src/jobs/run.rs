@@ -18,11 +18,12 @@ use crate::ga::{
     lay_out,
 };
 use crate::layering::LayeringSettings;
+use crate::metrics::{Metrics, measure};
 use crate::output::{
     FractureInfo, OptimiseSummary, RunInfo, WELLS_CSV, WellRow, render_compare, render_outputs,
     render_stability, variant_label, wells_csv,
 };
-use crate::packer::{Metrics, PackError, Packing, measure, pack_observed};
+use crate::packer::{PackError, Packing, pack_observed};
 use crate::stability::{self, StabilityRun};
 
 /// File name of the list of a run's files, in its folder.

@@ -4,8 +4,8 @@
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
-use super::profile::{Frame, Profile};
 use crate::geometry::Disk;
+use crate::scene::{Frame, Profile};
 
 /// Assign a material to each disk by sweeping along the axis.
 ///

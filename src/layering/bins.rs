@@ -1,7 +1,7 @@
 //! The area fractions a packing achieves in bins along the axis.
 
-use super::profile::Frame;
 use crate::geometry::Disk;
+use crate::scene::Frame;
 
 /// The area of every disk in every bin it reaches, computed once: the
 /// packing's geometry stays fixed while materials are assigned.

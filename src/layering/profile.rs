@@ -1,138 +1,14 @@
-//! Target profiles: the area fraction of each material as a function of the
-//! normalised coordinate s ∈ [0, 1] along an axis.
+//! What layering adds to a [`Profile`]: its check against the materials and
+//! its averages over bins.
 
 use super::error::LayeringError;
-use crate::geometry::predicates::{area_disk_box, area_disk_disk};
-use crate::geometry::{Disk, Domain, Point, Shape};
-use crate::grading::Grading;
+use crate::scene::{Axis, Profile};
 
 /// Tolerance on sums that must be 1 (fractions, thicknesses).
 const SUM_TOLERANCE: f64 = 1e-6;
 
 /// Points per bin when a profile is averaged over a bin.
 const BIN_SAMPLES: usize = 64;
-
-/// The direction along which the fractions change.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Axis {
-    /// Left (s = 0) to right (s = 1).
-    X,
-    /// Bottom (s = 0) to top (s = 1).
-    #[default]
-    Y,
-    /// From the domain's centroid (s = 0) to its farthest boundary point (s = 1).
-    Radial,
-}
-
-/// Where points of a domain lie along an axis: s ∈ [0, 1].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Frame {
-    axis: Axis,
-    /// s = 0: the lower bound along x or y, or the centroid.
-    origin: Point,
-    /// Length mapped to s = 1 (mm).
-    length: f64,
-}
-
-impl Frame {
-    /// The frame of `domain` along `axis`: its bounding box along x or y, or
-    /// the centroid and the farthest boundary point.
-    pub fn new(axis: Axis, domain: &Domain) -> Self {
-        let (lo, hi) = domain.bounds();
-        let (origin, length) = match axis {
-            Axis::X => (lo, hi.x - lo.x),
-            Axis::Y => (lo, hi.y - lo.y),
-            Axis::Radial => {
-                let c = domain.centroid();
-                let far = match domain.shape() {
-                    Shape::Circle { center, radius } => (center - c).norm() + radius,
-                    _ => domain
-                        .outline(0)
-                        .iter()
-                        .map(|p| (p - c).norm())
-                        .fold(0.0, f64::max),
-                };
-                (c, far)
-            }
-        };
-        Frame {
-            axis,
-            origin,
-            length: length.max(f64::MIN_POSITIVE),
-        }
-    }
-
-    /// The axis.
-    pub fn axis(&self) -> Axis {
-        self.axis
-    }
-
-    /// The coordinate of `p` along the axis, clamped to [0, 1].
-    pub fn s(&self, p: Point) -> f64 {
-        let t = match self.axis {
-            Axis::X => p.x - self.origin.x,
-            Axis::Y => p.y - self.origin.y,
-            Axis::Radial => (p - self.origin).norm(),
-        };
-        (t / self.length).clamp(0.0, 1.0)
-    }
-
-    /// The range of s a disk covers (unclamped).
-    pub fn span(&self, d: &Disk) -> (f64, f64) {
-        let centre = match self.axis {
-            Axis::X => d.c.x - self.origin.x,
-            Axis::Y => d.c.y - self.origin.y,
-            Axis::Radial => (d.c - self.origin).norm(),
-        };
-        ((centre - d.r) / self.length, (centre + d.r) / self.length)
-    }
-
-    /// Area of the disk `d` between s = `a` and s = `b` (exact: a slab for
-    /// x and y, an annulus for radial).
-    pub fn area_between(&self, d: &Disk, a: f64, b: f64) -> f64 {
-        let (ta, tb) = (a * self.length, b * self.length);
-        let (c, r) = (d.c, d.r);
-        match self.axis {
-            Axis::X => {
-                let x0 = self.origin.x;
-                area_disk_box(c, r, x0 + ta, x0 + tb, c.y - 2.0 * r, c.y + 2.0 * r)
-            }
-            Axis::Y => {
-                let y0 = self.origin.y;
-                area_disk_box(c, r, c.x - 2.0 * r, c.x + 2.0 * r, y0 + ta, y0 + tb)
-            }
-            Axis::Radial => {
-                let o = self.origin;
-                let within = |radius: f64| {
-                    if radius > 0.0 {
-                        area_disk_disk(c, r, o, radius)
-                    } else {
-                        0.0
-                    }
-                };
-                (within(tb) - within(ta)).max(0.0)
-            }
-        }
-    }
-}
-
-/// The target fractions of the materials along the axis.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Profile {
-    /// Layers from s = 0 up: (material index, thickness as a fraction of the
-    /// axis); the thicknesses add up to 1. Any number of materials.
-    Steps(Vec<(usize, f64)>),
-    /// Two materials; the second's fraction is s.
-    Linear,
-    /// Two materials; the second's fraction is s^p.
-    Power(f64),
-    /// Two materials; the second's fraction is ½(2s)^p below s = ½ and
-    /// 1 − ½(2(1 − s))^p above: two power-law halves meeting at ½.
-    Sigmoid(f64),
-    /// Rows of s and one fraction per material, s rising within [0, 1];
-    /// linear between rows, constant beyond the first and last.
-    Table(Vec<(f64, Vec<f64>)>),
-}
 
 impl Profile {
     /// Check the profile against the number of materials.
@@ -202,70 +78,6 @@ impl Profile {
         }
     }
 
-    /// The profile's name as written in configs.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Profile::Steps(_) => "steps",
-            Profile::Linear => "linear",
-            Profile::Power(_) => "power",
-            Profile::Sigmoid(_) => "sigmoid",
-            Profile::Table(_) => "table",
-        }
-    }
-
-    /// The target fractions at `s` (clamped to [0, 1]) into `out`, one per
-    /// material (`out.len()` of them); they add up to 1.
-    pub fn fractions(&self, s: f64, out: &mut [f64]) {
-        let s = s.clamp(0.0, 1.0);
-        out.fill(0.0);
-        let second = |out: &mut [f64], f: f64| {
-            if let [a, b, ..] = out {
-                (*a, *b) = (1.0 - f, f);
-            }
-        };
-        match self {
-            Profile::Linear => second(out, s),
-            Profile::Power(p) => second(out, s.powf(*p)),
-            Profile::Sigmoid(p) => {
-                let f = if s <= 0.5 {
-                    0.5 * (2.0 * s).powf(*p)
-                } else {
-                    1.0 - 0.5 * (2.0 * (1.0 - s)).powf(*p)
-                };
-                second(out, f);
-            }
-            Profile::Steps(layers) => {
-                let mut top = 0.0;
-                let last = layers.len().saturating_sub(1);
-                for (i, &(m, t)) in layers.iter().enumerate() {
-                    top += t;
-                    if s < top || i == last {
-                        if let Some(f) = out.get_mut(m) {
-                            *f = 1.0;
-                        }
-                        return;
-                    }
-                }
-            }
-            Profile::Table(rows) => {
-                let i = rows.partition_point(|(rs, _)| *rs <= s);
-                let (lo, hi) = match i {
-                    0 => (&rows[0], &rows[0]),
-                    i if i == rows.len() => (&rows[i - 1], &rows[i - 1]),
-                    i => (&rows[i - 1], &rows[i]),
-                };
-                let w = if hi.0 > lo.0 {
-                    (s - lo.0) / (hi.0 - lo.0)
-                } else {
-                    0.0
-                };
-                for (f, (a, b)) in out.iter_mut().zip(lo.1.iter().zip(&hi.1)) {
-                    *f = a + w * (b - a);
-                }
-            }
-        }
-    }
-
     /// The target fractions averaged over each of `bins` equal bins of s
     /// (flat: bin b's fractions at `b·materials..`). Along x and y every s
     /// weighs the same; radially a ring weighs by its radius (its area).
@@ -290,63 +102,9 @@ impl Profile {
     }
 }
 
-/// Size-graded packing: the grading blends from the scene's curve (the first
-/// material) into a second curve (the second material) along an axis,
-/// following a two-material profile; every disk is of the material whose
-/// curve it was drawn from.
-#[derive(Debug, Clone)]
-pub struct SizeGradient {
-    /// Where the blend runs.
-    pub axis: Axis,
-    /// The area fraction of the second material along the axis.
-    pub profile: Profile,
-    /// The second material's curve.
-    pub second: Grading,
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn second(p: &Profile, s: f64) -> f64 {
-        let mut out = [0.0; 2];
-        p.fractions(s, &mut out);
-        assert!(
-            (out[0] + out[1] - 1.0).abs() < 1e-12,
-            "fractions add up to 1"
-        );
-        out[1]
-    }
-
-    #[test]
-    fn continuous_profiles_follow_their_formulas() {
-        for s in [0.0, 0.1, 0.25, 0.5, 0.7, 1.0] {
-            assert!((second(&Profile::Linear, s) - s).abs() < 1e-12);
-            assert!((second(&Profile::Power(2.0), s) - s * s).abs() < 1e-12);
-            let sig = if s <= 0.5 {
-                0.5 * (2.0 * s).powi(3)
-            } else {
-                1.0 - 0.5 * (2.0 * (1.0 - s)).powi(3)
-            };
-            assert!((second(&Profile::Sigmoid(3.0), s) - sig).abs() < 1e-12);
-        }
-        assert_eq!(second(&Profile::Sigmoid(3.0), 0.5), 0.5);
-    }
-
-    #[test]
-    fn steps_and_tables_follow_their_definitions() {
-        let steps = Profile::Steps(vec![(2, 0.25), (0, 0.5), (1, 0.25)]);
-        let mut out = [0.0; 3];
-        for (s, m) in [(0.0, 2), (0.2, 2), (0.3, 0), (0.74, 0), (0.76, 1), (1.0, 1)] {
-            steps.fractions(s, &mut out);
-            assert_eq!(out.iter().sum::<f64>(), 1.0);
-            assert_eq!(out[m], 1.0, "s = {s}");
-        }
-        let table = Profile::Table(vec![(0.2, vec![1.0, 0.0]), (0.6, vec![0.2, 0.8])]);
-        assert!((second(&table, 0.0)).abs() < 1e-12);
-        assert!((second(&table, 0.4) - 0.4).abs() < 1e-12);
-        assert!((second(&table, 0.9) - 0.8).abs() < 1e-12);
-    }
 
     #[test]
     fn bin_targets_average_the_profile() {
@@ -379,20 +137,5 @@ mod tests {
                 .is_err()
         );
         assert!(Profile::Steps(vec![(0, 0.5), (1, 0.5)]).check(2).is_ok());
-    }
-
-    #[test]
-    fn frame_areas_add_up_to_the_disk() {
-        let domain = Domain::rectangle(10.0, 6.0).unwrap();
-        let disk = Disk::new(4.3, 2.1, 0.7);
-        for axis in [Axis::X, Axis::Y, Axis::Radial] {
-            let frame = Frame::new(axis, &domain);
-            let (a, b) = frame.span(&disk);
-            let cut = 0.5 * (a + b) + 0.01;
-            let total =
-                frame.area_between(&disk, a - 0.1, cut) + frame.area_between(&disk, cut, b + 0.1);
-            assert!((total - disk.area()).abs() < 1e-9, "{axis:?}: {total}");
-            assert!(frame.area_between(&disk, a - 0.1, cut) > 0.0);
-        }
     }
 }

@@ -1,6 +1,6 @@
 //! Settings of a layering run (`[layering]` in a config).
 
-use super::profile::{Axis, Profile};
+use crate::scene::{Axis, Profile};
 
 /// How the materials get their place.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

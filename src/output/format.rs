@@ -1,5 +1,7 @@
 //! What a run writes: the formats of `[output]`, the export settings, the directory.
 
+use crate::names::{ConfigName, Names};
+
 /// A file format a run can write, by the name `[output] formats` gives it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Format {
@@ -62,6 +64,39 @@ impl LengthUnit {
     }
 }
 
+pub(crate) const FORMATS: Names<Format> = Names {
+    what: "format",
+    entries: &[
+        ("csv", Format::Csv),
+        ("json", Format::Json),
+        ("vtk", Format::Vtk),
+        ("lammps", Format::Lammps),
+        ("yade", Format::Yade),
+        ("pfc", Format::Pfc),
+        ("mercury", Format::Mercury),
+        ("esys", Format::Esys),
+        ("svg", Format::Svg),
+        ("png", Format::Png),
+    ],
+};
+
+pub(crate) const UNITS: Names<LengthUnit> = Names {
+    what: "length unit",
+    entries: &[("m", LengthUnit::Metre), ("mm", LengthUnit::Millimetre)],
+};
+
+impl ConfigName for Format {
+    fn config_name(&self) -> &'static str {
+        FORMATS.name_of(*self)
+    }
+}
+
+impl ConfigName for LengthUnit {
+    fn config_name(&self) -> &'static str {
+        UNITS.name_of(*self)
+    }
+}
+
 /// Settings shared by the DEM exports.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ExportOptions {
@@ -112,5 +147,20 @@ impl Default for OutputSettings {
             formats: Format::DEFAULT.to_vec(),
             export: ExportOptions::default(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip() {
+        for (name, value) in FORMATS.entries {
+            assert_eq!(FORMATS.get(name), Some(*value));
+            assert_eq!(value.config_name(), *name);
+        }
+        assert_eq!(Format::Lammps.config_name(), "lammps");
+        assert_eq!(LengthUnit::Millimetre.config_name(), "mm");
     }
 }

@@ -6,10 +6,11 @@ use serde::Serialize;
 
 use super::error::OutputError;
 use super::run::{FractureInfo, RunInfo};
-use crate::config::ConfigName;
 use crate::fracture::{Extent, MM_PER_M, WindowStep};
 use crate::ga::StopReason;
-use crate::packer::{Metrics, PackStats, Packing};
+use crate::metrics::Metrics;
+use crate::names::ConfigName;
+use crate::packer::{PackStats, Packing};
 
 /// File name of the run summary.
 pub const SUMMARY_JSON: &str = "summary.json";

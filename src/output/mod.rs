@@ -31,6 +31,7 @@ pub use export::{
     packing_vtk, pfc_commands, yade_text,
 };
 pub use format::{ExportOptions, Format, LengthUnit, OutputSettings};
+pub(crate) use format::{FORMATS, UNITS};
 pub use json::{OptimiseSummary, SUMMARY_JSON, summary_json};
 pub use plot::{
     CompareChart, Drawable, LineChart, Mark, PACKING_PNG, POROSITY_MAP_PNG, POROSITY_MAP_SVG,

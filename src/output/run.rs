@@ -27,7 +27,8 @@ use crate::ga::{Generation, Layered};
 use crate::geometry::predicates::OVERLAP_REL;
 use crate::grading::Grading;
 use crate::layering::{LayeringSettings, Material};
-use crate::packer::{Metrics, Packing};
+use crate::metrics::Metrics;
+use crate::packer::Packing;
 use crate::stability::StabilityRun;
 
 /// File name of the convergence chart.
@@ -105,7 +106,7 @@ pub struct FractureInfo<'a> {
 pub struct RunInfo<'a> {
     /// The scene that was packed (seed after any command-line override).
     pub scene: &'a Scene,
-    /// The config's path as given, or [`crate::config::DEFAULT_ORIGIN`].
+    /// The config's path as given, or `config::DEFAULT_ORIGIN`.
     pub config: &'a str,
     /// Wall-clock time of the packing alone, or of the whole search (s).
     pub seconds: f64,

@@ -1,29 +1,24 @@
-//! Packing generators, spatial indexes and packing metrics.
+//! Packing generators and spatial indexes.
 
 mod advancing_front;
 mod arcs;
 mod deposition;
 pub mod index;
-mod metrics;
 mod packing;
 mod placed;
-mod porosity_map;
 mod relaxation;
 mod rsa;
-mod settings;
 mod sizer;
 
-pub use advancing_front::{PROGRESS_STEP, pack_genes, pack_genes_watched, size_count};
-pub use deposition::pack_deposition;
-pub use metrics::{Metrics, measure};
-pub use packing::{PackError, PackStats, Packing};
-pub use porosity_map::{PorosityMap, porosity_map};
-pub use relaxation::pack_relaxation;
-pub use rsa::pack_rsa;
-pub use settings::{
+pub use crate::scene::{
     DEFAULT_ATTEMPTS, Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method, PackerSettings,
     Relaxation,
 };
+pub use advancing_front::{PROGRESS_STEP, pack_genes, pack_genes_watched, size_count};
+pub use deposition::pack_deposition;
+pub use packing::{PackError, PackStats, Packing};
+pub use relaxation::pack_relaxation;
+pub use rsa::pack_rsa;
 
 use crate::Scene;
 use crate::cancel::Cancel;

@@ -4,7 +4,7 @@
 use crate::Scene;
 use crate::geometry::Point;
 use crate::grading::Grading;
-use crate::layering::{Frame, Profile};
+use crate::scene::{Frame, Profile};
 
 /// Turns genes into diameters (and materials, in size-graded mode).
 pub(super) struct Sizer<'a> {

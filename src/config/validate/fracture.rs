@@ -4,10 +4,10 @@ use toml::Spanned;
 
 use super::{KeyAt, Validator};
 use crate::config::error::ConfigError;
-use crate::config::names::{EXTENTS, ExtentKind, FILLS};
 use crate::config::raw::{RawFracture, RawWell};
 use crate::fracture::{DEFAULT_WINDOW_TOLERANCE, Extent, Fracture, MM_PER_M};
 use crate::geometry::WallMode;
+use crate::names::{EXTENTS, ExtentKind, FILLS};
 use crate::packer::Fill;
 
 /// Largest `window_tolerance` accepted: beyond it a window estimates nothing.

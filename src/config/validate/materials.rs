@@ -6,9 +6,9 @@ use toml::Spanned;
 
 use super::{GradingPlan, KeyAt, Validator};
 use crate::config::error::ConfigError;
-use crate::config::names::{AXES, MODES, PROFILES, ProfileKind};
 use crate::config::raw::{RawLayering, RawMaterial};
 use crate::layering::{LayeringError, LayeringMode, LayeringSettings, Material, Profile};
+use crate::names::{AXES, MODES, PROFILES, ProfileKind};
 
 /// A checked material, with its grading when it gives one.
 pub(super) struct MaterialPlan {

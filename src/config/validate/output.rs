@@ -4,9 +4,9 @@ use toml::Spanned;
 
 use super::Validator;
 use crate::config::error::ConfigError;
-use crate::config::names::{FORMATS, UNITS};
 use crate::config::raw::RawOutput;
 use crate::output::OutputSettings;
+use crate::output::{FORMATS, UNITS};
 
 impl Validator<'_> {
     /// `[output]`: its defaults when the table is absent.

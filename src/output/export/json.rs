@@ -4,12 +4,13 @@
 use serde::Serialize;
 
 use super::common::{Text, disk_materials};
-use crate::config::ConfigName;
 use crate::geometry::{Domain, Point, Shape};
+use crate::metrics::Metrics;
+use crate::names::ConfigName;
 use crate::output::json::summary;
 use crate::output::svg::CIRCLE_SEGMENTS;
 use crate::output::{OutputError, RunInfo};
-use crate::packer::{Metrics, Packing};
+use crate::packer::Packing;
 
 /// File name of the packing as JSON.
 pub const PACKING_JSON: &str = "packing.json";

@@ -3,8 +3,8 @@
 use super::common::{
     Num, Text, VERSION, density, disk_materials, extent, labels, r_max, type_count, type_id,
 };
-use crate::config::ConfigName;
 use crate::layering::Material;
+use crate::names::ConfigName;
 use crate::output::OutputError;
 use crate::output::format::{ExportOptions, LengthUnit};
 use crate::packer::Packing;

@@ -1,9 +1,9 @@
 //! `packing.p2dat`: a PFC2D command file (PFC 6 / 7 syntax).
 
 use super::common::{Num, Text, VERSION, density, disk_materials, extent, labels, r_max};
-use crate::config::ConfigName;
 use crate::geometry::Shape;
 use crate::layering::Material;
+use crate::names::ConfigName;
 use crate::output::OutputError;
 use crate::output::format::ExportOptions;
 use crate::packer::Packing;

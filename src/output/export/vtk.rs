@@ -2,8 +2,8 @@
 //! (legacy VTK, ASCII POLYDATA).
 
 use super::common::{Num, Text, VERSION, density, disk_materials};
-use crate::config::ConfigName;
 use crate::layering::Material;
+use crate::names::ConfigName;
 use crate::output::OutputError;
 use crate::output::format::ExportOptions;
 use crate::output::svg::CIRCLE_SEGMENTS;

@@ -1,8 +1,8 @@
 //! `packing.yade.txt`: spheres for YADE's `ymport.text` / `ymport.textExt`.
 
 use super::common::{Num, Text, VERSION, disk_materials, labels};
-use crate::config::ConfigName;
 use crate::layering::Material;
+use crate::names::ConfigName;
 use crate::output::OutputError;
 use crate::output::format::ExportOptions;
 use crate::packer::Packing;

@@ -26,7 +26,7 @@ pub struct CompareChart {
 
 /// A variant's label, free of commas for CSV: `advancing-front (mx-quadtree; 2 contacts)`, `rsa`.
 pub fn variant_label(v: &Variant) -> String {
-    use crate::config::ConfigName;
+    use crate::names::ConfigName;
     match v.method {
         crate::packer::Method::AdvancingFront => format!(
             "{} ({}; {} contact{})",

@@ -13,6 +13,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use super::chart::{FAMILY, encode_png, register_font, tidy};
 use crate::geometry::{Disk, Point};
 use crate::layering::Material;
+use crate::metrics::{porosity, solid_area};
 use crate::output::OutputError;
 use crate::output::palette::{colour, ramp};
 use crate::output::svg::{
@@ -238,11 +239,10 @@ fn draw_legend<DB: DrawingBackend>(
     let text_width = |s: &str| -> Result<i32, DrawingAreaErrorKind<DB::ErrorType>> {
         Ok(area.estimate_text_size(s, &text)?.0 as i32)
     };
-    let solid: f64 = packing.disks.iter().map(Disk::area).sum();
     let counts = format!(
         "{} disks, porosity {:.3}",
         packing.disks.len(),
-        1.0 - solid / packing.domain.area()
+        porosity(solid_area(&packing.disks), packing.domain.area())
     );
     let right = width - GAP - text_width(&counts)?;
     area.draw(&Text::new(

@@ -8,9 +8,10 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use super::chart::{Drawable, FAMILY, tidy};
 use crate::geometry::Point;
 use crate::geometry::predicates::clip_polygon_box;
+use crate::metrics::{PorosityMap, porosity_map};
 use crate::output::palette::viridis;
 use crate::output::svg::CIRCLE_SEGMENTS;
-use crate::packer::{Packing, PorosityMap, porosity_map};
+use crate::packer::Packing;
 
 /// File name of the porosity map.
 pub const POROSITY_MAP_SVG: &str = "porosity_map.svg";

@@ -36,8 +36,4 @@ impl SpatialIndex for BruteForce {
         }
         ControlFlow::Continue(())
     }
-
-    fn heap_bytes(&self) -> usize {
-        self.points.capacity() * std::mem::size_of::<Point>()
-    }
 }

@@ -68,8 +68,4 @@ impl SpatialIndex for Grid {
         }
         ControlFlow::Continue(())
     }
-
-    fn heap_bytes(&self) -> usize {
-        (self.head.capacity() + self.next.capacity()) * 4
-    }
 }

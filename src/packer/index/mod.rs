@@ -66,8 +66,6 @@ pub trait SpatialIndex {
         })
         .is_break()
     }
-    /// Bytes held on the heap, for memory reports.
-    fn heap_bytes(&self) -> usize;
 }
 
 /// Buckets `lo..=hi` covered by the interval `[a, b]` along one axis, or `None` if it misses `0..n`.

@@ -159,8 +159,4 @@ impl SpatialIndex for MxQuadtree {
         }
         ControlFlow::Continue(())
     }
-
-    fn heap_bytes(&self) -> usize {
-        self.nodes.capacity() * 16 + (self.leaf_head.capacity() + self.next.capacity()) * 4
-    }
 }

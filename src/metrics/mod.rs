@@ -1,15 +1,27 @@
-//! Packing metrics: porosity, grading fidelity, overlaps, clearance, contacts, uniformity.
+//! Packing metrics: porosity, grading fidelity, overlaps, clearance,
+//! contacts, uniformity, and the porosity map.
+//!
+//! Every porosity in the crate is [`porosity`] of a solid area (a
+//! [`solid_area`] when whole disks count), and every coordination number
+//! is a [`coordination`] of contacts found by one neighbour visit.
+
+mod contacts;
+mod porosity_map;
+
+pub use contacts::coordination;
+pub(crate) use contacts::visit_near;
+pub use porosity_map::{PorosityMap, porosity_map};
 
 use std::ops::ControlFlow;
 
 use crate::Scene;
-use crate::geometry::predicates::{CONTACT_REL, area_disk_box, overlap_disk_disk};
+use crate::geometry::predicates::{CONTACT_REL, area_disk_box};
 use crate::geometry::{Disk, Point};
 use crate::packer::Packing;
 use crate::packer::index::{Grid, SpatialIndex};
 
 /// Side of the local-porosity windows, in largest diameters.
-pub(super) const WINDOW_DIAMETERS: f64 = 5.0;
+const WINDOW_DIAMETERS: f64 = 5.0;
 
 /// What a packing achieved.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -45,6 +57,46 @@ pub struct Metrics {
     pub largest_hole: f64,
 }
 
+/// Porosity of a region of area `area` (mm²) holding `solid` mm² of disks:
+/// 1 − solid / area.
+pub fn porosity(solid: f64, area: f64) -> f64 {
+    1.0 - solid / area
+}
+
+/// Total area of `disks` (mm²), summed in their order.
+pub fn solid_area<'a>(disks: impl IntoIterator<Item = &'a Disk>) -> f64 {
+    disks.into_iter().map(Disk::area).sum()
+}
+
+/// Kolmogorov–Smirnov distance of a packing's sizes to `scene`'s grading; in
+/// size-graded mode, the larger of each material's distance to its own curve.
+pub fn psd_ks(packing: &Packing, scene: &Scene) -> f64 {
+    // Only size-graded scenes tie a material to a curve; materials laid
+    // out on a finished packing all share the one grading.
+    let graded = scene.gradient.is_some();
+    let diameters = |material: u16| -> Vec<f64> {
+        packing
+            .disks
+            .iter()
+            .zip(packing.materials.iter().chain(std::iter::repeat(&0)))
+            .filter(|&(_, &m)| !graded || m == material)
+            .map(|(d, _)| 2.0 * d.r)
+            .collect()
+    };
+    scene
+        .curves()
+        .zip(0u16..)
+        .map(|(curve, m)| {
+            let own = diameters(m);
+            if own.is_empty() && graded {
+                0.0
+            } else {
+                curve.ks_distance(&own)
+            }
+        })
+        .fold(0.0, f64::max)
+}
+
 /// Measure a packing of `scene` against the scene's grading.
 ///
 /// # Performance
@@ -53,7 +105,7 @@ pub fn measure(packing: &Packing, scene: &Scene) -> Metrics {
     let disks = &packing.disks;
     let domain = &packing.domain;
     let domain_area = domain.area();
-    let solid_area: f64 = disks.iter().map(Disk::area).sum();
+    let solid_area = solid_area(disks);
     let r_max = disks
         .iter()
         .chain(&packing.boundary)
@@ -79,26 +131,22 @@ pub fn measure(packing: &Packing, scene: &Scene) -> Metrics {
         let clearance = domain.signed_distance(d.c) - d.r;
         min_wall_clearance = min_wall_clearance.min(clearance);
         touched[i] |= clearance <= CONTACT_REL * d.r;
-        let half = d.r + r_max;
-        let (qlo, qhi) = (
-            Point::new(d.c.x - half, d.c.y - half),
-            Point::new(d.c.x + half, d.c.y + half),
+        // Each packed pair once (j < i); wall disks against every packed disk.
+        visit_near(
+            &grid,
+            &all,
+            r_max,
+            i,
+            |j| j < i,
+            |j, overlap, touching| {
+                max_overlap = max_overlap.max(overlap);
+                if touching {
+                    touched[i] = true;
+                    touched[j] = true;
+                    contacts += usize::from(j >= nb);
+                }
+            },
         );
-        grid.visit_box(qlo, qhi, |j| {
-            let j = j as usize;
-            // Each packed pair once (j < i); wall disks against every packed disk.
-            if j >= i {
-                return;
-            }
-            let o = all[j];
-            let overlap = overlap_disk_disk(d.c, d.r, o.c, o.r);
-            max_overlap = max_overlap.max(overlap);
-            if overlap >= -CONTACT_REL {
-                touched[i] = true;
-                touched[j] = true;
-                contacts += usize::from(j >= nb);
-            }
-        });
     }
     let n = disks.len();
     let isolated = touched[nb..].iter().filter(|&&t| !t).count();
@@ -107,15 +155,12 @@ pub fn measure(packing: &Packing, scene: &Scene) -> Metrics {
         particles: n,
         domain_area,
         solid_area,
-        porosity: 1.0 - solid_area / domain_area,
-        psd_ks: scene.psd_ks(packing),
+        porosity: porosity(solid_area, domain_area),
+        psd_ks: psd_ks(packing, scene),
         max_overlap,
         min_wall_clearance: if n == 0 { 0.0 } else { min_wall_clearance },
-        coordination: if n == 0 {
-            0.0
-        } else {
-            2.0 * contacts as f64 / n as f64
-        },
+        // Each pair has two ends.
+        coordination: coordination(2 * contacts, n),
         isolated,
         local_porosity_std,
         local_windows,
@@ -164,7 +209,7 @@ fn local_porosity(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64) -> (
                     solid += area_disk_box(d.c, d.r, x0, x1, y0, y1);
                 }
             });
-            values.push(1.0 - solid / (w * w));
+            values.push(porosity(solid, w * w));
         }
     }
     if values.len() < 2 {

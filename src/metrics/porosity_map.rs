@@ -1,10 +1,10 @@
 //! The local porosity of a packing on a regular grid of square cells, for a
 //! heat map that shows where a packing is loose or dense.
 
+use super::{WINDOW_DIAMETERS, porosity};
 use crate::geometry::Point;
 use crate::geometry::predicates::area_disk_box;
 use crate::packer::Packing;
-use crate::packer::metrics::WINDOW_DIAMETERS;
 
 /// Most cells along the longer side of the domain's bounds.
 const MAX_CELLS: f64 = 200.0;
@@ -14,8 +14,8 @@ const MIN_CELLS: f64 = 4.0;
 /// Local porosity on a regular grid of square cells covering the domain's bounds.
 ///
 /// Cell `(col, row)` spans `[origin.x + col·cell, origin.x + (col + 1)·cell]`
-/// × `[origin.y + row·cell, origin.y + (row + 1)·cell]`; every per-cell
-/// vector is stored row by row from the bottom: index `row · cols + col`.
+/// × `[origin.y + row·cell, origin.y + (row + 1)·cell]`; the values are
+/// stored row by row from the bottom: index `row · cols + col`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PorosityMap {
     /// Lower-left corner of the grid (mm).
@@ -29,12 +29,6 @@ pub struct PorosityMap {
     /// Porosity of each cell, 1 − solid / in-domain area, clamped to [0, 1];
     /// NaN for a cell with less than half its area in the domain.
     pub values: Vec<f64>,
-    /// Solid area of the packed disks inside each cell (mm²); wall disks
-    /// are not solid. Kept so that regions can be aggregated:
-    /// the porosity of several cells is 1 − Σ solid / Σ inside.
-    pub solid: Vec<f64>,
-    /// Area of each cell inside the domain (mm²).
-    pub inside: Vec<f64>,
 }
 
 /// The local porosity of `packing` on a grid of square cells.
@@ -73,6 +67,13 @@ pub struct PorosityMap {
 /// assert!((map.values[0] - (1.0 - std::f64::consts::PI / 400.0)).abs() < 1e-12);
 /// ```
 pub fn porosity_map(packing: &Packing) -> PorosityMap {
+    map_with_areas(packing).0
+}
+
+/// [`porosity_map`], with the solid area of the packed disks inside each
+/// cell (wall disks are not solid) and each cell's area inside the domain
+/// (mm², row by row like the values).
+fn map_with_areas(packing: &Packing) -> (PorosityMap, Vec<f64>, Vec<f64>) {
     let domain = &packing.domain;
     let (lo, hi) = domain.bounds();
     let (width, height) = (hi.x - lo.x, hi.y - lo.y);
@@ -123,19 +124,18 @@ pub fn porosity_map(packing: &Packing) -> PorosityMap {
             if a < 0.5 * cell * cell {
                 f64::NAN
             } else {
-                (1.0 - s / a).clamp(0.0, 1.0)
+                porosity(s, a).clamp(0.0, 1.0)
             }
         })
         .collect();
-    PorosityMap {
+    let map = PorosityMap {
         origin,
         cell,
         cols,
         rows,
         values,
-        solid,
-        inside,
-    }
+    };
+    (map, solid, inside)
 }
 
 #[cfg(test)]
@@ -167,7 +167,8 @@ mod tests {
     fn solid_areas_add_up_to_the_packing_s() {
         // 43 × 31 mm: cells of 5 · d_max do not tile it, so edge cells are partial.
         let p = packed(Domain::rectangle(43.0, 31.0).expect("rectangle"));
-        let map = porosity_map(&p);
+        let (map, solid, inside) = map_with_areas(&p);
+        assert_eq!(map, porosity_map(&p));
         assert!(
             map.cols >= 4 && map.rows >= 3,
             "{} × {}",
@@ -175,18 +176,21 @@ mod tests {
             map.rows
         );
         let total: f64 = p.disks.iter().map(Disk::area).sum();
-        let summed: f64 = map.solid.iter().sum();
+        let summed: f64 = solid.iter().sum();
         assert!(
             ((summed - total) / total).abs() < 1e-9,
             "{summed} vs {total}"
         );
         // The in-domain areas add up to the rectangle's.
-        let inside: f64 = map.inside.iter().sum();
-        assert!((inside / (43.0 * 31.0) - 1.0).abs() < 1e-12, "{inside}");
+        let total_inside: f64 = inside.iter().sum();
+        assert!(
+            (total_inside / (43.0 * 31.0) - 1.0).abs() < 1e-12,
+            "{total_inside}"
+        );
         // Porosities in [0, 1]; the whole cells near the packing's own.
         let porosity = 1.0 - total / (43.0 * 31.0);
         for (i, v) in map.values.iter().enumerate() {
-            if map.inside[i] == map.cell * map.cell {
+            if inside[i] == map.cell * map.cell {
                 assert!((v - porosity).abs() < 0.15, "cell {i}: {v} vs {porosity}");
             }
             assert!(v.is_nan() || (0.0..=1.0).contains(v), "cell {i}: {v}");
@@ -236,7 +240,7 @@ mod tests {
     #[test]
     fn cells_mostly_outside_a_circle_are_masked() {
         let p = packed(Domain::circle(Point::new(0.0, 0.0), 15.0).expect("circle"));
-        let map = porosity_map(&p);
+        let (map, solid, inside) = map_with_areas(&p);
         let (cols, rows) = (map.cols, map.rows);
         assert!(cols >= 4 && cols == rows, "{cols} × {rows}");
         // The four corner cells lie mostly outside the circle; the centre ones inside.
@@ -250,13 +254,16 @@ mod tests {
             map.values[centre]
         );
         // Masked cells are exactly those with less than half their area inside.
-        for (v, a) in map.values.iter().zip(&map.inside) {
+        for (v, a) in map.values.iter().zip(&inside) {
             assert_eq!(v.is_nan(), *a < 0.5 * map.cell * map.cell);
         }
-        let inside: f64 = map.inside.iter().sum();
-        assert!((inside / p.domain.area() - 1.0).abs() < 1e-12, "{inside}");
+        let total_inside: f64 = inside.iter().sum();
+        assert!(
+            (total_inside / p.domain.area() - 1.0).abs() < 1e-12,
+            "{total_inside}"
+        );
         let total: f64 = p.disks.iter().map(Disk::area).sum();
-        let summed: f64 = map.solid.iter().sum();
+        let summed: f64 = solid.iter().sum();
         assert!(
             ((summed - total) / total).abs() < 1e-9,
             "{summed} vs {total}"

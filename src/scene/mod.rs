@@ -1,13 +1,22 @@
-//! The validated scene: everything the packer needs, nothing it does not.
+//! The validated scene: everything the packer needs, nothing it does not:
+//! the domain and grading, the packer's settings, and in size-graded mode
+//! the profile the sizes follow.
+
+mod profile;
+mod settings;
+
+pub use profile::{Axis, Frame, Profile, SizeGradient};
+pub use settings::{
+    DEFAULT_ATTEMPTS, Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method, PackerSettings,
+    Relaxation,
+};
 
 use crate::geometry::{Domain, WallMode};
 use crate::grading::Grading;
-use crate::layering::{Axis, SizeGradient};
-use crate::packer::{Fill, PackerSettings, Packing};
 
 /// A validated scene: domain, wall model, grading curve, packer settings and seed.
 ///
-/// Built from a config (see [`crate::config`]) or directly in code; the same
+/// Built from a config (`config::parse`) or directly in code; the same
 /// scene and seed always give the same packing.
 #[derive(Debug, Clone)]
 pub struct Scene {
@@ -97,34 +106,6 @@ impl Scene {
             .fold(f64::INFINITY, f64::min)
     }
 
-    /// Kolmogorov–Smirnov distance of a packing's sizes to the grading; in
-    /// size-graded mode, the larger of each material's distance to its own curve.
-    pub fn psd_ks(&self, packing: &Packing) -> f64 {
-        // Only size-graded scenes tie a material to a curve; materials laid
-        // out on a finished packing all share the one grading.
-        let graded = self.gradient.is_some();
-        let diameters = |material: u16| -> Vec<f64> {
-            packing
-                .disks
-                .iter()
-                .zip(packing.materials.iter().chain(std::iter::repeat(&0)))
-                .filter(|&(_, &m)| !graded || m == material)
-                .map(|(d, _)| 2.0 * d.r)
-                .collect()
-        };
-        self.curves()
-            .zip(0u16..)
-            .map(|(curve, m)| {
-                let own = diameters(m);
-                if own.is_empty() && graded {
-                    0.0
-                } else {
-                    curve.ks_distance(&own)
-                }
-            })
-            .fold(0.0, f64::max)
-    }
-
     /// The scene mirrored in the line y = x: its domain transposed, a size
     /// gradient along x running along y (and the reverse), filling up.
     /// Packing it and swapping the coordinates back fills this scene along x.
@@ -149,7 +130,7 @@ impl Scene {
     }
 
     /// The grading, and the second curve in size-graded mode.
-    fn curves(&self) -> impl Iterator<Item = &Grading> {
+    pub(crate) fn curves(&self) -> impl Iterator<Item = &Grading> {
         std::iter::once(&self.grading).chain(self.gradient.as_ref().map(|g| &g.second))
     }
 }

@@ -1,11 +1,12 @@
 //! The names users write for each choice, in one table per choice (LAMMPS style):
-//! the parser looks names up here, and reports print them from here.
+//! the parser looks names up here, and reports print them from here. The
+//! output formats' and length units' tables sit beside their types in
+//! `output`, which writes those names.
 
 use crate::geometry::{Shape, WallMode};
 use crate::grading::{Basis, Interpolation};
-use crate::layering::{Axis, LayeringMode};
-use crate::output::{Format, LengthUnit};
-use crate::packer::{Fill, FrontRules, IndexKind, Method};
+use crate::layering::LayeringMode;
+use crate::scene::{Axis, Fill, FrontRules, IndexKind, Method};
 
 /// The default packing method's name.
 pub const METHOD: &str = "advancing-front";
@@ -170,27 +171,6 @@ pub(crate) const PROFILES: Names<ProfileKind> = Names {
     ],
 };
 
-pub(crate) const FORMATS: Names<Format> = Names {
-    what: "format",
-    entries: &[
-        ("csv", Format::Csv),
-        ("json", Format::Json),
-        ("vtk", Format::Vtk),
-        ("lammps", Format::Lammps),
-        ("yade", Format::Yade),
-        ("pfc", Format::Pfc),
-        ("mercury", Format::Mercury),
-        ("esys", Format::Esys),
-        ("svg", Format::Svg),
-        ("png", Format::Png),
-    ],
-};
-
-pub(crate) const UNITS: Names<LengthUnit> = Names {
-    what: "length unit",
-    entries: &[("m", LengthUnit::Metre), ("mm", LengthUnit::Millimetre)],
-};
-
 /// `packer.contacts` is written as a number; it sets the one-contact share.
 pub(crate) const CONTACTS: Names<f64> = Names {
     what: "contact count",
@@ -203,18 +183,6 @@ pub(crate) const CONTACTS: Names<f64> = Names {
 pub trait ConfigName {
     /// The config name of this value.
     fn config_name(&self) -> &'static str;
-}
-
-impl ConfigName for Format {
-    fn config_name(&self) -> &'static str {
-        FORMATS.name_of(*self)
-    }
-}
-
-impl ConfigName for LengthUnit {
-    fn config_name(&self) -> &'static str {
-        UNITS.name_of(*self)
-    }
 }
 
 impl ConfigName for WallMode {
@@ -298,8 +266,6 @@ mod tests {
         assert_eq!(FrontRules::Thesis.config_name(), "thesis");
         assert_eq!(Interpolation::Linear.config_name(), "linear");
         assert_eq!(SHAPES.get("hexagon"), None);
-        assert_eq!(Format::Lammps.config_name(), "lammps");
-        assert_eq!(LengthUnit::Millimetre.config_name(), "mm");
         let circle = Shape::Circle {
             center: crate::geometry::Point::new(0.0, 0.0),
             radius: 1.0,
