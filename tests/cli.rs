@@ -277,6 +277,7 @@ fn packs_default_scene() {
     assert_eq!(
         written,
         [
+            "manifest.json",
             "packing.csv",
             "packing.png",
             "packing.svg",

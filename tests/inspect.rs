@@ -27,11 +27,11 @@ fn validate_prints_the_scene_without_packing() {
     let text = stdout(&out);
     assert!(text.starts_with("sq.toml: valid\n"), "{text}");
     for expected in [
-        "job: gapack pack",
+        "job: pack",
         "grading: d 1 to 2 mm",
         "domain: rectangle 20 × 20 mm, area 400 mm², walls exact: about ",
         "peak memory about ",
-        "output: out/sq (csv, svg, png; summary.json always)",
+        "output: out/sq (csv, svg, png; summary.json and manifest.json always)",
     ] {
         assert!(
             text.contains(expected),
@@ -228,7 +228,7 @@ fn output_dir_of_the_config_is_used_and_an_unwritable_one_fails_cleanly() {
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     written.sort();
-    assert_eq!(written, ["packing.csv", "summary.json"]);
+    assert_eq!(written, ["manifest.json", "packing.csv", "summary.json"]);
 
     // A file where the directory should be.
     fs::write(dir.join("blocked"), "a file").unwrap();
@@ -285,6 +285,7 @@ fn every_format_is_written_and_the_pictures_are_valid_images() {
         written,
         [
             "boundary.vtk",
+            "manifest.json",
             "packing.csv",
             "packing.geo",
             "packing.json",

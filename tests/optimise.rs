@@ -171,7 +171,7 @@ fn an_out_of_reach_target_is_reported_with_its_range() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(
-        stderr.contains("target porosity 0.05 is out of reach"),
+        stderr.contains("target_porosity = 0.05 is out of reach"),
         "{stderr}"
     );
     let s = summary(&dir.join("o"));

@@ -157,7 +157,7 @@ fn resume_refuses_a_checkpoint_of_another_run_or_none() {
     assert_eq!(none.status.code(), Some(2));
     assert!(
         String::from_utf8_lossy(&none.stderr)
-            .starts_with("error: --resume: cannot read out/checkpoint.json")
+            .starts_with("error: there is no checkpoint.json in out to resume from")
     );
 
     assert_eq!(stopped_by(&dir, "out", "INT"), Some(0));
@@ -176,7 +176,9 @@ fn resume_refuses_a_checkpoint_of_another_run_or_none() {
     assert_eq!(other_seed.status.code(), Some(2));
     let message = String::from_utf8_lossy(&other_seed.stderr);
     assert!(
-        message.contains("was written for another config or seed"),
+        message.contains("belongs to another run")
+            && message.contains("seed 2")
+            && message.contains("seed 7"),
         "{message}"
     );
 

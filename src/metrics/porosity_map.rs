@@ -168,7 +168,8 @@ mod tests {
         // 43 × 31 mm: cells of 5 · d_max do not tile it, so edge cells are partial.
         let p = packed(Domain::rectangle(43.0, 31.0).expect("rectangle"));
         let (map, solid, inside) = map_with_areas(&p);
-        assert_eq!(map, porosity_map(&p));
+        // Debug text: NaN (a masked cell) equals NaN there.
+        assert_eq!(format!("{map:?}"), format!("{:?}", porosity_map(&p)));
         assert!(
             map.cols >= 4 && map.rows >= 3,
             "{} × {}",
