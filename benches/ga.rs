@@ -7,8 +7,8 @@
 use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use gapack::config;
 use gapack::ga::{Limits, PorosityProblem, Search};
+use gapack::{Cancel, config};
 
 /// Genomes per generation, as in the shipped configs.
 const POPULATION: usize = 64;
@@ -34,7 +34,14 @@ fn generation(c: &mut Criterion) {
                 .expect("thread pool");
             group.bench_with_input(BenchmarkId::new(name, threads), &threads, |b, _| {
                 b.iter(|| {
-                    pool.install(|| black_box(Search::start(&problem, limits, 1).initial().len()))
+                    pool.install(|| {
+                        black_box(
+                            Search::start(&problem, limits, 1, &Cancel::new())
+                                .expect("a fresh token is never raised")
+                                .initial()
+                                .len(),
+                        )
+                    })
                 })
             });
         }

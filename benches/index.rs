@@ -13,9 +13,9 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use gapack::geometry::{Disk, Point};
 use gapack::output::{Drawable, LineChart, Mark, Series};
-use gapack::packer::index::{Grid, MxQuadtree, SpatialIndex};
+use gapack::{Disk, Point};
+use gapack::{Grid, MxQuadtree, SpatialIndex};
 use gapack::{PackerSettings, pack};
 use kiddo::{Chebyshev, KdTree};
 use rstar::primitives::GeomWithData;

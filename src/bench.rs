@@ -1,54 +1,85 @@
 //! `gapack bench`: disks per second and peak memory per disk, MX quadtree
 //! against the grid, on square domains with the Table 3.4 grading.
 //!
-//! Peak memory comes from [`PeakAlloc`], a counting wrapper around the system
-//! allocator installed by the binary (the library itself forbids `unsafe`).
+//! Peak memory comes from [`counting::PeakAlloc`], a counting wrapper around
+//! the system allocator. It is installed only in a binary built with
+//! `--features count-alloc`, so that no other run pays two atomic updates
+//! per allocation; without it the memory column reads "not measured".
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-use gapack::metrics::{porosity, solid_area};
-use gapack::{Domain, Grading, IndexKind, PackerSettings, Scene, WallMode, pack};
+use gapack::{Domain, Grading, IndexKind, PackerSettings, Scene, pack};
+use gapack::{porosity, solid_area};
 
-static CURRENT: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
+/// The counting allocator and its two counters.
+#[cfg(feature = "count-alloc")]
+pub mod counting {
+    use std::alloc::{GlobalAlloc, Layout, System};
+    use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// System allocator that keeps the current and peak number of bytes allocated.
-pub struct PeakAlloc;
+    static CURRENT: AtomicUsize = AtomicUsize::new(0);
+    static PEAK: AtomicUsize = AtomicUsize::new(0);
 
-// SAFETY: every call is forwarded unchanged to `System`; the wrapper only
-// updates two atomic counters, so the allocator contract is System's.
-unsafe impl GlobalAlloc for PeakAlloc {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        // SAFETY: forwarded with the caller's layout.
-        let p = unsafe { System.alloc(layout) };
-        if !p.is_null() {
-            grow(layout.size());
+    /// System allocator that keeps the current and peak number of bytes allocated.
+    pub struct PeakAlloc;
+
+    // SAFETY: every call is forwarded unchanged to `System`; the wrapper only
+    // updates two atomic counters, so the allocator contract is System's.
+    unsafe impl GlobalAlloc for PeakAlloc {
+        unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+            // SAFETY: forwarded with the caller's layout.
+            let p = unsafe { System.alloc(layout) };
+            if !p.is_null() {
+                grow(layout.size());
+            }
+            p
         }
-        p
-    }
 
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: forwarded with the caller's pointer and layout.
-        unsafe { System.dealloc(ptr, layout) };
-        CURRENT.fetch_sub(layout.size(), Ordering::Relaxed);
-    }
-
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        // SAFETY: forwarded with the caller's pointer, layout and size.
-        let p = unsafe { System.realloc(ptr, layout, new_size) };
-        if !p.is_null() {
+        unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+            // SAFETY: forwarded with the caller's pointer and layout.
+            unsafe { System.dealloc(ptr, layout) };
             CURRENT.fetch_sub(layout.size(), Ordering::Relaxed);
-            grow(new_size);
         }
-        p
+
+        unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+            // SAFETY: forwarded with the caller's pointer, layout and size.
+            let p = unsafe { System.realloc(ptr, layout, new_size) };
+            if !p.is_null() {
+                CURRENT.fetch_sub(layout.size(), Ordering::Relaxed);
+                grow(new_size);
+            }
+            p
+        }
+    }
+
+    fn grow(bytes: usize) {
+        let now = CURRENT.fetch_add(bytes, Ordering::Relaxed) + bytes;
+        PEAK.fetch_max(now, Ordering::Relaxed);
+    }
+
+    /// Start a measurement: the peak restarts from the bytes held now.
+    pub fn start() -> usize {
+        let base = CURRENT.load(Ordering::Relaxed);
+        PEAK.store(base, Ordering::Relaxed);
+        base
+    }
+
+    /// Peak bytes held since [`start`] returned `base`, beyond `base`.
+    pub fn peak_since(base: usize) -> Option<usize> {
+        Some(PEAK.load(Ordering::Relaxed).saturating_sub(base))
     }
 }
 
-fn grow(bytes: usize) {
-    let now = CURRENT.fetch_add(bytes, Ordering::Relaxed) + bytes;
-    PEAK.fetch_max(now, Ordering::Relaxed);
+/// Without the counting allocator nothing is measured.
+#[cfg(not(feature = "count-alloc"))]
+mod counting {
+    pub fn start() -> usize {
+        0
+    }
+
+    pub fn peak_since(_base: usize) -> Option<usize> {
+        None
+    }
 }
 
 /// One measured configuration.
@@ -68,8 +99,9 @@ pub struct Row {
     pub seconds: f64,
     /// Disks per second (best run).
     pub disks_per_second: f64,
-    /// Peak heap bytes during packing, per disk.
-    pub peak_bytes_per_disk: f64,
+    /// Peak heap bytes during packing, per disk (`None`: the binary was
+    /// built without `count-alloc`).
+    pub peak_bytes_per_disk: Option<f64>,
 }
 
 /// Square side (mm) for a target disk count; 10⁶ maps to the thesis' 1000 mm square scaled up.
@@ -84,7 +116,7 @@ pub fn run(
     mut progress: impl FnMut(&Row),
 ) -> anyhow::Result<Vec<Row>> {
     let grading = Grading::from_table(
-        gapack::grading::THESIS_TABLE_3_4,
+        gapack::THESIS_TABLE_3_4,
         Default::default(),
         Default::default(),
     )?;
@@ -99,29 +131,22 @@ pub fn run(
                 ("mx-quadtree", IndexKind::MxQuadtree),
                 ("grid", IndexKind::Grid),
             ] {
-                let scene = Scene {
-                    domain: Domain::rectangle(side, side)?,
-                    walls: WallMode::Exact,
-                    wall_disk_diameter: None,
-                    grading: grading.clone(),
-                    gradient: None,
-                    packer: PackerSettings {
+                let scene = Scene::new(Domain::rectangle(side, side)?, grading.clone())
+                    .with_packer(PackerSettings {
                         index,
                         ..PackerSettings::default()
-                    },
-                    seed: 1,
-                };
+                    })
+                    .with_seed(1);
                 let mut best = f64::INFINITY;
-                let mut peak = 0usize;
+                let mut peak = Some(0usize);
                 let mut packing = None;
                 for _ in 0..repeats.max(1) {
                     drop(packing.take());
-                    let base = CURRENT.load(Ordering::Relaxed);
-                    PEAK.store(base, Ordering::Relaxed);
+                    let base = counting::start();
                     let start = Instant::now();
                     let p = pack(&scene)?;
                     best = best.min(start.elapsed().as_secs_f64());
-                    peak = peak.max(PEAK.load(Ordering::Relaxed).saturating_sub(base));
+                    peak = peak.zip(counting::peak_since(base)).map(|(a, b)| a.max(b));
                     packing = Some(p);
                 }
                 // At least one repeat ran, so the packing is there.
@@ -135,7 +160,7 @@ pub fn run(
                     porosity: porosity(solid_area(&packing.disks), side * side),
                     seconds: best,
                     disks_per_second: disks as f64 / best,
-                    peak_bytes_per_disk: peak as f64 / disks.max(1) as f64,
+                    peak_bytes_per_disk: peak.map(|p| p as f64 / disks.max(1) as f64),
                 };
                 progress(&row);
                 rows.push(row);
@@ -180,7 +205,7 @@ pub fn run_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
     );
     let rows = run(&targets, args.repeats, |r| {
         println!(
-            "{:>9} {:>9.1} {:>12} {:>9} {:>9.4} {:>9.3} {:>12.0} {:>10.1}",
+            "{:>9} {:>9.1} {:>12} {:>9} {:>9.4} {:>9.3} {:>12.0} {:>10}",
             r.target,
             r.side_mm,
             r.index,
@@ -189,10 +214,14 @@ pub fn run_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
             r.seconds,
             r.disks_per_second,
             r.peak_bytes_per_disk
+                .map_or_else(|| "-".to_owned(), |b| format!("{b:.1}"))
         );
     })
     .context("cannot run the benchmark")
     .map_err(Failure::Run)?;
+    if rows.iter().any(|r| r.peak_bytes_per_disk.is_none()) {
+        println!("bytes/disk not measured: build with `--features count-alloc` to count them");
+    }
     let mut w = csv::Writer::from_writer(Vec::new());
     for row in &rows {
         w.serialize(row)

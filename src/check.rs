@@ -18,6 +18,7 @@ pub const KS_MARGIN: f64 = 0.05;
 
 /// The result of [`check`].
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct Check {
     /// Disks checked.
     pub particles: usize,

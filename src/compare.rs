@@ -88,6 +88,7 @@ impl Variant {
 
 /// One run: a variant on one seed, timed and measured.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct CompareRun {
     /// How it packed.
     pub variant: Variant,
@@ -191,9 +192,8 @@ pub fn pareto(runs: &[CompareRun], error: impl Fn(&CompareRun) -> f64) -> Vec<Co
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Domain, WallMode};
+    use crate::geometry::Domain;
     use crate::grading::Grading;
-    use crate::packer::PackerSettings;
 
     #[test]
     fn the_advancing_front_expands_to_four_variants() {
@@ -204,15 +204,11 @@ mod tests {
 
     #[test]
     fn pareto_keeps_runs_no_other_beats_on_both() {
-        let scene = Scene {
-            domain: Domain::rectangle(10.0, 10.0).unwrap(),
-            walls: WallMode::Exact,
-            wall_disk_diameter: None,
-            grading: Grading::constant(1.0).unwrap(),
-            gradient: None,
-            packer: PackerSettings::default(),
-            seed: 1,
-        };
+        let scene = Scene::new(
+            Domain::rectangle(10.0, 10.0).unwrap(),
+            Grading::constant(1.0).unwrap(),
+        )
+        .with_seed(1);
         let settings = CompareSettings {
             methods: vec![Method::AdvancingFront, Method::Rsa],
             repeats: 2,

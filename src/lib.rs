@@ -3,33 +3,55 @@
 //! The data flows one way: a TOML [`config`] becomes a validated [`Scene`]
 //! (domain, grading, packer settings, seed); [`pack`] turns the scene into a
 //! [`Packing`] with zero overlaps; [`measure`] reports porosity, grading
-//! fidelity and contact statistics; the binary writes the outputs.
+//! fidelity and contact statistics; [`check`] verifies a packing; [`jobs`]
+//! runs any job (pack, optimise, layer, compare, stability) for every front
+//! end, and [`output`] renders its files as bytes.
 //!
-//! Library modules do no file or terminal I/O; only `output` and the binary do.
+//! The core types live at the crate root; the jobs, the search ([`ga`]) and
+//! the renderers keep their own namespaces. Library modules do no file or
+//! terminal I/O: jobs hand their files to a [`jobs::Store`].
+//!
+//! ```
+//! use gapack::{Basis, Domain, Grading, Scene, check, pack};
+//!
+//! let domain = Domain::rectangle(10.0, 10.0).unwrap();
+//! let grading = Grading::uniform(0.5, 1.0, Basis::Number).unwrap();
+//! let scene = Scene::new(domain, grading).with_seed(7);
+//! let packing = pack(&scene).unwrap();
+//! assert!(check(&packing.disks, &scene.domain, Some(&scene.grading)).valid());
+//! ```
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
-pub mod cancel;
-pub mod check;
+mod cancel;
+mod check;
 pub mod compare;
 pub mod config;
 pub mod fracture;
 pub mod ga;
-pub mod geometry;
-pub mod grading;
+mod geometry;
+mod grading;
 pub mod jobs;
 pub mod layering;
-pub mod metrics;
+mod metrics;
 mod names;
 pub mod output;
-pub mod packer;
+mod packer;
 mod scene;
 pub mod stability;
 
+pub use cancel::{Cancel, Cancelled};
+pub use check::{Check, KS_MARGIN, check, ks_limit};
+pub use geometry::predicates::OVERLAP_REL;
 pub use geometry::{Disk, Domain, GeometryError, Point, Shape, Wall, WallMode};
-pub use grading::{Basis, Grading, GradingError, Interpolation};
-pub use metrics::{Metrics, PorosityMap, measure, porosity_map, psd_ks};
-pub use packer::{PackError, PackStats, Packing, pack, pack_observed};
+pub use grading::{Basis, Grading, GradingError, Interpolation, THESIS_TABLE_3_4};
+pub use metrics::{Metrics, PorosityMap, measure, porosity, porosity_map, psd_ks, solid_area};
+pub use packer::index::{Grid, MxQuadtree, SpatialIndex};
+pub use packer::{
+    PEAK_BYTES_PER_DISK, PackError, PackStats, Packing, estimated_peak_bytes, pack, pack_observed,
+    size_count,
+};
 pub use scene::{
-    Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method, PackerSettings, Scene,
+    Axis, Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method, PackerSettings, Profile,
+    Relaxation, Scene, SizeGradient,
 };

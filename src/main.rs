@@ -17,9 +17,11 @@ use gapack::jobs::{self, Cancel, DirStore, JobError, JobKind, Outcome, Plan, Rep
 
 use cli::{Failure, ProgressObserver, load_text, report};
 
-/// Counts heap bytes so that `gapack bench` can report peak memory per disk.
+/// Counts heap bytes so that `gapack bench` can report peak memory per disk;
+/// only in a binary built for it (`--features count-alloc`).
+#[cfg(feature = "count-alloc")]
 #[global_allocator]
-static ALLOCATOR: bench::PeakAlloc = bench::PeakAlloc;
+static ALLOCATOR: bench::counting::PeakAlloc = bench::counting::PeakAlloc;
 
 /// Dense 2D disk packings for DEM simulations.
 #[derive(Parser)]

@@ -134,11 +134,11 @@ impl Case {
         }
         .unwrap_or_else(|_| base.grading.clone());
         Ok(Scene {
-            domain: self.shape.domain(self.width * d_max)?,
-            grading,
             gradient: None,
+            grading,
             ..base.clone()
-        })
+        }
+        .with_domain(self.shape.domain(self.width * d_max)?))
     }
 }
 
@@ -155,6 +155,7 @@ pub enum Status {
 
 /// One method variant on one case.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct StabilityRun {
     /// The case.
     pub case: Case,
@@ -344,22 +345,19 @@ mod tests {
     }
 
     fn base() -> Scene {
-        Scene {
-            domain: Domain::rectangle(10.0, 10.0).unwrap(),
-            walls: crate::geometry::WallMode::Exact,
-            wall_disk_diameter: None,
-            grading: Grading::constant(1.0).unwrap(),
-            gradient: None,
-            packer: crate::packer::PackerSettings {
-                attempts: 500,
-                relaxation: crate::packer::Relaxation {
-                    iterations: 200,
-                    ..Default::default()
-                },
+        Scene::new(
+            Domain::rectangle(10.0, 10.0).unwrap(),
+            Grading::constant(1.0).unwrap(),
+        )
+        .with_packer(crate::packer::PackerSettings {
+            attempts: 500,
+            relaxation: crate::packer::Relaxation {
+                iterations: 200,
                 ..Default::default()
             },
-            seed: 1,
-        }
+            ..Default::default()
+        })
+        .with_seed(1)
     }
 
     #[test]

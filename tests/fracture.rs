@@ -8,10 +8,10 @@ use std::fs;
 use std::path::Path;
 
 use common::{gapack, refuses, scratch};
+use gapack::OVERLAP_REL;
+use gapack::Shape;
 use gapack::config::{Config, parse};
 use gapack::fracture::{Extent, settle};
-use gapack::geometry::Shape;
-use gapack::geometry::predicates::OVERLAP_REL;
 use gapack::{Fill, Packing, Scene, measure, pack};
 
 fn config(name: &str) -> Config {
@@ -128,7 +128,7 @@ fn wells_match_the_thesis_and_windows_match_the_full_packs() {
                     well.name
                 );
             }
-            let window = settle(well, 0.005, &gapack::cancel::Cancel::new()).unwrap();
+            let window = settle(well, 0.005, &gapack::Cancel::new()).unwrap();
             let last = window.last().unwrap();
             println!(
                 "{name} {}: window {:.1} mm, porosity {:.4} ± {:.4} (full {phi:.4}), {} of {} disks",

@@ -3,7 +3,7 @@
 
 mod common;
 
-use gapack::geometry::predicates::OVERLAP_REL;
+use gapack::OVERLAP_REL;
 use gapack::{
     Domain, Grading, Method, PackerSettings, Point, Scene, WallMode, measure, pack, psd_ks,
 };
@@ -11,14 +11,11 @@ use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
 
 fn scene(domain: Domain, grading: Grading, walls: WallMode, method: Method, seed: u64) -> Scene {
-    Scene {
-        packer: PackerSettings {
-            method,
-            attempts: 2000,
-            ..PackerSettings::default()
-        },
-        ..common::scene(domain, grading, walls, seed)
-    }
+    common::scene(domain, grading, walls, seed).with_packer(PackerSettings {
+        method,
+        attempts: 2000,
+        ..PackerSettings::default()
+    })
 }
 
 fn domains() -> Vec<(&'static str, Domain)> {

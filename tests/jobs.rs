@@ -7,7 +7,7 @@ mod common;
 use std::fs;
 use std::time::{Duration, Instant};
 
-use gapack::check::check;
+use gapack::check;
 use gapack::jobs::{
     self, Cancel, DirStore, Event, JobError, JobKind, MemoryStore, Outcome, Plan, Report, Request,
     Stage,
@@ -352,4 +352,13 @@ fn a_reused_output_folder_holds_only_the_new_runs_files() {
     run(&few);
     let well_dir = out.join(folder.split('/').next().unwrap());
     assert!(!well_dir.exists(), "{} is left", well_dir.display());
+
+    // A folder an earlier version wrote, without a manifest: the output
+    // names of ours go, a file of the user's stays.
+    fs::remove_file(out.join("manifest.json")).unwrap();
+    fs::write(out.join("packing.lammps"), "old").unwrap();
+    fs::write(out.join("notes.txt"), "mine").unwrap();
+    run(&few);
+    assert!(!out.join("packing.lammps").exists());
+    assert!(out.join("notes.txt").exists());
 }

@@ -4,15 +4,15 @@
 
 mod common;
 
-use gapack::cancel::Cancel;
+use gapack::Cancel;
 use std::fs;
 use std::path::Path;
 use std::process::Command;
 
 use common::{gapack, scratch};
+use gapack::OVERLAP_REL;
 use gapack::config;
 use gapack::ga::lay_out;
-use gapack::geometry::predicates::OVERLAP_REL;
 use gapack::layering::{Axis, LayeringMode, Profile};
 use gapack::{measure, pack};
 

@@ -5,7 +5,7 @@
 
 mod common;
 
-use gapack::cancel::Cancel;
+use gapack::Cancel;
 use std::fs;
 use std::path::Path;
 use std::process::Command;
@@ -13,8 +13,8 @@ use std::thread;
 use std::time::{Duration, Instant};
 
 use common::{gapack, scratch};
+use gapack::OVERLAP_REL;
 use gapack::ga::{Limits, PorosityProblem, Search, StopReason};
-use gapack::geometry::predicates::OVERLAP_REL;
 use gapack::{Disk, config, measure};
 
 /// A shipped config's text.
@@ -68,8 +68,14 @@ fn thesis_ap_runs_reach_the_target_with_the_grading_honoured() {
         let settings = cfg.optimise.expect("[optimise] in the AP configs");
         let scene = cfg.scene;
         let problem = PorosityProblem::new(&scene, settings);
-        let result = Search::start(&problem, Limits::from(&settings), scene.seed)
-            .run(&Cancel::new(), |_| {});
+        let result = Search::start(
+            &problem,
+            Limits::from(&settings),
+            scene.seed,
+            &Cancel::new(),
+        )
+        .expect("a fresh token is never raised")
+        .run(&Cancel::new(), |_| {});
         let packing = result.outcome.expect("a packing");
         let m = measure(&packing, &scene);
         println!(
@@ -105,7 +111,9 @@ fn a_tighter_grading_limit_is_honoured() {
     let cfg = config::parse(&text, "ap3-tight").unwrap();
     let settings = cfg.optimise.unwrap();
     let problem = PorosityProblem::new(&cfg.scene, settings);
-    let result = Search::start(&problem, Limits::from(&settings), 2).run(&Cancel::new(), |_| {});
+    let result = Search::start(&problem, Limits::from(&settings), 2, &Cancel::new())
+        .expect("a fresh token is never raised")
+        .run(&Cancel::new(), |_| {});
     let m = measure(&result.outcome.unwrap(), &cfg.scene);
     assert!(m.psd_ks <= 0.03, "KS {}", m.psd_ks);
     assert!(

@@ -3,7 +3,7 @@
 
 mod common;
 
-use gapack::geometry::predicates::OVERLAP_REL;
+use gapack::OVERLAP_REL;
 use gapack::{
     Domain, Fill, FrontRules, Grading, IndexKind, PackerSettings, Point, Scene, WallMode, measure,
     pack,
@@ -102,13 +102,9 @@ fn scene_strategy() -> impl Strategy<Value = Scene> {
                 fill,
                 seed,
             )| {
-                Scene {
-                    domain,
-                    walls,
-                    wall_disk_diameter: None,
-                    grading,
-                    gradient: None,
-                    packer: PackerSettings {
+                Scene::new(domain, grading)
+                    .with_walls(walls)
+                    .with_packer(PackerSettings {
                         index,
                         one_contact_share,
                         gap,
@@ -116,9 +112,8 @@ fn scene_strategy() -> impl Strategy<Value = Scene> {
                         rules,
                         fill,
                         ..PackerSettings::default()
-                    },
-                    seed,
-                }
+                    })
+                    .with_seed(seed)
             },
         )
 }

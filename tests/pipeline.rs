@@ -28,8 +28,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc;
 use std::time::Duration;
 
-use gapack::check::check;
-use gapack::geometry::predicates::OVERLAP_REL;
+use gapack::OVERLAP_REL;
+use gapack::check;
 use gapack::{Basis, Grading, Interpolation, Method, measure, pack};
 use proptest::prelude::*;
 use proptest::test_runner::{RngSeed, TestRunner};
@@ -476,7 +476,7 @@ fn config() -> impl Strategy<Value = ConfigText> {
 }
 
 /// What one packing of a config gave: its check against its measure, or the typed error.
-type Outcome = Result<(gapack::check::Check, gapack::Metrics), gapack::PackError>;
+type Outcome = Result<(gapack::Check, gapack::Metrics), gapack::PackError>;
 
 /// Pack and measure `scene` on a thread; `None` if it took longer than [`TIME_CAP`].
 fn pack_in_time(scene: gapack::Scene) -> Option<std::thread::Result<Outcome>> {

@@ -19,23 +19,36 @@ const LONG: &str = "seed = 2\n[domain]\nshape = \"rectangle\"\nwidth = 30\nheigh
 /// Start `gapack optimise long.toml --out <out>` in `dir`, send `signal` once
 /// its first checkpoint is on disk, and wait for it; the exit code.
 fn stopped_by(dir: &Path, out: &str, signal: &str) -> Option<i32> {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_gapack"))
-        .args([
-            "optimise",
-            "long.toml",
-            "--out",
-            out,
-            "--checkpoint-every",
-            "1",
-        ])
+    let args = [
+        "optimise",
+        "long.toml",
+        "--out",
+        out,
+        "--checkpoint-every",
+        "1",
+    ];
+    // Wait for generation 1's checkpoint: the search is under way.
+    let ready = || dir.join(out).join("checkpoint.json").exists();
+    signalled(dir, &args, signal, ready).0
+}
+
+/// Run gapack with `args` in `dir`, send it `signal` once `ready` holds (or
+/// after 60 s), and return its exit code and what it printed on stderr.
+fn signalled(
+    dir: &Path,
+    args: &[&str],
+    signal: &str,
+    ready: impl Fn() -> bool,
+) -> (Option<i32>, String) {
+    let child = Command::new(env!("CARGO_BIN_EXE_gapack"))
+        .args(args)
         .current_dir(dir)
         .stdout(Stdio::null())
-        .stderr(Stdio::null())
+        .stderr(Stdio::piped())
         .spawn()
         .expect("start gapack");
-    // Wait for generation 1's checkpoint: the search is under way.
     let deadline = Instant::now() + Duration::from_secs(60);
-    while !dir.join(out).join("checkpoint.json").exists() && Instant::now() < deadline {
+    while !ready() && Instant::now() < deadline {
         sleep(Duration::from_millis(20));
     }
     let sent = Command::new("sh")
@@ -43,7 +56,11 @@ fn stopped_by(dir: &Path, out: &str, signal: &str) -> Option<i32> {
         .status()
         .expect("run kill");
     assert!(sent.success());
-    child.wait().expect("wait for gapack").code()
+    let output = child.wait_with_output().expect("wait for gapack");
+    (
+        output.status.code(),
+        String::from_utf8_lossy(&output.stderr).into_owned(),
+    )
 }
 
 fn summary(path: &Path) -> serde_json::Value {
@@ -256,27 +273,7 @@ fn a_failed_write_leaves_the_earlier_outputs_intact() {
 /// Start gapack with `args` in `dir`, send SIGINT once `ready` holds (or
 /// after 60 s), and wait; the exit code and what it printed on stderr.
 fn interrupted(dir: &Path, args: &[&str], ready: impl Fn() -> bool) -> (Option<i32>, String) {
-    let child = Command::new(env!("CARGO_BIN_EXE_gapack"))
-        .args(args)
-        .current_dir(dir)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start gapack");
-    let deadline = Instant::now() + Duration::from_secs(60);
-    while !ready() && Instant::now() < deadline {
-        sleep(Duration::from_millis(20));
-    }
-    let sent = Command::new("sh")
-        .args(["-c", &format!("kill -INT {}", child.id())])
-        .status()
-        .expect("run kill");
-    assert!(sent.success());
-    let output = child.wait_with_output().expect("wait for gapack");
-    (
-        output.status.code(),
-        String::from_utf8_lossy(&output.stderr).into_owned(),
-    )
+    signalled(dir, args, "INT", ready)
 }
 
 #[test]

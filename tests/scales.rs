@@ -16,7 +16,7 @@
 
 mod common;
 
-use gapack::check::check;
+use gapack::check;
 use gapack::{
     Domain, Fill, FrontRules, Grading, Interpolation, Method, Packing, Point, Scene, WallMode, pack,
 };
@@ -143,7 +143,7 @@ impl Curve {
             )
             .unwrap(),
             Curve::Log => {
-                let rows: Vec<(f64, f64)> = gapack::grading::THESIS_TABLE_3_4
+                let rows: Vec<(f64, f64)> = gapack::THESIS_TABLE_3_4
                     .iter()
                     .map(|&(d, p)| (d / 1.25 * s, p))
                     .collect();

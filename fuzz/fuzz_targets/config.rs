@@ -6,10 +6,10 @@
 //! give an error that formats.
 #![no_main]
 
-use gapack::check::check;
+use gapack::check;
 use gapack::config::{Config, parse};
 use gapack::fracture::{Extent, settle};
-use gapack::packer::{estimated_peak_bytes, size_count};
+use gapack::{estimated_peak_bytes, size_count};
 use gapack::{Method, Scene, WallMode, measure, pack};
 use libfuzzer_sys::fuzz_target;
 

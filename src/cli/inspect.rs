@@ -5,11 +5,11 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, anyhow};
 use clap::Args;
-use gapack::check::{Check, check};
+use gapack::OVERLAP_REL;
 use gapack::config::Config;
-use gapack::geometry::predicates::OVERLAP_REL;
 use gapack::layering::Material;
 use gapack::output::{PackingTable, diameter_range, read_packing_csv, render_pictures};
+use gapack::{Check, check};
 use gapack::{Domain, Packing, Point, Scene, psd_ks};
 
 use super::{Failure, load_config, report};
@@ -113,13 +113,9 @@ pub fn run_plot(args: &PlotArgs) -> Result<(), Failure> {
                 (packing, config.materials.clone())
             } else {
                 // Names the config does not list: colour by the table's own.
-                (
-                    Packing {
-                        materials: table.materials.clone(),
-                        ..packing
-                    },
-                    own_materials(&table),
-                )
+                let mut packing = packing;
+                packing.materials = table.materials.clone();
+                (packing, own_materials(&table))
             };
             (
                 packing,
@@ -130,10 +126,8 @@ pub fn run_plot(args: &PlotArgs) -> Result<(), Failure> {
         }
         None => {
             let domain = bounding_box(&table)?;
-            let packing = Packing {
-                materials: table.materials.clone(),
-                ..Packing::of_disks(domain, table.disks.clone())
-            };
+            let mut packing = Packing::of_disks(domain, table.disks.clone());
+            packing.materials = table.materials.clone();
             let diameters = diameter_range(&packing);
             (packing, own_materials(&table), diameters, None)
         }
@@ -254,15 +248,14 @@ fn packing_of(table: &PackingTable, scene: &Scene, config: &Config) -> Packing {
                 .map_or(u16::MAX, |i| i as u16)
         })
         .collect();
-    Packing {
-        walls: scene.walls,
-        materials: table
-            .materials
-            .iter()
-            .map(|&m| by_config[usize::from(m)])
-            .collect(),
-        ..Packing::of_disks(scene.domain.clone(), table.disks.clone())
-    }
+    let mut packing = Packing::of_disks(scene.domain.clone(), table.disks.clone());
+    packing.walls = scene.walls;
+    packing.materials = table
+        .materials
+        .iter()
+        .map(|&m| by_config[usize::from(m)])
+        .collect();
+    packing
 }
 
 /// The lines `gapack verify` prints under its verdict.
@@ -303,7 +296,7 @@ fn findings(c: &Check, table: &PackingTable) -> Vec<String> {
             if kept { "≤" } else { ">" },
             c.ks_limit,
             c.particles,
-            gapack::check::KS_MARGIN,
+            gapack::KS_MARGIN,
             if kept { "kept" } else { "bent" }
         ),
     });

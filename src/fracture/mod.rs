@@ -90,6 +90,7 @@ pub struct Well {
 
 /// A `[fracture]` run: what to pack of each fracture, and the fractures.
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct FractureRun {
     /// Full fractures or representative windows.
     pub extent: Extent,

@@ -52,6 +52,7 @@ pub enum WindowError {
 
 /// One window packed and measured.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[non_exhaustive]
 pub struct WindowStep {
     /// Window length along the fracture (mm).
     pub length: f64,
@@ -71,6 +72,7 @@ pub struct WindowStep {
 
 /// The result of [`settle`]: every window tried and the last one's packing.
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct Window {
     /// The windows, shortest first; the last gives the estimate.
     pub steps: Vec<WindowStep>,
@@ -113,10 +115,7 @@ pub fn settle(well: &Well, tolerance: f64, cancel: &Cancel) -> Result<Window, Wi
     loop {
         let begun = Instant::now();
         let cut = well.fracture.cut(length);
-        let scene = Scene {
-            domain: cut.domain()?,
-            ..well.scene.clone()
-        };
+        let scene = well.scene.clone().with_domain(cut.domain()?);
         let packing = pack_observed(&scene, &mut |_| {}, cancel)?;
         let step = measure_core(&packing, &cut, d_max, begun);
         let settled = steps.last().is_some_and(|prev| {
@@ -234,9 +233,8 @@ fn coordination(disks: &[Disk], y0: f64, y1: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::WallMode;
+
     use crate::grading::Grading;
-    use crate::packer::PackerSettings;
 
     fn well(width: f64, length: f64) -> Well {
         let fracture = Fracture {
@@ -247,15 +245,11 @@ mod tests {
         Well {
             name: "w".to_owned(),
             fracture,
-            scene: Scene {
-                domain: fracture.domain().unwrap(),
-                walls: WallMode::Exact,
-                wall_disk_diameter: None,
-                grading: Grading::uniform(1.2, 1.3, crate::Basis::Number).unwrap(),
-                gradient: None,
-                packer: PackerSettings::default(),
-                seed: 3,
-            },
+            scene: Scene::new(
+                fracture.domain().unwrap(),
+                Grading::uniform(1.2, 1.3, crate::Basis::Number).unwrap(),
+            )
+            .with_seed(3),
         }
     }
 

@@ -156,6 +156,7 @@ impl From<&OptimiseSettings> for Limits {
 
 /// One generation's record, for progress reports and `convergence.csv`.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct Generation {
     /// 0 for the initial population.
     pub index: usize,
@@ -201,6 +202,7 @@ impl StopReason {
 
 /// The result of a search.
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct Evolution<O> {
     /// The best genome found.
     pub genes: Vec<f64>,
@@ -273,19 +275,10 @@ pub struct Search<'a, P: Problem> {
 
 impl<'a, P: Problem> Search<'a, P> {
     /// Draw and evaluate generation 0 of a search seeded by `seed`.
-    pub fn start(problem: &'a P, limits: Limits, seed: u64) -> Self {
-        match Search::start_until(problem, limits, seed, &Cancel::new()) {
-            Ok(search) => search,
-            // A token nobody holds is never raised: this arm is never taken.
-            Err(_) => Search::fresh(problem, limits, Xoshiro256PlusPlus::seed_from_u64(seed)),
-        }
-    }
-
-    /// [`Search::start`], giving up once `cancel` is raised.
     ///
     /// # Errors
     /// [`Cancelled`] when `cancel` is raised before generation 0 is evaluated.
-    pub fn start_until(
+    pub fn start(
         problem: &'a P,
         limits: Limits,
         seed: u64,
@@ -720,7 +713,8 @@ mod tests {
         let problem = Mean {
             calls: Mutex::new(Vec::new()),
         };
-        let search = Search::start(&problem, limits(), 1);
+        let search = Search::start(&problem, limits(), 1, &Cancel::new())
+            .expect("a fresh token is never raised");
         let first = search.initial()[0];
         let result = search.run(&Cancel::new(), |_| {});
         assert!(result.best.cmp_quality(&first).is_le());
@@ -750,21 +744,25 @@ mod tests {
         let problem = Mean {
             calls: Mutex::new(Vec::new()),
         };
-        let stopped = Search::start(&problem, limits(), 2).run(
-            &{
-                let c = Cancel::new();
-                c.cancel();
-                c
-            },
-            |_| {},
-        );
+        let stopped = Search::start(&problem, limits(), 2, &Cancel::new())
+            .expect("a fresh token is never raised")
+            .run(
+                &{
+                    let c = Cancel::new();
+                    c.cancel();
+                    c
+                },
+                |_| {},
+            );
         assert_eq!(stopped.stop, StopReason::Interrupted);
         assert_eq!(stopped.history.len(), 1);
         let short = Limits {
             generations: 3,
             ..limits()
         };
-        let r = Search::start(&problem, short, 2).run(&Cancel::new(), |_| {});
+        let r = Search::start(&problem, short, 2, &Cancel::new())
+            .expect("a fresh token is never raised")
+            .run(&Cancel::new(), |_| {});
         assert!(matches!(
             r.stop,
             StopReason::Generations | StopReason::Reached
@@ -782,7 +780,11 @@ mod tests {
                 .num_threads(threads)
                 .build()
                 .unwrap();
-            pool.install(|| Search::start(&problem, limits(), 9).run(&Cancel::new(), |_| {}))
+            pool.install(|| {
+                Search::start(&problem, limits(), 9, &Cancel::new())
+                    .expect("a fresh token is never raised")
+                    .run(&Cancel::new(), |_| {})
+            })
         };
         let (a, b) = (run(1), run(3));
         assert_eq!(a.genes, b.genes);
@@ -807,14 +809,13 @@ mod tests {
                 .map(|g| Generation { seconds: 0.0, ..*g })
                 .collect()
         };
-        let full = Search::start(&problem, limits, 4).run(&go, |_| {});
+        let full = Search::start(&problem, limits, 4, &Cancel::new())
+            .expect("a fresh token is never raised")
+            .run(&go, |_| {});
         let mut saved: Vec<Checkpoint> = Vec::new();
-        let again = Search::start(&problem, limits, 4).run_saving(
-            &go,
-            |_| {},
-            5,
-            |c| saved.push(c.clone()),
-        );
+        let again = Search::start(&problem, limits, 4, &Cancel::new())
+            .expect("a fresh token is never raised")
+            .run_saving(&go, |_| {}, 5, |c| saved.push(c.clone()));
         assert_eq!(again.genes, full.genes, "saving changes nothing");
         assert_eq!(saved.len(), 2, "after generations 5 and 10");
         for checkpoint in &saved {
@@ -837,12 +838,9 @@ mod tests {
         let mut at_stop = None;
         let stop = Cancel::new();
         stop.cancel();
-        let _ = Search::start(&problem, limits, 4).run_saving(
-            &stop,
-            |_| {},
-            0,
-            |c| at_stop = Some(c.clone()),
-        );
+        let _ = Search::start(&problem, limits, 4, &Cancel::new())
+            .expect("a fresh token is never raised")
+            .run_saving(&stop, |_| {}, 0, |c| at_stop = Some(c.clone()));
         assert_eq!(at_stop.map(|c| c.generations()), Some(1));
     }
 
@@ -872,7 +870,9 @@ mod tests {
         let mean = Mean {
             calls: Mutex::new(Vec::new()),
         };
-        let checkpoint = Search::start(&mean, limits(), 1).checkpoint();
+        let checkpoint = Search::start(&mean, limits(), 1, &Cancel::new())
+            .expect("a fresh token is never raised")
+            .checkpoint();
         let longer = Longer(Mean {
             calls: Mutex::new(Vec::new()),
         });

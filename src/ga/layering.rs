@@ -19,7 +19,7 @@ use std::time::{Duration, Instant};
 use rand::Rng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 
-use super::engine::{Evaluation, Generation, Limits, Problem, Search, StopReason};
+use super::engine::{Evaluation, Evolution, Generation, Limits, Problem, Search, StopReason};
 use super::score::Score;
 use crate::cancel::Cancel;
 use crate::layering::{
@@ -122,6 +122,7 @@ impl Problem for LayeringProblem {
 
 /// What laying materials out on a packing gave.
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct Layered {
     /// Material of each packed disk (index into the materials).
     pub assignment: Vec<u16>,
@@ -222,12 +223,27 @@ pub fn lay_out(
         stagnation: settings.stagnation,
         time_limit: Duration::from_secs_f64(settings.time_limit_s),
     };
-    let evolution = Search::start(&problem, limits, seed).run(stop, progress);
-    let tags: Vec<u16> = problem
-        .assignment(&evolution.genes)
-        .into_iter()
-        .map(|m| m as u16)
-        .collect();
+    let (tags, seconds, evaluations, generations, stopped) =
+        match Search::start(&problem, limits, seed, stop) {
+            Ok(search) => {
+                let evolution = search.run(stop, progress);
+                let tags = problem
+                    .assignment(&evolution.genes)
+                    .into_iter()
+                    .map(|m| m as u16)
+                    .collect();
+                let generations = evolution.history.len().saturating_sub(1);
+                let Evolution {
+                    seconds,
+                    evaluations,
+                    stop,
+                    ..
+                } = evolution;
+                (tags, seconds, evaluations, generations, stop)
+            }
+            // Stopped before generation 0 was scored: the baseline stands.
+            Err(_) => (base_tags, 0.0, 0, 0, StopReason::Interrupted),
+        };
     let per_bin = measure(&tags);
     let (assignment, rms, rows, fractions) = finish(tags, per_bin);
     Layered {
@@ -235,10 +251,10 @@ pub fn lay_out(
         rms,
         baseline_rms,
         baseline_seconds,
-        seconds: evolution.seconds,
-        evaluations: evolution.evaluations,
-        generations: evolution.history.len().saturating_sub(1),
-        stop: Some(evolution.stop),
+        seconds,
+        evaluations,
+        generations,
+        stop: Some(stopped),
         rows,
         fractions,
     }

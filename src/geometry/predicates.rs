@@ -101,13 +101,6 @@ pub const WITNESS_REL: f64 = 1e-3;
 /// # Returns
 /// `None` when the circles are apart, nested, or concentric. Near-tangent
 /// circles (gap within [`TANGENT_REL`]) give the tangent point twice.
-///
-/// # Example
-/// ```
-/// use gapack::{Point, geometry::predicates::intersect_circle_circle};
-/// let [p, q] = intersect_circle_circle(Point::new(0.0, 0.0), 1.0, Point::new(2.0, 0.0), 1.0).unwrap();
-/// assert!((p - Point::new(1.0, 0.0)).norm() < 1e-6 && (q - p).norm() < 1e-6);
-/// ```
 #[inline]
 pub fn intersect_circle_circle(c1: Point, r1: f64, c2: Point, r2: f64) -> Option<[Point; 2]> {
     chord_circle_circle(c1, r1, c2, r2).map(|chord| chord.points(c1))
@@ -228,14 +221,6 @@ pub fn clear_disk_disk(p: Point, r: f64, c: Point, rc: f64) -> bool {
 /// refused wall-tangent candidates once the coordinates exceeded about 10⁵
 /// radii. Where the coordinates are small the relative slack decides, as
 /// before.
-///
-/// # Example
-/// ```
-/// use gapack::{Domain, Point, geometry::predicates::clear_disk_walls};
-/// let d = Domain::rectangle(4.0, 2.0).unwrap();
-/// assert!(clear_disk_walls(&d, Point::new(1.0, 1.0), 1.0));
-/// assert!(!clear_disk_walls(&d, Point::new(1.0, 1.0 - 1e-9), 1.0));
-/// ```
 #[inline]
 pub fn clear_disk_walls(domain: &Domain, p: Point, r: f64) -> bool {
     let rounding = ROUNDING_ULPS * f64::EPSILON * p.x.abs().max(p.y.abs());
@@ -249,14 +234,6 @@ pub fn clear_disk_walls(domain: &Domain, p: Point, r: f64) -> bool {
 /// `f64::INFINITY` when no radius is blocked (the ray leaves the disk's side),
 /// and 0 or less when `t` itself is inside the disk. Clearance is linear in ρ:
 /// |t − c + ρu|² ≥ (rc + ρ)² ⇔ |t − c|² − rc² ≥ 2ρ(rc − (t − c)·u).
-///
-/// # Example
-/// ```
-/// use gapack::{Point, geometry::predicates::max_radius_ray_disk};
-/// // From the origin along +x towards a unit disk centred at (3, 0): ρ = 1.
-/// let rho = max_radius_ray_disk(Point::new(0.0, 0.0), [1.0, 0.0], Point::new(3.0, 0.0), 1.0);
-/// assert!((rho - 1.0).abs() < 1e-12);
-/// ```
 #[inline]
 pub fn max_radius_ray_disk(t: Point, u: [f64; 2], c: Point, rc: f64) -> f64 {
     let (wx, wy) = (t.x - c.x, t.y - c.y);
@@ -279,14 +256,6 @@ pub fn overlap_disk_disk(c1: Point, r1: f64, c2: Point, r2: f64) -> f64 {
 /// # Behavior
 /// 0 when they are apart, the smaller disk's area when it lies inside the
 /// larger, else the lens: the two circular segments cut by the common chord.
-///
-/// # Example
-/// ```
-/// use gapack::{Point, geometry::predicates::area_disk_disk};
-/// let o = Point::new(0.0, 0.0);
-/// assert!((area_disk_disk(o, 1.0, o, 2.0) - std::f64::consts::PI).abs() < 1e-12);
-/// assert_eq!(area_disk_disk(o, 1.0, Point::new(3.0, 0.0), 1.0), 0.0);
-/// ```
 pub fn area_disk_disk(c1: Point, r1: f64, c2: Point, r2: f64) -> f64 {
     let d = (c1 - c2).norm();
     if d >= r1 + r2 {
@@ -432,14 +401,6 @@ pub fn clip_polygon_box(vertices: &[Point], x0: f64, x1: f64, y0: f64, y1: f64) 
 ///
 /// # Performance
 /// O(vertices) time, two scratch vectors.
-///
-/// # Example
-/// ```
-/// use gapack::{Point, geometry::predicates::area_polygon_box};
-/// let triangle = [(0.0, 0.0), (2.0, 0.0), (0.0, 2.0)].map(|(x, y)| Point::new(x, y));
-/// assert_eq!(area_polygon_box(&triangle, 0.0, 1.0, 0.0, 1.0), 1.0);
-/// assert_eq!(area_polygon_box(&triangle, 1.0, 2.0, 1.0, 2.0), 0.0);
-/// ```
 pub fn area_polygon_box(vertices: &[Point], x0: f64, x1: f64, y0: f64, y1: f64) -> f64 {
     let ring = clip_polygon_box(vertices, x0, x1, y0, y1);
     let twice: f64 = ring
@@ -455,6 +416,41 @@ mod tests {
     use super::*;
     use nalgebra::Vector2;
     use std::f64::consts::PI;
+
+    #[test]
+    fn intersect_circle_circle_example() {
+        let [p, q] =
+            intersect_circle_circle(Point::new(0.0, 0.0), 1.0, Point::new(2.0, 0.0), 1.0).unwrap();
+        assert!((p - Point::new(1.0, 0.0)).norm() < 1e-6 && (q - p).norm() < 1e-6);
+    }
+
+    #[test]
+    fn clear_disk_walls_example() {
+        let d = Domain::rectangle(4.0, 2.0).unwrap();
+        assert!(clear_disk_walls(&d, Point::new(1.0, 1.0), 1.0));
+        assert!(!clear_disk_walls(&d, Point::new(1.0, 1.0 - 1e-9), 1.0));
+    }
+
+    #[test]
+    fn max_radius_ray_disk_example() {
+        // From the origin along +x towards a unit disk centred at (3, 0): ρ = 1.
+        let rho = max_radius_ray_disk(Point::new(0.0, 0.0), [1.0, 0.0], Point::new(3.0, 0.0), 1.0);
+        assert!((rho - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn area_disk_disk_example() {
+        let o = Point::new(0.0, 0.0);
+        assert!((area_disk_disk(o, 1.0, o, 2.0) - std::f64::consts::PI).abs() < 1e-12);
+        assert_eq!(area_disk_disk(o, 1.0, Point::new(3.0, 0.0), 1.0), 0.0);
+    }
+
+    #[test]
+    fn area_polygon_box_example() {
+        let triangle = [(0.0, 0.0), (2.0, 0.0), (0.0, 2.0)].map(|(x, y)| Point::new(x, y));
+        assert_eq!(area_polygon_box(&triangle, 0.0, 1.0, 0.0, 1.0), 1.0);
+        assert_eq!(area_polygon_box(&triangle, 1.0, 2.0, 1.0, 2.0), 0.0);
+    }
 
     #[test]
     fn circles_apart_nested_and_concentric_do_not_intersect() {

@@ -3,6 +3,7 @@
 
 use super::plan::{Job, Plan};
 use super::run::{Outcome, Report};
+use crate::compare::Variant;
 use crate::config::ConfigName;
 use crate::fracture::{Extent, MM_PER_M};
 use crate::ga::Layered;
@@ -240,11 +241,7 @@ impl Outcome {
                 variants,
                 total,
             } => {
-                for variant in variants {
-                    let mine: Vec<_> = runs.iter().filter(|r| r.variant == *variant).collect();
-                    if mine.is_empty() {
-                        continue;
-                    }
+                for (variant, mine) in by_variant(runs, variants, |r| &r.variant) {
                     let n = mine.len() as f64;
                     let mean = |f: &dyn Fn(&crate::compare::CompareRun) -> f64| {
                         mine.iter().map(|r| f(r)).sum::<f64>() / n
@@ -272,8 +269,7 @@ impl Outcome {
                 variants,
                 total,
             } => {
-                for variant in variants {
-                    let mine: Vec<_> = runs.iter().filter(|r| r.variant == *variant).collect();
+                for (variant, mine) in by_variant(runs, variants, |r| &r.variant) {
                     let count = |f: &dyn Fn(&stability::StabilityRun) -> bool| {
                         mine.iter().filter(|r| f(r)).count()
                     };
@@ -418,4 +414,17 @@ pub fn duration(seconds: f64) -> String {
     } else {
         format!("{seconds:.2} s")
     }
+}
+
+/// The runs of each variant, in the variants' order; variants without a
+/// run (an interrupted comparison or sweep) are left out.
+fn by_variant<'r, R>(
+    runs: &'r [R],
+    variants: &'r [Variant],
+    variant_of: impl Fn(&R) -> &Variant,
+) -> impl Iterator<Item = (&'r Variant, Vec<&'r R>)> {
+    variants.iter().filter_map(move |variant| {
+        let mine: Vec<&R> = runs.iter().filter(|r| variant_of(r) == variant).collect();
+        (!mine.is_empty()).then_some((variant, mine))
+    })
 }

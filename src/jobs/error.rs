@@ -26,6 +26,14 @@ pub enum JobError {
         /// The packer's reason.
         source: PackError,
     },
+    /// A fracture window's domain could not be built.
+    #[error("cannot grow a window of {what}")]
+    Window {
+        /// The well's name.
+        what: String,
+        /// Why its window failed.
+        source: crate::fracture::WindowError,
+    },
     /// No genome of the search could be packed.
     #[error("no genome could be packed: the domain is too small for the grading")]
     NothingPacked,

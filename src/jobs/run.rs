@@ -12,16 +12,18 @@ use super::store::{Store, StoreError};
 use crate::cancel::{Cancel, Cancelled};
 use crate::compare::{CompareRun, Variant, compare};
 use crate::config::Config;
-use crate::fracture::{Extent, MM_PER_M, Well, WindowError, WindowStep, settle};
+use crate::fracture::{Extent, MM_PER_M, Well, Window, WindowError, WindowStep, settle};
 use crate::ga::{
     Checkpoint, Generation, Layered, Limits, OptimiseSettings, PorosityProblem, Search, StopReason,
     lay_out,
 };
 use crate::layering::LayeringSettings;
 use crate::metrics::{Metrics, measure};
+use crate::names::ConfigName;
 use crate::output::{
-    FractureInfo, OptimiseSummary, RunInfo, WELLS_CSV, WellRow, render_compare, render_outputs,
-    render_stability, variant_label, wells_csv,
+    FILE_NAMES, FractureSummary, LayeringDetails, LayeringReport, LayeringSummary, OptimiseSummary,
+    RunInfo, WELLS_CSV, WellRow, WindowSummary, render_compare, render_outputs, render_stability,
+    variant_label, wells_csv,
 };
 use crate::packer::{PackError, Packing, pack_observed};
 use crate::stability::{self, StabilityRun};
@@ -399,7 +401,12 @@ impl Running<'_> {
                             source,
                         });
                     }
-                    Err(e) => return Err(JobError::Input(format!("{}: {e}", well.name))),
+                    Err(source) => {
+                        return Err(JobError::Window {
+                            what: well.name.clone(),
+                            source,
+                        });
+                    }
                 };
                 let mut packing = window.packing.clone();
                 single_material(&mut packing, self.config());
@@ -415,11 +422,7 @@ impl Running<'_> {
         let metrics = measure(&packing, &scene);
         let run = RunInfo {
             materials: &plan.config.materials,
-            fracture: Some(FractureInfo {
-                well,
-                extent,
-                window: window.as_ref(),
-            }),
+            fracture: Some(fracture_summary(well, extent, window.as_ref())),
             ..RunInfo::new(&scene, &plan.origin, seconds, &plan.config.output)
         };
         self.write_packing(&folder, &packing, &metrics, &run)?;
@@ -467,8 +470,7 @@ impl Running<'_> {
             Search::resume(&problem, limits, &checkpoint)
                 .map_err(|e| JobError::Input(format!("{CHECKPOINT_JSON}: {e}")))?
         } else {
-            Search::start_until(&problem, limits, plan.seed(), &stop)
-                .map_err(|_| JobError::Cancelled)?
+            Search::start(&problem, limits, plan.seed(), &stop).map_err(|_| JobError::Cancelled)?
         };
         let initial_range = PorosityProblem::range(search.initial());
         if !problem.feasible(initial_range) && !resume {
@@ -559,7 +561,11 @@ impl Running<'_> {
         let run = RunInfo {
             materials: &config.materials,
             optimise: Some((&summary, &evolution.history)),
-            layering: config.layering.as_ref().zip(layered.as_ref()),
+            layering: config
+                .layering
+                .as_ref()
+                .zip(layered.as_ref())
+                .map(|(settings, layered)| layering_report(settings, layered)),
             fracture: whole_fracture(config),
             ..RunInfo::new(&best_scene, &plan.origin, evolution.seconds, &config.output)
         };
@@ -647,7 +653,7 @@ impl Running<'_> {
         let metrics = measure(&packing, scene);
         let run = RunInfo {
             materials: &config.materials,
-            layering: Some((settings, &layered)),
+            layering: Some(layering_report(settings, &layered)),
             fracture: whole_fracture(config),
             ..RunInfo::new(scene, &plan.origin, seconds, &config.output)
         };
@@ -747,7 +753,9 @@ impl Running<'_> {
     }
 
     /// Write the manifest and remove the files an earlier run left that
-    /// this one did not write; the files of the run, manifest included.
+    /// this one did not write (those its manifest lists, or in a folder
+    /// without one, any output name of ours); the files of the run,
+    /// manifest included.
     fn finish(&mut self, interrupted: bool) -> Result<Vec<String>, JobError> {
         let mut files = std::mem::take(&mut self.files);
         files.push(MANIFEST_JSON.to_owned());
@@ -757,7 +765,7 @@ impl Running<'_> {
             Some(bytes) => serde_json::from_slice::<Manifest>(&bytes)
                 .map(|m| m.files)
                 .unwrap_or_default(),
-            None => Vec::new(),
+            None => FILE_NAMES.iter().map(|&name| name.to_owned()).collect(),
         };
         let manifest = Manifest {
             gapack_version: env!("CARGO_PKG_VERSION").to_owned(),
@@ -801,14 +809,73 @@ fn single_material(packing: &mut Packing, config: &Config) {
 
 /// The one fracture of a `[fracture]` config that `optimise` or `layer`
 /// packs whole (a batch or a window is refused by the config).
-fn whole_fracture(config: &Config) -> Option<FractureInfo<'_>> {
+fn whole_fracture(config: &Config) -> Option<FractureSummary<'_>> {
     config.fracture.as_ref().and_then(|run| {
-        run.wells.first().map(|well| FractureInfo {
-            well,
-            extent: Extent::Full,
-            window: None,
-        })
+        run.wells
+            .first()
+            .map(|well| fracture_summary(well, Extent::Full, None))
     })
+}
+
+/// What the files of a fracture run record: the well, the extent asked
+/// for, and the last window grown (with every window tried).
+fn fracture_summary<'a>(
+    well: &'a Well,
+    extent: Extent,
+    window: Option<&'a Window>,
+) -> FractureSummary<'a> {
+    let f = well.fracture;
+    let (extent, tolerance) = match extent {
+        Extent::Full => ("full", f64::NAN),
+        Extent::Window { tolerance } => ("window", tolerance),
+    };
+    FractureSummary {
+        name: &well.name,
+        width_mm: f.width,
+        height_m: f.length / MM_PER_M,
+        tip_width_mm: f.tip_width,
+        extent,
+        window: window.and_then(|w| {
+            let last = w.last()?;
+            Some(WindowSummary {
+                tolerance,
+                settled: w.settled,
+                length_mm: last.length,
+                length_fraction: last.length / f.length,
+                porosity: last.porosity,
+                porosity_spread: last.spread,
+                coordination: last.coordination,
+                seconds: w.seconds,
+                steps: &w.steps,
+            })
+        }),
+    }
+}
+
+/// What the files of a layering record: its summary block, the shares,
+/// the bins and the profile aimed at.
+fn layering_report<'a>(settings: &'a LayeringSettings, l: &'a Layered) -> LayeringReport<'a> {
+    LayeringReport {
+        summary: LayeringSummary {
+            profile_rms_error: l.rms,
+            baseline_rms_error: l.baseline_rms,
+            baseline_seconds: l.baseline_seconds,
+            layering: LayeringDetails {
+                mode: settings.mode.config_name(),
+                axis: settings.axis.config_name(),
+                bins: settings.bins,
+                profile: settings.profile.name(),
+                ga_seconds: l.seconds,
+                evaluations: l.evaluations,
+                generations: l.generations,
+                stop: l.stop.map(StopReason::describe),
+            },
+        },
+        fractions: &l.fractions,
+        rows: &l.rows,
+        profile: &settings.profile,
+        axis: settings.axis,
+    }
 }
 
 impl From<Cancelled> for JobError {

@@ -25,6 +25,7 @@ const WINDOW_DIAMETERS: f64 = 5.0;
 
 /// What a packing achieved.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[non_exhaustive]
 pub struct Metrics {
     /// Number of packed disks (wall disks excluded).
     pub particles: usize,

@@ -17,6 +17,7 @@ const MIN_CELLS: f64 = 4.0;
 /// × `[origin.y + row·cell, origin.y + (row + 1)·cell]`; the values are
 /// stored row by row from the bottom: index `row · cols + col`.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct PorosityMap {
     /// Lower-left corner of the grid (mm).
     pub origin: Point,
@@ -142,24 +143,17 @@ fn map_with_areas(packing: &Packing) -> (PorosityMap, Vec<f64>, Vec<f64>) {
 mod tests {
     use super::*;
     use crate::Scene;
-    use crate::geometry::{Disk, Domain, WallMode};
+    use crate::geometry::{Disk, Domain};
     use crate::grading::{Basis, Grading};
-    use crate::packer::{PackerSettings, pack};
+    use crate::packer::pack;
 
     fn packing(domain: Domain, disks: Vec<Disk>) -> Packing {
         Packing::of_disks(domain, disks)
     }
 
     fn packed(domain: Domain) -> Packing {
-        let scene = Scene {
-            domain,
-            walls: WallMode::Exact,
-            wall_disk_diameter: None,
-            grading: Grading::uniform(0.5, 1.5, Basis::Number).expect("grading"),
-            gradient: None,
-            packer: PackerSettings::default(),
-            seed: 7,
-        };
+        let grading = Grading::uniform(0.5, 1.5, Basis::Number).expect("grading");
+        let scene = Scene::new(domain, grading).with_seed(7);
         pack(&scene).expect("packs")
     }
 

@@ -5,9 +5,8 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 
 use super::error::OutputError;
-use super::run::{FractureInfo, RunInfo};
-use crate::fracture::{Extent, MM_PER_M, WindowStep};
-use crate::ga::StopReason;
+use super::run::RunInfo;
+use crate::fracture::WindowStep;
 use crate::metrics::Metrics;
 use crate::names::ConfigName;
 use crate::packer::{PackStats, Packing};
@@ -41,37 +40,50 @@ pub(super) struct Summary<'a> {
     #[serde(skip_serializing_if = "Vec::is_empty")]
     materials: Vec<MaterialSummary<'a>>,
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
-    layering: Option<LayeringSummary>,
+    layering: Option<&'a LayeringSummary>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    fracture: Option<FractureSummary<'a>>,
+    fracture: Option<&'a FractureSummary<'a>>,
 }
 
-/// What a fracture run adds to `summary.json`.
-#[derive(Serialize)]
-struct FractureSummary<'a> {
-    name: &'a str,
-    width_mm: f64,
-    height_m: f64,
-    tip_width_mm: Option<f64>,
-    extent: &'static str,
+/// What a fracture run adds to `summary.json` (filled in by the job).
+#[derive(Debug, Clone, Serialize)]
+pub struct FractureSummary<'a> {
+    /// The well's name.
+    pub name: &'a str,
+    /// Fracture width at the well (mm).
+    pub width_mm: f64,
+    /// Fracture height (m).
+    pub height_m: f64,
+    /// Width at the tip, for a tapered fracture (mm).
+    pub tip_width_mm: Option<f64>,
+    /// `full` or `window`.
+    pub extent: &'static str,
+    /// The window grown, in window mode.
     #[serde(skip_serializing_if = "Option::is_none")]
-    window: Option<WindowSummary<'a>>,
+    pub window: Option<WindowSummary<'a>>,
 }
 
 /// A fracture window: the estimate and every window tried.
-#[derive(Serialize)]
-struct WindowSummary<'a> {
-    tolerance: f64,
-    settled: bool,
-    length_mm: f64,
+#[derive(Debug, Clone, Serialize)]
+pub struct WindowSummary<'a> {
+    /// The settling tolerance asked for.
+    pub tolerance: f64,
+    /// Whether the last windows agreed within it.
+    pub settled: bool,
+    /// Length of the last window (mm).
+    pub length_mm: f64,
     /// Window length over the fracture's.
-    length_fraction: f64,
-    porosity: f64,
-    porosity_spread: f64,
-    coordination: f64,
+    pub length_fraction: f64,
+    /// Porosity of the last window's core.
+    pub porosity: f64,
+    /// Spread of the porosity over its core.
+    pub porosity_spread: f64,
+    /// Mean coordination number of the last window's core.
+    pub coordination: f64,
     /// All the windows together (s).
-    seconds: f64,
-    steps: &'a [WindowStep],
+    pub seconds: f64,
+    /// Every window tried.
+    pub steps: &'a [WindowStep],
 }
 
 /// A material as `summary.json` lists it.
@@ -85,25 +97,38 @@ struct MaterialSummary<'a> {
     area_fraction: Option<f64>,
 }
 
-/// What a layering adds to `summary.json`.
-#[derive(Serialize)]
-struct LayeringSummary {
-    profile_rms_error: f64,
-    baseline_rms_error: f64,
-    baseline_seconds: f64,
-    layering: LayeringDetails,
+/// What a layering adds to `summary.json` (filled in by the job).
+#[derive(Debug, Clone, Serialize)]
+pub struct LayeringSummary {
+    /// RMS error of the material fractions against the profile.
+    pub profile_rms_error: f64,
+    /// The same for the baseline assignment.
+    pub baseline_rms_error: f64,
+    /// Time the baseline took (s).
+    pub baseline_seconds: f64,
+    /// How the layering ran.
+    pub layering: LayeringDetails,
 }
 
-#[derive(Serialize)]
-struct LayeringDetails {
-    mode: &'static str,
-    axis: &'static str,
-    bins: usize,
-    profile: &'static str,
-    ga_seconds: f64,
-    evaluations: u64,
-    generations: usize,
-    stop: Option<&'static str>,
+/// The settings and effort of a layering, as `summary.json` records them.
+#[derive(Debug, Clone, Serialize)]
+pub struct LayeringDetails {
+    /// `materials` or `sizes`.
+    pub mode: &'static str,
+    /// `x`, `y` or `radial`.
+    pub axis: &'static str,
+    /// Bins along the axis.
+    pub bins: usize,
+    /// The profile's name.
+    pub profile: &'static str,
+    /// Time the GA took (s).
+    pub ga_seconds: f64,
+    /// Genomes evaluated.
+    pub evaluations: u64,
+    /// Generations after the initial one.
+    pub generations: usize,
+    /// Why the GA stopped (none without a GA).
+    pub stop: Option<&'static str>,
 }
 
 /// What a target-porosity run adds to `summary.json` (keys in `docs/config.md`).
@@ -170,36 +195,6 @@ impl From<PackStats> for StatsSummary {
     }
 }
 
-/// The fracture block of `summary.json`.
-fn fracture_summary(info: FractureInfo<'_>) -> FractureSummary<'_> {
-    let f = info.well.fracture;
-    let (extent, tolerance) = match info.extent {
-        Extent::Full => ("full", f64::NAN),
-        Extent::Window { tolerance } => ("window", tolerance),
-    };
-    FractureSummary {
-        name: &info.well.name,
-        width_mm: f.width,
-        height_m: f.length / MM_PER_M,
-        tip_width_mm: f.tip_width,
-        extent,
-        window: info.window.and_then(|w| {
-            let last = w.last()?;
-            Some(WindowSummary {
-                tolerance,
-                settled: w.settled,
-                length_mm: last.length,
-                length_fraction: last.length / f.length,
-                porosity: last.porosity,
-                porosity_spread: last.spread,
-                coordination: last.coordination,
-                seconds: w.seconds,
-                steps: &w.steps,
-            })
-        }),
-    }
-}
-
 /// The run summary as pretty-printed JSON (keys listed in `docs/config.md`).
 ///
 /// `seconds` is the packing time alone (`pack`) or the whole search
@@ -221,7 +216,7 @@ pub fn summary_json(
 pub(super) fn summary<'a>(
     packing: &Packing,
     metrics: &'a Metrics,
-    run: &RunInfo<'a>,
+    run: &'a RunInfo<'a>,
 ) -> Summary<'a> {
     let scene = run.scene;
     Summary {
@@ -255,24 +250,13 @@ pub(super) fn summary<'a>(
                 id: i + 1,
                 name: &m.name,
                 properties: m.properties.iter().map(|(k, v)| (k.as_str(), *v)).collect(),
-                area_fraction: run.layering.and_then(|(_, l)| l.fractions.get(i).copied()),
+                area_fraction: run
+                    .layering
+                    .as_ref()
+                    .and_then(|l| l.fractions.get(i).copied()),
             })
             .collect(),
-        layering: run.layering.map(|(settings, l)| LayeringSummary {
-            profile_rms_error: l.rms,
-            baseline_rms_error: l.baseline_rms,
-            baseline_seconds: l.baseline_seconds,
-            layering: LayeringDetails {
-                mode: settings.mode.config_name(),
-                axis: settings.axis.config_name(),
-                bins: settings.bins,
-                profile: settings.profile.name(),
-                ga_seconds: l.seconds,
-                evaluations: l.evaluations,
-                generations: l.generations,
-                stop: l.stop.map(StopReason::describe),
-            },
-        }),
-        fracture: run.fracture.map(fracture_summary),
+        layering: run.layering.as_ref().map(|l| &l.summary),
+        fracture: run.fracture.as_ref(),
     }
 }

@@ -32,7 +32,10 @@ pub use export::{
 };
 pub use format::{ExportOptions, Format, LengthUnit, OutputSettings};
 pub(crate) use format::{FORMATS, UNITS};
-pub use json::{OptimiseSummary, SUMMARY_JSON, summary_json};
+pub use json::{
+    FractureSummary, LayeringDetails, LayeringSummary, OptimiseSummary, SUMMARY_JSON,
+    WindowSummary, summary_json,
+};
 pub use plot::{
     CompareChart, Drawable, LineChart, Mark, PACKING_PNG, POROSITY_MAP_PNG, POROSITY_MAP_SVG,
     PSD_PNG, PSD_SVG, PorosityMapChart, PsdChart, Series, StabilityChart, convergence_chart,
@@ -40,8 +43,44 @@ pub use plot::{
 };
 pub use read::{PackingTable, ReadError, read_packing_csv};
 pub use run::{
-    COMPARE_PNG, COMPARE_SVG, CONVERGENCE_PNG, CONVERGENCE_SVG, Files, FractureInfo, PROFILE_PNG,
+    COMPARE_PNG, COMPARE_SVG, CONVERGENCE_PNG, CONVERGENCE_SVG, Files, LayeringReport, PROFILE_PNG,
     PROFILE_SVG, RunInfo, STABILITY_PNG, STABILITY_SVG, WINDOW_PNG, WINDOW_SVG, render_compare,
     render_outputs, render_pictures, render_stability,
 };
 pub use svg::{PACKING_SVG, diameter_range, packing_svg};
+
+/// Every file name a run may write at the top of its folder.
+pub const FILE_NAMES: &[&str] = &[
+    SUMMARY_JSON,
+    PACKING_CSV,
+    PACKING_JSON,
+    PACKING_VTK,
+    BOUNDARY_VTK,
+    LAMMPS_DATA,
+    YADE_TEXT,
+    PFC_COMMANDS,
+    MERCURY_DATA,
+    ESYS_GEOMETRY,
+    PACKING_SVG,
+    PACKING_PNG,
+    PSD_SVG,
+    PSD_PNG,
+    POROSITY_MAP_SVG,
+    POROSITY_MAP_PNG,
+    CONVERGENCE_CSV,
+    CONVERGENCE_SVG,
+    CONVERGENCE_PNG,
+    PROFILE_CSV,
+    PROFILE_SVG,
+    PROFILE_PNG,
+    WINDOW_CSV,
+    WINDOW_SVG,
+    WINDOW_PNG,
+    WELLS_CSV,
+    COMPARE_CSV,
+    COMPARE_SVG,
+    COMPARE_PNG,
+    STABILITY_CSV,
+    STABILITY_SVG,
+    STABILITY_PNG,
+];

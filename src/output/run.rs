@@ -12,7 +12,7 @@ use super::export::{
     packing_vtk, pfc_commands, yade_text,
 };
 use super::format::{Format, OutputSettings};
-use super::json::{OptimiseSummary, SUMMARY_JSON, summary_json};
+use super::json::{FractureSummary, LayeringSummary, OptimiseSummary, SUMMARY_JSON, summary_json};
 use super::plot::{
     CompareChart, Drawable, PACKING_PNG, POROSITY_MAP_PNG, POROSITY_MAP_SVG, PSD_PNG, PSD_SVG,
     StabilityChart, convergence_chart, packing_png, porosity_map_chart, profile_chart, psd_chart,
@@ -22,13 +22,13 @@ use super::svg::{PACKING_SVG, packing_svg};
 use crate::Scene;
 use crate::check::check;
 use crate::compare::CompareRun;
-use crate::fracture::{Extent, Well, Window};
-use crate::ga::{Generation, Layered};
+use crate::ga::Generation;
 use crate::geometry::predicates::OVERLAP_REL;
 use crate::grading::Grading;
-use crate::layering::{LayeringSettings, Material};
+use crate::layering::{Material, ProfileRow};
 use crate::metrics::Metrics;
 use crate::packer::Packing;
+use crate::scene::{Axis, Profile};
 use crate::stability::StabilityRun;
 
 /// File name of the convergence chart.
@@ -89,20 +89,27 @@ pub const WINDOW_SVG: &str = "window.svg";
 /// File name of a fracture window's chart as an image.
 pub const WINDOW_PNG: &str = "window.png";
 
-/// A fracture run: which fracture, how much of it, and the window if one was grown.
-#[derive(Debug, Clone, Copy)]
-pub struct FractureInfo<'a> {
-    /// The fracture (a well of a batch, or the config's one).
-    pub well: &'a Well,
-    /// What was asked for.
-    pub extent: Extent,
-    /// The windows grown, in window mode.
-    pub window: Option<&'a Window>,
+/// A layering run, as the files show it: its summary block, each
+/// material's share of the solid, the fractions per bin, and the profile
+/// aimed at along its axis (for the chart).
+#[derive(Debug, Clone)]
+pub struct LayeringReport<'a> {
+    /// The block `summary.json` records.
+    pub summary: LayeringSummary,
+    /// Share of the solid area of each material.
+    pub fractions: &'a [f64],
+    /// Target and achieved fractions per bin.
+    pub rows: &'a [ProfileRow],
+    /// The profile aimed at.
+    pub profile: &'a Profile,
+    /// The axis the profile runs along.
+    pub axis: Axis,
 }
 
 /// What a run was, besides its packing and metrics: it decides which files
-/// are written and what `summary.json` records.
-#[derive(Debug, Clone, Copy)]
+/// are written and what `summary.json` records. Plain records the jobs layer
+/// fills in, so that output knows nothing of how a job ran.
+#[derive(Debug, Clone)]
 pub struct RunInfo<'a> {
     /// The scene that was packed (seed after any command-line override).
     pub scene: &'a Scene,
@@ -114,10 +121,10 @@ pub struct RunInfo<'a> {
     pub materials: &'a [Material],
     /// A target-porosity run: its summary and its history (one record per generation).
     pub optimise: Option<(&'a OptimiseSummary, &'a [Generation])>,
-    /// A layering run: its settings and what it gave.
-    pub layering: Option<(&'a LayeringSettings, &'a Layered)>,
-    /// A fracture run.
-    pub fracture: Option<FractureInfo<'a>>,
+    /// A layering run.
+    pub layering: Option<LayeringReport<'a>>,
+    /// A fracture run: which fracture, how much of it, the window if one was grown.
+    pub fracture: Option<FractureSummary<'a>>,
     /// What to write (`[output]`).
     pub output: &'a OutputSettings,
 }
@@ -212,23 +219,20 @@ pub fn render_outputs(
         let chart = convergence_chart(history, summary.target_porosity);
         pictures.chart((CONVERGENCE_SVG, CONVERGENCE_PNG), &chart)?;
     }
-    if let Some((settings, layered)) = run.layering {
+    if let Some(layering) = &run.layering {
         if out.wants(Format::Csv) {
-            (pictures.add)(PROFILE_CSV, profile_csv(&layered.rows, materials)?);
+            (pictures.add)(PROFILE_CSV, profile_csv(layering.rows, materials)?);
         }
-        let chart = profile_chart(&layered.rows, materials, settings);
+        let chart = profile_chart(layering.rows, materials, layering.profile, layering.axis);
         pictures.chart((PROFILE_SVG, PROFILE_PNG), &chart)?;
     }
-    if let Some(FractureInfo {
-        well,
-        extent: Extent::Window { tolerance },
-        window: Some(window),
-    }) = run.fracture
+    if let Some(fracture) = &run.fracture
+        && let Some(window) = &fracture.window
     {
         if out.wants(Format::Csv) {
-            (pictures.add)(WINDOW_CSV, window_csv(&window.steps)?);
+            (pictures.add)(WINDOW_CSV, window_csv(window.steps)?);
         }
-        let chart = window_chart(&window.steps, tolerance, &well.name);
+        let chart = window_chart(window.steps, window.tolerance, fracture.name);
         pictures.chart((WINDOW_SVG, WINDOW_PNG), &chart)?;
     }
     Ok(files)

@@ -14,7 +14,7 @@ pub use crate::scene::{
     DEFAULT_ATTEMPTS, Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method, PackerSettings,
     Relaxation,
 };
-pub use advancing_front::{PROGRESS_STEP, pack_genes, pack_genes_watched, size_count};
+pub use advancing_front::{pack_genes_watched, size_count};
 pub use deposition::pack_deposition;
 pub use packing::{PackError, PackStats, Packing};
 pub use relaxation::pack_relaxation;
@@ -44,16 +44,9 @@ pub fn estimated_peak_bytes(scene: &Scene) -> f64 {
 ///
 /// # Example
 /// ```
-/// use gapack::{Domain, Grading, Scene, PackerSettings, WallMode, pack};
-/// let scene = Scene {
-///     domain: Domain::rectangle(10.0, 10.0).unwrap(),
-///     walls: WallMode::Exact,
-///     wall_disk_diameter: None,
-///     grading: Grading::constant(1.0).unwrap(),
-///     gradient: None,
-///     packer: PackerSettings::default(),
-///     seed: 1,
-/// };
+/// use gapack::{Domain, Grading, Scene, pack};
+/// let domain = Domain::rectangle(10.0, 10.0).unwrap();
+/// let scene = Scene::new(domain, Grading::constant(1.0).unwrap()).with_seed(1);
 /// let packing = pack(&scene).unwrap();
 /// assert!(packing.disks.len() > 80);
 /// ```
@@ -97,10 +90,7 @@ fn near_origin(
     if v.x == 0.0 && v.y == 0.0 {
         return generate(scene);
     }
-    let local = Scene {
-        domain: scene.domain.translated(v),
-        ..scene.clone()
-    };
+    let local = scene.clone().with_domain(scene.domain.translated(v));
     let mut packing = generate(&local)?;
     for d in packing.disks.iter_mut().chain(packing.boundary.iter_mut()) {
         d.c -= v;

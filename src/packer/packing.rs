@@ -5,6 +5,7 @@ use crate::geometry::{Disk, Domain, WallMode};
 
 /// A packing: the domain, the packed disks and, for `walls = "disks"`, the wall disks.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct Packing {
     /// The domain that was filled.
     pub domain: Domain,
@@ -39,6 +40,7 @@ impl Packing {
 
 /// Counters of the generator's work, for reports and benchmarks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
 pub struct PackStats {
     /// Sizes drawn from the grading.
     pub sizes_drawn: u64,

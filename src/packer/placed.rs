@@ -159,25 +159,19 @@ impl<'a> Placed<'a> {
 mod tests {
     use super::*;
     use crate::grading::Grading;
-    use crate::packer::{Method, PackerSettings, pack};
+    use crate::packer::{Method, pack};
 
     #[test]
     fn comparison_generators_refuse_too_many_wall_disks() {
         // 80 mm of boundary in wall disks of 10 nm: 8 million, over the cap.
         // These generators used to pack without any wall disk instead.
         for method in [Method::Rsa, Method::Deposition, Method::Relaxation] {
-            let scene = Scene {
-                domain: Domain::rectangle(20.0, 20.0).unwrap(),
-                walls: WallMode::Disks,
-                wall_disk_diameter: Some(1e-5),
-                grading: Grading::constant(1.0).unwrap(),
-                gradient: None,
-                packer: PackerSettings {
-                    method,
-                    ..PackerSettings::default()
-                },
-                seed: 0,
-            };
+            let scene = Scene::new(
+                Domain::rectangle(20.0, 20.0).unwrap(),
+                Grading::constant(1.0).unwrap(),
+            )
+            .with_wall_disks(1e-5)
+            .with_method(method);
             assert!(
                 matches!(pack(&scene), Err(PackError::TooManyWallDisks { .. })),
                 "{method:?}"

@@ -171,7 +171,7 @@ mod tests {
     use std::cell::Cell;
 
     use super::*;
-    use crate::geometry::{Domain, WallMode};
+    use crate::geometry::Domain;
     use crate::grading::Grading;
     use crate::packer::{Method, PackerSettings, Relaxation};
 
@@ -183,22 +183,20 @@ mod tests {
     /// 1 mm disks in a 40 mm square walled with `wall` mm wall disks,
     /// relaxed for 10 sweeps.
     fn walled(wall: f64) -> Scene {
-        Scene {
-            domain: Domain::rectangle(40.0, 40.0).unwrap(),
-            walls: WallMode::Disks,
-            wall_disk_diameter: Some(wall),
-            grading: Grading::constant(1.0).unwrap(),
-            gradient: None,
-            packer: PackerSettings {
-                method: Method::Relaxation,
-                relaxation: Relaxation {
-                    iterations: 10,
-                    ..Relaxation::default()
-                },
-                ..PackerSettings::default()
+        Scene::new(
+            Domain::rectangle(40.0, 40.0).unwrap(),
+            Grading::constant(1.0).unwrap(),
+        )
+        .with_wall_disks(wall)
+        .with_packer(PackerSettings {
+            method: Method::Relaxation,
+            relaxation: Relaxation {
+                iterations: 10,
+                ..Relaxation::default()
             },
-            seed: 3,
-        }
+            ..PackerSettings::default()
+        })
+        .with_seed(3)
     }
 
     #[test]

@@ -16,9 +16,10 @@ use crate::grading::Grading;
 
 /// A validated scene: domain, wall model, grading curve, packer settings and seed.
 ///
-/// Built from a config (`config::parse`) or directly in code; the same
-/// scene and seed always give the same packing.
+/// Built from a config (`config::parse`) or in code by [`Scene::new`] and
+/// its `with_*` methods; the same scene and seed always give the same packing.
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct Scene {
     /// The region to fill (mm).
     pub domain: Domain,
@@ -39,6 +40,71 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// A scene of `domain` filled with sizes of `grading`: exact walls, the
+    /// default packer settings, seed 0.
+    pub fn new(domain: Domain, grading: Grading) -> Scene {
+        Scene {
+            domain,
+            walls: WallMode::Exact,
+            wall_disk_diameter: None,
+            grading,
+            gradient: None,
+            packer: PackerSettings::default(),
+            seed: 0,
+        }
+    }
+
+    /// The same scene with another seed.
+    #[must_use]
+    pub fn with_seed(self, seed: u64) -> Scene {
+        Scene { seed, ..self }
+    }
+
+    /// The same scene with another wall model.
+    #[must_use]
+    pub fn with_walls(self, walls: WallMode) -> Scene {
+        Scene { walls, ..self }
+    }
+
+    /// The same scene with walls of disks of `diameter` (mm).
+    #[must_use]
+    pub fn with_wall_disks(self, diameter: f64) -> Scene {
+        Scene {
+            walls: WallMode::Disks,
+            wall_disk_diameter: Some(diameter),
+            ..self
+        }
+    }
+
+    /// The same scene with other packer settings.
+    #[must_use]
+    pub fn with_packer(self, packer: PackerSettings) -> Scene {
+        Scene { packer, ..self }
+    }
+
+    /// The same scene with another packing method (other settings kept).
+    #[must_use]
+    pub fn with_method(mut self, method: Method) -> Scene {
+        self.packer.method = method;
+        self
+    }
+
+    /// The same scene in size-graded mode: the grading blends into
+    /// `gradient.second` along its axis.
+    #[must_use]
+    pub fn with_gradient(self, gradient: SizeGradient) -> Scene {
+        Scene {
+            gradient: Some(gradient),
+            ..self
+        }
+    }
+
+    /// The same scene over another domain.
+    #[must_use]
+    pub fn with_domain(self, domain: Domain) -> Scene {
+        Scene { domain, ..self }
+    }
+
     /// Default wall-disk diameter as a fraction of the smallest diameter.
     ///
     /// Wall disks sit centred on the boundary, touching or overlapping their

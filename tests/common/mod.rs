@@ -5,7 +5,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use gapack::{Domain, Grading, PackerSettings, Scene, WallMode};
+use gapack::{Domain, Grading, Scene, WallMode};
 use proptest::test_runner::RngSeed;
 
 /// The seed of a property test's draws: `default`, the same on every run so
@@ -38,7 +38,7 @@ pub fn gapack(dir: &Path, args: &[&str]) -> Output {
 /// Table 3.4 of the thesis: the proppant grading of the fracture case.
 pub fn table_3_4() -> Grading {
     Grading::from_table(
-        gapack::grading::THESIS_TABLE_3_4,
+        gapack::THESIS_TABLE_3_4,
         Default::default(),
         Default::default(),
     )
@@ -47,15 +47,9 @@ pub fn table_3_4() -> Grading {
 
 /// A scene with default packer settings.
 pub fn scene(domain: Domain, grading: Grading, walls: WallMode, seed: u64) -> Scene {
-    Scene {
-        domain,
-        walls,
-        wall_disk_diameter: None,
-        grading,
-        gradient: None,
-        packer: PackerSettings::default(),
-        seed,
-    }
+    Scene::new(domain, grading)
+        .with_walls(walls)
+        .with_seed(seed)
 }
 
 /// Porosity of a packing without the full metrics.

@@ -2,7 +2,8 @@
 //! fractions as dots, one colour per material.
 
 use super::chart::{LineChart, Mark, Series};
-use crate::layering::{Axis, LayeringSettings, Material, ProfileRow};
+use crate::layering::{Material, ProfileRow};
+use crate::scene::{Axis, Profile};
 
 /// Points per unit of s on the target curves (fine enough to show a step).
 const CURVE_POINTS: usize = 400;
@@ -12,16 +13,15 @@ const CURVE_POINTS: usize = 400;
 pub fn profile_chart(
     rows: &[ProfileRow],
     materials: &[Material],
-    settings: &LayeringSettings,
+    profile: &Profile,
+    axis: Axis,
 ) -> LineChart {
     let n = materials.len().max(1);
     let mut series = Vec::with_capacity(2 * n);
     let mut at = vec![0.0; n];
     let curve: Vec<Vec<f64>> = (0..=CURVE_POINTS)
         .map(|k| {
-            settings
-                .profile
-                .fractions(k as f64 / CURVE_POINTS as f64, &mut at);
+            profile.fractions(k as f64 / CURVE_POINTS as f64, &mut at);
             at.clone()
         })
         .collect();
@@ -43,7 +43,7 @@ pub fn profile_chart(
             colour: m,
         });
     }
-    let axis = match settings.axis {
+    let axis = match axis {
         Axis::X => "x",
         Axis::Y => "y",
         Axis::Radial => "distance from the centroid",
@@ -51,7 +51,7 @@ pub fn profile_chart(
     LineChart {
         title: format!(
             "Area fraction of each material, profile \"{}\"",
-            settings.profile.name()
+            profile.name()
         ),
         x_label: format!("s (normalised {axis})"),
         y_label: "area fraction of the solid".to_owned(),

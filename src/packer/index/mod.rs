@@ -4,11 +4,13 @@
 //! indexes keep each bucket as an intrusive singly linked list (`next[id]`),
 //! so an item costs 4 bytes beyond its bucket's head.
 
+#[cfg(test)]
 mod brute_force;
 mod grid;
 mod mx_quadtree;
 
-pub use brute_force::BruteForce;
+#[cfg(test)]
+use brute_force::BruteForce;
 pub use grid::Grid;
 pub use mx_quadtree::MxQuadtree;
 
