@@ -785,3 +785,153 @@ fn wall_disks_that_leave_no_room_are_refused_at_the_width() {
     // 18 mm wall disks leave 2 mm: room for the 1.2 mm disks.
     assert!(parse(&text.replace("wall_disk = 50", "wall_disk = 18"), "t.toml").is_ok());
 }
+
+// ---- Hostile shapes: fixed-length arrays, tables, areas ----------------------
+
+/// A polygon config with `vertices` as written.
+fn polygon(vertices: &str) -> String {
+    format!("[domain]\nshape = \"polygon\"\nvertices = {vertices}\n[grading]\nconstant = 1\n")
+}
+
+#[test]
+fn fixed_length_arrays_with_extra_elements_are_refused_not_cut() {
+    // Each of these was read as its first elements, the rest dropped unread.
+    fails_with(
+        &polygon("[[0, 0], [10, 0, \"junk\", [1, 2]], [10, 10], [0, 10]]"),
+        "t.toml:3:21: domain.vertices[1]: invalid length 4, expected an array of 2 numbers",
+    );
+    fails_with(
+        "[domain]\nshape = \"circle\"\nradius = 10\ncenter = [0, 0, 5]\n[grading]\nconstant = 1\n",
+        "t.toml:4:10: domain.center: invalid length 3, expected an array of 2 numbers",
+    );
+    fails_with(
+        &rect("width = 20\nheight = 30", "").replace("constant = 1.2", "uniform = [1, 2, 3]"),
+        "t.toml:6:11: grading.uniform: invalid length 3, expected an array of 2 numbers",
+    );
+    fails_with(
+        &rect("width = 20\nheight = 30", "")
+            .replace("constant = 1.2", "table = [[1, 0], [2, 100, 7]]"),
+        "t.toml:6:18: grading.table[1]: invalid length 3, expected an array of 2 numbers",
+    );
+    // A material's own grading goes through the same type.
+    let text = "[domain]\nshape = \"rectangle\"\nwidth = 20\nheight = 20\n\
+                [[materials]]\nname = \"a\"\n[materials.grading]\nuniform = [1, 2, 3]\n";
+    assert_eq!(err(text).key(), Some("materials[0].grading.uniform"));
+}
+
+#[test]
+fn fixed_length_arrays_check_every_element_type_and_short_arrays() {
+    let e = err(&polygon("[[0, 0], [10, \"junk\"], [10, 10]]"));
+    assert_eq!(e.key(), Some("domain.vertices[1][1]"));
+    assert!(
+        e.to_string().contains("invalid type: string \"junk\""),
+        "{e}"
+    );
+    fails_with(
+        &polygon("[[0, 0], [10], [10, 10]]"),
+        "t.toml:3:21: domain.vertices[1]: invalid length 1, expected an array of 2 numbers",
+    );
+    let e = err(&polygon("[[0, 0], 5, [10, 10]]"));
+    assert_eq!(e.key(), Some("domain.vertices[1]"));
+    assert!(
+        e.to_string()
+            .contains("invalid type: integer `5`, expected an array of 2 numbers"),
+        "{e}"
+    );
+}
+
+/// Two materials laid out in steps, with `layers` as written.
+fn steps(layers: &str) -> String {
+    format!(
+        "[domain]\nshape = \"rectangle\"\nwidth = 20\nheight = 20\n[grading]\nconstant = 1\n\
+         [[materials]]\nname = \"a\"\n[[materials]]\nname = \"b\"\n\
+         [layering]\nprofile = \"steps\"\nlayers = {layers}\n"
+    )
+}
+
+#[test]
+fn steps_layers_are_a_name_and_a_thickness_exactly() {
+    assert!(parse(&steps("[[\"a\", 0.5], [\"b\", 0.5]]"), "t.toml").is_ok());
+    fails_with(
+        &steps("[[\"a\", 1, 2], [\"b\", 1]]"),
+        "t.toml:13:11: layering.layers[0]: invalid length 3, expected an array of a material name and a number",
+    );
+    let e = err(&steps("[[\"a\", \"thick\"], [\"b\", 1]]"));
+    assert_eq!(e.key(), Some("layering.layers[0][1]"));
+}
+
+#[test]
+fn a_table_written_as_an_array_of_tables_is_named() {
+    // Serde filled the struct's fields by position: "domain[0]: invalid type:
+    // table, expected a string".
+    fails_with(
+        "[[domain]]\nshape = \"rectangle\"\nwidth = 10\nheight = 10\n[grading]\nconstant = 1\n",
+        "t.toml:1:1: domain: must be a table, not an array of tables: write [domain], not [[domain]]",
+    );
+    let e = err(&rect(
+        "width = 20\nheight = 30",
+        "[[packer]]\nmethod = \"rsa\"\n",
+    ));
+    assert_eq!(e.key(), Some("packer"));
+    assert!(
+        e.to_string().contains("write [packer], not [[packer]]"),
+        "{e}"
+    );
+    // An array of values where a table belongs: no longer read by position
+    // (this was a well named "a", 1 mm wide).
+    let e = err("[fracture]\nheight_m = 0.05\nwells = [[\"a\", 1.0]]\n[grading]\nconstant = 0.2\n");
+    assert_eq!(e.key(), Some("fracture.wells[0]"));
+    assert!(
+        e.to_string().ends_with("must be a table, not an array"),
+        "{e}"
+    );
+}
+
+#[test]
+fn optimise_and_optimize_together_are_both_named() {
+    // Was "duplicate field `optimise`" under an unrelated or empty key.
+    fails_with(
+        &rect(
+            "width = 20\nheight = 20",
+            "[optimise]\ntarget_porosity = 0.2\n[optimize]\ntarget_porosity = 0.3\n",
+        ),
+        "t.toml:9:1: optimize: [optimise] is given too: [optimise] and [optimize] are one table \
+         under two spellings; give only one",
+    );
+    let e = err(&rect(
+        "width = 20\nheight = 20",
+        "[optimize]\ntarget_porosity = 0.2\n[optimise]\ntarget_porosity = 0.3\n",
+    ));
+    assert_eq!(e.key(), Some("optimise"));
+    assert!(e.to_string().contains("[optimize] is given too"), "{e}");
+}
+
+#[test]
+fn sizes_whose_area_overflows_or_underflows_name_the_key_in_area_terms() {
+    // Was "domain.shape: polygon is degenerate: the area inf ..." for a rectangle.
+    fails_with(
+        &rect("width = 1e308\nheight = 10", ""),
+        "t.toml:3:9: domain.width: out of range: the domain's area, width × height, overflows \
+         to inf mm² (beyond 1.8e308, the largest number): the sizes are too large",
+    );
+    let e = err(&rect("width = 10\nheight = 1e308", ""));
+    assert!(matches!(e, ConfigError::Area { .. }), "{e}");
+    assert_eq!(e.key(), Some("domain.height"));
+    // Underflow blames the smaller size.
+    let e = err(&rect("width = 1e-150\nheight = 1e-200", "").replace("1.2", "1e-300"));
+    assert_eq!(e.key(), Some("domain.height"));
+    assert!(e.to_string().contains("underflows to 0 mm²"), "{e}");
+    let e = err("[domain]\nshape = \"circle\"\nradius = 1e160\n[grading]\nconstant = 1\n");
+    assert_eq!(e.key(), Some("domain.radius"));
+    assert!(e.to_string().contains("π × radius², overflows"), "{e}");
+    let e = err(
+        "[domain]\nshape = \"trapezoid\"\nbottom = 1e300\ntop = 1e299\nheight = 1e10\n\
+         [grading]\nconstant = 1\n",
+    );
+    assert_eq!(e.key(), Some("domain.bottom"));
+    assert!(e.to_string().contains("(bottom + top) / 2 × height"), "{e}");
+    // A fracture: its width (mm) times its length (mm).
+    let e = err("[fracture]\nwidth_mm = 1e200\nheight_m = 1e200\n[grading]\nconstant = 1\n");
+    assert_eq!(e.key(), Some("fracture.height_m"));
+    assert!(e.to_string().contains("width × length, overflows"), "{e}");
+}

@@ -4,7 +4,7 @@ use toml::Spanned;
 
 use super::{KeyAt, Validator};
 use crate::config::error::ConfigError;
-use crate::config::raw::{RawFracture, RawWell};
+use crate::config::raw::{RawFracture, RawWell, Table};
 use crate::fracture::{DEFAULT_WINDOW_TOLERANCE, Extent, Fracture, MM_PER_M};
 use crate::geometry::WallMode;
 use crate::names::{EXTENTS, ExtentKind, FILLS};
@@ -38,7 +38,10 @@ const NORMALISED: [&str; 3] = ["width_ratio", "length_ratio", "mean_diameter"];
 
 impl Validator<'_> {
     /// `[fracture]`: the form of the geometry, the walls, the extent and the wells.
-    pub(super) fn fracture(&self, raw: &Spanned<RawFracture>) -> Result<FracturePlan, ConfigError> {
+    pub(super) fn fracture(
+        &self,
+        raw: &Spanned<Table<RawFracture>>,
+    ) -> Result<FracturePlan, ConfigError> {
         let f = raw.get_ref();
         let absolute = [("width_mm", &f.width_mm), ("height_m", &f.height_m)];
         let normalised = [
@@ -211,7 +214,7 @@ impl Validator<'_> {
     fn well(
         &self,
         i: usize,
-        raw: &Spanned<RawWell>,
+        raw: &Spanned<Table<RawWell>>,
         defaults: &Defaults,
     ) -> Result<WellPlan, ConfigError> {
         let w = raw.get_ref();

@@ -6,7 +6,7 @@ use toml::Spanned;
 
 use super::{GradingPlan, KeyAt, Validator};
 use crate::config::error::ConfigError;
-use crate::config::raw::{RawLayering, RawMaterial};
+use crate::config::raw::{RawLayering, RawMaterial, Table};
 use crate::layering::{LayeringError, LayeringMode, LayeringSettings, Material, Profile};
 use crate::names::{AXES, MODES, PROFILES, ProfileKind};
 
@@ -22,7 +22,7 @@ impl Validator<'_> {
     /// `[[materials]]`: names given once, properties numbers.
     pub(super) fn materials(
         &self,
-        raw: &[Spanned<RawMaterial>],
+        raw: &[Spanned<Table<RawMaterial>>],
     ) -> Result<Vec<MaterialPlan>, ConfigError> {
         let mut plans: Vec<MaterialPlan> = Vec::with_capacity(raw.len());
         for (i, table) in raw.iter().enumerate() {
@@ -91,7 +91,7 @@ impl Validator<'_> {
     /// `[layering]` for the given materials.
     pub(super) fn layering(
         &self,
-        raw: &Spanned<RawLayering>,
+        raw: &Spanned<Table<RawLayering>>,
         materials: &[MaterialPlan],
     ) -> Result<LayeringSettings, ConfigError> {
         let l = raw.get_ref();
@@ -178,7 +178,7 @@ impl Validator<'_> {
                     .map_or(&[][..], |v| v.get_ref().as_slice());
                 let mut steps = Vec::with_capacity(layers.len());
                 for (i, layer) in layers.iter().enumerate() {
-                    let (name, thickness) = layer.get_ref();
+                    let (name, thickness) = &layer.get_ref().0;
                     let Some(m) = names.iter().position(|n| n == name) else {
                         return Err(ConfigError::Schema {
                             at: self.at(&layer.span()),
