@@ -331,11 +331,12 @@ impl Validator<'_> {
             }
         };
         if let (Some(settings), Some(table)) = (&optimise, &raw.optimise) {
-            self.check_optimise_memory(&scene, settings, table, limit)?;
+            self.check_optimise_memory(&scene, settings, table, limit.clone())?;
         }
         self.check_method(&scene, &raw)?;
         if let (Some(settings), Some(table)) = (&layering, &raw.layering) {
             self.check_bins(&scene, settings, table)?;
+            self.check_layering_memory(&scene, settings, table, limit.clone())?;
         }
         Ok(Config {
             scene,
