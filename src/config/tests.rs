@@ -1048,3 +1048,31 @@ fn layering_generations_are_bounded_by_the_scores_they_keep() {
     ));
     assert_eq!(e.key(), Some("limits.max_memory_mb"));
 }
+
+// ---- Relaxation tolerance against the write check ----------------------------
+
+#[test]
+fn relaxation_tolerance_above_the_write_check_is_refused_with_a_value_that_passes() {
+    let packer = |rest: &str| {
+        rect(
+            "width = 20\nheight = 20",
+            &format!("[packer]\nmethod = \"relaxation\"\nrelaxation_porosity = 0.5\n{rest}"),
+        )
+    };
+    // The default passes the write check once the sweeps converge.
+    let config = parse(&packer(""), "t.toml").unwrap();
+    assert!(config.scene.packer.relaxation.tolerance <= crate::geometry::predicates::OVERLAP_REL);
+    assert!(parse(&packer("relaxation_tolerance = 1e-9\n"), "t.toml").is_ok());
+    fails_with(
+        &packer("relaxation_tolerance = 1e-4\n"),
+        "t.toml:10:24: packer.relaxation_tolerance: must be at most 1e-9 with method = \
+         \"relaxation\": a packing is written only if no overlap exceeds 1e-9 of the radii sum, \
+         and the sweeps stop at this tolerance; 5e-10 (the default) passes, got 0.0001",
+    );
+    // Another method packs without it: a comparison may still relax loosely.
+    let rsa = rect(
+        "width = 20\nheight = 20",
+        "[packer]\nmethod = \"rsa\"\nrelaxation_tolerance = 1e-4\n",
+    );
+    assert!(parse(&rsa, "t.toml").is_ok());
+}

@@ -22,7 +22,7 @@ use crate::Scene;
 use crate::compare::CompareSettings;
 use crate::fracture::{Extent, FractureRun, Well};
 use crate::ga::{OptimiseSettings, RULE_GENES};
-use crate::geometry::predicates::RESOLUTION_REL;
+use crate::geometry::predicates::{OVERLAP_REL, RESOLUTION_REL};
 use crate::geometry::{Domain, GeometryError, Point, WallMode};
 use crate::grading::{Basis, Grading, Interpolation};
 use crate::layering::{LayeringMode, LayeringSettings, SizeGradient};
@@ -1103,7 +1103,20 @@ impl Validator<'_> {
                 self.whole("packer.relaxation_iterations", v, 1, Some(MAX_ITERATIONS))?;
         }
         if let Some(v) = &p.relaxation_tolerance {
-            relaxation.tolerance = self.positive("packer.relaxation_tolerance", v)?;
+            let key = "packer.relaxation_tolerance";
+            relaxation.tolerance = self.positive(key, v)?;
+            if method == Method::Relaxation && relaxation.tolerance > OVERLAP_REL {
+                // The sweeps would stop with overlaps the write check refuses.
+                return Err(ConfigError::OutOfRange {
+                    at: self.at(&v.span()),
+                    key: key.to_owned(),
+                    range: format!(
+                        "at most {OVERLAP_REL:e} with method = \"relaxation\": a packing is written only if no overlap exceeds {OVERLAP_REL:e} of the radii sum, and the sweeps stop at this tolerance; {:e} (the default) passes",
+                        Relaxation::default().tolerance
+                    ),
+                    value: relaxation.tolerance,
+                });
+            }
         }
         let contacts = p
             .contacts
