@@ -115,11 +115,14 @@ enum ShapePlan {
     Trapezoid { bottom: f64, top: f64, height: f64 },
 }
 
+/// The `[domain]` keys that multiply into an area, with their values (mm).
+type AreaSizes = Vec<(&'static str, f64)>;
+
 impl ShapePlan {
     /// The area (mm²), how it is computed, and the `[domain]` keys that
     /// multiply into it with their values; `None` for a polygon, whose
     /// constructor measures (and names) its own area.
-    fn area(&self) -> Option<(f64, &'static str, Vec<(&'static str, f64)>)> {
+    fn area(&self) -> Option<(f64, &'static str, AreaSizes)> {
         match *self {
             ShapePlan::Rectangle { width, height } => Some((
                 width * height,

@@ -255,13 +255,13 @@ impl Validator<'_> {
             Some(format!(
                 "{name:?} cannot name its output directory: no /, \\ or :, and not . or .."
             ))
-        } else if let Some(file) = BATCH_FILES.iter().find(|f| same_folder(f, name)) {
-            Some(format!(
-                "{name:?} would be a folder named like the batch's own {file} beside the wells' folders; reserved: {}",
-                BATCH_FILES.join(", ")
-            ))
         } else {
-            None
+            BATCH_FILES.iter().find(|f| same_folder(f, name)).map(|file| {
+                format!(
+                    "{name:?} would be a folder named like the batch's own {file} beside the wells' folders; reserved: {}",
+                    BATCH_FILES.join(", ")
+                )
+            })
         };
         if let Some(reason) = bad_name {
             return Err(ConfigError::NotApplicable {
