@@ -363,3 +363,165 @@ fn packs_but_write_failure_leaves_no_new_output() {
     assert_eq!(left, ["packing.csv"], "only the blocker may remain");
     let _ = fs::remove_dir_all(&dir);
 }
+
+// ============================================================================
+// Hostile configs (branch h16-config): each refused with exit 2 and one line
+// naming file:line:column and the key, before anything runs; and a relaxation
+// pack that the write check now accepts.
+// ============================================================================
+
+/// Run `gapack validate bad.toml` on `config`: it must fail with exit 2 and
+/// one line starting `error: bad.toml:{at}: {key}: ` and containing `words`.
+fn validate_refuses(name: &str, config: &str, at: &str, key: &str, words: &str) {
+    let dir = scratch(name);
+    fs::write(dir.join("bad.toml"), config).expect("write config");
+    let out = gapack(&dir, &["validate", "bad.toml"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{name}: {stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{name}: {stderr}");
+    let head = format!("error: bad.toml:{at}: {key}: ");
+    assert!(
+        stderr.starts_with(&head),
+        "{name}: expected {head:?}: {stderr}"
+    );
+    assert!(
+        stderr.contains(words),
+        "{name}: expected {words:?}: {stderr}"
+    );
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn hostile_arrays_with_extra_elements_are_refused() {
+    validate_refuses(
+        "h16-vertices",
+        "[domain]\nshape = \"polygon\"\nvertices = [[0, 0], [10, 0, \"junk\", [1, 2]], [10, 10]]\n\
+         [grading]\nconstant = 1\n",
+        "3:21",
+        "domain.vertices[1]",
+        "invalid length 4, expected an array of 2 numbers",
+    );
+    validate_refuses(
+        "h16-center",
+        "[domain]\nshape = \"circle\"\nradius = 10\ncenter = [0, 0, 5]\n[grading]\nconstant = 1\n",
+        "4:10",
+        "domain.center",
+        "invalid length 3",
+    );
+    validate_refuses(
+        "h16-uniform",
+        &rect("width = 20\nheight = 30", "uniform = [1, 2, 3]"),
+        "6:11",
+        "grading.uniform",
+        "invalid length 3",
+    );
+    validate_refuses(
+        "h16-table-row",
+        &rect("width = 20\nheight = 30", "table = [[1, 0, 5], [2, 100]]"),
+        "6:10",
+        "grading.table[0]",
+        "invalid length 3",
+    );
+}
+
+#[test]
+fn hostile_tables_and_sizes_get_messages_naming_their_keys() {
+    validate_refuses(
+        "h16-array-of-domains",
+        "[[domain]]\nshape = \"rectangle\"\nwidth = 10\nheight = 10\n[grading]\nconstant = 1\n",
+        "1:1",
+        "domain",
+        "must be a table, not an array of tables: write [domain], not [[domain]]",
+    );
+    validate_refuses(
+        "h16-both-spellings",
+        &format!(
+            "{}[optimise]\ntarget_porosity = 0.2\n[optimize]\ntarget_porosity = 0.2\n",
+            rect("width = 20\nheight = 30", "constant = 1.2")
+        ),
+        "9:1",
+        "optimize",
+        "[optimise] is given too",
+    );
+    validate_refuses(
+        "h16-huge-width",
+        &rect("width = 1e308\nheight = 10", "constant = 1"),
+        "3:9",
+        "domain.width",
+        "the domain's area, width × height, overflows to inf mm²",
+    );
+}
+
+#[test]
+fn hostile_layering_population_is_refused_against_the_memory_limit() {
+    validate_refuses(
+        "h16-layering-population",
+        &format!(
+            "{}[[materials]]\nname = \"a\"\n[[materials]]\nname = \"b\"\n\
+             [layering]\nprofile = \"linear\"\npopulation = 1000000\n",
+            rect("width = 50\nheight = 50", "constant = 1.2")
+        ),
+        "13:14",
+        "layering.population",
+        "over the limit of 4096 MB",
+    );
+}
+
+#[test]
+fn hostile_well_names_are_refused() {
+    let batch = |names: &[&str]| {
+        let mut text = "[fracture]\nwidth_mm = 2\nheight_m = 0.05\n".to_owned();
+        for name in names {
+            text.push_str(&format!("[[fracture.wells]]\nname = {name:?}\n"));
+        }
+        text + "[grading]\nconstant = 0.5\n"
+    };
+    validate_refuses(
+        "h16-well-wells-csv",
+        &batch(&["a", "wells.csv"]),
+        "7:8",
+        "fracture.wells[1].name",
+        "reserved: wells.csv, manifest.json",
+    );
+    validate_refuses(
+        "h16-well-manifest",
+        &batch(&["MANIFEST.json"]),
+        "5:8",
+        "fracture.wells[0].name",
+        "the batch's own manifest.json",
+    );
+    validate_refuses(
+        "h16-well-case",
+        &batch(&["North", "north"]),
+        "7:8",
+        "fracture.wells[1].name",
+        "differ only in case",
+    );
+}
+
+#[test]
+fn relaxation_with_its_default_tolerance_writes_a_loose_scene() {
+    let dir = scratch("h16-relaxation");
+    let text = format!(
+        "{}[packer]\nmethod = \"relaxation\"\nrelaxation_porosity = 0.5\n",
+        rect("width = 30\nheight = 30", "uniform = [1.0, 1.5]")
+    );
+    fs::write(dir.join("r.toml"), &text).expect("write config");
+    let out = gapack(&dir, &["pack", "r.toml", "--out", "out", "--quiet"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(dir.join("out/packing.csv").exists());
+    // A tolerance the write check cannot pass is refused at its key.
+    fs::write(dir.join("bad.toml"), text + "relaxation_tolerance = 1e-4\n").expect("write config");
+    let out = gapack(&dir, &["pack", "bad.toml", "--out", "bad"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.starts_with(
+            "error: bad.toml:10:24: packer.relaxation_tolerance: must be at most 1e-9"
+        ) && stderr.contains("5e-10 (the default) passes"),
+        "{stderr}"
+    );
+    assert!(!dir.join("bad").exists());
+    let _ = fs::remove_dir_all(&dir);
+}

@@ -105,6 +105,19 @@ pub enum ConfigError {
         /// The value given.
         value: f64,
     },
+    /// Sizes, each positive and finite, whose product (the domain's area)
+    /// overflows to infinity or underflows to zero.
+    #[error("{at}: {key}: out of range: the domain's area, {formula}, {}", area_words(*.area))]
+    Area {
+        /// Where.
+        at: Location,
+        /// Key path at fault: the largest size when the area overflows, the smallest when it underflows.
+        key: String,
+        /// How the area is computed, in the config's key names (`"width × height"`).
+        formula: String,
+        /// The area computed (mm²): infinite, zero or NaN.
+        area: f64,
+    },
     /// A run that would need more memory than the limit allows.
     #[error("{at}: {key}: {reason}")]
     Memory {
@@ -194,6 +207,20 @@ pub enum ConfigError {
     },
 }
 
+/// What went wrong with an area that is not a positive finite number.
+fn area_words(area: f64) -> String {
+    if area == 0.0 {
+        "underflows to 0 mm²: the sizes are too small to multiply in floating point".to_owned()
+    } else if area.is_nan() {
+        "is not a number".to_owned()
+    } else {
+        format!(
+            "overflows to {area} mm² (beyond {:.1e}, the largest number): the sizes are too large",
+            f64::MAX
+        )
+    }
+}
+
 fn key_prefix(key: Option<&str>) -> String {
     key.map_or_else(String::new, |k| format!("{k}: "))
 }
@@ -207,6 +234,7 @@ impl ConfigError {
             | ConfigError::NotPositive { at, .. }
             | ConfigError::NotFinite { at, .. }
             | ConfigError::OutOfRange { at, .. }
+            | ConfigError::Area { at, .. }
             | ConfigError::Memory { at, .. }
             | ConfigError::UnknownName { at, .. }
             | ConfigError::Missing { at, .. }
@@ -226,6 +254,7 @@ impl ConfigError {
             | ConfigError::NotPositive { key, .. }
             | ConfigError::NotFinite { key, .. }
             | ConfigError::OutOfRange { key, .. }
+            | ConfigError::Area { key, .. }
             | ConfigError::Memory { key, .. }
             | ConfigError::UnknownName { key, .. }
             | ConfigError::Missing { key, .. }

@@ -6,6 +6,7 @@ use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
 use super::error::{ConfigError, Location};
+use super::raw::NOT_AN_ARRAY_OF_TABLES;
 
 /// The config error for a failed `toml::from_str`, with line, column and key path.
 pub(crate) fn from_toml_error(err: &toml::de::Error, text: &str, origin: &str) -> ConfigError {
@@ -43,6 +44,23 @@ pub(crate) fn from_toml_error(err: &toml::de::Error, text: &str, origin: &str) -
             at,
             key: join(table, field),
             message,
+        };
+    }
+    if message == NOT_AN_ARRAY_OF_TABLES {
+        // The array and its first table start at the same place: the key is
+        // the array's (`domain`, not `domain[0]`).
+        let key = nodes
+            .iter()
+            .filter(|n| n.span == span)
+            .map(|n| n.path.as_str())
+            .min_by_key(|p| p.len())
+            .or_else(|| innermost(&nodes, span.start))
+            .unwrap_or("")
+            .to_owned();
+        return ConfigError::Schema {
+            at,
+            message: format!("{message}: write [{key}], not [[{key}]]"),
+            key,
         };
     }
     let key = innermost(&nodes, span.start).unwrap_or("").to_owned();

@@ -4,15 +4,157 @@
 //! meaning is checked in `validate.rs`.
 
 use std::collections::BTreeMap;
+use std::fmt;
+use std::marker::PhantomData;
+use std::ops::Deref;
 
 use serde::Deserialize;
+use serde::de::value::MapAccessDeserializer;
+use serde::de::{self, Deserializer, IgnoredAny, MapAccess, SeqAccess, Visitor};
 use toml::Spanned;
 
 /// A pair of numbers such as `[x, y]` or a grading row `[d, passing]`.
-pub(crate) type Pair = Spanned<[f64; 2]>;
+pub(crate) type Pair = Spanned<Exact<[f64; 2]>>;
 
 /// A layer of a steps profile: `[material name, thickness]`.
-pub(crate) type Layer = Spanned<(String, f64)>;
+pub(crate) type Layer = Spanned<Exact<(String, f64)>>;
+
+/// An array of the config with a fixed shape (`[x, y]`, `[d, passing]`,
+/// `[name, thickness]`): exactly [`Shape::LEN`] elements, each of its type.
+///
+/// Every fixed-shape array of [`RawConfig`] is read through this one type.
+/// serde's own arrays and tuples stop reading after their last element and
+/// leave the rest unread, so `[0, 0, "junk", [1, 2]]` was taken as `[0, 0]`;
+/// here the elements past the shape are counted and the array refused with
+/// its length (`invalid length 4, expected an array of 2 numbers`), at the
+/// array's place and key path like every schema error.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Exact<T>(pub T);
+
+impl<T> Deref for Exact<T> {
+    type Target = T;
+
+    fn deref(&self) -> &T {
+        &self.0
+    }
+}
+
+/// The shape of a fixed-length array: how many elements, of which types.
+pub(crate) trait Shape: Sized {
+    /// The number of elements.
+    const LEN: usize;
+    /// The shape in words, for messages (`"an array of 2 numbers"`).
+    const WHAT: &'static str;
+    /// Read the elements in order; fewer than [`Shape::LEN`] is an error.
+    fn read<'de, A: SeqAccess<'de>>(seq: &mut A) -> Result<Self, A::Error>;
+}
+
+/// Element `index` of a fixed-shape array, or an error naming its length if absent.
+fn element<'de, T: Deserialize<'de>, A: SeqAccess<'de>>(
+    seq: &mut A,
+    index: usize,
+    what: &'static str,
+) -> Result<T, A::Error> {
+    seq.next_element()?
+        .ok_or_else(|| de::Error::invalid_length(index, &what))
+}
+
+impl Shape for [f64; 2] {
+    const LEN: usize = 2;
+    const WHAT: &'static str = "an array of 2 numbers";
+
+    fn read<'de, A: SeqAccess<'de>>(seq: &mut A) -> Result<Self, A::Error> {
+        Ok([element(seq, 0, Self::WHAT)?, element(seq, 1, Self::WHAT)?])
+    }
+}
+
+impl Shape for (String, f64) {
+    const LEN: usize = 2;
+    const WHAT: &'static str = "an array of a material name and a number";
+
+    fn read<'de, A: SeqAccess<'de>>(seq: &mut A) -> Result<Self, A::Error> {
+        Ok((element(seq, 0, Self::WHAT)?, element(seq, 1, Self::WHAT)?))
+    }
+}
+
+/// A table of the config (`[domain]`, each `[[materials]]`, …): read from a
+/// TOML table only.
+///
+/// Every table-typed key of [`RawConfig`] is read through this one type.
+/// serde's derived structs also accept an array, filling their fields by
+/// position: `[[domain]]` was read as a domain whose `shape` is a table, and
+/// `wells = [["a", 1.0]]` as a well named "a" of width 1. Here an array is
+/// refused as such ([`NOT_AN_ARRAY_OF_TABLES`] for an array of tables).
+#[derive(Debug)]
+pub(crate) struct Table<T>(pub T);
+
+impl<T> Deref for Table<T> {
+    type Target = T;
+
+    fn deref(&self) -> &T {
+        &self.0
+    }
+}
+
+/// The message for an array of tables where one table belongs.
+pub(crate) const NOT_AN_ARRAY_OF_TABLES: &str = "must be a table, not an array of tables";
+
+impl<'de, T: Deserialize<'de>> Deserialize<'de> for Table<T> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct TableVisitor<T>(PhantomData<T>);
+
+        impl<'de, T: Deserialize<'de>> Visitor<'de> for TableVisitor<T> {
+            type Value = Table<T>;
+
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a table")
+            }
+
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
+                T::deserialize(MapAccessDeserializer::new(map)).map(Table)
+            }
+
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+                let tables = matches!(seq.next_element()?, Some(toml::Value::Table(_)));
+                Err(de::Error::custom(if tables {
+                    NOT_AN_ARRAY_OF_TABLES
+                } else {
+                    "must be a table, not an array"
+                }))
+            }
+        }
+
+        deserializer.deserialize_any(TableVisitor(PhantomData))
+    }
+}
+
+impl<'de, T: Shape> Deserialize<'de> for Exact<T> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct ExactVisitor<T>(PhantomData<T>);
+
+        impl<'de, T: Shape> Visitor<'de> for ExactVisitor<T> {
+            type Value = Exact<T>;
+
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str(T::WHAT)
+            }
+
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+                let value = T::read(&mut seq)?;
+                let mut extra = 0;
+                while seq.next_element::<IgnoredAny>()?.is_some() {
+                    extra += 1;
+                }
+                if extra > 0 {
+                    return Err(de::Error::invalid_length(T::LEN + extra, &T::WHAT));
+                }
+                Ok(Exact(value))
+            }
+        }
+
+        deserializer.deserialize_seq(ExactVisitor(PhantomData))
+    }
+}
 
 /// The whole file.
 #[derive(Debug, Deserialize)]
@@ -20,18 +162,21 @@ pub(crate) type Layer = Spanned<(String, f64)>;
 pub(crate) struct RawConfig {
     pub seed: Option<Spanned<u64>>,
     /// Required unless `[fracture]` gives the domain.
-    pub domain: Option<Spanned<RawDomain>>,
-    pub fracture: Option<Spanned<RawFracture>>,
+    pub domain: Option<Spanned<Table<RawDomain>>>,
+    pub fracture: Option<Spanned<Table<RawFracture>>>,
     /// Required unless `[layering] mode = "sizes"` gives each material its own.
-    pub grading: Option<Spanned<RawGrading>>,
-    pub packer: Option<RawPacker>,
-    #[serde(alias = "optimize")]
-    pub optimise: Option<Spanned<RawOptimise>>,
-    pub materials: Option<Vec<Spanned<RawMaterial>>>,
-    pub layering: Option<Spanned<RawLayering>>,
-    pub limits: Option<RawLimits>,
-    pub compare: Option<Spanned<RawCompare>>,
-    pub output: Option<Spanned<RawOutput>>,
+    pub grading: Option<Spanned<Table<RawGrading>>>,
+    pub packer: Option<Table<RawPacker>>,
+    pub optimise: Option<Spanned<Table<RawOptimise>>>,
+    /// `[optimise]` spelt the American way; one of the two at most. (Not a
+    /// serde alias: with both tables given, serde's "duplicate field" error
+    /// named neither.)
+    pub optimize: Option<Spanned<Table<RawOptimise>>>,
+    pub materials: Option<Vec<Spanned<Table<RawMaterial>>>>,
+    pub layering: Option<Spanned<Table<RawLayering>>>,
+    pub limits: Option<Table<RawLimits>>,
+    pub compare: Option<Spanned<Table<RawCompare>>>,
+    pub output: Option<Spanned<Table<RawOutput>>>,
 }
 
 /// `[output]`: where runs write and what.
@@ -57,7 +202,7 @@ pub(crate) struct RawCompare {
 #[derive(Debug, Deserialize)]
 pub(crate) struct RawMaterial {
     pub name: Spanned<String>,
-    pub grading: Option<Spanned<RawGrading>>,
+    pub grading: Option<Spanned<Table<RawGrading>>>,
     #[serde(flatten)]
     pub properties: BTreeMap<String, toml::Value>,
 }
@@ -94,7 +239,7 @@ pub(crate) struct RawFracture {
     pub wall_disk: Option<Spanned<f64>>,
     pub extent: Option<Spanned<String>>,
     pub window_tolerance: Option<Spanned<f64>>,
-    pub wells: Option<Vec<Spanned<RawWell>>>,
+    pub wells: Option<Vec<Spanned<Table<RawWell>>>>,
 }
 
 /// `[[fracture.wells]]`: a named fracture of a batch.

@@ -785,3 +785,294 @@ fn wall_disks_that_leave_no_room_are_refused_at_the_width() {
     // 18 mm wall disks leave 2 mm: room for the 1.2 mm disks.
     assert!(parse(&text.replace("wall_disk = 50", "wall_disk = 18"), "t.toml").is_ok());
 }
+
+// ---- Hostile shapes: fixed-length arrays, tables, areas ----------------------
+
+/// A polygon config with `vertices` as written.
+fn polygon(vertices: &str) -> String {
+    format!("[domain]\nshape = \"polygon\"\nvertices = {vertices}\n[grading]\nconstant = 1\n")
+}
+
+#[test]
+fn fixed_length_arrays_with_extra_elements_are_refused_not_cut() {
+    // Each of these was read as its first elements, the rest dropped unread.
+    fails_with(
+        &polygon("[[0, 0], [10, 0, \"junk\", [1, 2]], [10, 10], [0, 10]]"),
+        "t.toml:3:21: domain.vertices[1]: invalid length 4, expected an array of 2 numbers",
+    );
+    fails_with(
+        "[domain]\nshape = \"circle\"\nradius = 10\ncenter = [0, 0, 5]\n[grading]\nconstant = 1\n",
+        "t.toml:4:10: domain.center: invalid length 3, expected an array of 2 numbers",
+    );
+    fails_with(
+        &rect("width = 20\nheight = 30", "").replace("constant = 1.2", "uniform = [1, 2, 3]"),
+        "t.toml:6:11: grading.uniform: invalid length 3, expected an array of 2 numbers",
+    );
+    fails_with(
+        &rect("width = 20\nheight = 30", "")
+            .replace("constant = 1.2", "table = [[1, 0], [2, 100, 7]]"),
+        "t.toml:6:18: grading.table[1]: invalid length 3, expected an array of 2 numbers",
+    );
+    // A material's own grading goes through the same type.
+    let text = "[domain]\nshape = \"rectangle\"\nwidth = 20\nheight = 20\n\
+                [[materials]]\nname = \"a\"\n[materials.grading]\nuniform = [1, 2, 3]\n";
+    assert_eq!(err(text).key(), Some("materials[0].grading.uniform"));
+}
+
+#[test]
+fn fixed_length_arrays_check_every_element_type_and_short_arrays() {
+    let e = err(&polygon("[[0, 0], [10, \"junk\"], [10, 10]]"));
+    assert_eq!(e.key(), Some("domain.vertices[1][1]"));
+    assert!(
+        e.to_string().contains("invalid type: string \"junk\""),
+        "{e}"
+    );
+    fails_with(
+        &polygon("[[0, 0], [10], [10, 10]]"),
+        "t.toml:3:21: domain.vertices[1]: invalid length 1, expected an array of 2 numbers",
+    );
+    let e = err(&polygon("[[0, 0], 5, [10, 10]]"));
+    assert_eq!(e.key(), Some("domain.vertices[1]"));
+    assert!(
+        e.to_string()
+            .contains("invalid type: integer `5`, expected an array of 2 numbers"),
+        "{e}"
+    );
+}
+
+/// Two materials laid out in steps, with `layers` as written.
+fn steps(layers: &str) -> String {
+    format!(
+        "[domain]\nshape = \"rectangle\"\nwidth = 20\nheight = 20\n[grading]\nconstant = 1\n\
+         [[materials]]\nname = \"a\"\n[[materials]]\nname = \"b\"\n\
+         [layering]\nprofile = \"steps\"\nlayers = {layers}\n"
+    )
+}
+
+#[test]
+fn steps_layers_are_a_name_and_a_thickness_exactly() {
+    assert!(parse(&steps("[[\"a\", 0.5], [\"b\", 0.5]]"), "t.toml").is_ok());
+    fails_with(
+        &steps("[[\"a\", 1, 2], [\"b\", 1]]"),
+        "t.toml:13:11: layering.layers[0]: invalid length 3, expected an array of a material name and a number",
+    );
+    let e = err(&steps("[[\"a\", \"thick\"], [\"b\", 1]]"));
+    assert_eq!(e.key(), Some("layering.layers[0][1]"));
+}
+
+#[test]
+fn a_table_written_as_an_array_of_tables_is_named() {
+    // Serde filled the struct's fields by position: "domain[0]: invalid type:
+    // table, expected a string".
+    fails_with(
+        "[[domain]]\nshape = \"rectangle\"\nwidth = 10\nheight = 10\n[grading]\nconstant = 1\n",
+        "t.toml:1:1: domain: must be a table, not an array of tables: write [domain], not [[domain]]",
+    );
+    let e = err(&rect(
+        "width = 20\nheight = 30",
+        "[[packer]]\nmethod = \"rsa\"\n",
+    ));
+    assert_eq!(e.key(), Some("packer"));
+    assert!(
+        e.to_string().contains("write [packer], not [[packer]]"),
+        "{e}"
+    );
+    // An array of values where a table belongs: no longer read by position
+    // (this was a well named "a", 1 mm wide).
+    let e = err("[fracture]\nheight_m = 0.05\nwells = [[\"a\", 1.0]]\n[grading]\nconstant = 0.2\n");
+    assert_eq!(e.key(), Some("fracture.wells[0]"));
+    assert!(
+        e.to_string().ends_with("must be a table, not an array"),
+        "{e}"
+    );
+}
+
+#[test]
+fn optimise_and_optimize_together_are_both_named() {
+    // Was "duplicate field `optimise`" under an unrelated or empty key.
+    fails_with(
+        &rect(
+            "width = 20\nheight = 20",
+            "[optimise]\ntarget_porosity = 0.2\n[optimize]\ntarget_porosity = 0.3\n",
+        ),
+        "t.toml:9:1: optimize: [optimise] is given too: [optimise] and [optimize] are one table \
+         under two spellings; give only one",
+    );
+    let e = err(&rect(
+        "width = 20\nheight = 20",
+        "[optimize]\ntarget_porosity = 0.2\n[optimise]\ntarget_porosity = 0.3\n",
+    ));
+    assert_eq!(e.key(), Some("optimise"));
+    assert!(e.to_string().contains("[optimize] is given too"), "{e}");
+}
+
+#[test]
+fn sizes_whose_area_overflows_or_underflows_name_the_key_in_area_terms() {
+    // Was "domain.shape: polygon is degenerate: the area inf ..." for a rectangle.
+    fails_with(
+        &rect("width = 1e308\nheight = 10", ""),
+        "t.toml:3:9: domain.width: out of range: the domain's area, width × height, overflows \
+         to inf mm² (beyond 1.8e308, the largest number): the sizes are too large",
+    );
+    let e = err(&rect("width = 10\nheight = 1e308", ""));
+    assert!(matches!(e, ConfigError::Area { .. }), "{e}");
+    assert_eq!(e.key(), Some("domain.height"));
+    // Underflow blames the smaller size.
+    let e = err(&rect("width = 1e-150\nheight = 1e-200", "").replace("1.2", "1e-300"));
+    assert_eq!(e.key(), Some("domain.height"));
+    assert!(e.to_string().contains("underflows to 0 mm²"), "{e}");
+    let e = err("[domain]\nshape = \"circle\"\nradius = 1e160\n[grading]\nconstant = 1\n");
+    assert_eq!(e.key(), Some("domain.radius"));
+    assert!(e.to_string().contains("π × radius², overflows"), "{e}");
+    let e = err(
+        "[domain]\nshape = \"trapezoid\"\nbottom = 1e300\ntop = 1e299\nheight = 1e10\n\
+         [grading]\nconstant = 1\n",
+    );
+    assert_eq!(e.key(), Some("domain.bottom"));
+    assert!(e.to_string().contains("(bottom + top) / 2 × height"), "{e}");
+    // A fracture: its width (mm) times its length (mm).
+    let e = err("[fracture]\nwidth_mm = 1e200\nheight_m = 1e200\n[grading]\nconstant = 1\n");
+    assert_eq!(e.key(), Some("fracture.height_m"));
+    assert!(e.to_string().contains("width × length, overflows"), "{e}");
+}
+
+// ---- Batch well names ---------------------------------------------------------
+
+/// A batch of wells named `names`, 2 mm × 0.05 m each.
+fn batch(names: &[&str]) -> String {
+    let mut text = "[fracture]\nwidth_mm = 2\nheight_m = 0.05\n".to_owned();
+    for name in names {
+        text.push_str(&format!("[[fracture.wells]]\nname = {name:?}\n"));
+    }
+    text + "[grading]\nconstant = 0.5\n"
+}
+
+#[test]
+fn well_names_that_are_the_batch_files_are_refused() {
+    assert!(parse(&batch(&["north", "south"]), "t.toml").is_ok());
+    fails_with(
+        &batch(&["north", "wells.csv"]),
+        "t.toml:7:8: fracture.wells[1].name: \"wells.csv\" would be a folder named like the \
+         batch's own wells.csv beside the wells' folders; reserved: wells.csv, manifest.json, \
+         checkpoint.json",
+    );
+    for name in [
+        "manifest.json",
+        "Manifest.JSON",
+        "WELLS.csv",
+        "checkpoint.json",
+    ] {
+        let e = err(&batch(&[name]));
+        assert_eq!(e.key(), Some("fracture.wells[0].name"), "{name}");
+        assert!(e.to_string().contains("reserved: "), "{name}: {e}");
+    }
+}
+
+#[test]
+fn well_names_that_collide_even_by_case_are_refused() {
+    fails_with(
+        &batch(&["North", "south", "north"]),
+        "t.toml:9:8: fracture.wells[2].name: \"north\" and \"North\" (fracture.wells[0].name) \
+         differ only in case: one folder on a case-insensitive file system; give each well a \
+         distinct name",
+    );
+    fails_with(
+        &batch(&["a", "a"]),
+        "t.toml:7:8: fracture.wells[1].name: \"a\" is given twice (fracture.wells[0].name): \
+         each well needs its own folder",
+    );
+    // Surrounding spaces are trimmed before the comparison.
+    assert_eq!(
+        err(&batch(&["a", " A "])).key(),
+        Some("fracture.wells[1].name")
+    );
+}
+
+// ---- [layering] memory ----------------------------------------------------------
+
+/// Two materials laid out linearly in a `side` mm square, with `layering` keys appended.
+fn layered(side: u32, layering: &str) -> String {
+    format!(
+        "[domain]\nshape = \"rectangle\"\nwidth = {side}\nheight = {side}\n[grading]\nconstant = 1\n\
+         [[materials]]\nname = \"a\"\n[[materials]]\nname = \"b\"\n\
+         [layering]\nprofile = \"linear\"\n{layering}"
+    )
+}
+
+#[test]
+fn layering_population_is_bounded_by_the_memory_limit() {
+    // A million genomes of ~130 genes passed validation and grew past 4 GB.
+    let e = err(&layered(10, "population = 1000000\n"));
+    assert!(matches!(e, ConfigError::Memory { .. }), "{e}");
+    assert_eq!(e.key(), Some("layering.population"));
+    assert_eq!((e.location().line, e.location().column), (13, 14));
+    let message = e.to_string();
+    assert!(
+        message.contains("the layering search (1000000 genomes of up to 128 genes"),
+        "{message}"
+    );
+    assert!(message.contains("over the limit of 4096 MB"), "{message}");
+    // The defaults, and a large population on a small packing, pass.
+    assert!(parse(&layered(10, ""), "t.toml").is_ok());
+    assert!(parse(&layered(10, "population = 10000\n"), "t.toml").is_ok());
+    // The limit given is blamed, and --force goes ahead.
+    let text = layered(10, "population = 100000\n").replacen(
+        "[[materials]]",
+        "[limits]\nmax_memory_mb = 100\n[[materials]]",
+        1,
+    );
+    let e = err(&text);
+    assert_eq!(e.key(), Some("limits.max_memory_mb"));
+    assert!(e.to_string().contains("over the limit of 100 MB"), "{e}");
+    assert!(parse_with(&text, "t.toml", ParseOptions { force: true }).is_ok());
+    // Size-graded mode runs no search: its population is not counted.
+    let sizes = "[domain]\nshape = \"rectangle\"\nwidth = 10\nheight = 10\n\
+                 [[materials]]\nname = \"a\"\n[materials.grading]\nconstant = 1\n\
+                 [[materials]]\nname = \"b\"\n[materials.grading]\nconstant = 0.8\n\
+                 [layering]\nmode = \"sizes\"\nprofile = \"linear\"\npopulation = 1000000\n";
+    assert!(parse(sizes, "t.toml").is_ok());
+}
+
+#[test]
+fn layering_generations_are_bounded_by_the_scores_they_keep() {
+    // Every evaluation's score is kept: a hundred million generations of
+    // 64 genomes is 7 billion scores, blamed on generations.
+    let e = err(&layered(10, "generations = 100000000\n"));
+    assert!(matches!(e, ConfigError::Memory { .. }), "{e}");
+    assert_eq!(e.key(), Some("layering.generations"));
+    // A limit given is the key to act on.
+    let e = err(&layered(10, "population = 2000\n").replacen(
+        "[[materials]]",
+        "[limits]\nmax_memory_mb = 1\n[[materials]]",
+        1,
+    ));
+    assert_eq!(e.key(), Some("limits.max_memory_mb"));
+}
+
+// ---- Relaxation tolerance against the write check ----------------------------
+
+#[test]
+fn relaxation_tolerance_above_the_write_check_is_refused_with_a_value_that_passes() {
+    let packer = |rest: &str| {
+        rect(
+            "width = 20\nheight = 20",
+            &format!("[packer]\nmethod = \"relaxation\"\nrelaxation_porosity = 0.5\n{rest}"),
+        )
+    };
+    // The default passes the write check once the sweeps converge.
+    let config = parse(&packer(""), "t.toml").unwrap();
+    assert!(config.scene.packer.relaxation.tolerance <= crate::geometry::predicates::OVERLAP_REL);
+    assert!(parse(&packer("relaxation_tolerance = 1e-9\n"), "t.toml").is_ok());
+    fails_with(
+        &packer("relaxation_tolerance = 1e-4\n"),
+        "t.toml:10:24: packer.relaxation_tolerance: must be at most 1e-9 with method = \
+         \"relaxation\": a packing is written only if no overlap exceeds 1e-9 of the radii sum, \
+         and the sweeps stop at this tolerance; 5e-10 (the default) passes, got 0.0001",
+    );
+    // Another method packs without it: a comparison may still relax loosely.
+    let rsa = rect(
+        "width = 20\nheight = 20",
+        "[packer]\nmethod = \"rsa\"\nrelaxation_tolerance = 1e-4\n",
+    );
+    assert!(parse(&rsa, "t.toml").is_ok());
+}

@@ -16,13 +16,13 @@ use super::error::{ConfigError, Location};
 use super::parse::Config;
 use super::raw::{
     Pair, RawCompare, RawConfig, RawDomain, RawGrading, RawLayering, RawLimits, RawOptimise,
-    RawPacker,
+    RawPacker, Table,
 };
 use crate::Scene;
 use crate::compare::CompareSettings;
 use crate::fracture::{Extent, FractureRun, Well};
 use crate::ga::{OptimiseSettings, RULE_GENES};
-use crate::geometry::predicates::RESOLUTION_REL;
+use crate::geometry::predicates::{OVERLAP_REL, RESOLUTION_REL};
 use crate::geometry::{Domain, GeometryError, Point, WallMode};
 use crate::grading::{Basis, Grading, Interpolation};
 use crate::layering::{LayeringMode, LayeringSettings, SizeGradient};
@@ -115,6 +115,39 @@ enum ShapePlan {
     Trapezoid { bottom: f64, top: f64, height: f64 },
 }
 
+/// The `[domain]` keys that multiply into an area, with their values (mm).
+type AreaSizes = Vec<(&'static str, f64)>;
+
+impl ShapePlan {
+    /// The area (mm²), how it is computed, and the `[domain]` keys that
+    /// multiply into it with their values; `None` for a polygon, whose
+    /// constructor measures (and names) its own area.
+    fn area(&self) -> Option<(f64, &'static str, AreaSizes)> {
+        match *self {
+            ShapePlan::Rectangle { width, height } => Some((
+                width * height,
+                "width × height",
+                vec![("width", width), ("height", height)],
+            )),
+            ShapePlan::Circle { radius, .. } => Some((
+                std::f64::consts::PI * radius * radius,
+                "π × radius²",
+                vec![("radius", radius)],
+            )),
+            ShapePlan::Trapezoid {
+                bottom,
+                top,
+                height,
+            } => Some((
+                0.5 * (bottom + top) * height,
+                "(bottom + top) / 2 × height",
+                vec![("bottom", bottom), ("top", top), ("height", height)],
+            )),
+            ShapePlan::Polygon(_) => None,
+        }
+    }
+}
+
 mod fracture;
 mod materials;
 mod output;
@@ -170,7 +203,8 @@ pub(crate) struct Validator<'a> {
 
 impl Validator<'_> {
     /// Check `raw` and build the config.
-    pub fn config(&self, raw: RawConfig) -> Result<Config, ConfigError> {
+    pub fn config(&self, mut raw: RawConfig) -> Result<Config, ConfigError> {
+        raw.optimise = self.one_spelling(raw.optimise.take(), raw.optimize.take())?;
         // Values first, in file order; then the constructors; then the whole.
         let place = match (&raw.domain, &raw.fracture) {
             (Some(d), None) => Place::Domain(self.domain(d)?, d.get_ref()),
@@ -196,7 +230,7 @@ impl Validator<'_> {
             .as_ref()
             .map(|g| self.grading(g, "grading"))
             .transpose()?;
-        let packer = self.packer(raw.packer.as_ref())?;
+        let packer = self.packer(raw.packer.as_deref())?;
         let optimise = raw
             .optimise
             .as_ref()
@@ -208,8 +242,8 @@ impl Validator<'_> {
             .as_ref()
             .map(|l| self.layering(l, &materials))
             .transpose()?;
-        let limit = self.limit(raw.limits.as_ref())?;
-        let particles = self.particles_limit(raw.limits.as_ref())?;
+        let limit = self.limit(raw.limits.as_deref())?;
+        let particles = self.particles_limit(raw.limits.as_deref())?;
         let (grading, gradient) = self.curves(grading, &raw, &materials, layering.as_ref())?;
         let seed = raw.seed.as_ref().map_or(0, |s| *s.get_ref());
         let scene_of = |domain, walls, wall_disk_diameter| Scene {
@@ -237,6 +271,19 @@ impl Validator<'_> {
                 self.fracture_runs(&plan, &raw)?;
                 let mut wells = Vec::with_capacity(plan.wells.len());
                 for well in &plan.wells {
+                    let f = well.fracture;
+                    let (area, formula) = match f.tip_width {
+                        None => (f.width * f.length, "width × length"),
+                        Some(tip) => (
+                            0.5 * (f.width + tip) * f.length,
+                            "(width + tip width) / 2 × length",
+                        ),
+                    };
+                    let sizes = [
+                        (well.width_key.clone(), f.width),
+                        (well.length_key.clone(), f.length),
+                    ];
+                    self.check_area(area, formula, &sizes)?;
                     let domain = well
                         .fracture
                         .domain()
@@ -257,7 +304,6 @@ impl Validator<'_> {
                             },
                             other => other,
                         })?;
-                    let f = well.fracture;
                     let longest = if f.width.max(f.tip_width.unwrap_or(0.0)) > f.length {
                         &well.width_key
                     } else {
@@ -288,11 +334,12 @@ impl Validator<'_> {
             }
         };
         if let (Some(settings), Some(table)) = (&optimise, &raw.optimise) {
-            self.check_optimise_memory(&scene, settings, table, limit)?;
+            self.check_optimise_memory(&scene, settings, table, limit.clone())?;
         }
         self.check_method(&scene, &raw)?;
         if let (Some(settings), Some(table)) = (&layering, &raw.layering) {
             self.check_bins(&scene, settings, table)?;
+            self.check_layering_memory(&scene, settings, table, limit.clone())?;
         }
         Ok(Config {
             scene,
@@ -305,8 +352,36 @@ impl Validator<'_> {
         })
     }
 
+    /// `[optimise]` or `[optimize]`: one table under either spelling, not both.
+    fn one_spelling(
+        &self,
+        optimise: Option<Spanned<Table<RawOptimise>>>,
+        optimize: Option<Spanned<Table<RawOptimise>>>,
+    ) -> Result<Option<Spanned<Table<RawOptimise>>>, ConfigError> {
+        match (optimise, optimize) {
+            (Some(a), Some(b)) => {
+                let (first, second, later) = if a.span().start <= b.span().start {
+                    ("optimise", "optimize", b.span())
+                } else {
+                    ("optimize", "optimise", a.span())
+                };
+                Err(ConfigError::NotApplicable {
+                    at: self.at(&later),
+                    key: second.to_owned(),
+                    reason: format!(
+                        "[{first}] is given too: [optimise] and [optimize] are one table under two spellings; give only one"
+                    ),
+                })
+            }
+            (a, b) => Ok(a.or(b)),
+        }
+    }
+
     /// `[compare]`: known method names, given once; at least one repeat.
-    fn compare(&self, raw: Option<&Spanned<RawCompare>>) -> Result<CompareSettings, ConfigError> {
+    fn compare(
+        &self,
+        raw: Option<&Spanned<Table<RawCompare>>>,
+    ) -> Result<CompareSettings, ConfigError> {
         let mut settings = CompareSettings::default();
         let Some(raw) = raw else {
             return Ok(settings);
@@ -472,7 +547,7 @@ impl Validator<'_> {
         &self,
         scene: &Scene,
         settings: &LayeringSettings,
-        raw: &Spanned<RawLayering>,
+        raw: &Spanned<Table<RawLayering>>,
     ) -> Result<(), ConfigError> {
         // The most particles this domain holds: solid at the densest (0.9).
         let particles = (0.9 * scene.max_disks()).floor();
@@ -495,7 +570,7 @@ impl Validator<'_> {
     }
 
     /// `[optimise]`: every key checked against its range.
-    fn optimise(&self, raw: &Spanned<RawOptimise>) -> Result<OptimiseSettings, ConfigError> {
+    fn optimise(&self, raw: &Spanned<Table<RawOptimise>>) -> Result<OptimiseSettings, ConfigError> {
         let o = raw.get_ref();
         let Some(target) = &o.target_porosity else {
             return Err(ConfigError::Missing {
@@ -585,7 +660,7 @@ impl Validator<'_> {
         &self,
         scene: &Scene,
         settings: &OptimiseSettings,
-        raw: &Spanned<RawOptimise>,
+        raw: &Spanned<Table<RawOptimise>>,
         (limit_mb, limit_key): (f64, Option<KeyAt>),
     ) -> Result<(), ConfigError> {
         let estimate_mb = settings.peak_bytes(scene) / BYTES_PER_MB;
@@ -645,7 +720,7 @@ impl Validator<'_> {
 
     /// A pair of numbers that must both be finite.
     fn finite_pair(&self, key: &str, pair: &Pair) -> Result<[f64; 2], ConfigError> {
-        let p = *pair.get_ref();
+        let p = pair.get_ref().0;
         match p.iter().find(|v| !v.is_finite()) {
             None => Ok(p),
             Some(&value) => Err(ConfigError::NotFinite {
@@ -677,7 +752,7 @@ impl Validator<'_> {
             })
     }
 
-    fn domain(&self, raw: &Spanned<RawDomain>) -> Result<DomainPlan, ConfigError> {
+    fn domain(&self, raw: &Spanned<Table<RawDomain>>) -> Result<DomainPlan, ConfigError> {
         let d = raw.get_ref();
         let kind = SHAPES
             .get(d.shape.get_ref())
@@ -791,12 +866,58 @@ impl Validator<'_> {
                 )
             }
         };
+        let raw_size = |key: &'static str| match key {
+            "width" => &d.width,
+            "height" => &d.height,
+            "radius" => &d.radius,
+            "bottom" => &d.bottom,
+            _ => &d.top,
+        };
+        if let Some((area, formula, sizes)) = shape.area() {
+            let sizes: Vec<(KeyAt, f64)> = sizes
+                .iter()
+                .map(|&(key, value)| (key_at(key, raw_size(key)), value))
+                .collect();
+            self.check_area(area, formula, &sizes)?;
+        }
         let (walls, wall_disk) = self.walls("domain", d.walls.as_ref(), d.wall_disk.as_ref())?;
         Ok(DomainPlan {
             shape,
             walls,
             wall_disk,
             width_key,
+        })
+    }
+
+    /// Refuse sizes, each positive and finite, whose product `area` (mm²,
+    /// computed as `formula` says) is not a positive finite number: the
+    /// domain constructors would call the shape a degenerate polygon. The
+    /// largest of `sizes` (key, value in mm) is blamed for an overflow, the
+    /// smallest for an underflow.
+    fn check_area(
+        &self,
+        area: f64,
+        formula: &str,
+        sizes: &[(KeyAt, f64)],
+    ) -> Result<(), ConfigError> {
+        if area.is_finite() && area > 0.0 {
+            return Ok(());
+        }
+        let by_value = |a: &&(KeyAt, f64), b: &&(KeyAt, f64)| a.1.total_cmp(&b.1);
+        let blamed = if area == 0.0 {
+            sizes.iter().min_by(by_value)
+        } else {
+            sizes.iter().max_by(by_value)
+        };
+        let (key, span) = blamed.map_or_else(
+            || (String::new(), 0..0),
+            |(k, _)| (k.key.clone(), k.span.clone()),
+        );
+        Err(ConfigError::Area {
+            at: self.at(&span),
+            key,
+            formula: formula.to_owned(),
+            area,
         })
     }
 
@@ -870,7 +991,11 @@ impl Validator<'_> {
     }
 
     /// A grading table at key path `path` (`grading`, `materials[1].grading`).
-    fn grading(&self, raw: &Spanned<RawGrading>, path: &str) -> Result<GradingPlan, ConfigError> {
+    fn grading(
+        &self,
+        raw: &Spanned<Table<RawGrading>>,
+        path: &str,
+    ) -> Result<GradingPlan, ConfigError> {
         let g = raw.get_ref();
         let mut sources = [
             g.table.as_ref().map(|v| (v.span(), Source::Table(v))),
@@ -937,7 +1062,7 @@ impl Validator<'_> {
                     .collect::<Result<Vec<_>, ConfigError>>()?,
             ),
             Source::Uniform(range) => {
-                let [a, b] = *range.get_ref();
+                let [a, b] = range.get_ref().0;
                 for value in [a, b] {
                     self.positive(
                         &format!("{path}.uniform"),
@@ -981,7 +1106,20 @@ impl Validator<'_> {
                 self.whole("packer.relaxation_iterations", v, 1, Some(MAX_ITERATIONS))?;
         }
         if let Some(v) = &p.relaxation_tolerance {
-            relaxation.tolerance = self.positive("packer.relaxation_tolerance", v)?;
+            let key = "packer.relaxation_tolerance";
+            relaxation.tolerance = self.positive(key, v)?;
+            if method == Method::Relaxation && relaxation.tolerance > OVERLAP_REL {
+                // The sweeps would stop with overlaps the write check refuses.
+                return Err(ConfigError::OutOfRange {
+                    at: self.at(&v.span()),
+                    key: key.to_owned(),
+                    range: format!(
+                        "at most {OVERLAP_REL:e} with method = \"relaxation\": a packing is written only if no overlap exceeds {OVERLAP_REL:e} of the radii sum, and the sweeps stop at this tolerance; {:e} (the default) passes",
+                        Relaxation::default().tolerance
+                    ),
+                    value: relaxation.tolerance,
+                });
+            }
         }
         let contacts = p
             .contacts

@@ -216,6 +216,30 @@ mod tests {
     }
 
     #[test]
+    fn default_tolerance_leaves_a_loose_packing_the_write_check_passes() {
+        // With the old default (1e-4) the sweeps stopped at overlaps of
+        // ~1e-4 of the radii sum, and every relaxation packing was refused
+        // by the check made before writing (no overlap beyond 1e-9).
+        let mut scene = walled(1.0);
+        scene.walls = WallMode::Exact;
+        scene.wall_disk_diameter = None;
+        scene.grading = Grading::uniform(1.0, 1.5, crate::grading::Basis::Number).unwrap();
+        scene.packer.relaxation = Relaxation {
+            porosity: 0.5,
+            ..Relaxation::default()
+        };
+        let packing = pack_relaxation(&scene, &Cancel::new()).unwrap();
+        let sweeps = packing.stats.front_attempts;
+        assert!(
+            sweeps < Relaxation::default().iterations as u64,
+            "did not converge in {sweeps} sweeps"
+        );
+        let c = crate::check::check(&packing.disks, &packing.domain, None);
+        assert!(c.valid(), "{c:?}");
+        assert!(packing.disks.len() > 400, "{}", packing.disks.len());
+    }
+
+    #[test]
     fn wall_disks_take_their_strip_from_the_disk_count() {
         // Wall disks centred on the boundary cover a strip half their
         // diameter wide. Counting the whole domain crammed 1.7 × the disks

@@ -4,14 +4,28 @@ use toml::Spanned;
 
 use super::{KeyAt, Validator};
 use crate::config::error::ConfigError;
-use crate::config::raw::{RawFracture, RawWell};
+use crate::config::raw::{RawFracture, RawWell, Table};
 use crate::fracture::{DEFAULT_WINDOW_TOLERANCE, Extent, Fracture, MM_PER_M};
 use crate::geometry::WallMode;
 use crate::names::{EXTENTS, ExtentKind, FILLS};
+use crate::output::WELLS_CSV;
 use crate::packer::Fill;
 
 /// Largest `window_tolerance` accepted: beyond it a window estimates nothing.
 const MAX_WINDOW_TOLERANCE: f64 = 0.1;
+
+/// The files a batch writes at the top of its folder, beside one folder per
+/// well (`jobs::run`: the wells table, the manifest, and the checkpoint of
+/// the jobs that keep one): a well named like one of them would collide
+/// with it. The jobs layer sits above this one, so its names are repeated
+/// here; a test pins them to `jobs::MANIFEST_JSON` and `jobs::CHECKPOINT_JSON`.
+pub(crate) const BATCH_FILES: [&str; 3] = [WELLS_CSV, "manifest.json", "checkpoint.json"];
+
+/// Whether two well names give one folder: equal, or equal but for case
+/// (output folders may be on a case-insensitive file system: macOS, Windows).
+fn same_folder(a: &str, b: &str) -> bool {
+    a == b || a.to_lowercase() == b.to_lowercase()
+}
 
 /// A checked `[fracture]`, its scenes not yet built.
 pub(super) struct FracturePlan {
@@ -38,7 +52,10 @@ const NORMALISED: [&str; 3] = ["width_ratio", "length_ratio", "mean_diameter"];
 
 impl Validator<'_> {
     /// `[fracture]`: the form of the geometry, the walls, the extent and the wells.
-    pub(super) fn fracture(&self, raw: &Spanned<RawFracture>) -> Result<FracturePlan, ConfigError> {
+    pub(super) fn fracture(
+        &self,
+        raw: &Spanned<Table<RawFracture>>,
+    ) -> Result<FracturePlan, ConfigError> {
         let f = raw.get_ref();
         let absolute = [("width_mm", &f.width_mm), ("height_m", &f.height_m)];
         let normalised = [
@@ -112,11 +129,26 @@ impl Validator<'_> {
             let mut plans: Vec<WellPlan> = Vec::with_capacity(wells.len());
             for (i, well) in wells.iter().enumerate() {
                 let plan = self.well(i, well, &defaults)?;
-                if plans.iter().any(|p| p.name == plan.name) {
+                let clash = plans
+                    .iter()
+                    .enumerate()
+                    .find(|(_, p)| same_folder(&p.name, &plan.name));
+                if let Some((j, earlier)) = clash {
+                    let reason = if earlier.name == plan.name {
+                        format!(
+                            "{:?} is given twice (fracture.wells[{j}].name): each well needs its own folder",
+                            plan.name
+                        )
+                    } else {
+                        format!(
+                            "{:?} and {:?} (fracture.wells[{j}].name) differ only in case: one folder on a case-insensitive file system; give each well a distinct name",
+                            plan.name, earlier.name
+                        )
+                    };
                     return Err(ConfigError::NotApplicable {
                         at: self.at(&well.get_ref().name.span()),
                         key: format!("fracture.wells[{i}].name"),
-                        reason: format!("{:?} is given twice", plan.name),
+                        reason,
                     });
                 }
                 plans.push(plan);
@@ -211,7 +243,7 @@ impl Validator<'_> {
     fn well(
         &self,
         i: usize,
-        raw: &Spanned<RawWell>,
+        raw: &Spanned<Table<RawWell>>,
         defaults: &Defaults,
     ) -> Result<WellPlan, ConfigError> {
         let w = raw.get_ref();
@@ -224,7 +256,12 @@ impl Validator<'_> {
                 "{name:?} cannot name its output directory: no /, \\ or :, and not . or .."
             ))
         } else {
-            None
+            BATCH_FILES.iter().find(|f| same_folder(f, name)).map(|file| {
+                format!(
+                    "{name:?} would be a folder named like the batch's own {file} beside the wells' folders; reserved: {}",
+                    BATCH_FILES.join(", ")
+                )
+            })
         };
         if let Some(reason) = bad_name {
             return Err(ConfigError::NotApplicable {
@@ -318,4 +355,21 @@ struct Defaults {
     width: Option<(f64, KeyAt)>,
     height: Option<(f64, KeyAt)>,
     tip: Option<(f64, KeyAt)>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::BATCH_FILES;
+
+    #[test]
+    fn batch_files_are_the_names_the_jobs_write() {
+        // Repeated here because config sits below jobs: pinned to the originals.
+        for file in [
+            crate::output::WELLS_CSV,
+            crate::jobs::MANIFEST_JSON,
+            crate::jobs::CHECKPOINT_JSON,
+        ] {
+            assert!(BATCH_FILES.contains(&file), "{file} is not reserved");
+        }
+    }
 }

@@ -4,11 +4,77 @@ use std::ops::Range;
 
 use toml::Spanned;
 
-use super::{GradingPlan, KeyAt, Validator};
+use super::{BYTES_PER_MB, DEFAULT_MAX_MEMORY_MB, FORCE_HINT, GradingPlan, KeyAt, Validator};
+use crate::Scene;
 use crate::config::error::ConfigError;
-use crate::config::raw::{RawLayering, RawMaterial};
+use crate::config::raw::{RawLayering, RawMaterial, Table};
 use crate::layering::{LayeringError, LayeringMode, LayeringSettings, Material, Profile};
 use crate::names::{AXES, MODES, PROFILES, ProfileKind};
+use crate::packer::estimated_peak_bytes;
+
+/// Genomes alive at once in a generation of the GA, per genome of the
+/// population (`ga::engine`, `Search::step`): the population, the copy
+/// handed to the tournament, the parents it picks (half the population in
+/// pairs), the children (as many) and the immigrants (an eighth).
+const GENOME_COPIES: f64 = 4.125;
+
+/// Bytes of a genome besides its genes: the `Vec` header, phenotype key
+/// (a `usize` and a `u128`) and score (three `f64`).
+const GENOME_OVERHEAD: f64 = 24.0 + 32.0 + 24.0;
+
+/// Bytes the GA keeps per evaluation, for good (its score, by phenotype
+/// key, in a hash map): a 64-byte entry, at most 8/7 buckets per entry and
+/// twice that just after the table grows, the old table alive while it
+/// moves (about 150 bytes measured, 224 bounded).
+const SCORE_BYTES: f64 = 224.0;
+
+/// Bytes of one (bin, area) entry of `BinAreas`, kept twice (the problem holds a copy).
+const BIN_ENTRY_BYTES: f64 = 2.0 * 16.0;
+
+/// What a layering run on a scene keeps in memory at most, and of what.
+struct LayeringMemory {
+    /// Genes per genome: one per particle, at most the domain's area over
+    /// the mean disk area.
+    genes: f64,
+    /// Scores kept: generation 0 and the children and immigrants of every generation.
+    evaluations: f64,
+    /// Bytes of the genomes alive at once.
+    genomes: f64,
+    /// Bytes of the scores kept.
+    scores: f64,
+    /// Every byte: the packing, the bin areas, the genomes and the scores.
+    total: f64,
+}
+
+impl LayeringMemory {
+    /// An upper bound of the memory the layering GA of `settings` uses on a
+    /// packing of `scene` (`ga::layering::lay_out`). Checked against
+    /// `gapack layer` on `configs/fgm_power.toml` (1627 disks, at most 2035):
+    /// population 2000 for 2 generations and 8000 for 3 peaked at 90 and
+    /// 332 MB resident; this bound gives 130 and 523 MB.
+    fn of(scene: &Scene, settings: &LayeringSettings) -> Self {
+        let genes = scene.max_disks().ceil();
+        let population = settings.population as f64;
+        let per_generation = population + (population / 8.0).floor();
+        let evaluations = population + settings.generations as f64 * per_generation;
+        let genomes = GENOME_COPIES * population * (genes * 8.0 + GENOME_OVERHEAD);
+        let scores = evaluations * SCORE_BYTES;
+        // A disk's area is split among the bins it spans: at most every bin,
+        // and at most its diameter over a bin's width plus two.
+        let (lo, hi) = scene.domain.bounds();
+        let side = (hi.x - lo.x).min(hi.y - lo.y);
+        let bins = settings.bins as f64;
+        let spanned = bins.min(2.0 + 2.0 * bins * scene.d_max() / side);
+        let areas = genes * (spanned * BIN_ENTRY_BYTES + 3.0 * 8.0);
+        LayeringMemory {
+            genes,
+            evaluations,
+            genomes,
+            scores,
+            total: estimated_peak_bytes(scene) + areas + genomes + scores,
+        }
+    }
+}
 
 /// A checked material, with its grading when it gives one.
 pub(super) struct MaterialPlan {
@@ -22,7 +88,7 @@ impl Validator<'_> {
     /// `[[materials]]`: names given once, properties numbers.
     pub(super) fn materials(
         &self,
-        raw: &[Spanned<RawMaterial>],
+        raw: &[Spanned<Table<RawMaterial>>],
     ) -> Result<Vec<MaterialPlan>, ConfigError> {
         let mut plans: Vec<MaterialPlan> = Vec::with_capacity(raw.len());
         for (i, table) in raw.iter().enumerate() {
@@ -91,7 +157,7 @@ impl Validator<'_> {
     /// `[layering]` for the given materials.
     pub(super) fn layering(
         &self,
-        raw: &Spanned<RawLayering>,
+        raw: &Spanned<Table<RawLayering>>,
         materials: &[MaterialPlan],
     ) -> Result<LayeringSettings, ConfigError> {
         let l = raw.get_ref();
@@ -178,7 +244,7 @@ impl Validator<'_> {
                     .map_or(&[][..], |v| v.get_ref().as_slice());
                 let mut steps = Vec::with_capacity(layers.len());
                 for (i, layer) in layers.iter().enumerate() {
-                    let (name, thickness) = layer.get_ref();
+                    let (name, thickness) = &layer.get_ref().0;
                     let Some(m) = names.iter().position(|n| n == name) else {
                         return Err(ConfigError::Schema {
                             at: self.at(&layer.span()),
@@ -272,6 +338,70 @@ impl Validator<'_> {
             }
         }
         Ok(s)
+    }
+
+    /// Refuse a layering search ([`LayeringMemory`]) that would not fit the
+    /// memory limit, as `[optimise]` is refused; size-graded mode runs none.
+    pub(super) fn check_layering_memory(
+        &self,
+        scene: &Scene,
+        settings: &LayeringSettings,
+        raw: &Spanned<Table<RawLayering>>,
+        (limit_mb, limit_key): (f64, Option<KeyAt>),
+    ) -> Result<(), ConfigError> {
+        if settings.mode == LayeringMode::Sizes {
+            return Ok(());
+        }
+        let memory = LayeringMemory::of(scene, settings);
+        let estimate_mb = memory.total / BYTES_PER_MB;
+        if self.force || estimate_mb <= limit_mb {
+            return Ok(());
+        }
+        let l = raw.get_ref();
+        // The key that sets the larger share: the genomes (population) or the scores (generations).
+        let dominant = if memory.scores > memory.genomes {
+            [
+                ("generations", &l.generations),
+                ("population", &l.population),
+            ]
+        } else {
+            [
+                ("population", &l.population),
+                ("generations", &l.generations),
+            ]
+        };
+        let given = dominant
+            .into_iter()
+            .find_map(|(key, v)| v.as_ref().map(|v| (format!("layering.{key}"), v.span())));
+        let (key, span, hint) = match (limit_key, given) {
+            (Some(k), _) => (
+                k.key,
+                k.span,
+                format!("; raise it to allow this run{FORCE_HINT}"),
+            ),
+            (None, Some((key, span))) => (
+                key,
+                span,
+                format!(
+                    "; lower it, or set limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB}){FORCE_HINT}"
+                ),
+            ),
+            (None, None) => (
+                "layering".to_owned(),
+                raw.span(),
+                format!(
+                    "; set a smaller layering.population or layering.generations, or limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB}){FORCE_HINT}"
+                ),
+            ),
+        };
+        Err(ConfigError::Memory {
+            at: self.at(&span),
+            key,
+            reason: format!(
+                "the layering search ({} genomes of up to {:.0} genes, one per particle, and up to {:.0} scores kept over {} generations) needs up to an estimated {estimate_mb:.0} MB, over the limit of {limit_mb:.0} MB{hint}",
+                settings.population, memory.genes, memory.evaluations, settings.generations
+            ),
+        })
     }
 
     /// Where `key = …` is written in the table whose header ends at `from`

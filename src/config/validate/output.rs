@@ -4,7 +4,7 @@ use toml::Spanned;
 
 use super::Validator;
 use crate::config::error::ConfigError;
-use crate::config::raw::RawOutput;
+use crate::config::raw::{RawOutput, Table};
 use crate::output::OutputSettings;
 use crate::output::{FORMATS, UNITS};
 
@@ -12,7 +12,7 @@ impl Validator<'_> {
     /// `[output]`: its defaults when the table is absent.
     pub(super) fn output(
         &self,
-        raw: Option<&Spanned<RawOutput>>,
+        raw: Option<&Spanned<Table<RawOutput>>>,
     ) -> Result<OutputSettings, ConfigError> {
         let mut settings = OutputSettings::default();
         let Some(raw) = raw else {
