@@ -161,7 +161,7 @@ pub struct BenchArgs {
 
 /// `gapack bench`: print one table row per measured configuration, then write bench.csv.
 pub fn run_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
-    use crate::cli::Failure;
+    use crate::cli::{Failure, print_line};
     use anyhow::Context;
     use gapack::jobs::{DirStore, Store};
     let targets: Vec<u64> = [10_000, 100_000, 1_000_000]
@@ -174,12 +174,12 @@ pub fn run_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
             args.max
         )));
     }
-    println!(
+    print_line(format_args!(
         "{:>9} {:>9} {:>12} {:>9} {:>9} {:>9} {:>12} {:>10}",
         "target", "side_mm", "index", "disks", "porosity", "seconds", "disks/s", "bytes/disk"
-    );
+    ));
     let rows = run(&targets, args.repeats, |r| {
-        println!(
+        print_line(format_args!(
             "{:>9} {:>9.1} {:>12} {:>9} {:>9.4} {:>9.3} {:>12.0} {:>10.1}",
             r.target,
             r.side_mm,
@@ -189,7 +189,7 @@ pub fn run_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
             r.seconds,
             r.disks_per_second,
             r.peak_bytes_per_disk
-        );
+        ));
     })
     .context("cannot run the benchmark")
     .map_err(Failure::Run)?;
@@ -207,6 +207,6 @@ pub fn run_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
         .write(&[("bench.csv".to_owned(), bytes)])
         .context("cannot write bench.csv")
         .map_err(Failure::Run)?;
-    println!("{}", args.out.join("bench.csv").display());
+    print_line(args.out.join("bench.csv").display());
     Ok(())
 }
