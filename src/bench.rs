@@ -186,7 +186,7 @@ pub struct BenchArgs {
 
 /// `gapack bench`: print one table row per measured configuration, then write bench.csv.
 pub fn run_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
-    use crate::cli::Failure;
+    use crate::cli::{Failure, print_line};
     use anyhow::Context;
     use gapack::jobs::{DirStore, Store};
     let targets: Vec<u64> = [10_000, 100_000, 1_000_000]
@@ -199,12 +199,12 @@ pub fn run_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
             args.max
         )));
     }
-    println!(
+    print_line(format_args!(
         "{:>9} {:>9} {:>12} {:>9} {:>9} {:>9} {:>12} {:>10}",
         "target", "side_mm", "index", "disks", "porosity", "seconds", "disks/s", "bytes/disk"
-    );
+    ));
     let rows = run(&targets, args.repeats, |r| {
-        println!(
+        print_line(format_args!(
             "{:>9} {:>9.1} {:>12} {:>9} {:>9.4} {:>9.3} {:>12.0} {:>10}",
             r.target,
             r.side_mm,
@@ -215,12 +215,14 @@ pub fn run_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
             r.disks_per_second,
             r.peak_bytes_per_disk
                 .map_or_else(|| "-".to_owned(), |b| format!("{b:.1}"))
-        );
+        ));
     })
     .context("cannot run the benchmark")
     .map_err(Failure::Run)?;
     if rows.iter().any(|r| r.peak_bytes_per_disk.is_none()) {
-        println!("bytes/disk not measured: build with `--features count-alloc` to count them");
+        print_line(format_args!(
+            "bytes/disk not measured: build with `--features count-alloc` to count them"
+        ));
     }
     let mut w = csv::Writer::from_writer(Vec::new());
     for row in &rows {
@@ -236,6 +238,6 @@ pub fn run_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
         .write(&[("bench.csv".to_owned(), bytes)])
         .context("cannot write bench.csv")
         .map_err(Failure::Run)?;
-    println!("{}", args.out.join("bench.csv").display());
+    print_line(args.out.join("bench.csv").display());
     Ok(())
 }

@@ -16,6 +16,45 @@ use crate::metrics::{porosity, solid_area};
 /// quantile of the KS statistic) that still counts as following the grading.
 pub const KS_MARGIN: f64 = 0.05;
 
+/// Fewest well-formed disks a grading check needs: below it the sampling
+/// noise of their number ([`ks_limit`]) is at least 1, the largest KS
+/// distance there is, so no sizes at all could fail it. Such a check is
+/// not made ([`GradingCheck::TooFewDisks`]) rather than passed.
+pub const MIN_GRADING_DISKS: usize = 3;
+
+/// What became of the grading part of a [`check`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub enum GradingCheck {
+    /// No grading was given.
+    NotAsked,
+    /// Fewer than [`MIN_GRADING_DISKS`] well-formed disks (the number
+    /// held): the check could not fail, so it is not made.
+    TooFewDisks(usize),
+    /// The KS distance of the diameters to the grading, in its basis.
+    Measured(f64),
+}
+
+impl GradingCheck {
+    /// The verdict on `disks` well-formed disks whose KS distance to the
+    /// grading is `ks()` (evaluated only when there are enough of them).
+    pub fn of(disks: usize, ks: impl FnOnce() -> f64) -> Self {
+        if disks < MIN_GRADING_DISKS {
+            GradingCheck::TooFewDisks(disks)
+        } else {
+            GradingCheck::Measured(ks())
+        }
+    }
+
+    /// The KS distance, when it was measured.
+    pub fn ks(&self) -> Option<f64> {
+        match *self {
+            GradingCheck::Measured(ks) => Some(ks),
+            _ => None,
+        }
+    }
+}
+
 /// The result of [`check`].
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
@@ -38,8 +77,9 @@ pub struct Check {
     pub solid_area: f64,
     /// 1 − solid_area / domain_area.
     pub porosity: f64,
-    /// KS distance of the diameters to the grading, in its basis, when one is given.
-    pub psd_ks: Option<f64>,
+    /// The grading check: not asked, not made (too few disks), or the KS
+    /// distance of the diameters to the grading.
+    pub grading: GradingCheck,
     /// Largest KS distance that sampling noise explains for this many disks, plus [`KS_MARGIN`].
     pub ks_limit: f64,
 }
@@ -50,9 +90,10 @@ impl Check {
         self.malformed == 0 && self.overlaps == 0 && self.outside == 0
     }
 
-    /// Whether the sizes follow the grading within sampling noise (true when no grading was given).
+    /// Whether the sizes follow the grading within sampling noise (true
+    /// when it was not checked: see [`Check::grading`]).
     pub fn grading_kept(&self) -> bool {
-        self.psd_ks.is_none_or(|ks| ks <= self.ks_limit)
+        self.grading.ks().is_none_or(|ks| ks <= self.ks_limit)
     }
 }
 
@@ -104,7 +145,9 @@ pub fn check(disks: &[Disk], domain: &Domain, grading: Option<&Grading>) -> Chec
         domain_area,
         solid_area,
         porosity: porosity(solid_area, domain_area),
-        psd_ks: grading.map(|g| g.ks_distance(&diameters)),
+        grading: grading.map_or(GradingCheck::NotAsked, |g| {
+            GradingCheck::of(diameters.len(), || g.ks_distance(&diameters))
+        }),
         ks_limit: ks_limit(ok.len()),
     }
 }
@@ -245,7 +288,7 @@ mod tests {
         let c = check(&disks, &domain, Some(&Grading::constant(2.0).unwrap()));
         assert!(c.valid(), "{c:?}");
         assert!(c.grading_kept());
-        assert_eq!(c.psd_ks, Some(0.0));
+        assert_eq!(c.grading, GradingCheck::TooFewDisks(2));
         assert!((c.porosity - (1.0 - std::f64::consts::PI / 4.0)).abs() < 1e-12);
     }
 
@@ -274,6 +317,28 @@ mod tests {
         let c = check(&bad, &domain, None);
         assert_eq!(c.malformed, 2);
         assert!(!c.valid());
+    }
+
+    #[test]
+    fn min_grading_disks_is_the_fewest_a_grading_check_can_fail_with() {
+        // The KS distance is at most 1: with fewer disks the limit is out of reach.
+        assert!(ks_limit(MIN_GRADING_DISKS - 1) >= 1.0);
+        assert!(ks_limit(MIN_GRADING_DISKS) < 1.0);
+        // Two disks far off a 1–2 mm grading are not checked, three are failed.
+        let domain = Domain::rectangle(100.0, 100.0).unwrap();
+        let grading = Grading::uniform(1.0, 2.0, crate::Basis::Number).unwrap();
+        let disks: Vec<Disk> = (0..3)
+            .map(|i| disk(10.0 + 20.0 * f64::from(i), 50.0, 5.0))
+            .collect();
+        let two = check(&disks[..2], &domain, Some(&grading));
+        assert_eq!(two.grading, GradingCheck::TooFewDisks(2));
+        let three = check(&disks, &domain, Some(&grading));
+        assert!(
+            matches!(three.grading, GradingCheck::Measured(ks) if ks > 0.99),
+            "{three:?}"
+        );
+        assert!(!three.grading_kept());
+        assert_eq!(check(&disks, &domain, None).grading, GradingCheck::NotAsked);
     }
 
     #[test]

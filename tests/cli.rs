@@ -523,5 +523,45 @@ fn relaxation_with_its_default_tolerance_writes_a_loose_scene() {
         "{stderr}"
     );
     assert!(!dir.join("bad").exists());
+}
+
+// ---------------------------------------------------------------------------
+// A closed stdout (`gapack … | head -1`): no panic, the command's own exit code.
+// ---------------------------------------------------------------------------
+
+/// Run `gapack` in `dir` with its stdout a pipe whose reading end is closed
+/// before it starts, so that its first line already meets a broken pipe.
+fn gapack_into_a_closed_pipe(dir: &std::path::Path, args: &[&str]) -> std::process::Output {
+    let (reader, writer) = std::io::pipe().expect("pipe");
+    drop(reader);
+    std::process::Command::new(env!("CARGO_BIN_EXE_gapack"))
+        .args(args)
+        .current_dir(dir)
+        .stdout(writer)
+        .stderr(std::process::Stdio::piped())
+        .output()
+        .expect("run gapack")
+}
+
+const CLOSED_PIPE_SQUARE: &str = "seed = 3\n[domain]\nshape = \"rectangle\"\nwidth = 20\nheight = 20\n[grading]\nuniform = [1.0, 2.0]\n";
+
+#[test]
+fn a_closed_stdout_ends_validate_verify_and_plot_quietly_with_their_own_exit_codes() {
+    let dir = scratch("closed-stdout");
+    fs::write(dir.join("sq.toml"), CLOSED_PIPE_SQUARE).expect("config");
+    // Two overlapping disks: verify fails, and must still say so by its code.
+    fs::write(dir.join("bad.csv"), "x,y,r\n5,5,1\n5.5,5,1\n9,9,0.75\n").expect("table");
+    for (args, code) in [
+        (vec!["validate", "sq.toml"], 0),
+        (vec!["verify", "bad.csv", "--config", "sq.toml"], 1),
+        (vec!["plot", "bad.csv", "--out", "pictures"], 0),
+    ] {
+        let out = gapack_into_a_closed_pipe(&dir, &args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(code), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert!(!stderr.contains("Broken pipe"), "{args:?}: {stderr}");
+    }
+    assert!(dir.join("pictures/packing.png").is_file());
     let _ = fs::remove_dir_all(&dir);
 }

@@ -405,3 +405,164 @@ fn a_scene_over_the_limits_is_refused_with_its_estimate_unless_forced() {
     assert!(packed.status.success(), "{}", stderr(&packed));
     assert!(dir.join("out/sq/packing.csv").exists());
 }
+
+// ---------------------------------------------------------------------------
+// Hostile tables and window runs: degenerate sizes, ambiguous columns, too
+// few disks for a grading check, a window checked against its own area.
+// ---------------------------------------------------------------------------
+
+/// A one-row table with a subnormal, a tiny or a huge radius drove the
+/// grading chart's log axis past 4 GB (or into an endless loop): it is now
+/// refused where it is read, with the row and column, by verify and plot.
+#[test]
+fn plot_and_verify_refuse_sizes_out_of_any_physical_range() {
+    let dir = scratch("hostile-sizes");
+    fs::write(dir.join("sq.toml"), SQUARE).unwrap();
+    for (r, message) in [
+        ("5e-324", "a radius must lie in [5e-7, 5e5] mm, got 5e-324"),
+        ("1e-300", "a radius must lie in [5e-7, 5e5] mm, got 1e-300"),
+        ("1e300", "a radius must lie in [5e-7, 5e5] mm, got 1e300"),
+    ] {
+        fs::write(dir.join("one.csv"), format!("x,y,r\n10,10,{r}\n")).unwrap();
+        for args in [
+            vec![
+                "plot", "one.csv", "--config", "sq.toml", "--out", "pictures",
+            ],
+            vec!["plot", "one.csv", "--out", "pictures"],
+            vec!["verify", "one.csv", "--config", "sq.toml"],
+        ] {
+            let out = gapack(&dir, &args);
+            assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
+            assert_eq!(
+                stderr(&out),
+                format!("error: one.csv:2:7: column r: {message}\n"),
+                "{args:?}"
+            );
+        }
+    }
+    // Sizes a million apart are refused at the smallest; at the limits the
+    // charts draw (a log axis of six decades).
+    fs::write(dir.join("wide.csv"), "x,y,d\n5,5,1e-6\n10,10,2\n").unwrap();
+    let out = gapack(&dir, &["plot", "wide.csv", "--out", "pictures"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).starts_with("error: wide.csv:2:5: column d: 1e-6 is more than 1e6 times smaller than the largest diameter, 2e0 (line 3)"),
+        "{}",
+        stderr(&out)
+    );
+    fs::write(dir.join("edge.csv"), "x,y,d\n5,5,2e-6\n10,10,2\n").unwrap();
+    let out = gapack(
+        &dir,
+        &[
+            "plot", "edge.csv", "--config", "sq.toml", "--out", "pictures",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(dir.join("pictures/psd.svg").is_file());
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn verify_refuses_two_columns_for_one_part_naming_them() {
+    let dir = scratch("ambiguous-columns");
+    fs::write(dir.join("sq.toml"), SQUARE).unwrap();
+    for (header, message) in [
+        (
+            "x,y,r,d",
+            "both.csv:1:7: columns \"r\" and \"d\" both give the disk size (fields 3 and 4); keep one",
+        ),
+        (
+            "x,y,x,r",
+            "both.csv:1:5: column \"x\" appears twice (fields 1 and 3); keep one",
+        ),
+    ] {
+        fs::write(dir.join("both.csv"), format!("{header}\n5,5,1,2\n")).unwrap();
+        let out = gapack(&dir, &["verify", "both.csv", "--config", "sq.toml"]);
+        assert_eq!(out.status.code(), Some(2), "{header}");
+        assert_eq!(stderr(&out), format!("error: {message}\n"));
+        assert!(out.stdout.is_empty());
+    }
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// With two disks the KS limit exceeds 1: no sizes could fail, so the
+/// grading is reported as not checked, not as kept.
+#[test]
+fn verify_does_not_pass_a_grading_it_cannot_check() {
+    let dir = scratch("too-few-for-grading");
+    fs::write(dir.join("sq.toml"), SQUARE).unwrap();
+    // 10 mm disks against a 1-2 mm grading.
+    fs::write(dir.join("two.csv"), "x,y,d\n5,5,10\n15,15,8\n").unwrap();
+    let out = gapack(&dir, &["verify", "two.csv", "--config", "sq.toml"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(
+        text.starts_with("two.csv against sq.toml: valid, grading not checked\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains(
+            "  grading: not checked: a grading check needs at least 3 disks, the table has 2"
+        ),
+        "{text}"
+    );
+    assert!(!text.contains("kept"), "{text}");
+    // A third disk makes the check possible, and it fails.
+    fs::write(dir.join("three.csv"), "x,y,d\n5,5,9\n15,15,8\n5,15,9\n").unwrap();
+    let out = gapack(&dir, &["verify", "three.csv", "--config", "sq.toml"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stdout(&out).contains(": bent"), "{}", stdout(&out));
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// A window run packs the fracture's first metres only: verify (and plot)
+/// take the window its summary.json records, not the whole fracture.
+#[test]
+fn verify_checks_a_window_packing_against_the_window() {
+    let dir = scratch("verify-window");
+    let config = "seed = 2\n[fracture]\nextent = \"window\"\nwindow_tolerance = 0.01\n\
+        width_mm = 2.6\nheight_m = 1.0\n[grading]\npreset = \"20/40\"\nbasis = \"mass\"\n";
+    fs::write(dir.join("win.toml"), config).unwrap();
+    let out = gapack(&dir, &["pack", "win.toml", "--out", "run", "--quiet"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let summary: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(dir.join("run/summary.json")).unwrap()).unwrap();
+    let porosity = summary["porosity"].as_f64().unwrap();
+    let area = summary["domain_area"].as_f64().unwrap();
+    let length = summary["fracture"]["window"]["length_mm"].as_f64().unwrap();
+    assert!(
+        length < 1000.0,
+        "the window is the whole fracture: {summary}"
+    );
+
+    let out = gapack(&dir, &["verify", "run/packing.csv", "--config", "win.toml"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(
+        text.contains(&format!(
+            "  domain: the window of \"fracture\", its first {length} mm of 1000 mm, as run/summary.json records\n"
+        )),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!(", porosity {porosity:.4} (solid ")),
+        "verify's porosity is not the run's {porosity}:\n{text}"
+    );
+    assert!(text.contains(&format!(" of {area:.4} mm²)")), "{text}");
+
+    // Away from its run's summary, a window packing is not silently checked
+    // against the whole fracture.
+    fs::copy(dir.join("run/packing.csv"), dir.join("moved.csv")).unwrap();
+    let out = gapack(&dir, &["verify", "moved.csv", "--config", "win.toml"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        stderr(&out),
+        "error: win.toml packs windows (extent = \"window\"): the length of \"fracture\"'s window is in its run's summary.json, and ./summary.json has none for it; verify the packing in the folder its run wrote\n"
+    );
+    let out = gapack(
+        &dir,
+        &["plot", "run/packing.csv", "--config", "win.toml", "--quiet"],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let _ = fs::remove_dir_all(&dir);
+}

@@ -1,18 +1,21 @@
 //! `gapack verify` and `gapack plot`: look at an existing packing without
 //! packing anything.
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, anyhow};
 use clap::Args;
-use gapack::OVERLAP_REL;
 use gapack::config::Config;
+use gapack::fracture::{Extent, Well};
 use gapack::layering::Material;
-use gapack::output::{PackingTable, diameter_range, read_packing_csv, render_pictures};
-use gapack::{Check, check};
+use gapack::output::{
+    PackingTable, SUMMARY_JSON, diameter_range, read_packing_csv, render_pictures,
+};
+use gapack::{Check, GradingCheck, MIN_GRADING_DISKS, OVERLAP_REL, check};
 use gapack::{Domain, Packing, Point, Scene, psd_ks};
 
-use super::{Failure, load_config, report};
+use super::{Failure, load_config, print_line, report};
 use gapack::jobs::{DirStore, Store};
 
 /// `gapack verify` arguments.
@@ -52,7 +55,8 @@ pub struct PlotArgs {
 /// and grading, print the findings; exit 1 when it fails.
 pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
     let (config, origin) = load_config(&args.config, true)?;
-    let scene = pick_scene(&config, args.well.as_deref(), &origin)?;
+    let (scene, domain_note) = packed_scene(&config, args.well.as_deref(), &origin, &args.packing)?;
+    let scene = scene.as_ref();
     let table = read_table(&args.packing)?;
     let graded = scene.gradient.is_some();
     let mut result = check(
@@ -62,20 +66,23 @@ pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
     );
     if graded {
         // Size-graded: each material against its own curve.
-        result.psd_ks = Some(psd_ks(&packing_of(&table, scene, &config), scene));
+        result.grading = GradingCheck::of(result.particles - result.malformed, || {
+            psd_ks(&packing_of(&table, scene, &config), scene)
+        });
     }
-    let lines = findings(&result, &table);
-    println!(
-        "{} against {origin}: {}",
+    let mut lines = findings(&result, &table);
+    lines.splice(0..0, domain_note);
+    let verdict = match (result.valid() && result.grading_kept(), result.grading) {
+        (false, _) => "FAILED",
+        (true, GradingCheck::TooFewDisks(_)) => "valid, grading not checked",
+        (true, _) => "valid",
+    };
+    print_line(format_args!(
+        "{} against {origin}: {verdict}",
         args.packing.display(),
-        if result.valid() && result.grading_kept() {
-            "valid"
-        } else {
-            "FAILED"
-        }
-    );
+    ));
     for line in &lines {
-        println!("  {line}");
+        print_line(format_args!("  {line}"));
     }
     if !result.valid() {
         return Err(Failure::Run(anyhow!(
@@ -101,9 +108,14 @@ pub fn run_plot(args: &PlotArgs) -> Result<(), Failure> {
         Some(path) => Some(load_config(path, true)?),
         None => None,
     };
-    let (packing, materials, diameters, grading) = match &loaded {
+    let scene = match &loaded {
         Some((config, origin)) => {
-            let scene = pick_scene(config, args.well.as_deref(), origin)?;
+            Some(packed_scene(config, args.well.as_deref(), origin, &args.packing)?.0)
+        }
+        None => None,
+    };
+    let (packing, materials, diameters, grading) = match (&loaded, &scene) {
+        (Some((config, _)), Some(scene)) => {
             let packing = packing_of(&table, scene, config);
             let named = packing
                 .materials
@@ -124,7 +136,7 @@ pub fn run_plot(args: &PlotArgs) -> Result<(), Failure> {
                 Some(&scene.grading),
             )
         }
-        None => {
+        _ => {
             let domain = bounding_box(&table)?;
             let mut packing = Packing::of_disks(domain, table.disks.clone());
             packing.materials = table.materials.clone();
@@ -185,15 +197,16 @@ fn bounding_box(table: &PackingTable) -> Result<Domain, Failure> {
         .map_err(Failure::Input)
 }
 
-/// The scene a packing of `config` was made for: its own, or the named well's.
-fn pick_scene<'c>(
+/// The well of `config` a packing belongs to: none without `[fracture]`,
+/// else the named one or the only one.
+fn pick_well<'c>(
     config: &'c Config,
     well: Option<&str>,
     origin: &str,
-) -> Result<&'c Scene, Failure> {
+) -> Result<Option<&'c Well>, Failure> {
     let Some(run) = &config.fracture else {
         return match well {
-            None => Ok(&config.scene),
+            None => Ok(None),
             Some(_) => Err(Failure::Input(anyhow!(
                 "--well: {origin} has no [fracture] wells"
             ))),
@@ -211,18 +224,104 @@ fn pick_scene<'c>(
             .wells
             .iter()
             .find(|w| w.name == name)
-            .map(|w| &w.scene)
+            .map(Some)
             .ok_or_else(|| {
                 Failure::Input(anyhow!(
                     "--well: {origin} has no well {name:?}; its wells: {}",
                     names()
                 ))
             }),
-        None if run.wells.len() == 1 => Ok(&run.wells[0].scene),
+        None if run.wells.len() == 1 => Ok(Some(&run.wells[0])),
         None => Err(Failure::Input(anyhow!(
             "{origin} packs {} wells: name the packing's with --well ({})",
             run.wells.len(),
             names()
+        ))),
+    }
+}
+
+/// The scene the packing at `packing` was made in, and a line saying so
+/// when it is not the config's own.
+///
+/// Without `[fracture]` that is the config's scene; with it, the well's
+/// (see [`pick_well`]). A window run packs only the fracture's first
+/// `length_mm` (the window that settled), recorded in the `summary.json`
+/// the run wrote next to its `packing.csv`: its domain is the fracture cut
+/// to that length, so that porosity and containment are of the window and
+/// not of the whole fracture. A window config without that record is
+/// refused rather than checked against the whole fracture.
+fn packed_scene<'c>(
+    config: &'c Config,
+    well: Option<&str>,
+    origin: &str,
+    packing: &Path,
+) -> Result<(Cow<'c, Scene>, Option<String>), Failure> {
+    let Some(well) = pick_well(config, well, origin)? else {
+        return Ok((Cow::Borrowed(&config.scene), None));
+    };
+    let dir = packing
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let summary = dir.join(SUMMARY_JSON);
+    let windowed = config
+        .fracture
+        .as_ref()
+        .is_some_and(|run| matches!(run.extent, Extent::Window { .. }));
+    let Some(length) = recorded_window(&summary, &well.name)? else {
+        if windowed {
+            return Err(Failure::Input(anyhow!(
+                "{origin} packs windows (extent = \"window\"): the length of {:?}'s window is in its run's {SUMMARY_JSON}, and {} has none for it; verify the packing in the folder its run wrote",
+                well.name,
+                summary.display()
+            )));
+        }
+        return Ok((Cow::Borrowed(&well.scene), None));
+    };
+    let full = well.fracture.length;
+    if !(length > 0.0 && length <= full) {
+        return Err(Failure::Input(anyhow!(
+            "{}: fracture.window.length_mm must lie in (0, {full}] (the fracture's length in mm), got {length}",
+            summary.display()
+        )));
+    }
+    let domain = well
+        .fracture
+        .cut(length)
+        .domain()
+        .with_context(|| format!("cannot cut {} to its window", well.name))
+        .map_err(Failure::Input)?;
+    let note = format!(
+        "domain: the window of {:?}, its first {length} mm of {full} mm, as {} records",
+        well.name,
+        summary.display()
+    );
+    Ok((
+        Cow::Owned(well.scene.clone().with_domain(domain)),
+        Some(note),
+    ))
+}
+
+/// The window length (mm) the run summary at `path` records for well
+/// `name`: none when there is no summary, or it is of another well or of a
+/// whole fracture.
+fn recorded_window(path: &Path, name: &str) -> Result<Option<f64>, Failure> {
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return Ok(None);
+    };
+    let json: serde_json::Value = serde_json::from_str(&text)
+        .with_context(|| format!("{}: not a run summary", path.display()))
+        .map_err(Failure::Input)?;
+    let fracture = &json["fracture"];
+    if fracture["extent"] != "window" || fracture["name"] != name {
+        return Ok(None);
+    }
+    match fracture["window"]["length_mm"].as_f64() {
+        Some(length) => Ok(Some(length)),
+        None => Err(Failure::Input(anyhow!(
+            "{}: fracture.window.length_mm: expected a number, got {}",
+            path.display(),
+            fracture["window"]["length_mm"]
         ))),
     }
 }
@@ -289,9 +388,11 @@ fn findings(c: &Check, table: &PackingTable) -> Vec<String> {
         ),
     });
     let kept = c.grading_kept();
-    lines.push(match c.psd_ks {
-        None => "grading: not checked".to_owned(),
-        Some(ks) => format!(
+    lines.push(match c.grading {
+        GradingCheck::TooFewDisks(n) => format!(
+            "grading: not checked: a grading check needs at least {MIN_GRADING_DISKS} disks, the table has {n} (with fewer, sampling noise explains any sizes)"
+        ),
+        GradingCheck::Measured(ks) => format!(
             "grading: KS distance {ks:.4} {} {:.4} (sampling noise of {} sizes + {}): {}",
             if kept { "≤" } else { ">" },
             c.ks_limit,
@@ -299,6 +400,7 @@ fn findings(c: &Check, table: &PackingTable) -> Vec<String> {
             gapack::KS_MARGIN,
             if kept { "kept" } else { "bent" }
         ),
+        _ => "grading: not checked".to_owned(),
     });
     lines
 }

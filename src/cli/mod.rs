@@ -3,8 +3,10 @@
 
 pub mod inspect;
 
-use std::io::{IsTerminal, Write};
+use std::fmt::Display;
+use std::io::{ErrorKind, IsTerminal, Write};
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::Context;
 use gapack::config::{self, Config, DEFAULT_CONFIG, DEFAULT_ORIGIN};
@@ -52,11 +54,34 @@ pub fn load_config(path: &Path, force: bool) -> Result<(Config, String), Failure
     Ok((config, origin))
 }
 
-/// Print a result line on stdout, unless `quiet`.
+/// Set once stdout could not be written: nothing more is printed there.
+static STDOUT_GONE: AtomicBool = AtomicBool::new(false);
+
+/// Print `line` and a newline on stdout: the one way the binary prints
+/// there (`println!` panics when stdout is closed, and must not be used).
+///
+/// A closed pipe (`gapack validate c.toml | head -1`: `BrokenPipe`) means
+/// the reader has seen enough: this line and every later one are dropped
+/// quietly, and the command goes on to its own exit code (a failed verify
+/// still exits 1). Any other write error is said once on stderr, then
+/// stdout is dropped the same way: a finished run is not failed for it.
+pub fn print_line(line: impl Display) {
+    if STDOUT_GONE.load(Ordering::Relaxed) {
+        return;
+    }
+    let mut out = std::io::stdout().lock();
+    if let Err(e) = writeln!(out, "{line}").and_then(|()| out.flush()) {
+        STDOUT_GONE.store(true, Ordering::Relaxed);
+        if e.kind() != ErrorKind::BrokenPipe {
+            let _ = writeln!(std::io::stderr(), "warning: cannot write to stdout: {e}");
+        }
+    }
+}
+
+/// Print a result line on stdout with [`print_line`], unless `quiet`.
 pub fn report(quiet: bool, line: impl FnOnce() -> String) {
     if !quiet {
-        // A closed stdout (e.g. `| head -0`) is no reason to fail a finished run.
-        let _ = writeln!(std::io::stdout(), "{}", line());
+        print_line(line());
     }
 }
 

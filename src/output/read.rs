@@ -5,6 +5,14 @@
 //! Columns are found by header name, case-insensitively: `x`, `y`, and one
 //! of `r`/`radius` or `d`/`diameter`; `material` is optional (a name or a
 //! number); any other column is ignored. Lines starting with `#` are comments.
+//! Two columns for one part (`r` and `d`, or `x` twice) are refused, not
+//! guessed between.
+//!
+//! Every value is checked as it is read, so that nothing downstream (the
+//! check, the charts, the pictures) meets a degenerate packing: positions
+//! within `MAX_COORDINATE` of the origin, sizes between `MIN_DIAMETER`
+//! and `MAX_DIAMETER`, and at most `MAX_SIZE_RATIO` between the largest
+//! and the smallest disk.
 
 use std::fmt;
 
@@ -38,13 +46,26 @@ pub struct ReadError {
 
 /// Most distinct materials a table may name (they are stored as `u16`).
 const MAX_MATERIALS: usize = u16::MAX as usize;
+/// Smallest disk diameter a table may hold (mm): a nanometre.
+const MIN_DIAMETER: f64 = 1e-6;
+/// Largest disk diameter a table may hold (mm): a kilometre.
+const MAX_DIAMETER: f64 = 1e6;
+/// Largest ratio of the largest to the smallest disk of one table
+/// (gradings span three to four decades; a wider table is a unit mix-up or
+/// a stray row, and would squeeze every chart of it).
+const MAX_SIZE_RATIO: f64 = 1e6;
+/// Largest distance of a disk centre from the origin (mm): a thousand kilometres.
+const MAX_COORDINATE: f64 = 1e9;
 
 /// Read a packing from CSV `text`; `origin` names it in errors.
 ///
 /// # Errors
 /// [`ReadError`] at the first fault: no header, a required column missing
-/// (reported at line 1), a row with the wrong number of fields, a value that
-/// is not a finite number, a radius that is not positive, or no rows.
+/// (reported at the header), two columns for one part (reported at the second),
+/// a row with the wrong number of fields, a value that is not a finite
+/// number, a position or size out of range, a radius that is not positive,
+/// no rows, or sizes more than `MAX_SIZE_RATIO` apart (reported at the
+/// smallest).
 ///
 /// # Example
 /// ```
@@ -69,11 +90,54 @@ pub fn read_packing_csv(text: &str, origin: &str) -> Result<PackingTable, ReadEr
         .headers()
         .map_err(|e| csv_fault(origin, text, &e))?
         .clone();
-    let header_line = header.position().map_or(1, |p| p.line()).max(1);
-    let find = |names: &[&str]| {
-        header
+    // The header is the first line that is neither blank nor a comment
+    // (the reader's own position counts the comments before it as its start).
+    let (header_line, header_start) = text
+        .split_inclusive('\n')
+        .scan(0, |start, l| {
+            let at = *start;
+            *start += l.len();
+            Some((at, l))
+        })
+        .enumerate()
+        .find(|(_, (_, l))| !l.trim().is_empty() && !l.starts_with('#'))
+        .map_or((1, 0), |(i, (at, _))| (i as u64 + 1, at));
+    let name_of = |field: usize| header.get(field).unwrap_or("?").to_owned();
+    // The one column playing a part (`what`), found under any of `names`:
+    // two of them leave the part ambiguous, and the table is refused.
+    let find = |names: &[&str], what: &str| -> Result<Option<usize>, ReadError> {
+        let mut found = header
             .iter()
-            .position(|h| names.iter().any(|n| h.eq_ignore_ascii_case(n)))
+            .enumerate()
+            .filter(|(_, h)| names.iter().any(|n| h.eq_ignore_ascii_case(n)))
+            .map(|(i, _)| i);
+        let Some(first) = found.next() else {
+            return Ok(None);
+        };
+        match found.next() {
+            None => Ok(Some(first)),
+            Some(second) => {
+                let (a, b) = (name_of(first), name_of(second));
+                let message = if a.eq_ignore_ascii_case(&b) {
+                    format!(
+                        "column {b:?} appears twice (fields {} and {}); keep one",
+                        first + 1,
+                        second + 1
+                    )
+                } else {
+                    format!(
+                        "columns {a:?} and {b:?} both give {what} (fields {} and {}); keep one",
+                        first + 1,
+                        second + 1
+                    )
+                };
+                Err(fail(
+                    header_line,
+                    column_of(text, header_start, second),
+                    message,
+                ))
+            }
+        }
     };
     let missing = |what: &str| {
         fail(
@@ -85,14 +149,23 @@ pub fn read_packing_csv(text: &str, origin: &str) -> Result<PackingTable, ReadEr
             ),
         )
     };
-    let x = find(&["x"]).ok_or_else(|| missing("x"))?;
-    let y = find(&["y"]).ok_or_else(|| missing("y"))?;
-    let (size, halve) = match (find(&["r", "radius"]), find(&["d", "diameter"])) {
-        (Some(r), _) => (r, false),
-        (None, Some(d)) => (d, true),
-        (None, None) => return Err(missing("r (or radius, d, diameter)")),
+    let x = find(&["x"], "x")?.ok_or_else(|| missing("x"))?;
+    let y = find(&["y"], "y")?.ok_or_else(|| missing("y"))?;
+    let size = find(&["r", "radius", "d", "diameter"], "the disk size")?
+        .ok_or_else(|| missing("r (or radius, d, diameter)"))?;
+    let halve = ["d", "diameter"]
+        .iter()
+        .any(|n| header.get(size).is_some_and(|h| h.eq_ignore_ascii_case(n)));
+    let material = find(&["material", "material_id", "mat"], "the material")?;
+    // Halving is exact: the bounds on the diameter are bounds on twice the radius.
+    let (size_min, size_max, size_word) = if halve {
+        (MIN_DIAMETER, MAX_DIAMETER, "diameter")
+    } else {
+        (MIN_DIAMETER / 2.0, MAX_DIAMETER / 2.0, "radius")
     };
-    let material = find(&["material", "material_id", "mat"]);
+    // The smallest and largest size so far: (size, line, column).
+    let mut smallest = (f64::INFINITY, 0, 0);
+    let mut largest = (0.0f64, 0, 0);
 
     let mut table = PackingTable {
         disks: Vec::new(),
@@ -128,17 +201,45 @@ pub fn read_packing_csv(text: &str, origin: &str) -> Result<PackingTable, ReadEr
             }
         };
         let (cx, cy, s) = (number(x)?, number(y)?, number(size)?);
-        let r = if halve { s / 2.0 } else { s };
-        if r <= 0.0 {
+        for (field, v) in [(x, cx), (y, cy)] {
+            if v.abs() > MAX_COORDINATE {
+                return Err(fail(
+                    line,
+                    at(field),
+                    format!(
+                        "column {}: a coordinate must lie in [-{MAX_COORDINATE:e}, {MAX_COORDINATE:e}] mm, got {v:e}",
+                        name_of(field)
+                    ),
+                ));
+            }
+        }
+        if s <= 0.0 {
             return Err(fail(
                 line,
                 at(size),
                 format!(
                     "column {}: a disk's size must be positive, got {s}",
-                    header.get(size).unwrap_or("r")
+                    name_of(size)
                 ),
             ));
         }
+        if !(size_min..=size_max).contains(&s) {
+            return Err(fail(
+                line,
+                at(size),
+                format!(
+                    "column {}: a {size_word} must lie in [{size_min:e}, {size_max:e}] mm, got {s:e}",
+                    name_of(size)
+                ),
+            ));
+        }
+        if s < smallest.0 {
+            smallest = (s, line, at(size));
+        }
+        if s > largest.0 {
+            largest = (s, line, at(size));
+        }
+        let r = if halve { s / 2.0 } else { s };
         table.disks.push(Disk::new(cx, cy, r));
         if let Some(m) = material {
             let name = record.get(m).unwrap_or("");
@@ -164,6 +265,19 @@ pub fn read_packing_csv(text: &str, origin: &str) -> Result<PackingTable, ReadEr
             header_line + 1,
             1,
             "no disks: the table has no rows".to_owned(),
+        ));
+    }
+    if largest.0 > MAX_SIZE_RATIO * smallest.0 {
+        let (s, line, column) = smallest;
+        return Err(fail(
+            line,
+            column,
+            format!(
+                "column {}: {s:e} is more than {MAX_SIZE_RATIO:e} times smaller than the largest {size_word}, {:e} (line {}); the sizes of one packing may differ by that factor at most",
+                name_of(size),
+                largest.0,
+                largest.1
+            ),
         ));
     }
     Ok(table)
@@ -292,5 +406,48 @@ mod tests {
             "p.csv:2:1: no disks: the table has no rows"
         );
         assert_eq!(fault(""), "p.csv:1:1: missing column x; the header has: ");
+    }
+
+    #[test]
+    fn two_columns_for_one_part_are_refused_at_the_second() {
+        assert_eq!(
+            fault("x,y,r,d\n0,0,1,2\n"),
+            "p.csv:1:7: columns \"r\" and \"d\" both give the disk size (fields 3 and 4); keep one"
+        );
+        assert_eq!(
+            fault("# two x\nx, y, x, r\n0,0,1,2\n"),
+            "p.csv:2:7: column \"x\" appears twice (fields 1 and 3); keep one"
+        );
+        assert_eq!(
+            fault("x,y,Radius,diameter\n0,0,1,2\n"),
+            "p.csv:1:12: columns \"Radius\" and \"diameter\" both give the disk size (fields 3 and 4); keep one"
+        );
+        assert_eq!(
+            fault("x,y,r,mat,material\n0,0,1,a,b\n"),
+            "p.csv:1:11: columns \"mat\" and \"material\" both give the material (fields 4 and 5); keep one"
+        );
+    }
+
+    #[test]
+    fn sizes_and_positions_out_of_range_are_refused() {
+        assert_eq!(
+            fault("x,y,r\n0,0,5e-324\n"),
+            "p.csv:2:5: column r: a radius must lie in [5e-7, 5e5] mm, got 5e-324"
+        );
+        assert_eq!(
+            fault("x,y,d\n0,0,1e300\n"),
+            "p.csv:2:5: column d: a diameter must lie in [1e-6, 1e6] mm, got 1e300"
+        );
+        assert_eq!(
+            fault("x,y,r\n1,2,1\n1e12,2,1\n"),
+            "p.csv:3:1: column x: a coordinate must lie in [-1e9, 1e9] mm, got 1e12"
+        );
+        assert_eq!(
+            fault("x,y,r\n0,0,1e-6\n5,0,2\n"),
+            "p.csv:2:5: column r: 1e-6 is more than 1e6 times smaller than the largest radius, 2e0 (line 3); the sizes of one packing may differ by that factor at most"
+        );
+        // At the limits: read.
+        let t = read_packing_csv("x,y,d\n-1e9,1e9,1e-6\n0,0,1\n", "p.csv").unwrap();
+        assert_eq!(t.disks[0], Disk::new(-1e9, 1e9, 5e-7));
     }
 }

@@ -171,7 +171,7 @@ mod tests {
     use std::cell::Cell;
 
     use super::*;
-    use crate::geometry::Domain;
+    use crate::geometry::{Domain, WallMode};
     use crate::grading::Grading;
     use crate::packer::{Method, PackerSettings, Relaxation};
 

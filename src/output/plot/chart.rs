@@ -6,6 +6,7 @@ use std::sync::Once;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use super::axis::{Axis, Pad};
 use crate::output::OutputError;
 use crate::output::palette::colour;
 
@@ -121,41 +122,31 @@ impl Drawable for LineChart {
 }
 
 impl LineChart {
-    /// The ranges of the axes: the data's, padded by 5 %, never empty.
-    fn bounds(&self) -> (std::ops::Range<f64>, std::ops::Range<f64>) {
-        let finite = self
-            .series
-            .iter()
-            .flat_map(|s| &s.points)
-            .filter(|(x, y)| x.is_finite() && y.is_finite());
-        let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-        for &(x, y) in finite {
-            (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
-        }
-        let pad = |lo: f64, hi: f64| {
-            if lo > hi {
-                (0.0, 1.0)
-            } else {
-                let m = ((hi - lo) * 0.05).max(hi.abs().max(1e-9) * 1e-3);
-                (lo - m, hi + m)
-            }
+    /// The axes: the data's ranges (points with a coordinate that is not
+    /// finite left out), padded by 5 %, never empty.
+    fn axes(&self) -> (Axis, Axis) {
+        let pad = Pad {
+            share: 0.05,
+            least: 1e-3,
         };
-        let ((x0, x1), (y0, y1)) = (pad(x0, x1), pad(y0, y1));
-        (x0..x1, y0..y1)
+        let points = || {
+            self.series
+                .iter()
+                .flat_map(|s| &s.points)
+                .filter(|(x, y)| x.is_finite() && y.is_finite())
+        };
+        (
+            Axis::linear(points().map(|p| p.0), pad),
+            Axis::linear(points().map(|p| p.1), pad),
+        )
     }
 
     /// Where the legend hides the fewest data: the upper or the lower right
     /// corner, whichever holds fewer points.
-    fn legend_corner(
-        &self,
-        xs: &std::ops::Range<f64>,
-        ys: &std::ops::Range<f64>,
-    ) -> SeriesLabelPosition {
-        let right = xs.start + 0.6 * (xs.end - xs.start);
-        let (low, high) = (
-            ys.start + 0.35 * (ys.end - ys.start),
-            ys.start + 0.65 * (ys.end - ys.start),
-        );
+    fn legend_corner(&self, xs: &Axis, ys: &Axis) -> SeriesLabelPosition {
+        let ((x0, x1), (y0, y1)) = (xs.ends(), ys.ends());
+        let right = x0 + 0.6 * (x1 - x0);
+        let (low, high) = (y0 + 0.35 * (y1 - y0), y0 + 0.65 * (y1 - y0));
         let points = self.series.iter().flat_map(|s| &s.points);
         let (mut upper, mut lower) = (0, 0);
         for &(_, y) in points.filter(|(x, _)| *x >= right) {
@@ -174,7 +165,7 @@ impl LineChart {
         root: DrawingArea<DB, Shift>,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
         root.fill(&WHITE)?;
-        let (xs, ys) = self.bounds();
+        let (xs, ys) = self.axes();
         let corner = self.legend_corner(&xs, &ys);
         let mut chart = ChartBuilder::on(&root)
             .caption(&self.title, (FAMILY, 22))
@@ -281,6 +272,22 @@ mod tests {
                     colour: 1,
                 },
             ],
+        }
+    }
+
+    /// Ranges plotters' own axes never finish with: the chart still renders.
+    #[test]
+    fn degenerate_ranges_render() {
+        for points in [
+            vec![(5e-324, 5e-324)],
+            vec![(1e300, -1e300), (-f64::MAX, f64::MAX)],
+            vec![(1.0, 1e300), (1.0, 1e300 * (1.0 + f64::EPSILON))],
+            vec![(f64::NAN, f64::INFINITY)],
+        ] {
+            let mut c = chart();
+            c.series[0].points = points;
+            assert!(c.to_svg().unwrap().starts_with("<svg"));
+            assert_eq!(&c.to_png().unwrap()[..4], b"\x89PNG");
         }
     }
 

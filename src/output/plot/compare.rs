@@ -4,6 +4,7 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use super::axis::{Axis, Pad};
 use super::chart::{Drawable, FAMILY, tidy};
 use crate::compare::{CompareRun, Variant, distinct, pareto};
 use crate::output::palette::colour;
@@ -92,19 +93,36 @@ impl CompareChart {
         panel: &Panel,
         legend: bool,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
-        let finite = |v: f64| v.is_finite();
-        let (mut t0, mut t1) = (f64::MAX, f64::MIN);
-        let (mut y0, mut y1) = (f64::MAX, f64::MIN);
-        for r in &self.runs {
-            let (t, y) = (r.seconds.max(1e-7), (panel.value)(r));
-            if finite(t) && finite(y) {
-                (t0, t1, y0, y1) = (t0.min(t), t1.max(t), y0.min(y), y1.max(y));
-            }
-        }
-        if t0 > t1 {
-            (t0, t1, y0, y1) = (1e-4, 1.0, 0.0, 1.0);
-        }
-        let (t0, t1) = (t0 / 1.5, t1 * 1.5);
+        let points = || {
+            self.runs
+                .iter()
+                .map(|r| (r.seconds.max(1e-7), (panel.value)(r)))
+                .filter(|(t, y)| t.is_finite() && y.is_finite())
+        };
+        let t_axis = Axis::log(
+            points().map(|p| p.0),
+            Pad {
+                share: 0.0,
+                least: 1.5f64.log10(),
+            },
+        );
+        let y_axis = if panel.log_y {
+            Axis::log(
+                points().map(|p| p.1.max(LOG_FLOOR)),
+                Pad {
+                    share: 0.0,
+                    least: 3f64.log10(),
+                },
+            )
+        } else {
+            Axis::linear(
+                points().map(|p| p.1),
+                Pad {
+                    share: 0.08,
+                    least: 0.005,
+                },
+            )
+        };
         let variants = self.variants();
         let front = if panel.error {
             pareto(&self.runs, |r| {
@@ -120,73 +138,62 @@ impl CompareChart {
             .margin(12)
             .x_label_area_size(44)
             .y_label_area_size(70);
-        macro_rules! body {
-            ($chart:ident) => {{
-                $chart
-                    .configure_mesh()
-                    .x_desc("seconds (log)")
-                    .x_label_formatter(&|v: &f64| format!("{v:.0e}"))
-                    .y_label_formatter(&|v: &f64| {
-                        if panel.log_y {
-                            format!("{v:.0e}")
-                        } else {
-                            tidy(v)
-                        }
-                    })
-                    .label_style((FAMILY, 13))
-                    .axis_desc_style((FAMILY, 15))
-                    .draw()?;
-                for (i, v) in variants.iter().enumerate() {
-                    let [r, g, b] = colour(i);
-                    let c = RGBColor(r, g, b);
-                    let pts: Vec<(f64, f64)> = self
-                        .runs
-                        .iter()
-                        .filter(|run| run.variant == *v)
-                        .map(|run| (run.seconds.max(1e-7), (panel.value)(run)))
-                        .filter(|&(_, y)| y.is_finite())
-                        .collect();
-                    let drawn = $chart
-                        .draw_series(pts.into_iter().map(|p| Circle::new(p, 5, c.filled())))?;
-                    if legend {
-                        drawn
-                            .label(variant_label(v))
-                            .legend(move |(x, y)| Circle::new((x + 8, y), 5, c.filled()));
-                    }
+        let mut chart = builder.build_cartesian_2d(t_axis, y_axis)?;
+        chart
+            .configure_mesh()
+            .x_desc(if t_axis.is_log() {
+                "seconds (log)"
+            } else {
+                "seconds"
+            })
+            .x_label_formatter(&|v: &f64| format!("{v:.0e}"))
+            .y_label_formatter(&|v: &f64| {
+                if y_axis.is_log() {
+                    format!("{v:.0e}")
+                } else {
+                    tidy(v)
                 }
-                let line: Vec<(f64, f64)> = front
-                    .iter()
-                    .map(|run| (run.seconds.max(1e-7), (panel.value)(run)))
-                    .filter(|&(_, y)| y.is_finite())
-                    .collect();
-                let pareto_line =
-                    $chart.draw_series(LineSeries::new(line, BLACK.stroke_width(1)))?;
-                if legend && panel.error {
-                    pareto_line.label("Pareto front").legend(|(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 16, y)], BLACK.stroke_width(1))
-                    });
-                }
-                if legend {
-                    $chart
-                        .configure_series_labels()
-                        .label_font((FAMILY, 12))
-                        .background_style(WHITE.mix(0.85))
-                        .border_style(BLACK)
-                        .position(SeriesLabelPosition::UpperRight)
-                        .draw()?;
-                }
-            }};
+            })
+            .label_style((FAMILY, 13))
+            .axis_desc_style((FAMILY, 15))
+            .draw()?;
+        for (i, v) in variants.iter().enumerate() {
+            let [r, g, b] = colour(i);
+            let c = RGBColor(r, g, b);
+            let pts: Vec<(f64, f64)> = self
+                .runs
+                .iter()
+                .filter(|run| run.variant == *v)
+                .map(|run| (run.seconds.max(1e-7), (panel.value)(run)))
+                .filter(|&(_, y)| y.is_finite())
+                .collect();
+            let drawn =
+                chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 5, c.filled())))?;
+            if legend {
+                drawn
+                    .label(variant_label(v))
+                    .legend(move |(x, y)| Circle::new((x + 8, y), 5, c.filled()));
+            }
         }
-        if panel.log_y {
-            let (y0, y1) = (y0.max(LOG_FLOOR) / 3.0, y1.max(LOG_FLOOR) * 3.0);
-            let mut chart =
-                builder.build_cartesian_2d((t0..t1).log_scale(), (y0..y1).log_scale())?;
-            body!(chart);
-        } else {
-            let pad = ((y1 - y0) * 0.08).max(1e-3);
-            let mut chart =
-                builder.build_cartesian_2d((t0..t1).log_scale(), (y0 - pad)..(y1 + pad))?;
-            body!(chart);
+        let line: Vec<(f64, f64)> = front
+            .iter()
+            .map(|run| (run.seconds.max(1e-7), (panel.value)(run)))
+            .filter(|&(_, y)| y.is_finite())
+            .collect();
+        let pareto_line = chart.draw_series(LineSeries::new(line, BLACK.stroke_width(1)))?;
+        if legend && panel.error {
+            pareto_line.label("Pareto front").legend(|(x, y)| {
+                PathElement::new(vec![(x, y), (x + 16, y)], BLACK.stroke_width(1))
+            });
+        }
+        if legend {
+            chart
+                .configure_series_labels()
+                .label_font((FAMILY, 12))
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()?;
         }
         Ok(())
     }

@@ -1,6 +1,7 @@
 //! Charts: a generic line chart (SVG and PNG, in memory), the charts built
 //! on it, and the pictures of a packing (drawing, grading, porosity map).
 
+mod axis;
 mod chart;
 mod compare;
 mod convergence;

@@ -5,6 +5,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
+use super::axis::Axis;
 use super::chart::{Drawable, FAMILY, tidy};
 use crate::geometry::Point;
 use crate::geometry::predicates::clip_polygon_box;
@@ -257,7 +258,10 @@ impl Drawable for PorosityMapChart {
             .margin(MARGIN_PX)
             .x_label_area_size(X_LABELS_PX)
             .y_label_area_size(Y_LABELS_PX)
-            .build_cartesian_2d(self.x.0..self.x.1, self.y.0..self.y.1)?;
+            .build_cartesian_2d(
+                Axis::exact(self.x.0, self.x.1),
+                Axis::exact(self.y.0, self.y.1),
+            )?;
         chart
             .configure_mesh()
             .disable_mesh()

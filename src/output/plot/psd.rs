@@ -4,6 +4,7 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use super::axis::{Axis, Pad};
 use super::chart::{Drawable, FAMILY, tidy};
 use crate::grading::{Basis, Grading};
 use crate::output::palette::colour;
@@ -39,10 +40,9 @@ pub struct PsdChart {
     ks: Option<f64>,
     /// What percent passing counts.
     basis: Basis,
-    /// Range of the diameter axis (mm).
-    x: (f64, f64),
-    /// Whether the diameter axis is logarithmic.
-    log_x: bool,
+    /// The diameter axis (mm), logarithmic when the sizes span more than
+    /// [`LOG_RATIO`] and not too many decades.
+    x: Axis,
 }
 
 /// The grading chart of `packing` against `grading`, or of the packing
@@ -68,43 +68,52 @@ pub fn psd_chart(packing: &Packing, grading: Option<&Grading>) -> PsdChart {
         .collect();
     diameters.sort_unstable_by(f64::total_cmp);
     let basis = grading.map_or(Basis::Number, Grading::basis);
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for d in diameters
-        .first()
-        .into_iter()
-        .chain(diameters.last())
-        .copied()
-        .chain(grading.into_iter().flat_map(|g| [g.d_min(), g.d_max()]))
-    {
-        (lo, hi) = (lo.min(d), hi.max(d));
-    }
-    if lo > hi {
-        (lo, hi) = (1.0, 10.0);
-    }
-    let log_x = hi > LOG_RATIO * lo;
-    let x = if log_x {
-        let pad = (hi / lo).powf(0.04);
-        (lo / pad, hi * pad)
-    } else {
-        let pad = ((hi - lo) * 0.05).max(hi * 0.02);
-        (lo - pad, hi + pad)
+    let sizes = || {
+        diameters
+            .first()
+            .into_iter()
+            .chain(diameters.last())
+            .copied()
+            .chain(grading.into_iter().flat_map(|g| [g.d_min(), g.d_max()]))
     };
+    let (lo, hi) = sizes().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), d| {
+        (lo.min(d), hi.max(d))
+    });
+    // Log when the sizes span more than LOG_RATIO (or are none): Axis::log
+    // itself falls back to linear when they span too many decades.
+    let x = if lo > hi || hi > LOG_RATIO * lo {
+        Axis::log(
+            sizes(),
+            Pad {
+                share: 0.04,
+                least: 0.0,
+            },
+        )
+    } else {
+        Axis::linear(
+            sizes(),
+            Pad {
+                share: 0.05,
+                least: 0.02,
+            },
+        )
+    };
+    let (log_x, ends) = (x.is_log(), x.ends());
     let target = grading.map_or_else(Vec::new, |g| {
-        let mut xs = spaced(x.0, x.1, CURVE_POINTS, log_x);
+        let mut xs = spaced(ends.0, ends.1, CURVE_POINTS, log_x);
         xs.extend([g.d_min(), g.d_max()]);
         xs.sort_unstable_by(f64::total_cmp);
         xs.into_iter().map(|d| (d, 100.0 * g.cdf(d))).collect()
     });
     PsdChart {
         target,
-        packed: staircase(&diameters, basis.exponent(), x, log_x),
+        packed: staircase(&diameters, basis.exponent(), ends, log_x),
         disks: packing.disks.len(),
         ks: grading
             .filter(|_| !diameters.is_empty())
             .map(|g| g.ks_distance(&diameters)),
         basis,
         x,
-        log_x,
     }
 }
 
@@ -206,69 +215,55 @@ impl Drawable for PsdChart {
             .margin(14)
             .x_label_area_size(48)
             .y_label_area_size(70);
-        let (x0, x1) = self.x;
         let [r, g, b] = colour(0);
         let packed_colour = RGBColor(r, g, b);
-        macro_rules! body {
-            ($chart:ident) => {{
-                $chart
-                    .configure_mesh()
-                    .x_desc(if self.log_x {
-                        "diameter (mm, log scale)"
-                    } else {
-                        "diameter (mm)"
-                    })
-                    .y_desc(self.y_label())
-                    .x_label_formatter(&tidy)
-                    .y_label_formatter(&tidy)
-                    .label_style((FAMILY, 14))
-                    .axis_desc_style((FAMILY, 16))
-                    .draw()?;
-                if !self.target.is_empty() {
-                    $chart
-                        .draw_series(LineSeries::new(
-                            self.target.iter().copied(),
-                            BLACK.stroke_width(2),
-                        ))?
-                        .label("target grading")
-                        .legend(|(x, y)| {
-                            PathElement::new(vec![(x, y), (x + 24, y)], BLACK.stroke_width(3))
-                        });
-                }
-                if !self.packed.is_empty() {
-                    $chart
-                        .draw_series(LineSeries::new(
-                            self.packed.iter().copied(),
-                            packed_colour.stroke_width(2),
-                        ))?
-                        .label(format!(
-                            "packed, {} disk{}",
-                            self.disks,
-                            if self.disks == 1 { "" } else { "s" }
-                        ))
-                        .legend(move |(x, y)| {
-                            PathElement::new(
-                                vec![(x, y), (x + 24, y)],
-                                packed_colour.stroke_width(3),
-                            )
-                        });
-                }
-                $chart
-                    .configure_series_labels()
-                    .label_font((FAMILY, 14))
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(BLACK)
-                    .position(SeriesLabelPosition::LowerRight)
-                    .draw()?;
-            }};
+        let mut chart = builder.build_cartesian_2d(self.x, Axis::exact(0.0, 100.0))?;
+        chart
+            .configure_mesh()
+            .x_desc(if self.x.is_log() {
+                "diameter (mm, log scale)"
+            } else {
+                "diameter (mm)"
+            })
+            .y_desc(self.y_label())
+            .x_label_formatter(&tidy)
+            .y_label_formatter(&tidy)
+            .label_style((FAMILY, 14))
+            .axis_desc_style((FAMILY, 16))
+            .draw()?;
+        if !self.target.is_empty() {
+            chart
+                .draw_series(LineSeries::new(
+                    self.target.iter().copied(),
+                    BLACK.stroke_width(2),
+                ))?
+                .label("target grading")
+                .legend(|(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 24, y)], BLACK.stroke_width(3))
+                });
         }
-        if self.log_x {
-            let mut chart = builder.build_cartesian_2d((x0..x1).log_scale(), 0.0..100.0)?;
-            body!(chart);
-        } else {
-            let mut chart = builder.build_cartesian_2d(x0..x1, 0.0..100.0)?;
-            body!(chart);
+        if !self.packed.is_empty() {
+            chart
+                .draw_series(LineSeries::new(
+                    self.packed.iter().copied(),
+                    packed_colour.stroke_width(2),
+                ))?
+                .label(format!(
+                    "packed, {} disk{}",
+                    self.disks,
+                    if self.disks == 1 { "" } else { "s" }
+                ))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 24, y)], packed_colour.stroke_width(3))
+                });
         }
+        chart
+            .configure_series_labels()
+            .label_font((FAMILY, 14))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::LowerRight)
+            .draw()?;
         root.present()
     }
 }
@@ -297,8 +292,8 @@ mod tests {
         // By number: a third at 1, all at 2.
         let g = Grading::uniform(1.0, 2.0, Basis::Number).expect("grading");
         let chart = psd_chart(&p, Some(&g));
-        assert!(!chart.log_x);
-        let (x0, x1) = chart.x;
+        assert!(!chart.x.is_log());
+        let (x0, x1) = chart.x.ends();
         assert!(x0 < 1.0 && x1 > 2.0);
         let third = 100.0 * (1.0 / 3.0);
         assert_eq!(
@@ -331,7 +326,7 @@ mod tests {
     fn many_sizes_are_binned_and_wide_gradings_are_log() {
         let diameters: Vec<f64> = (0..5000).map(|i| 1.0 + f64::from(i) * 1e-3).collect();
         let chart = psd_chart(&packing(&diameters), None);
-        assert!(chart.log_x, "1 to 6 mm is a ratio above 3");
+        assert!(chart.x.is_log(), "1 to 6 mm is a ratio above 3");
         assert!(chart.target.is_empty() && chart.ks.is_none());
         assert_eq!(chart.packed.len(), 2 * (MAX_STEPS + 1) + 2);
         // Non-decreasing, ending at 100 %.
@@ -343,6 +338,23 @@ mod tests {
         );
         assert_eq!(chart.packed.last().map(|p| p.1), Some(100.0));
         assert!(chart.title().starts_with("Grading of the packing"));
+    }
+
+    /// Sizes 300 decades apart (or one subnormal size) made plotters' log
+    /// axis allocate without end; now the axis is linear and the chart renders.
+    #[test]
+    fn sizes_too_many_decades_apart_get_a_linear_axis_and_render() {
+        let g = Grading::uniform(1.0, 2.0, Basis::Number).expect("grading");
+        for (diameters, grading) in [
+            (vec![1e-323], Some(&g)),
+            (vec![1e-300, 2.0], None),
+            (vec![2e300], Some(&g)),
+        ] {
+            let chart = psd_chart(&packing(&diameters), grading);
+            assert!(!chart.x.is_log(), "{diameters:?}");
+            assert!(chart.to_svg().expect("svg").contains("diameter (mm)"));
+            assert_eq!(png_size(&chart.to_png().expect("png")), PsdChart::SIZE);
+        }
     }
 
     #[test]
