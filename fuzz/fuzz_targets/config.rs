@@ -49,7 +49,7 @@ fn run(config: &Config) {
             match run.extent {
                 Extent::Full => pack_and_check(&well.scene),
                 Extent::Window { tolerance } => {
-                    if let Ok(window) = settle(well, tolerance) {
+                    if let Ok(window) = settle(well, tolerance, &gapack::Cancel::new()) {
                         assert_valid(&window.scene, &window.packing);
                     }
                 }
