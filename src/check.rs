@@ -159,6 +159,16 @@ pub fn ks_limit(n: usize) -> f64 {
     1.36 / (n.max(1) as f64).sqrt() + KS_MARGIN
 }
 
+/// Whether `n` well-formed sizes at KS distance `ks` from their grading
+/// follow it, as `gapack verify` judges a packing table: within
+/// [`ks_limit`]`(n)`, or too few to check ([`MIN_GRADING_DISKS`]). The
+/// one rule for a run's `grading_kept` and its warning.
+pub fn grading_kept(n: usize, ks: f64) -> bool {
+    GradingCheck::of(n, || ks)
+        .ks()
+        .is_none_or(|ks| ks <= ks_limit(n))
+}
+
 /// Count the overlapping pairs among `disks[ok]` and find the deepest.
 ///
 /// Cells of side 2·`r_max` hold the centres; two disks can only overlap if

@@ -41,7 +41,7 @@ mod scene;
 pub mod stability;
 
 pub use cancel::{Cancel, Cancelled};
-pub use check::{Check, GradingCheck, KS_MARGIN, MIN_GRADING_DISKS, check, ks_limit};
+pub use check::{Check, GradingCheck, KS_MARGIN, MIN_GRADING_DISKS, check, grading_kept, ks_limit};
 pub use geometry::predicates::OVERLAP_REL;
 pub use geometry::{Disk, Domain, GeometryError, Point, Shape, Wall, WallMode};
 pub use grading::{Basis, Grading, GradingError, Interpolation, THESIS_TABLE_3_4};

@@ -320,3 +320,47 @@ fn optimise_needs_its_table_and_answers_to_both_spellings() {
     assert!(!dir.join("out").exists());
     let _ = fs::remove_dir_all(&dir);
 }
+
+// ---------------------------------------------------------------------------
+// Hardening (h16-d): a checkpoint whose random generator was zeroed.
+// ---------------------------------------------------------------------------
+
+/// `--resume` from a checkpoint whose random state was edited to zeros ran
+/// for ever (the mutation's normal draws never ended on a stream of zeros)
+/// and ignored SIGINT and SIGTERM; it is refused at load, exit 2, one line.
+#[test]
+fn resuming_a_checkpoint_with_a_zeroed_random_state_is_refused() {
+    use gapack::jobs::{self, DirStore, Event, JobKind, Plan, Request};
+    let dir = scratch("optimise-zero-rng");
+    let text = "seed = 1\n[domain]\nshape = \"rectangle\"\nwidth = 20\nheight = 20\n[grading]\ntable = [[1.2, 0], [2.4, 10], [2.4, 90], [6.0, 100]]\n[optimise]\ntarget_porosity = 0.9\npopulation = 8\ngenerations = 50\nstagnation = 50\n";
+    fs::write(dir.join("z.toml"), text).unwrap();
+    // A search stopped after generation 2 leaves its checkpoint.
+    let plan = Plan::load(text, "z.toml", &Request::new(JobKind::Optimise)).expect("plans");
+    let cancel = Cancel::new();
+    let mut stop_at_2 = |e: &Event| {
+        if matches!(e, Event::Generation { index: 2, .. }) {
+            cancel.cancel();
+        }
+    };
+    jobs::run(
+        &plan,
+        &mut stop_at_2,
+        &cancel,
+        &mut DirStore::new(dir.join("o")),
+    )
+    .expect("keeps its best");
+    let path = dir.join("o").join("checkpoint.json");
+    let mut file: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(&path).expect("a checkpoint")).unwrap();
+    file["search"]["rng"]["s"] = serde_json::json!([0, 0, 0, 0]);
+    fs::write(&path, serde_json::to_vec(&file).unwrap()).unwrap();
+    let out = gapack(&dir, &["optimise", "z.toml", "--out", "o", "--resume"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("checkpoint.json: its random generator's state is all zeros"),
+        "{stderr}"
+    );
+    let _ = fs::remove_dir_all(&dir);
+}

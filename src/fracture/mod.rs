@@ -10,7 +10,7 @@
 
 mod window;
 
-pub use window::{Window, WindowError, WindowStep, settle};
+pub use window::{FIRST_DIAMETERS, Window, WindowError, WindowStep, settle};
 
 use crate::Scene;
 use crate::geometry::{Domain, GeometryError};

@@ -45,8 +45,8 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use rayon::prelude::*;
 
 use super::checkpoint::{
-    Checkpoint, bits, floats, generation_bits, generation_of, key_bits, key_of, score_bits,
-    score_of,
+    Checkpoint, ResumeError, bits, floats, generation_bits, generation_of, key_bits, key_of,
+    score_bits, score_of,
 };
 use super::operators::{Crossover, Mutation};
 use super::score::{Fit, Score};
@@ -221,18 +221,6 @@ pub struct Evolution<O> {
     /// Smallest and largest value of the feasible genomes evaluated (the
     /// range the search explored); `[inf, -inf]` if none was feasible.
     pub explored: [f64; 2],
-}
-
-/// A checkpoint that does not belong to the problem it is resumed on.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error(
-    "the checkpoint holds genomes of {found} genes, the search needs {genes}: it was written for another scene"
-)]
-pub struct ResumeError {
-    /// Genes per genome the problem needs.
-    pub genes: usize,
-    /// Genes per genome in the checkpoint (0: no population).
-    pub found: usize,
 }
 
 /// Identity of a phenotype: the sequence genes read and a fingerprint of
@@ -432,27 +420,19 @@ impl<'a, P: Problem> Search<'a, P> {
     ///
     /// # Errors
     /// [`ResumeError`] when the checkpoint does not fit the problem (another
-    /// genome length, or no population).
+    /// genome length) or holds what no search writes (an all-zero random
+    /// state, genes outside [0, 1], scores no evaluation gives, counters at
+    /// odds with each other): see [`Checkpoint`]'s validation.
     pub fn resume(
         problem: &'a P,
         limits: Limits,
         checkpoint: &Checkpoint,
     ) -> Result<Self, ResumeError> {
-        let genes = problem.genes();
-        let fits = !checkpoint.population.is_empty()
-            && !checkpoint.history.is_empty()
-            && checkpoint
-                .population
-                .iter()
-                .map(|m| m.0.len())
-                .chain([checkpoint.best.0.len()])
-                .all(|n| n == genes);
-        if !fits {
-            return Err(ResumeError {
-                genes,
-                found: checkpoint.genes(),
-            });
-        }
+        checkpoint.validate(
+            problem.genes(),
+            problem.sequence(),
+            limits.population.max(2),
+        )?;
         let mut search = Search::fresh(problem, limits, checkpoint.rng.clone());
         let spent = Duration::try_from_secs_f64(f64::from_bits(checkpoint.seconds))
             .unwrap_or(Duration::ZERO);
@@ -507,6 +487,12 @@ impl<'a, P: Problem> Search<'a, P> {
             let sequence = self.problem.sequence();
             let mut offspring = Vec::with_capacity(parents.len() * 2);
             for pair in parents {
+                // Breeding draws from the stream alone: bounded, but a
+                // cancel is honoured here too, the stream put back.
+                if let Err(why) = cancel.check() {
+                    self.rng = rng;
+                    return Err(why);
+                }
                 // Only the genes the parents' packings read can matter.
                 let used = pair
                     .iter()
@@ -879,6 +865,122 @@ mod tests {
         let err = Search::resume(&longer, limits(), &checkpoint)
             .err()
             .unwrap();
-        assert_eq!(err, ResumeError { genes: 7, found: 6 });
+        assert_eq!(
+            err,
+            ResumeError::GeneCount {
+                part: "genome 0 of the population".to_owned(),
+                found: 6,
+                genes: 7
+            }
+        );
+    }
+
+    /// A checkpoint of a few generations of [`Mean`], through JSON text as a
+    /// file would hold it.
+    fn saved() -> serde_json::Value {
+        let mean = Mean {
+            calls: Mutex::new(Vec::new()),
+        };
+        let mut saved = None;
+        let stop = Limits {
+            generations: 3,
+            stagnation: 100,
+            ..limits()
+        };
+        Search::start(&mean, stop, 1, &Cancel::new())
+            .expect("a fresh token is never raised")
+            .run_saving(&Cancel::new(), |_| {}, 3, |c| saved = Some(c.clone()));
+        serde_json::to_value(saved.expect("saved after generation 3")).unwrap()
+    }
+
+    /// Resume [`Mean`] from `edit` applied to [`saved`].
+    fn resumed(edit: impl FnOnce(&mut serde_json::Value)) -> Result<Evolution<f64>, ResumeError> {
+        let mut value = saved();
+        edit(&mut value);
+        let checkpoint: Checkpoint = serde_json::from_value(value).expect("still a checkpoint");
+        let mean = Mean {
+            calls: Mutex::new(Vec::new()),
+        };
+        Search::resume(&mean, limits(), &checkpoint).map(|s| s.run(&Cancel::new(), |_| {}))
+    }
+
+    #[test]
+    fn an_untouched_checkpoint_resumes() {
+        let done = resumed(|_| {}).expect("resumes");
+        assert!(done.history.len() > 4);
+    }
+
+    #[test]
+    fn a_checkpoint_with_a_zeroed_random_state_is_refused() {
+        let err = resumed(|c| c["rng"]["s"] = serde_json::json!([0, 0, 0, 0])).unwrap_err();
+        assert_eq!(err, ResumeError::ZeroRandomState);
+        assert!(err.to_string().contains("all zeros"), "{err}");
+    }
+
+    #[test]
+    fn a_search_from_a_zeroed_random_state_still_ends() {
+        // Past the load check (the state set after it): the mutation's normal
+        // steps, which looped for ever on a stream of zeros, are bounded.
+        let mean = Mean {
+            calls: Mutex::new(Vec::new()),
+        };
+        let mut value = saved();
+        let checkpoint: Checkpoint = serde_json::from_value(value.clone()).unwrap();
+        let mut search = Search::resume(&mean, limits(), &checkpoint).expect("resumes");
+        value["rng"]["s"] = serde_json::json!([0, 0, 0, 0]);
+        let zero: Checkpoint = serde_json::from_value(value).unwrap();
+        search.rng = zero.rng;
+        let done = search.run(&Cancel::new(), |_| {});
+        assert!(matches!(
+            done.stop,
+            StopReason::Stagnation | StopReason::Generations | StopReason::Reached
+        ));
+    }
+
+    #[test]
+    fn every_edited_field_of_a_checkpoint_is_refused_by_name() {
+        use serde_json::json;
+        type Edit = fn(&mut serde_json::Value);
+        let cases: [(Edit, &str); 11] = [
+            (|c| c["population"] = json!([]), "no population"),
+            (|c| c["history"] = json!([]), "no history"),
+            (
+                |c| c["best"][0] = json!([]),
+                "the best genome holds 0 genes, the search needs 6",
+            ),
+            (
+                |c| c["population"][2][0][1] = json!(2.5f64.to_bits()),
+                "gene 1 of genome 2 of the population is 2.5",
+            ),
+            (
+                |c| c["population"][0][2][1] = json!(f64::NAN.to_bits()),
+                "the score of genome 0 of the population is not a score",
+            ),
+            (
+                |c| c["seen"][0][1][0] = json!((-1.0f64).to_bits()),
+                "the score of phenotype 0 is not a score",
+            ),
+            (
+                |c| c["seen"][0][0][0] = json!(1_000_000),
+                "phenotype 0 read 1000000 sequence genes",
+            ),
+            (|c| c["history"][1][0] = json!(7), "record 1 is numbered 7"),
+            (
+                |c| c["evaluations"] = json!(3),
+                "evaluations: 3 evaluations, fewer than",
+            ),
+            (
+                |c| c["stagnant"] = json!(1_000_000_000),
+                "stagnant: 1000000000 generations without progress",
+            ),
+            (
+                |c| c["explored"] = json!([f64::INFINITY.to_bits(), 0]),
+                "explored: [inf, 0] is not a range",
+            ),
+        ];
+        for (edit, says) in cases {
+            let err = resumed(edit).expect_err(says).to_string();
+            assert!(err.contains(says), "{err} does not say {says:?}");
+        }
     }
 }

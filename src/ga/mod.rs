@@ -11,11 +11,11 @@ mod porosity;
 mod score;
 mod settings;
 
-pub use checkpoint::Checkpoint;
+pub use checkpoint::{Checkpoint, ResumeError};
 pub use engine::{
-    Evaluation, Evolution, Generation, Limits, Problem, ResumeError, Search, StopReason, Variation,
+    Evaluation, Evolution, Generation, Limits, Problem, Search, StopReason, Variation,
 };
 pub use layering::{Layered, LayeringProblem, lay_out};
-pub use porosity::{PorosityProblem, RULE_GENES};
+pub use porosity::{CONCLUSIVE_POPULATION, PorosityProblem, RULE_GENES, Verdict};
 pub use score::Score;
 pub use settings::OptimiseSettings;

@@ -32,7 +32,7 @@
 use rand::Rng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 
-use super::engine::{Evaluation, Problem, Variation};
+use super::engine::{Evaluation, Evolution, Problem, StopReason, Variation};
 use super::score::Score;
 use super::settings::OptimiseSettings;
 use crate::Scene;
@@ -97,10 +97,87 @@ impl<'a> PorosityProblem<'a> {
             })
     }
 
-    /// Whether the target lies in `range`, give or take the tolerance.
+    /// Whether the target lies in `range`, give or take the tolerance (never
+    /// in the empty range `[inf, -inf]`).
     pub fn feasible(&self, range: [f64; 2]) -> bool {
         let (t, tol) = (self.settings.target_porosity, self.settings.tolerance);
         range[0] - tol <= t && t <= range[1] + tol
+    }
+
+    /// Whether a search that ended as `evolution` could have reached any
+    /// target the packing rules can reach, so that missing one is a verdict
+    /// on the target rather than on the search: generation 0 held both ends
+    /// of the packing-rule range (a population of at least
+    /// [`CONCLUSIVE_POPULATION`]: two densest genomes, two loosest), and the
+    /// search ran its course: it stopped for stagnation (its best had not
+    /// improved for `stagnation` generations), or at its generation limit
+    /// after at least `stagnation` generations. A search stopped by the time
+    /// limit or a cancel is not conclusive.
+    pub fn conclusive<O>(&self, evolution: &Evolution<O>) -> bool {
+        let generations = evolution.history.len().saturating_sub(1);
+        let ran = match evolution.stop {
+            StopReason::Stagnation => true,
+            StopReason::Generations => generations >= self.settings.stagnation,
+            _ => false,
+        };
+        self.settings.population >= CONCLUSIVE_POPULATION && ran
+    }
+
+    /// What a finished search says of its target (see [`Verdict`]).
+    pub fn verdict<O>(&self, evolution: &Evolution<O>) -> Verdict {
+        match evolution.stop {
+            StopReason::Reached => Verdict::Reached,
+            StopReason::Interrupted => Verdict::Interrupted,
+            _ if self.feasible(evolution.explored) => Verdict::InRange,
+            _ if self.conclusive(evolution) => Verdict::OutOfReach,
+            _ => Verdict::NotReached,
+        }
+    }
+}
+
+/// Smallest population whose generation 0 holds both ends of the
+/// packing-rule range ([`PINNED_ENDS`] genomes at each).
+pub const CONCLUSIVE_POPULATION: usize = 2 * PINNED_ENDS;
+
+/// What a search says of its target.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Verdict {
+    /// A packing that honours the grading lies within the tolerance.
+    Reached,
+    /// The search was cut short: no verdict.
+    Interrupted,
+    /// Not reached, though the target lies within the range the packings
+    /// that honour the grading were seen to span: a longer search may reach it.
+    InRange,
+    /// Not reached, and outside that range, after a search that was not
+    /// [`PorosityProblem::conclusive`]: a longer or wider one may reach it.
+    NotReached,
+    /// Not reached, and outside that range (or no packing honoured the
+    /// grading), after a conclusive search: out of reach of this domain and grading.
+    OutOfReach,
+}
+
+impl Verdict {
+    /// `summary.json`'s `feasible`: true when reached or within the range
+    /// seen, false when out of reach, none when the search cannot tell.
+    pub fn feasible(self) -> Option<bool> {
+        match self {
+            Verdict::Reached | Verdict::InRange => Some(true),
+            Verdict::OutOfReach => Some(false),
+            Verdict::Interrupted | Verdict::NotReached => None,
+        }
+    }
+
+    /// The verdict in a few words (`summary.json`'s `verdict`).
+    pub fn describe(self) -> &'static str {
+        match self {
+            Verdict::Reached => "reached",
+            Verdict::Interrupted => "interrupted",
+            Verdict::InRange => "not reached, within range",
+            Verdict::NotReached => "not reached",
+            Verdict::OutOfReach => "out of reach",
+        }
     }
 }
 
@@ -188,5 +265,83 @@ impl Problem for PorosityProblem<'_> {
             tail_rate: 0.5,
             ..Variation::default()
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ga::Generation;
+    use crate::grading::Basis;
+    use crate::{Domain, Grading};
+
+    fn scene() -> Scene {
+        Scene::new(
+            Domain::rectangle(10.0, 10.0).expect("a domain"),
+            Grading::uniform(1.0, 2.0, Basis::Number).expect("a grading"),
+        )
+    }
+
+    /// A search of `population` that stopped for `stop` after `generations`,
+    /// its feasible packings spanning `explored`.
+    fn ended(stop: StopReason, generations: usize, explored: [f64; 2]) -> Evolution<()> {
+        let record = Generation {
+            index: 0,
+            best: Score::WORST,
+            mean_value: 0.0,
+            worst_value: 0.0,
+            evaluations: 0,
+            seconds: 0.0,
+        };
+        Evolution {
+            genes: Vec::new(),
+            best: Score::WORST,
+            outcome: (),
+            history: vec![record; generations + 1],
+            evaluations: 0,
+            stop,
+            seconds: 0.0,
+            explored,
+        }
+    }
+
+    #[test]
+    fn out_of_reach_only_after_a_conclusive_search() {
+        let scene = scene();
+        let settings = |population: usize| OptimiseSettings {
+            population,
+            stagnation: 10,
+            ..OptimiseSettings::new(0.4)
+        };
+        let wide = PorosityProblem::new(&scene, settings(16));
+        let narrow = PorosityProblem::new(&scene, settings(2));
+        let dense = [0.2251, 0.2517];
+        // Two genomes, one generation: the loosest rules were never tried.
+        let short = ended(StopReason::Generations, 1, dense);
+        assert_eq!(narrow.verdict(&short), Verdict::NotReached);
+        assert_eq!(wide.verdict(&short), Verdict::NotReached);
+        assert_eq!(Verdict::NotReached.feasible(), None);
+        // Ran its course: stagnation, or the generation limit past `stagnation`.
+        let stalled = ended(StopReason::Stagnation, 12, dense);
+        assert_eq!(wide.verdict(&stalled), Verdict::OutOfReach);
+        assert_eq!(narrow.verdict(&stalled), Verdict::NotReached);
+        let long = ended(StopReason::Generations, 10, dense);
+        assert_eq!(wide.verdict(&long), Verdict::OutOfReach);
+        assert_eq!(Verdict::OutOfReach.feasible(), Some(false));
+        // The time limit is no verdict on the target; nor is a cancel.
+        let timed = ended(StopReason::TimeLimit, 500, dense);
+        assert_eq!(wide.verdict(&timed), Verdict::NotReached);
+        let cut = ended(StopReason::Interrupted, 500, dense);
+        assert_eq!(wide.verdict(&cut), Verdict::Interrupted);
+        // No packing honoured the grading: the empty range holds no target.
+        let none = ended(
+            StopReason::Stagnation,
+            12,
+            [f64::INFINITY, f64::NEG_INFINITY],
+        );
+        assert_eq!(wide.verdict(&none), Verdict::OutOfReach);
+        let within = ended(StopReason::Stagnation, 12, [0.2, 0.5]);
+        assert_eq!(wide.verdict(&within), Verdict::InRange);
+        assert_eq!(Verdict::InRange.feasible(), Some(true));
     }
 }

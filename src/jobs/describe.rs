@@ -3,10 +3,11 @@
 
 use super::plan::{Job, Plan};
 use super::run::{Outcome, Report};
+use crate::check::{grading_kept, ks_limit};
 use crate::compare::Variant;
 use crate::config::ConfigName;
 use crate::fracture::{Extent, MM_PER_M};
-use crate::ga::Layered;
+use crate::ga::{Layered, Verdict};
 use crate::geometry::predicates::OVERLAP_REL;
 use crate::metrics::Metrics;
 use crate::packer::{PEAK_BYTES_PER_DISK, estimated_peak_bytes};
@@ -173,7 +174,7 @@ impl Outcome {
                         Some((steps, settled)) if !steps.is_empty() => {
                             let last = &steps[steps.len() - 1];
                             format!(
-                                "{dir}: window {:.1} mm of {:.0} mm ({:.1}%), porosity {:.4} ± {:.4}, coordination {:.2}, {} disks, {} windows in {}{}",
+                                "{dir}: window {:.1} mm of {:.0} mm ({:.1}%), porosity {:.4} ± {:.4}, coordination {:.2}, {} disks, {} windows in {}{}{}",
                                 last.length,
                                 w.length,
                                 100.0 * last.length / w.length,
@@ -187,7 +188,8 @@ impl Outcome {
                                     ""
                                 } else {
                                     " (not settled: the whole fracture was packed)"
-                                }
+                                },
+                                grading_note(&w.metrics)
                             )
                         }
                         _ => pack_line(dir, &w.metrics, w.row.seconds),
@@ -215,8 +217,20 @@ impl Outcome {
                 let layering = layered
                     .as_ref()
                     .map_or(String::new(), |l| format!("; {}", layering_line(l)));
+                // The stop says `target reached` or `interrupted`; otherwise the verdict.
+                let said = [Verdict::Reached, Verdict::Interrupted].map(Verdict::describe);
+                let verdict = if said.contains(&summary.verdict) {
+                    String::new()
+                } else if summary.achievable_range.is_none() {
+                    format!(
+                        "; target {}, no packing honoured the grading (max_psd_ks {})",
+                        summary.verdict, summary.max_psd_ks
+                    )
+                } else {
+                    format!("; target {}", summary.verdict)
+                };
                 lines.push(format!(
-                    "{at}: porosity {:.4} (target {}, error {:.4}), psd_ks {:.3}, {} disks, {} evaluations in {} generations, {} ({}){layering}",
+                    "{at}: porosity {:.4} (target {}, error {:.4}), psd_ks {:.3}, {} disks, {} evaluations in {} generations, {} ({}{verdict}){layering}{}",
                     metrics.porosity,
                     summary.target_porosity,
                     summary.error,
@@ -226,15 +240,17 @@ impl Outcome {
                     summary.generations,
                     duration(self.seconds()),
                     summary.stop,
+                    grading_note(metrics),
                 ));
             }
             Report::Layer {
                 metrics, layered, ..
             } => lines.push(format!(
-                "{at}: {} disks, porosity {:.4}, {}",
+                "{at}: {} disks, porosity {:.4}, {}{}",
                 metrics.particles,
                 metrics.porosity,
-                layering_line(layered)
+                layering_line(layered),
+                grading_note(metrics)
             )),
             Report::Compare {
                 runs,
@@ -319,14 +335,29 @@ fn interrupted_runs(done: usize, total: usize) -> String {
 /// `out/x: 345 disks, porosity 0.2139, psd_ks 0.061, max overlap 0, coordination 3.69, packed in 0.3 ms`.
 fn pack_line(at: &str, metrics: &Metrics, seconds: f64) -> String {
     format!(
-        "{at}: {} disks, porosity {:.4}, psd_ks {:.3}, max overlap {}, coordination {:.2}, packed in {}",
+        "{at}: {} disks, porosity {:.4}, psd_ks {:.3}, max overlap {}, coordination {:.2}, packed in {}{}",
         metrics.particles,
         metrics.porosity,
         metrics.psd_ks,
         overlap(metrics.max_overlap),
         metrics.coordination,
         duration(seconds),
+        grading_note(metrics),
     )
+}
+
+/// ` (grading bent: psd_ks 0.278 > 0.217)` when the packing's sizes lie
+/// beyond the sampling noise `gapack verify` allows ([`grading_kept`]); empty otherwise.
+fn grading_note(metrics: &Metrics) -> String {
+    if grading_kept(metrics.particles, metrics.psd_ks) {
+        String::new()
+    } else {
+        format!(
+            " (grading bent: psd_ks {:.3} > {:.3}, gapack verify rejects it)",
+            metrics.psd_ks,
+            ks_limit(metrics.particles)
+        )
+    }
 }
 
 /// `profile RMS 0.0123 (baseline 0.0187), GA 1.20 s, baseline 2.1 ms`.

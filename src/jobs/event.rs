@@ -35,8 +35,17 @@ pub enum WarningKind {
     /// The target lies outside the range the initial population spans.
     TargetOutsideInitialRange,
     /// The finished search never reached the target: it lies outside what
-    /// the packings that honour the grading were seen to reach.
+    /// the packings that honour the grading were seen to reach, after a
+    /// search that ran its course (`ga::PorosityProblem::conclusive`).
     TargetOutOfReach,
+    /// The search ended without reaching the target, and could not tell
+    /// whether it is out of reach (too small, too short, or timed out).
+    TargetNotReached,
+    /// A packing written bends the grading beyond the sampling noise that
+    /// `gapack verify` allows (`check::ks_limit`).
+    GradingBent,
+    /// Wells of a `[fracture]` batch that the job does not pack.
+    IgnoredWells,
 }
 
 /// A warning: its kind and a message naming config keys (never a front

@@ -9,7 +9,7 @@ use serde::Serialize;
 use super::error::JobError;
 use super::event::{Warning, WarningKind};
 use crate::config::{self, Config, ParseOptions};
-use crate::fracture::Extent;
+use crate::fracture::{Extent, FIRST_DIAMETERS, FractureRun, MM_PER_M};
 use crate::ga::OptimiseSettings;
 use crate::layering::{LayeringMode, LayeringSettings};
 
@@ -249,14 +249,6 @@ impl Plan {
                 if lays_out {
                     ignore("layering", "every generator packs the scene alone");
                 }
-                if let Some(run) = &config.fracture
-                    && run.wells.len() > 1
-                {
-                    ignore(
-                        "fracture",
-                        "only the first well's scene is compared; its other wells are not packed",
-                    );
-                }
                 Job::Compare {
                     target: config.optimise.map(|o| o.target_porosity),
                 }
@@ -285,6 +277,11 @@ impl Plan {
                 }
             }
         };
+        if request.kind == JobKind::Compare
+            && let Some(run) = &config.fracture
+        {
+            compare_fracture(run, origin, &mut warnings)?;
+        }
         let identity = identity(text, config.scene.seed);
         Ok(Plan {
             kind: request.kind,
@@ -305,6 +302,46 @@ impl Plan {
     pub fn extent(&self) -> Option<Extent> {
         self.config.fracture.as_ref().map(|f| f.extent)
     }
+}
+
+/// The compare job on a `[fracture]` config runs every generator on the
+/// first well's scene, packed whole. A window (`fracture.extent =
+/// "window"`) is refused: the user asked not to pack the whole fracture,
+/// and a comparison of generators on it would pack it whole every run. A
+/// batch of full wells is compared on its first well, with a warning
+/// naming `fracture.wells`.
+fn compare_fracture(
+    run: &FractureRun,
+    origin: &str,
+    warnings: &mut Vec<Warning>,
+) -> Result<(), JobError> {
+    let Some(first) = run.wells.first() else {
+        return Ok(());
+    };
+    let others = run.wells.len() - 1;
+    if let Extent::Window { .. } = run.extent {
+        return Err(JobError::Input(format!(
+            "{origin}: fracture.extent = \"window\": the compare job packs one scene whole with every generator and grows no windows, so it would pack all {} m of well \"{}\"{} instead of a window; set fracture.extent = \"full\" to compare on the whole fracture, or give a [domain] the size of a window (its first is {FIRST_DIAMETERS}·d_max = {} mm long) to compare on one",
+            first.fracture.length / MM_PER_M,
+            first.name,
+            if others > 0 {
+                format!(" (and none of the other {others} of fracture.wells)")
+            } else {
+                String::new()
+            },
+            FIRST_DIAMETERS * first.scene.d_max(),
+        )));
+    }
+    if others > 0 {
+        warnings.push(Warning {
+            kind: WarningKind::IgnoredWells,
+            message: format!(
+                "{origin}: fracture.wells: the compare job compares the generators on the first well, \"{}\", packed whole; the other {others} wells are not packed",
+                first.name
+            ),
+        });
+    }
+    Ok(())
 }
 
 /// Where a run of the config at `path` writes: `out` if given, else the
@@ -353,6 +390,33 @@ mod tests {
             "{err}"
         );
         assert!(err.is_input());
+    }
+
+    const TWO_WELLS: &str = "[fracture]\nextent = \"EXTENT\"\n[[fracture.wells]]\nname = \"a\"\nwidth_mm = 6\nheight_m = 0.05\n[[fracture.wells]]\nname = \"b\"\nwidth_mm = 8\nheight_m = 0.05\n[grading]\nuniform = [1.0, 1.5]\n";
+
+    #[test]
+    fn compare_refuses_a_window_and_names_the_wells_it_does_not_pack() {
+        let window = TWO_WELLS.replace("EXTENT", "window");
+        let err = Plan::load(&window, "w.toml", &Request::new(JobKind::Compare))
+            .expect_err("a window is not compared");
+        assert!(err.is_input());
+        let said = err.to_string();
+        for key in [
+            "fracture.extent = \"window\"",
+            "well \"a\"",
+            "fracture.wells",
+            "fracture.extent = \"full\"",
+        ] {
+            assert!(said.contains(key), "{said} does not name {key}");
+        }
+        // The same batch packed whole is compared on its first well, said so.
+        let full = TWO_WELLS.replace("EXTENT", "full");
+        let plan = Plan::load(&full, "f.toml", &Request::new(JobKind::Compare)).expect("plans");
+        assert_eq!(plan.warnings.len(), 1, "{:?}", plan.warnings);
+        assert_eq!(plan.warnings[0].kind, WarningKind::IgnoredWells);
+        assert!(plan.warnings[0].message.contains("fracture.wells: the compare job compares the generators on the first well, \"a\", packed whole; the other 1 wells"), "{}", plan.warnings[0].message);
+        // The pack job grows its windows, as asked.
+        Plan::load(&window, "w.toml", &Request::new(JobKind::Pack)).expect("pack plans a window");
     }
 
     #[test]

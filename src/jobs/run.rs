@@ -10,12 +10,13 @@ use super::event::{Event, Observer, Stage, Warning, WarningKind};
 use super::plan::{Job, JobKind, Plan};
 use super::store::{Store, StoreError};
 use crate::cancel::{Cancel, Cancelled};
+use crate::check::{KS_MARGIN, grading_kept, ks_limit};
 use crate::compare::{CompareRun, Variant, compare};
 use crate::config::Config;
 use crate::fracture::{Extent, MM_PER_M, Well, Window, WindowError, WindowStep, settle};
 use crate::ga::{
-    Checkpoint, Generation, Layered, Limits, OptimiseSettings, PorosityProblem, Search, StopReason,
-    lay_out,
+    CONCLUSIVE_POPULATION, Checkpoint, Evolution, Generation, Layered, Limits, OptimiseSettings,
+    PorosityProblem, Search, StopReason, Verdict, lay_out,
 };
 use crate::layering::LayeringSettings;
 use crate::metrics::{Metrics, measure};
@@ -257,7 +258,25 @@ impl Running<'_> {
         run: &RunInfo<'_>,
     ) -> Result<(), JobError> {
         let files = render_outputs(packing, metrics, run)?;
-        self.write(folder, files)
+        self.write(folder, files)?;
+        if !grading_kept(metrics.particles, metrics.psd_ks) {
+            let advice = match self.plan.job {
+                Job::Optimise { .. } => {
+                    "a smaller optimise.max_psd_ks, another seed or a larger domain"
+                }
+                _ => "another seed, a larger domain, or packer.max_deferred = 0",
+            };
+            self.event(Event::Warning(Warning {
+                kind: WarningKind::GradingBent,
+                message: format!(
+                    "{folder}packing.csv bends the grading: psd_ks {:.4} exceeds {:.4}, the sampling noise of {} sizes + {KS_MARGIN}, so `gapack verify` rejects it (summary.json: grading_kept = false); try {advice}",
+                    metrics.psd_ks,
+                    ks_limit(metrics.particles),
+                    metrics.particles,
+                ),
+            }));
+        }
+        Ok(())
     }
 
     /// Pack `scene` with progress events; a cancel is [`JobError::Cancelled`].
@@ -472,14 +491,20 @@ impl Running<'_> {
         } else {
             Search::start(&problem, limits, plan.seed(), &stop).map_err(|_| JobError::Cancelled)?
         };
-        let initial_range = PorosityProblem::range(search.initial());
-        if !problem.feasible(initial_range) && !resume {
+        let initial_range = span(PorosityProblem::range(search.initial()));
+        if !resume && initial_range.is_none_or(|r| !problem.feasible(r)) {
             self.event(Event::Warning(Warning {
                 kind: WarningKind::TargetOutsideInitialRange,
-                message: format!(
-                    "optimise.target_porosity = {} lies outside the range of the initial population, [{:.4}, {:.4}]; searching beyond it",
-                    settings.target_porosity, initial_range[0], initial_range[1]
-                ),
+                message: match initial_range {
+                    Some([lo, hi]) => format!(
+                        "optimise.target_porosity = {} lies outside the range of the initial population, [{lo:.4}, {hi:.4}]; searching beyond it",
+                        settings.target_porosity
+                    ),
+                    None => format!(
+                        "optimise.target_porosity = {}: no genome of the initial population could be packed; searching on",
+                        settings.target_porosity
+                    ),
+                },
             }));
         }
         self.event(Event::Stage {
@@ -518,18 +543,9 @@ impl Running<'_> {
             )
         };
         let interrupted = evolution.stop == StopReason::Interrupted;
-        let reached = evolution.stop == StopReason::Reached;
-        let range = evolution.explored;
-        let feasible = reached || problem.feasible(range);
-        if !feasible && !interrupted {
-            self.event(Event::Warning(Warning {
-                kind: WarningKind::TargetOutOfReach,
-                message: format!(
-                    "optimise.target_porosity = {} is out of reach: the packings that honour the grading span [{:.4}, {:.4}]; the nearest one, {:.4}, is written",
-                    settings.target_porosity, range[0], range[1], evolution.best.value
-                ),
-            }));
-        }
+        let verdict = problem.verdict(&evolution);
+        let range = span(evolution.explored);
+        let warning = verdict_warning(settings, &evolution, verdict, range);
         let Some(mut packing) = evolution.outcome else {
             return Err(JobError::NothingPacked);
         };
@@ -543,6 +559,9 @@ impl Running<'_> {
             None => single_material(&mut packing, config),
         }
         let metrics = measure(&packing, &best_scene);
+        if let Some(warning) = warning {
+            self.event(Event::Warning(warning));
+        }
         let summary = OptimiseSummary {
             target_porosity: settings.target_porosity,
             tolerance: settings.tolerance,
@@ -552,7 +571,8 @@ impl Running<'_> {
             evaluations: evolution.evaluations,
             generations: evolution.history.len().saturating_sub(1),
             population: settings.population,
-            feasible,
+            feasible: verdict.feasible(),
+            verdict: verdict.describe(),
             achievable_range: range,
             initial_range,
             interrupted,
@@ -787,6 +807,69 @@ impl Running<'_> {
 }
 
 /// A generation record as an event.
+/// A range of values, or none for the empty range `[inf, -inf]` (nothing
+/// seen) or anything else that is not one: never an infinite range.
+fn span([lo, hi]: [f64; 2]) -> Option<[f64; 2]> {
+    (lo.is_finite() && hi.is_finite() && lo <= hi).then_some([lo, hi])
+}
+
+/// The warning a finished search gives about its target, if any: out of
+/// reach only after a conclusive search (`PorosityProblem::conclusive`),
+/// else not reached in so many evaluations.
+fn verdict_warning<O>(
+    settings: &OptimiseSettings,
+    evolution: &Evolution<O>,
+    verdict: Verdict,
+    range: Option<[f64; 2]>,
+) -> Option<Warning> {
+    let target = settings.target_porosity;
+    let generations = evolution.history.len().saturating_sub(1);
+    let effort = format!(
+        "{} evaluations in {generations} generation{} of {} genomes ({})",
+        evolution.evaluations,
+        if generations == 1 { "" } else { "s" },
+        settings.population,
+        evolution.stop.describe()
+    );
+    let seen = match range {
+        Some([lo, hi]) => format!(
+            "the packings that honour the grading span [{lo:.4}, {hi:.4}]; the nearest one, {:.4}, is written",
+            evolution.best.value
+        ),
+        None => format!(
+            "no packing honoured the grading (optimise.max_psd_ks = {}); the one nearest to it, porosity {:.4}, is written",
+            settings.max_psd_ks, evolution.best.value
+        ),
+    };
+    let longer = if settings.population < CONCLUSIVE_POPULATION {
+        format!(
+            "a longer search may reach it (optimise.generations, optimise.stagnation, optimise.time_limit_s), and a population of at least {CONCLUSIVE_POPULATION} tries the loosest packing rules (optimise.population)"
+        )
+    } else {
+        "a longer search may reach it (optimise.generations, optimise.stagnation, optimise.time_limit_s)".to_owned()
+    };
+    let (kind, message) = match verdict {
+        Verdict::Reached | Verdict::Interrupted => return None,
+        Verdict::OutOfReach => (
+            WarningKind::TargetOutOfReach,
+            format!("optimise.target_porosity = {target} is out of reach: after {effort}, {seen}"),
+        ),
+        Verdict::InRange => (
+            WarningKind::TargetNotReached,
+            format!(
+                "optimise.target_porosity = {target} was not reached in {effort}, though it lies within the range seen: {seen}; {longer}"
+            ),
+        ),
+        _ => (
+            WarningKind::TargetNotReached,
+            format!(
+                "optimise.target_porosity = {target} was not reached in {effort}: {seen}; {longer}"
+            ),
+        ),
+    };
+    Some(Warning { kind, message })
+}
+
 fn generation(stage: Stage, g: &Generation) -> Event {
     Event::Generation {
         stage,

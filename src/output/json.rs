@@ -33,6 +33,8 @@ pub(super) struct Summary<'a> {
     grading: GradingSummary,
     #[serde(flatten)]
     metrics: &'a Metrics,
+    /// Whether `psd_ks` lies within the sampling noise `gapack verify` allows.
+    grading_kept: bool,
     seconds: f64,
     stats: StatsSummary,
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
@@ -150,14 +152,21 @@ pub struct OptimiseSummary {
     pub generations: usize,
     /// Genomes per generation.
     pub population: usize,
-    /// Whether the target was reached, or lies in the achievable range (± tolerance).
-    pub feasible: bool,
+    /// Whether the target was reached or lies in the achievable range
+    /// (± tolerance): true; out of reach after a search that ran its
+    /// course: false; `None` (null) when the search cannot tell.
+    pub feasible: Option<bool>,
+    /// What the search says of its target: `reached`, `not reached, within
+    /// range`, `not reached`, `out of reach` or `interrupted`.
+    pub verdict: &'static str,
     /// Porosity range of the packings the search made that honour the
-    /// grading (`max_psd_ks`): what this domain and grading were seen to reach.
-    pub achievable_range: [f64; 2],
+    /// grading (`max_psd_ks`): what this domain and grading were seen to
+    /// reach; `None` (null) when no packing honoured it.
+    pub achievable_range: Option<[f64; 2]>,
     /// The estimate before the search: the range the initial population
-    /// spanned, from dense to the loosest packing rules.
-    pub initial_range: [f64; 2],
+    /// spanned, from dense to the loosest packing rules; `None` (null) when
+    /// no initial genome could be packed.
+    pub initial_range: Option<[f64; 2]>,
     /// Whether the run was stopped by Ctrl-C (the best packing so far is written).
     pub interrupted: bool,
     /// Why the run stopped: `target reached`, `interrupted`, `generation limit`,
@@ -239,6 +248,7 @@ pub(super) fn summary<'a>(
             basis: scene.grading.basis().config_name(),
         },
         metrics,
+        grading_kept: crate::check::grading_kept(metrics.particles, metrics.psd_ks),
         seconds: run.seconds,
         stats: packing.stats.into(),
         optimise: run.optimise.map(|(summary, _)| summary),
