@@ -10,9 +10,10 @@
 //! names what must happen (`# expect: exit N`), that exit code.
 //!
 //! Inputs live in `tests/data/replay/`: `config/*.toml` (validated, then run
-//! with the job their `# Run:` line names when valid), `table/*.csv` (given
+//! with the job their `# Run:` line names, else `pack`), `table/*.csv` (given
 //! to `verify` and `plot`), `checkpoint/*.json` (resumed by `optimise` over
-//! `optimise.toml`). Add the input of every new fault there.
+//! `optimise.toml`; `refused_*` ones must be refused with exit 2). Add the
+//! input of every new fault there.
 
 mod common;
 #[path = "common/json_edit.rs"]
@@ -135,16 +136,27 @@ fn every_config_that_ever_failed_is_refused_or_runs_within_bounds() {
         let ran = bounded(&dir, &[job, &name, "--out", "out", "--quiet"]);
         judge(&format!("{job} {name}"), &ran, expected(&text));
         if ran.code == Some(2) {
-            assert_eq!(validated.code, Some(2), "{name}: validate passed what the run refused");
-            assert!(!dir.join("out").exists(), "{name}: a refused run left its folder");
+            assert_eq!(
+                validated.code,
+                Some(2),
+                "{name}: validate passed what the run refused"
+            );
+            assert!(
+                !dir.join("out").exists(),
+                "{name}: a refused run left its folder"
+            );
         }
         let _ = fs::remove_dir_all(dir.join("out"));
     }
 }
 
-/// `verify` and `plot` of one table file in `dir`.
+/// `verify` (against the shipped default scene) and `plot` (framed by the
+/// disks) of one table file in `dir`.
 fn inspect(dir: &Path, name: &str, expect: Option<i32>) {
-    judge(&format!("verify {name}"), &bounded(dir, &["verify", name]), expect);
+    let default = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/default.toml");
+    let default = default.to_str().expect("a UTF-8 path");
+    let verified = bounded(dir, &["verify", name, "--config", default]);
+    judge(&format!("verify {name}"), &verified, expect);
     let plotted = bounded(dir, &["plot", name, "--out", "pictures"]);
     judge(&format!("plot {name}"), &plotted, None);
     let _ = fs::remove_dir_all(dir.join("pictures"));
@@ -241,13 +253,24 @@ fn resume(dir: &Path, checkpoint: &[u8]) -> Ended {
     fs::write(dir.join("out").join(jobs::CHECKPOINT_JSON), checkpoint).unwrap();
     bounded(
         dir,
-        &["optimise", "optimise.toml", "--out", "out", "--resume", "--quiet"],
+        &[
+            "optimise",
+            "optimise.toml",
+            "--out",
+            "out",
+            "--resume",
+            "--quiet",
+        ],
     )
 }
 
 fn checkpoint_dir(name: &str) -> PathBuf {
     let dir = scratch(name);
-    fs::copy(replay_dir().join("optimise.toml"), dir.join("optimise.toml")).unwrap();
+    fs::copy(
+        replay_dir().join("optimise.toml"),
+        dir.join("optimise.toml"),
+    )
+    .unwrap();
     dir
 }
 
@@ -258,7 +281,9 @@ fn every_checkpoint_that_ever_failed_is_refused_or_resumed_within_bounds() {
     judge("a real checkpoint", &real, Some(0));
     for path in inputs("checkpoint", "json") {
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
-        judge(&name, &resume(&dir, &fs::read(&path).unwrap()), None);
+        // `refused_*` checkpoints must be refused as bad input.
+        let expect = name.starts_with("refused_").then_some(2);
+        judge(&name, &resume(&dir, &fs::read(&path).unwrap()), expect);
     }
 }
 

@@ -49,7 +49,8 @@ fuzz_mutator!(|data: &mut [u8], size: usize, max_size: usize, seed: u32| {
     let Ok(mut value) = serde_json::from_slice::<Value>(&data[..size]) else {
         return fuzzer_mutate(data, size, max_size);
     };
-    json_edit::edit_at(&mut value, seed as usize % json_edit::places(&value), seed >> 16);
+    let place = seed as usize % json_edit::places(&value);
+    json_edit::edit_at(&mut value, place, seed >> 16);
     match serde_json::to_vec(&value) {
         Ok(bytes) if bytes.len() <= max_size => {
             data[..bytes.len()].copy_from_slice(&bytes);
