@@ -194,9 +194,14 @@ fn run_job(kind: JobKind, args: &JobArgs) -> Result<(), Failure> {
     let mut store = DirStore::new(&out);
     let cancel = Cancel::new();
     let handler = cancel.clone();
-    // Without a handler (one is already installed) Ctrl-C ends the process:
-    // every file set is written atomically, so nothing partial is left.
-    let _ = ctrlc::set_handler(move || handler.cancel());
+    // The handler only raises the token, on a thread of its own: the
+    // process never exits from a signal, so a run being committed finishes
+    // its commit (or undoes it) and removes its temporary files before
+    // `main` returns. Without a handler a signal would end the process
+    // where it stands: say so rather than run unprotected in silence.
+    if let Err(e) = ctrlc::set_handler(move || handler.cancel()) {
+        eprintln!("warning: cannot catch Ctrl-C and SIGTERM ({e}); they will end gapack at once");
+    }
     let mut observer = ProgressObserver::new(args.quiet);
     let outcome = jobs::run(&plan, &mut observer, &cancel, &mut store);
     observer.finish();

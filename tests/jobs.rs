@@ -623,3 +623,180 @@ fn compare_on_a_batch_names_the_wells_it_leaves_and_refuses_a_window() {
         "{err}"
     );
 }
+
+// ---------------------------------------------------------------------------
+// Whole-run atomicity: a run that fails leaves nothing of its own, and the
+// earlier run's files as they were; links inside the folder are never
+// followed.
+// ---------------------------------------------------------------------------
+
+/// Two small full fractures: a batch of two wells, `A-1/` and `B-2/`.
+const BATCH: &str = "seed = 2\n[fracture]\nextent = \"full\"\nheight_m = 0.1\n\
+    [[fracture.wells]]\nname = \"A-1\"\nwidth_mm = 2.6\n\
+    [[fracture.wells]]\nname = \"B-2\"\nwidth_mm = 4.2\n\
+    [grading]\npreset = \"20/40\"\nbasis = \"mass\"\n[output]\nformats = [\"csv\"]\n";
+
+/// A store in memory that refuses any set holding a file under `refused`:
+/// a write failure injected in the middle of a batch.
+struct Refusing {
+    inner: MemoryStore,
+    refused: &'static str,
+}
+
+impl jobs::Store for Refusing {
+    fn write(&mut self, files: &[(String, Vec<u8>)]) -> Result<(), jobs::StoreError> {
+        if files.iter().any(|(name, _)| name.starts_with(self.refused)) {
+            // Any store error will do: the job must write nothing at all.
+            return Err(jobs::StoreError::Name(self.refused.to_owned()));
+        }
+        self.inner.write(files)
+    }
+
+    fn read(&self, name: &str) -> Result<Option<Vec<u8>>, jobs::StoreError> {
+        self.inner.read(name)
+    }
+
+    fn remove(&mut self, name: &str) -> Result<(), jobs::StoreError> {
+        self.inner.remove(name)
+    }
+
+    fn location(&self) -> String {
+        "refusing".to_owned()
+    }
+}
+
+/// Every file under `dir` with its length and a hash of its bytes (a
+/// link with its target, a folder with a `/`).
+fn tree(dir: &std::path::Path) -> Vec<(String, String)> {
+    use std::hash::{Hash, Hasher};
+    let mut all = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for entry in fs::read_dir(&d).unwrap() {
+            let path = entry.unwrap().path();
+            let name = path.strip_prefix(dir).unwrap().display().to_string();
+            let meta = fs::symlink_metadata(&path).unwrap();
+            if meta.file_type().is_symlink() {
+                let target = fs::read_link(&path).unwrap();
+                all.push((name, format!("-> {}", target.display())));
+            } else if meta.is_dir() {
+                all.push((format!("{name}/"), String::new()));
+                stack.push(path);
+            } else {
+                let bytes = fs::read(&path).unwrap();
+                let mut h = std::collections::hash_map::DefaultHasher::new();
+                bytes.hash(&mut h);
+                all.push((name, format!("{} bytes, {:016x}", bytes.len(), h.finish())));
+            }
+        }
+    }
+    all.sort();
+    all
+}
+
+#[test]
+fn a_batch_whose_second_well_cannot_be_stored_leaves_nothing() {
+    let plan = plan(BATCH, JobKind::Pack);
+    let mut store = Refusing {
+        inner: MemoryStore::default(),
+        refused: "B-2/",
+    };
+    let err = jobs::run(&plan, &mut jobs::Silent, &Cancel::new(), &mut store)
+        .expect_err("the second well cannot be stored");
+    assert!(matches!(err, JobError::Store(_)), "{err:?}");
+    assert!(!err.is_input());
+    let left: Vec<&String> = store.inner.files.keys().collect();
+    assert!(left.is_empty(), "a failed batch left {left:?}");
+
+    // The same store takes the whole batch when nothing is refused.
+    store.refused = "no such folder/";
+    let outcome = jobs::run(&plan, &mut jobs::Silent, &Cancel::new(), &mut store).expect("runs");
+    assert!(outcome.files.contains(&"A-1/packing.csv".to_owned()));
+    assert!(outcome.files.contains(&"B-2/packing.csv".to_owned()));
+    assert!(outcome.files.contains(&"wells.csv".to_owned()));
+}
+
+#[test]
+fn a_failed_batch_leaves_the_earlier_run_as_it_was() {
+    let dir = scratch("batch-blocked");
+    let out = dir.join("out");
+    let single = format!("{SQUARE}[output]\nformats = [\"csv\"]\n");
+    jobs::run(
+        &plan(&single, JobKind::Pack),
+        &mut jobs::Silent,
+        &Cancel::new(),
+        &mut DirStore::new(&out),
+    )
+    .expect("the earlier run");
+    // The second well's folder cannot be made: a file has its name.
+    fs::write(out.join("B-2"), "mine").unwrap();
+    let before = tree(&out);
+    let err = jobs::run(
+        &plan(BATCH, JobKind::Pack),
+        &mut jobs::Silent,
+        &Cancel::new(),
+        &mut DirStore::new(&out),
+    )
+    .expect_err("B-2 cannot be a folder");
+    assert!(!err.is_input(), "{err:?}");
+    assert_eq!(
+        tree(&out),
+        before,
+        "the folder is as the earlier run left it: no A-1/, no wells.csv, no temporary file"
+    );
+}
+
+#[test]
+fn a_symlinked_well_folder_is_never_written_or_removed_through() {
+    let dir = scratch("batch-symlink");
+    let out = dir.join("out");
+    let elsewhere = dir.join("elsewhere");
+    fs::create_dir_all(&out).unwrap();
+    fs::create_dir_all(&elsewhere).unwrap();
+    std::os::unix::fs::symlink("../elsewhere", out.join("A-1")).unwrap();
+    let run = |text: &str| {
+        jobs::run(
+            &plan(text, JobKind::Pack),
+            &mut jobs::Silent,
+            &Cancel::new(),
+            &mut DirStore::new(&out),
+        )
+    };
+    let err = run(BATCH).expect_err("A-1 is a link");
+    let message = format!("{:#}", anyhow::Error::from(err));
+    let link = out.join("A-1");
+    assert!(
+        message.contains(&format!(
+            "will not write through {}: it is a symbolic link",
+            link.display()
+        )),
+        "{message}"
+    );
+    assert!(
+        fs::read_dir(&elsewhere).unwrap().next().is_none(),
+        "nothing is written out of the folder"
+    );
+    assert_eq!(
+        tree(&out),
+        [("A-1".to_owned(), "-> ../elsewhere".to_owned())]
+    );
+
+    // A batch written, then its well folder swapped for a link to a folder
+    // holding a file of the same name: the next run's stale files are
+    // never removed through the link.
+    fs::remove_file(&link).unwrap();
+    run(BATCH).expect("the batch");
+    fs::remove_dir_all(&link).unwrap();
+    fs::write(elsewhere.join("packing.csv"), "not gapack's").unwrap();
+    std::os::unix::fs::symlink("../elsewhere", &link).unwrap();
+    let before = tree(&out);
+    let single = format!("{SQUARE}[output]\nformats = [\"csv\"]\n");
+    let err = run(&single).expect_err("A-1 is a link");
+    let message = format!("{:#}", anyhow::Error::from(err));
+    assert!(message.contains("will not remove through"), "{message}");
+    assert_eq!(
+        fs::read(elsewhere.join("packing.csv")).unwrap(),
+        b"not gapack's"
+    );
+    assert_eq!(tree(&out), before, "the failed run changed nothing");
+}

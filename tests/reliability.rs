@@ -340,3 +340,121 @@ fn an_interrupted_stability_sweep_writes_the_runs_it_finished() {
     assert!(table.lines().count() > 1, "some runs finished: {table}");
     assert!(stderr.contains("stopped"), "{stderr}");
 }
+
+// ---------------------------------------------------------------------------
+// No debris: a signal while a run's files are being written leaves no
+// temporary file; a failed batch leaves nothing of its own.
+// ---------------------------------------------------------------------------
+
+/// About 1.1 million disks of the thesis' Table 3.4 sizes: a packing.csv
+/// of some 70 MB, whose writing takes long enough to be signalled.
+const HUGE: &str = "[domain]\nshape = \"rectangle\"\nwidth = 1280\nheight = 1280\n[grading]\ntable = [[1.200, 0], [1.215, 11], [1.225, 21], [1.235, 31], [1.245, 43], [1.255, 54], [1.265, 65], [1.275, 77], [1.285, 89], [1.295, 100]]\n[output]\nformats = [\"csv\"]\n";
+
+/// The hidden files (temporaries, backups) anywhere under `dir`.
+fn hidden(dir: &Path) -> Vec<String> {
+    let mut found = Vec::new();
+    for entry in fs::read_dir(dir).unwrap() {
+        let entry = entry.unwrap();
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if name.starts_with('.') {
+            found.push(entry.path().display().to_string());
+        }
+        if entry.file_type().unwrap().is_dir() {
+            found.extend(hidden(&entry.path()));
+        }
+    }
+    found
+}
+
+#[test]
+fn sigterm_while_a_huge_packing_is_written_leaves_no_temporary_file() {
+    let dir = scratch("sigterm-write");
+    fs::write(dir.join("huge.toml"), HUGE).unwrap();
+    let out = dir.join("out");
+    // Signalled once a temporary file is on disk: the write is under way.
+    let writing = || out.exists() && !hidden(&out).is_empty();
+    let args = ["pack", "huge.toml", "--out", "out", "--quiet"];
+    let (code, stderr) = signalled(&dir, &args, "TERM", writing);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    // The packing was finished: its files are committed whole, then the
+    // process exits by itself (it never exits from the signal handler).
+    assert_eq!(hidden(&out), Vec::<String>::new(), "temporary files left");
+    assert_eq!(code, Some(0), "{stderr}");
+    let manifest = summary(&out.join("manifest.json"));
+    for file in manifest["files"].as_array().unwrap() {
+        assert!(out.join(file.as_str().unwrap()).is_file(), "{file}");
+    }
+    let particles = summary(&out.join("summary.json"))["particles"]
+        .as_u64()
+        .unwrap();
+    assert!(particles > 1_000_000, "{particles} disks");
+    let rows = fs::read_to_string(out.join("packing.csv"))
+        .unwrap()
+        .lines()
+        .count();
+    assert_eq!(rows as u64, particles + 1, "packing.csv is whole");
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_batch_whose_second_well_folder_is_taken_fails_and_leaves_the_folder_as_it_was() {
+    let dir = scratch("batch-taken");
+    let batch = "seed = 2\n[fracture]\nextent = \"full\"\nheight_m = 0.1\n\
+        [[fracture.wells]]\nname = \"A-1\"\nwidth_mm = 2.6\n\
+        [[fracture.wells]]\nname = \"B-2\"\nwidth_mm = 4.2\n\
+        [grading]\npreset = \"20/40\"\nbasis = \"mass\"\n[output]\nformats = [\"csv\"]\n";
+    fs::write(dir.join("batch.toml"), batch).unwrap();
+    let first = gapack(&dir, &["pack", "batch.toml", "--out", "out", "--quiet"]);
+    assert!(first.status.success());
+    let listing = |d: &Path| -> Vec<(String, Vec<u8>)> {
+        let mut all: Vec<_> = fs::read_dir(d)
+            .unwrap()
+            .map(|e| {
+                let e = e.unwrap();
+                let bytes = if e.file_type().unwrap().is_file() {
+                    fs::read(e.path()).unwrap()
+                } else {
+                    Vec::new()
+                };
+                (e.file_name().to_string_lossy().into_owned(), bytes)
+            })
+            .collect();
+        all.sort();
+        all
+    };
+    // The second well's folder cannot be written: a file has taken its name.
+    fs::remove_dir_all(dir.join("out/B-2")).unwrap();
+    fs::write(dir.join("out/B-2"), "mine").unwrap();
+    let (top, a1) = (listing(&dir.join("out")), listing(&dir.join("out/A-1")));
+    let second = gapack(
+        &dir,
+        &[
+            "pack",
+            "batch.toml",
+            "--out",
+            "out",
+            "--seed",
+            "5",
+            "--quiet",
+        ],
+    );
+    assert_eq!(second.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&second.stderr);
+    assert!(
+        stderr.starts_with(
+            "error: cannot write the outputs: cannot create directory out/B-2: a file is in the way"
+        ),
+        "{stderr}"
+    );
+    assert_eq!(
+        listing(&dir.join("out")),
+        top,
+        "the earlier run is as it was"
+    );
+    assert_eq!(
+        listing(&dir.join("out/A-1")),
+        a1,
+        "A-1 keeps the earlier run's files"
+    );
+    let _ = fs::remove_dir_all(&dir);
+}

@@ -126,7 +126,8 @@ pub enum Event {
     },
     /// Something the user should know.
     Warning(Warning),
-    /// A set of files was written, names relative to the run's folder.
+    /// The run's files were committed (once, at its end, `manifest.json`
+    /// included), names relative to the run's folder.
     Written {
         /// The files.
         files: Vec<String>,

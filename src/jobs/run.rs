@@ -138,10 +138,13 @@ pub struct WellOutcome {
 /// Run `plan`: events to `observer`, stopped by `cancel`, files to `store`.
 ///
 /// # Behavior
-/// Every file set goes to the store whole or not at all, after the packing
-/// has passed an independent check. At the end the run's `manifest.json`
-/// lists its files, and files an earlier run left in the same place that
-/// this run did not write are removed. A cancelled job returns what it
+/// Every file is made in memory (a packing's after it has passed an
+/// independent check) and the run's files go to the store in one
+/// [`Store::commit`] at the end, whole or not at all: its files, its
+/// `manifest.json` listing them, and the removal of the files an earlier
+/// run left in the same place that this run did not write. A run that
+/// fails — bad input, a scene that cannot be packed, a well of a batch that
+/// cannot be written — leaves the store as it found it. A cancelled job returns what it
 /// finished: the search its best packing so far (and a checkpoint), a
 /// batch its finished wells, a comparison or sweep its finished runs; a
 /// job with nothing finished writes nothing and returns
@@ -165,18 +168,30 @@ pub fn run(
         observer,
         store,
         files: Vec::new(),
+        pending: Vec::new(),
     };
-    let (report, interrupted) = match &plan.job {
-        Job::Pack => job.pack(cancel)?,
-        Job::Wells { batch } => job.wells(*batch, cancel)?,
+    let done = match &plan.job {
+        Job::Pack => job.pack(cancel),
+        Job::Wells { batch } => job.wells(*batch, cancel),
         Job::Optimise {
             settings,
             resume,
             checkpoint_every,
-        } => job.optimise(settings, *resume, *checkpoint_every, cancel)?,
-        Job::Layer { settings } => job.layer(settings, cancel)?,
-        Job::Compare { target } => job.compare(*target, cancel)?,
-        Job::Stability { time_cap } => job.stability(*time_cap, cancel)?,
+        } => job.optimise(settings, *resume, *checkpoint_every, cancel),
+        Job::Layer { settings } => job.layer(settings, cancel),
+        Job::Compare { target } => job.compare(*target, cancel),
+        Job::Stability { time_cap } => job.stability(*time_cap, cancel),
+    };
+    let (report, interrupted) = match done {
+        Ok(done) => done,
+        Err(e @ JobError::Checkpoint(_)) => {
+            // The search stopped early and keeps its best packing: that
+            // result is committed (as interrupted), then the error is told.
+            job.finish(true)?;
+            return Err(e);
+        }
+        // Nothing of a failed or refused run is committed: no file, no folder.
+        Err(e) => return Err(e),
     };
     let files = job.finish(interrupted)?;
     Ok(Outcome {
@@ -217,12 +232,18 @@ struct CheckpointFile<'a> {
     search: Cow<'a, Checkpoint>,
 }
 
-/// A job under way: its plan, its observer, its store and the files written so far.
+/// A job under way: its plan, its observer, its store, the names of its
+/// files so far and the files it has made but not yet committed.
 struct Running<'p> {
     plan: &'p Plan,
     observer: &'p mut dyn Observer,
     store: &'p mut dyn Store,
+    /// Every file of the run, for the manifest (a checkpoint the search
+    /// wrote itself included).
     files: Vec<String>,
+    /// The files made, held until [`Running::finish`] commits them with
+    /// the manifest in one step: a run that fails leaves none of them.
+    pending: Vec<(String, Vec<u8>)>,
 }
 
 impl Running<'_> {
@@ -234,18 +255,14 @@ impl Running<'_> {
         self.observer.event(&event);
     }
 
-    /// Write a set of files under `folder` and record them.
+    /// Add a set of files under `folder` to the run's files, committed by
+    /// [`Running::finish`] with all the others or not at all.
     fn write(&mut self, folder: &str, files: Vec<(String, Vec<u8>)>) -> Result<(), JobError> {
-        let files: Vec<(String, Vec<u8>)> = files
-            .into_iter()
-            .map(|(name, bytes)| (format!("{folder}{name}"), bytes))
-            .collect();
-        self.store.write(&files)?;
-        let names: Vec<String> = files.into_iter().map(|(name, _)| name).collect();
-        self.event(Event::Written {
-            files: names.clone(),
-        });
-        self.files.extend(names);
+        for (name, bytes) in files {
+            let name = format!("{folder}{name}");
+            self.files.push(name.clone());
+            self.pending.push((name, bytes));
+        }
         Ok(())
     }
 
@@ -596,10 +613,9 @@ impl Running<'_> {
         let resumable = interrupted && saved;
         if resumable {
             self.files.push(CHECKPOINT_JSON.to_owned());
-        } else {
-            // The search is over: nothing is left to resume.
-            self.store.remove(CHECKPOINT_JSON)?;
         }
+        // Otherwise the search is over: the commit removes its checkpoint
+        // with the other stale files, only once the outputs are in place.
         Ok((
             Report::Optimise {
                 packing,
@@ -772,10 +788,11 @@ impl Running<'_> {
         ))
     }
 
-    /// Write the manifest and remove the files an earlier run left that
-    /// this one did not write (those its manifest lists, or in a folder
-    /// without one, any output name of ours); the files of the run,
-    /// manifest included.
+    /// Commit the run: its files, its manifest and the removal of the
+    /// files an earlier run left that this one did not write (those its
+    /// manifest lists, or in a folder without one, any output name of
+    /// ours), in one [`Store::commit`]: on failure the folder is as the
+    /// earlier run left it. The files of the run, manifest included.
     fn finish(&mut self, interrupted: bool) -> Result<Vec<String>, JobError> {
         let mut files = std::mem::take(&mut self.files);
         files.push(MANIFEST_JSON.to_owned());
@@ -798,10 +815,19 @@ impl Running<'_> {
         };
         let bytes =
             serde_json::to_vec_pretty(&manifest).map_err(|e| StoreError::Write(e.into()))?;
-        self.store.write(&[(MANIFEST_JSON.to_owned(), bytes)])?;
-        for stale in earlier.iter().filter(|f| !files.contains(f)) {
-            self.store.remove(stale)?;
-        }
+        let mut pending = std::mem::take(&mut self.pending);
+        pending.push((MANIFEST_JSON.to_owned(), bytes));
+        // A checkpoint this run does not list belongs to a search that is
+        // over or superseded.
+        let stale: Vec<String> = earlier
+            .into_iter()
+            .chain([CHECKPOINT_JSON.to_owned()])
+            .filter(|f| !files.contains(f))
+            .collect();
+        self.store.commit(&pending, &stale)?;
+        self.event(Event::Written {
+            files: pending.into_iter().map(|(name, _)| name).collect(),
+        });
         Ok(files)
     }
 }

@@ -1,4 +1,9 @@
 //! Atomic file writes: a temporary file in the same directory, then a rename.
+//!
+//! Every temporary file and backup is owned by a guard ([`Commit`]) from
+//! the moment its name is chosen: an error, an early return or a panic
+//! unwinding through the write removes them and undoes the renames made,
+//! so no exit path that runs destructors leaves a `.name.<pid>.tmp`.
 
 use std::fs;
 use std::io::{self, Write};
@@ -12,7 +17,7 @@ use super::error::OutputError;
 /// # Errors
 /// [`OutputError::Write`] or [`OutputError::Rename`] with the I/O cause.
 pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), OutputError> {
-    write_all_atomic(&[(path.to_path_buf(), contents.to_vec())])
+    commit_atomic(&[(path.to_path_buf(), contents)], &[])
 }
 
 /// Write a set of files: every temporary file first, then every rename.
@@ -26,58 +31,139 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), OutputError> {
 /// # Errors
 /// [`OutputError::Write`] or [`OutputError::Rename`] with the I/O cause.
 pub fn write_all_atomic(files: &[(PathBuf, Vec<u8>)]) -> Result<(), OutputError> {
-    let mut temps = Vec::with_capacity(files.len());
+    let files: Vec<(PathBuf, &[u8])> = files
+        .iter()
+        .map(|(path, contents)| (path.clone(), contents.as_slice()))
+        .collect();
+    commit_atomic(&files, &[])
+}
+
+/// Write a set of files and remove others, as one step: every temporary
+/// file first, then every rename, then every removal (itself a rename to a
+/// backup name), and only when all of them succeeded are the backups
+/// deleted.
+///
+/// # Behavior
+/// A failure anywhere leaves every file as it was — those replaced and
+/// those removed are put back from their backups, the new ones removed —
+/// and no temporary file or backup behind. A symbolic link where a file is
+/// to be replaced or removed is refused, never followed. Paths to remove
+/// that do not exist are skipped.
+///
+/// # Errors
+/// [`OutputError::Write`], [`OutputError::Rename`] or
+/// [`OutputError::Remove`] with the I/O cause.
+pub fn commit_atomic(files: &[(PathBuf, &[u8])], remove: &[PathBuf]) -> Result<(), OutputError> {
+    let mut commit = Commit::default();
     for (path, contents) in files {
         let written = temp_path(path, "tmp").and_then(|temp| {
-            // Recorded before writing, so that a partial temporary file is removed too.
-            temps.push(temp.clone());
+            // Owned by the guard before the file exists: a partial one goes too.
+            commit.temps.push(temp.clone());
             write_synced(&temp, contents)
         });
-        if let Err(source) = written {
-            remove_all(&temps);
-            return Err(OutputError::Write {
-                path: path.clone(),
-                source,
-            });
+        written.map_err(|source| OutputError::Write {
+            path: path.clone(),
+            source,
+        })?;
+    }
+    for ((path, _), temp) in files.iter().zip(commit.temps.clone()) {
+        let backup = back_up(path).map_err(|source| OutputError::Rename {
+            path: path.clone(),
+            source,
+        })?;
+        if let Some(backup) = &backup {
+            commit.backups.push(backup.clone());
+        }
+        fs::rename(&temp, path).map_err(|source| OutputError::Rename {
+            path: path.clone(),
+            source,
+        })?;
+        commit.done.push((path.clone(), backup));
+    }
+    for path in remove {
+        let removed = set_aside(path).map_err(|source| OutputError::Remove {
+            path: path.clone(),
+            source,
+        })?;
+        if let Some(backup) = removed {
+            commit.backups.push(backup.clone());
+            commit.done.push((path.clone(), Some(backup)));
         }
     }
-    // Per file renamed so far: the backup of the file it replaced, if any.
-    let mut done: Vec<(&Path, Option<PathBuf>)> = Vec::with_capacity(files.len());
-    for (i, ((path, _), temp)) in files.iter().zip(&temps).enumerate() {
-        let renamed = back_up(path).and_then(|backup| match fs::rename(temp, path) {
-            Ok(()) => Ok(backup),
-            Err(e) => {
-                // This file was not replaced: keep it, drop its backup.
-                if let Some(backup) = backup {
-                    let _ = fs::remove_file(backup);
-                }
-                Err(e)
-            }
-        });
-        match renamed {
-            Ok(backup) => done.push((path, backup)),
-            Err(source) => {
-                remove_all(&temps[i..]);
-                undo(&done);
-                return Err(OutputError::Rename {
-                    path: path.clone(),
-                    source,
-                });
-            }
-        }
-    }
-    for (_, backup) in done {
-        if let Some(backup) = backup {
-            // A leftover backup is a hidden file; nothing more can be done here.
-            let _ = fs::remove_file(backup);
-        }
-    }
+    commit.keep();
     Ok(())
+}
+
+/// The debris of a commit under way, cleaned up when it is dropped unless
+/// [`Commit::keep`] was called: temporary files removed, renames undone
+/// (latest first), backups put back or removed.
+#[derive(Default)]
+struct Commit {
+    /// Temporary files, whether written, partial or renamed already.
+    temps: Vec<PathBuf>,
+    /// Backups taken, whether used yet or not.
+    backups: Vec<PathBuf>,
+    /// Per file replaced, written or removed so far: the backup of what
+    /// was there before, if anything was.
+    done: Vec<(PathBuf, Option<PathBuf>)>,
+}
+
+impl Commit {
+    /// Every step succeeded: the backups go and nothing is undone.
+    fn keep(mut self) {
+        self.temps.clear();
+        self.done.clear();
+        // A leftover backup would be a hidden file; nothing more can be done here.
+        remove_all(&std::mem::take(&mut self.backups));
+    }
+}
+
+impl Drop for Commit {
+    fn drop(&mut self) {
+        // Best effort throughout: the error being reported is the step that failed.
+        remove_all(&self.temps);
+        for (path, backup) in self.done.iter().rev() {
+            let _ = match backup {
+                Some(backup) => fs::rename(backup, path),
+                None => fs::remove_file(path),
+            };
+        }
+        // Backups not put back (taken for a rename that then failed).
+        remove_all(&self.backups);
+    }
+}
+
+/// Move the file at `path` to its backup name (`.name.<pid>.old`), the
+/// removal undone by renaming it back; `None` if there is no file. A
+/// directory or a symbolic link is refused.
+fn set_aside(path: &Path) -> io::Result<Option<PathBuf>> {
+    match fs::symlink_metadata(path) {
+        Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(e),
+        Ok(meta) if meta.is_dir() => Err(io::Error::new(
+            io::ErrorKind::IsADirectory,
+            "it is a directory",
+        )),
+        Ok(meta) if meta.file_type().is_symlink() => Err(symlink_refused()),
+        Ok(_) => {
+            let backup = temp_path(path, "old")?;
+            fs::rename(path, &backup)?;
+            Ok(Some(backup))
+        }
+    }
+}
+
+fn symlink_refused() -> io::Error {
+    io::Error::new(
+        io::ErrorKind::InvalidInput,
+        "it is a symbolic link, which is never followed",
+    )
 }
 
 /// Keep the file at `path`, if there is one, as `.name.<pid>.old`: a hard
 /// link, or a copy where links are not supported. A directory in the way is
-/// an error (the rename would fail).
+/// an error (the rename would fail), and so is a symbolic link (a copy
+/// would follow it).
 fn back_up(path: &Path) -> io::Result<Option<PathBuf>> {
     match fs::symlink_metadata(path) {
         Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(None),
@@ -86,6 +172,7 @@ fn back_up(path: &Path) -> io::Result<Option<PathBuf>> {
             io::ErrorKind::IsADirectory,
             "a directory is in the way",
         )),
+        Ok(meta) if meta.file_type().is_symlink() => Err(symlink_refused()),
         Ok(_) => {
             let backup = temp_path(path, "old")?;
             let _ = fs::remove_file(&backup);
@@ -94,17 +181,6 @@ fn back_up(path: &Path) -> io::Result<Option<PathBuf>> {
             }
             Ok(Some(backup))
         }
-    }
-}
-
-/// Undo renames: put each backup back, or remove a file that was new.
-fn undo(done: &[(&Path, Option<PathBuf>)]) {
-    for (path, backup) in done.iter().rev() {
-        // Best effort: the error being reported is the rename that failed.
-        let _ = match backup {
-            Some(backup) => fs::rename(backup, path),
-            None => fs::remove_file(path),
-        };
     }
 }
 

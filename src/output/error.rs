@@ -34,6 +34,15 @@ pub enum OutputError {
         /// The I/O error.
         source: io::Error,
     },
+    /// A file could not be removed (set aside until the set it belongs to
+    /// was written whole; put back on failure).
+    #[error("cannot remove {}", .path.display())]
+    Remove {
+        /// The file that was to be removed.
+        path: PathBuf,
+        /// The I/O error.
+        source: io::Error,
+    },
     /// The CSV writer failed.
     #[error("cannot format CSV")]
     Csv(#[from] ::csv::Error),

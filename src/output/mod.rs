@@ -18,7 +18,7 @@ mod read;
 mod run;
 mod svg;
 
-pub use atomic::{write_all_atomic, write_atomic};
+pub use atomic::{commit_atomic, write_all_atomic, write_atomic};
 pub use csv::{
     COMPARE_CSV, CONVERGENCE_CSV, PACKING_CSV, PROFILE_CSV, STABILITY_CSV, WELLS_CSV, WINDOW_CSV,
     WellRow, compare_csv, convergence_csv, packing_csv, profile_csv, stability_csv, wells_csv,
