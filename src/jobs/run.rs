@@ -819,11 +819,13 @@ impl Running<'_> {
         pending.push((MANIFEST_JSON.to_owned(), bytes));
         // A checkpoint this run does not list belongs to a search that is
         // over or superseded.
-        let stale: Vec<String> = earlier
+        let mut stale: Vec<String> = earlier
             .into_iter()
             .chain([CHECKPOINT_JSON.to_owned()])
             .filter(|f| !files.contains(f))
             .collect();
+        stale.sort();
+        stale.dedup();
         self.store.commit(&pending, &stale)?;
         self.event(Event::Written {
             files: pending.into_iter().map(|(name, _)| name).collect(),
