@@ -253,7 +253,16 @@ impl Store for DirStore {
         let path = self.dir.join(checked(name)?);
         match fs::read(&path) {
             Ok(bytes) => Ok(Some(bytes)),
-            Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(None),
+            // Nothing there: no file, or a file where a folder on the way
+            // should be (the write then says so).
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    io::ErrorKind::NotFound | io::ErrorKind::NotADirectory
+                ) =>
+            {
+                Ok(None)
+            }
             Err(source) => Err(StoreError::Io {
                 action: "read",
                 path,
