@@ -101,7 +101,14 @@ fn main() {
     let data = std::env::temp_dir().join(format!("gapack-bench-service-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&data);
     let mut child = Command::new(env!("CARGO_BIN_EXE_gapack"))
-        .args(["serve", "--listen", "127.0.0.1:0", "--max-queue", "100000", "--data"])
+        .args([
+            "serve",
+            "--listen",
+            "127.0.0.1:0",
+            "--max-queue",
+            "100000",
+            "--data",
+        ])
         .arg(&data)
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
@@ -135,10 +142,7 @@ fn main() {
                 while i < total {
                     let seed = i as u64 % SEEDS;
                     let (id, latency) = run_one(base, seed);
-                    results
-                        .lock()
-                        .expect("results")
-                        .push((id, seed, latency));
+                    results.lock().expect("results").push((id, seed, latency));
                     i += clients;
                 }
             });
@@ -190,7 +194,11 @@ fn main() {
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
     println!("service load: {total} jobs of the default scene from {clients} clients");
     println!("  none lost or duplicated; every packing.csv verified against the jobs layer");
-    println!("  throughput: {:.1} jobs/s ({:.2} s)", total as f64 / elapsed.as_secs_f64(), elapsed.as_secs_f64());
+    println!(
+        "  throughput: {:.1} jobs/s ({:.2} s)",
+        total as f64 / elapsed.as_secs_f64(),
+        elapsed.as_secs_f64()
+    );
     println!(
         "  submit→succeeded under load: p50 {:.1} ms, p99 {:.1} ms",
         ms(percentile(&latencies, 0.5)),

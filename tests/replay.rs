@@ -135,8 +135,15 @@ fn every_config_that_ever_failed_is_refused_or_runs_within_bounds() {
         let ran = bounded(&dir, &[job, &name, "--out", "out", "--quiet"]);
         judge(&format!("{job} {name}"), &ran, expected(&text));
         if ran.code == Some(2) {
-            assert_eq!(validated.code, Some(2), "{name}: validate passed what the run refused");
-            assert!(!dir.join("out").exists(), "{name}: a refused run left its folder");
+            assert_eq!(
+                validated.code,
+                Some(2),
+                "{name}: validate passed what the run refused"
+            );
+            assert!(
+                !dir.join("out").exists(),
+                "{name}: a refused run left its folder"
+            );
         }
         let _ = fs::remove_dir_all(dir.join("out"));
     }
@@ -144,7 +151,11 @@ fn every_config_that_ever_failed_is_refused_or_runs_within_bounds() {
 
 /// `verify` and `plot` of one table file in `dir`.
 fn inspect(dir: &Path, name: &str, expect: Option<i32>) {
-    judge(&format!("verify {name}"), &bounded(dir, &["verify", name]), expect);
+    judge(
+        &format!("verify {name}"),
+        &bounded(dir, &["verify", name]),
+        expect,
+    );
     let plotted = bounded(dir, &["plot", name, "--out", "pictures"]);
     judge(&format!("plot {name}"), &plotted, None);
     let _ = fs::remove_dir_all(dir.join("pictures"));
@@ -241,13 +252,24 @@ fn resume(dir: &Path, checkpoint: &[u8]) -> Ended {
     fs::write(dir.join("out").join(jobs::CHECKPOINT_JSON), checkpoint).unwrap();
     bounded(
         dir,
-        &["optimise", "optimise.toml", "--out", "out", "--resume", "--quiet"],
+        &[
+            "optimise",
+            "optimise.toml",
+            "--out",
+            "out",
+            "--resume",
+            "--quiet",
+        ],
     )
 }
 
 fn checkpoint_dir(name: &str) -> PathBuf {
     let dir = scratch(name);
-    fs::copy(replay_dir().join("optimise.toml"), dir.join("optimise.toml")).unwrap();
+    fs::copy(
+        replay_dir().join("optimise.toml"),
+        dir.join("optimise.toml"),
+    )
+    .unwrap();
     dir
 }
 

@@ -94,7 +94,10 @@ impl Server {
                 assert!(status.success(), "exit {status:?}");
                 return;
             }
-            assert!(start.elapsed() < Duration::from_secs(60), "no exit after SIGTERM");
+            assert!(
+                start.elapsed() < Duration::from_secs(60),
+                "no exit after SIGTERM"
+            );
             std::thread::sleep(Duration::from_millis(20));
         }
     }
@@ -179,7 +182,11 @@ fn post_toml(server: &Server, path: &str, body: &str) -> Reply {
 
 /// Submit and return the job's id.
 fn submit(server: &Server, kind: &str, seed: u64, config: &str) -> String {
-    let r = post_toml(server, &format!("/api/v1/jobs?kind={kind}&seed={seed}"), config);
+    let r = post_toml(
+        server,
+        &format!("/api/v1/jobs?kind={kind}&seed={seed}"),
+        config,
+    );
     assert_eq!(r.status, 201, "{}", String::from_utf8_lossy(&r.body));
     let json = r.json();
     assert_eq!(json["state"], "queued");
@@ -206,7 +213,11 @@ fn follow(server: &Server, id: &str, last: Option<i64>) -> Vec<(i64, String, Val
         } else if let Some(v) = line.strip_prefix("data:") {
             data = v.trim().to_owned();
         } else if line.is_empty() && !data.is_empty() {
-            events.push((seq, name.clone(), serde_json::from_str(&data).expect("json")));
+            events.push((
+                seq,
+                name.clone(),
+                serde_json::from_str(&data).expect("json"),
+            ));
             data.clear();
         }
     }
@@ -247,7 +258,11 @@ fn download(server: &Server, id: &str) -> Vec<(String, Vec<u8>)> {
             Some("png") => "image/png",
             _ => "",
         };
-        assert!(r.content_type.starts_with(expected), "{name}: {}", r.content_type);
+        assert!(
+            r.content_type.starts_with(expected),
+            "{name}: {}",
+            r.content_type
+        );
         files.push((name, r.body));
     }
     files
@@ -259,9 +274,21 @@ fn cli_run(dir: &Path, kind: &str, config: &str, seed: u64) -> PathBuf {
     let seed = seed.to_string();
     let out = gapack(
         dir,
-        &[kind, "config.toml", "--out", "cli", "--seed", &seed, "--quiet"],
+        &[
+            kind,
+            "config.toml",
+            "--out",
+            "cli",
+            "--seed",
+            &seed,
+            "--quiet",
+        ],
     );
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     dir.join("cli")
 }
 
@@ -270,12 +297,16 @@ fn untimed(csv: &[u8]) -> Vec<Vec<String>> {
     let text = String::from_utf8_lossy(csv);
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
-    let keep: Vec<usize> = (0..header.len()).filter(|&i| header[i] != "seconds").collect();
+    let keep: Vec<usize> = (0..header.len())
+        .filter(|&i| header[i] != "seconds")
+        .collect();
     std::iter::once(header.join(","))
         .chain(lines.map(str::to_owned))
         .map(|l| {
             let cells: Vec<&str> = l.split(',').collect();
-            keep.iter().map(|&i| cells.get(i).unwrap_or(&"").to_string()).collect()
+            keep.iter()
+                .map(|&i| cells.get(i).unwrap_or(&"").to_string())
+                .collect()
         })
         .collect()
 }
@@ -416,7 +447,10 @@ fn cancel_delete_and_paging() {
         let page = get(&server, &url).json();
         let jobs = page["jobs"].as_array().expect("jobs");
         assert!(jobs.len() <= 2);
-        seen.extend(jobs.iter().map(|j| j["id"].as_str().expect("id").to_owned()));
+        seen.extend(
+            jobs.iter()
+                .map(|j| j["id"].as_str().expect("id").to_owned()),
+        );
         match page["next"].as_str() {
             Some(next) => url = next.to_owned(),
             None => break,
@@ -437,11 +471,19 @@ fn cancel_delete_and_paging() {
     // Delete: the job and its files go.
     let job_dir = dir.join("data").join("jobs").join(&long);
     assert!(job_dir.exists());
-    let r = reply(agent().delete(server.url(&format!("/api/v1/jobs/{long}"))).call());
+    let r = reply(
+        agent()
+            .delete(server.url(&format!("/api/v1/jobs/{long}")))
+            .call(),
+    );
     assert_eq!(r.status, 204);
     assert!(!job_dir.exists());
     assert_eq!(get(&server, &format!("/api/v1/jobs/{long}")).status, 404);
-    let r = reply(agent().delete(server.url(&format!("/api/v1/jobs/{long}"))).call());
+    let r = reply(
+        agent()
+            .delete(server.url(&format!("/api/v1/jobs/{long}")))
+            .call(),
+    );
     assert_eq!(r.status, 404);
     server.terminate();
 }
@@ -489,15 +531,28 @@ fn malformed_requests_are_refused_with_json_errors() {
     assert_eq!(v["line"], 4);
     assert_eq!(v["column"], 12);
     assert_eq!(v["key"], "domain.width");
-    assert!(v["message"].as_str().expect("message").contains("TOML syntax error"));
+    assert!(
+        v["message"]
+            .as_str()
+            .expect("message")
+            .contains("TOML syntax error")
+    );
     // A bad value.
-    let r = post_toml(&server, "/api/v1/jobs", &SQUARE.replace("width = 20", "width = -1"));
+    let r = post_toml(
+        &server,
+        "/api/v1/jobs",
+        &SQUARE.replace("width = 20", "width = -1"),
+    );
     assert_eq!(r.status, 422);
     assert_eq!(r.json()["key"], "domain.width");
     // Unknown kind.
     let r = post_toml(&server, "/api/v1/jobs?kind=bake", SQUARE);
     assert_eq!(r.status, 400);
-    assert!(r.error().contains("unknown job kind \"bake\""), "{}", r.error());
+    assert!(
+        r.error().contains("unknown job kind \"bake\""),
+        "{}",
+        r.error()
+    );
     // A job the config has no table for.
     let r = post_toml(&server, "/api/v1/jobs?kind=optimise", SQUARE);
     assert_eq!(r.status, 422);
@@ -564,7 +619,11 @@ fn malformed_requests_are_refused_with_json_errors() {
     let r = get(&server, "/api/v1/jobs?state=sleeping");
     assert_eq!(r.status, 400);
     // Validate: the plan without a run.
-    let r = post_toml(&server, "/api/v1/validate?kind=optimise", &optimise_config());
+    let r = post_toml(
+        &server,
+        "/api/v1/validate?kind=optimise",
+        &optimise_config(),
+    );
     assert_eq!(r.status, 200, "{}", String::from_utf8_lossy(&r.body));
     let v = r.json();
     assert_eq!(v["kind"], "optimise");
@@ -576,7 +635,11 @@ fn malformed_requests_are_refused_with_json_errors() {
     assert_eq!(r.status, 409);
     let r = get(&server, &format!("/api/v1/jobs/{id}/files/packing.csv"));
     assert_eq!(r.status, 409);
-    let r = reply(agent().delete(server.url(&format!("/api/v1/jobs/{id}"))).call());
+    let r = reply(
+        agent()
+            .delete(server.url(&format!("/api/v1/jobs/{id}")))
+            .call(),
+    );
     assert_eq!(r.status, 409);
     // The queue's limit.
     drop(server);
@@ -593,10 +656,17 @@ fn malformed_requests_are_refused_with_json_errors() {
     // Health, metrics and the API's document.
     assert_eq!(get(&server, "/healthz").json()["status"], "ok");
     let metrics = String::from_utf8(get(&server, "/metrics").body).expect("text");
-    assert!(metrics.contains("gapack_jobs{state=\"queued\"} 2"), "{metrics}");
+    assert!(
+        metrics.contains("gapack_jobs{state=\"queued\"} 2"),
+        "{metrics}"
+    );
     assert!(metrics.contains("gapack_queue_length 2"));
     let doc = get(&server, "/api/v1/openapi.json").json();
-    for path in ["/api/v1/jobs", "/api/v1/jobs/{id}/events", "/api/v1/jobs/{id}/files/{name}"] {
+    for path in [
+        "/api/v1/jobs",
+        "/api/v1/jobs/{id}/events",
+        "/api/v1/jobs/{id}/files/{name}",
+    ] {
         assert!(doc["paths"][path].is_object(), "{path} documented");
     }
 }
@@ -626,7 +696,10 @@ fn files_outside_the_manifest_are_never_served() {
         );
         assert!(!r.body.starts_with(b"no"), "{name}");
     }
-    assert_eq!(get(&server, &format!("/api/v1/jobs/{id}/files/packing.csv")).status, 200);
+    assert_eq!(
+        get(&server, &format!("/api/v1/jobs/{id}/files/packing.csv")).status,
+        200
+    );
 }
 
 #[test]
@@ -680,7 +753,8 @@ fn kill_9_mid_search_then_restart_resumes_to_the_same_packing() {
     let id = submit(&server, "optimise", 9, &config);
     let seen = follow_until_generation(&server, &id, 4);
     assert!(
-        seen.iter().any(|e| e["event"] == "generation" && e["index"] == 4),
+        seen.iter()
+            .any(|e| e["event"] == "generation" && e["index"] == 4),
         "stopped before generation 4: {seen:?}"
     );
     server.kill();
@@ -726,7 +800,10 @@ fn a_failed_write_fails_its_job_and_the_next_jobs_run() {
     let r = get(&server, &format!("/api/v1/jobs/{doomed}/files"));
     assert_eq!(r.status, 404);
     let next = submit(&server, "pack", 2, SQUARE);
-    assert_eq!(wait_for(&server, &next, &["succeeded", "failed"])["state"], "succeeded");
+    assert_eq!(
+        wait_for(&server, &next, &["succeeded", "failed"])["state"],
+        "succeeded"
+    );
     server.terminate();
 }
 
@@ -745,14 +822,25 @@ fn sigterm_loses_nothing_queued_or_running() {
     let job = wait_for(&server, &running, &["succeeded", "failed", "cancelled"]);
     assert_eq!(job["state"], "succeeded", "{job}");
     for id in &queued {
-        assert_eq!(wait_for(&server, id, &["succeeded", "failed"])["state"], "succeeded");
+        assert_eq!(
+            wait_for(&server, id, &["succeeded", "failed"])["state"],
+            "succeeded"
+        );
     }
     let served = download(&server, &running);
     let cli = cli_run(&dir, "optimise", &config, 9);
-    let mine = &served.iter().find(|(n, _)| n == "packing.csv").expect("packing").1;
+    let mine = &served
+        .iter()
+        .find(|(n, _)| n == "packing.csv")
+        .expect("packing")
+        .1;
     assert!(mine == &fs::read(cli.join("packing.csv")).expect("cli"));
     let all = get(&server, "/api/v1/jobs?limit=500").json();
-    assert_eq!(all["jobs"].as_array().expect("jobs").len(), 4, "none lost, none doubled");
+    assert_eq!(
+        all["jobs"].as_array().expect("jobs").len(),
+        4,
+        "none lost, none doubled"
+    );
     server.terminate();
 }
 
@@ -760,8 +848,8 @@ fn sigterm_loses_nothing_queued_or_running() {
 /// with `gapack` on the PATH) in a scratch folder holding the default config.
 #[test]
 fn the_readme_service_commands_run() {
-    let readme = fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md"))
-        .expect("README");
+    let readme =
+        fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).expect("README");
     let section = readme
         .split("## Run as a service")
         .nth(1)
@@ -804,10 +892,24 @@ fn the_readme_service_commands_run() {
         "{stdout}\n{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    assert!(stdout.contains("listening on http://127.0.0.1:"), "{stdout}");
+    assert!(
+        stdout.contains("listening on http://127.0.0.1:"),
+        "{stdout}"
+    );
     assert!(stdout.contains("\"status\":\"ok\""), "{stdout}");
-    assert!(stdout.contains("event: state\ndata: {\"event\":\"state\",\"state\":\"succeeded\"}"), "{stdout}");
+    assert!(
+        stdout.contains("event: state\ndata: {\"event\":\"state\",\"state\":\"succeeded\"}"),
+        "{stdout}"
+    );
     assert!(stdout.contains("\"name\":\"packing.csv\""), "{stdout}");
-    let cli = cli_run(&dir, "pack", &fs::read_to_string(dir.join("configs/default.toml")).expect("read"), 7);
-    assert!(fs::read(dir.join("packing.csv")).expect("fetched") == fs::read(cli.join("packing.csv")).expect("cli"));
+    let cli = cli_run(
+        &dir,
+        "pack",
+        &fs::read_to_string(dir.join("configs/default.toml")).expect("read"),
+        7,
+    );
+    assert!(
+        fs::read(dir.join("packing.csv")).expect("fetched")
+            == fs::read(cli.join("packing.csv")).expect("cli")
+    );
 }

@@ -111,7 +111,10 @@ impl ApiError {
 
     fn internal(e: impl std::fmt::Display) -> Self {
         tracing::error!(error = %e, "internal error");
-        ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, format!("internal error: {e}"))
+        ApiError::new(
+            StatusCode::INTERNAL_SERVER_ERROR,
+            format!("internal error: {e}"),
+        )
     }
 
     /// A fault in the submitted config, at `key` (no place known).
@@ -181,7 +184,10 @@ impl IntoResponse for ApiError {
 }
 
 async fn not_found() -> ApiError {
-    ApiError::new(StatusCode::NOT_FOUND, "no such endpoint; see /api/v1/openapi.json")
+    ApiError::new(
+        StatusCode::NOT_FOUND,
+        "no such endpoint; see /api/v1/openapi.json",
+    )
 }
 
 async fn method_not_allowed() -> ApiError {
@@ -322,7 +328,13 @@ fn submission(
     let media = headers
         .get(header::CONTENT_TYPE)
         .and_then(|v| v.to_str().ok())
-        .map(|v| v.split(';').next().unwrap_or("").trim().to_ascii_lowercase());
+        .map(|v| {
+            v.split(';')
+                .next()
+                .unwrap_or("")
+                .trim()
+                .to_ascii_lowercase()
+        });
     let text = |bytes: Bytes| {
         String::from_utf8(bytes.to_vec())
             .map_err(|_| ApiError::bad_request("the config is not UTF-8 text"))
@@ -440,7 +452,11 @@ fn new_id() -> String {
 
 /// Whether `id` could be a job's id (so that nothing else reaches the store or a path).
 fn checked_id(id: &str) -> Result<(), ApiError> {
-    if id.len() == 32 && id.bytes().all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b)) {
+    if id.len() == 32
+        && id
+            .bytes()
+            .all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b))
+    {
         Ok(())
     } else {
         Err(ApiError::unknown_job(id))
@@ -622,6 +638,8 @@ pub struct JobView {
     state: JobState,
     /// Attempts started (more than one after a restart).
     attempts: i64,
+    /// Whether a cancel was asked for while it ran.
+    cancel_requested: bool,
     /// Submitted (ms since the Unix epoch).
     created_ms: i64,
     /// Last attempt started.
@@ -649,6 +667,7 @@ fn view(row: JobRow) -> JobView {
         seed: row.seed,
         state: row.state,
         attempts: row.attempts,
+        cancel_requested: row.cancel_requested,
         created_ms: row.created_ms,
         started_ms: row.started_ms,
         finished_ms: row.finished_ms,
@@ -661,7 +680,10 @@ fn view(row: JobRow) -> JobView {
 /// A job's state, progress, timings, and its summary or error.
 #[utoipa::path(get, path = "/api/v1/jobs/{id}", params(("id" = String, Path, description = "Job id")),
     responses((status = 200, body = JobView), (status = 404, body = ErrorBody)))]
-async fn status(State(shared): AppState, Path(id): Path<String>) -> Result<Json<JobView>, ApiError> {
+async fn status(
+    State(shared): AppState,
+    Path(id): Path<String>,
+) -> Result<Json<JobView>, ApiError> {
     checked_id(&id)?;
     let row = blocking(move || {
         shared
@@ -834,7 +856,12 @@ impl Follow {
                 {
                     self.done = true;
                 }
-                return Some(SseEvent::default().id(seq.to_string()).event(name).data(data));
+                return Some(
+                    SseEvent::default()
+                        .id(seq.to_string())
+                        .event(name)
+                        .data(data),
+                );
             }
             if self.done || *self.shutdown.borrow() {
                 return None;
@@ -987,7 +1014,10 @@ fn listed(manifest: &Value) -> Vec<String> {
 /// A finished job's files, as its `manifest.json` lists them.
 #[utoipa::path(get, path = "/api/v1/jobs/{id}/files", params(("id" = String, Path, description = "Job id")),
     responses((status = 200, body = FileList), (status = 404, body = ErrorBody), (status = 409, description = "Not finished", body = ErrorBody)))]
-async fn files(State(shared): AppState, Path(id): Path<String>) -> Result<Json<FileList>, ApiError> {
+async fn files(
+    State(shared): AppState,
+    Path(id): Path<String>,
+) -> Result<Json<FileList>, ApiError> {
     checked_id(&id)?;
     let list = blocking(move || {
         let manifest = manifest(&shared, &id)?;
@@ -1039,11 +1069,15 @@ async fn file(
             let safe = !name.is_empty()
                 && !name.starts_with('/')
                 && !name.contains('\\')
-                && name.split('/').all(|p| !p.is_empty() && p != "." && p != "..");
+                && name
+                    .split('/')
+                    .all(|p| !p.is_empty() && p != "." && p != "..");
             if !known || !safe {
                 return Err(ApiError::new(
                     StatusCode::NOT_FOUND,
-                    format!("job {id} has no file {name:?}; GET /api/v1/jobs/{id}/files lists them"),
+                    format!(
+                        "job {id} has no file {name:?}; GET /api/v1/jobs/{id}/files lists them"
+                    ),
                 ));
             }
             std::fs::read(job_dir(&shared, &id).join(&name)).map_err(ApiError::internal)
@@ -1058,7 +1092,11 @@ async fn file(
 /// Whether the server is up.
 async fn healthz(State(shared): AppState) -> Response {
     if shared.stopping.load(std::sync::atomic::Ordering::SeqCst) {
-        (StatusCode::SERVICE_UNAVAILABLE, Json(serde_json::json!({"status": "stopping"}))).into_response()
+        (
+            StatusCode::SERVICE_UNAVAILABLE,
+            Json(serde_json::json!({"status": "stopping"})),
+        )
+            .into_response()
     } else {
         Json(serde_json::json!({"status": "ok"})).into_response()
     }
@@ -1073,7 +1111,10 @@ async fn metrics(State(shared): AppState) -> Result<Response, ApiError> {
     })
     .await?;
     Ok((
-        [(header::CONTENT_TYPE, "text/plain; version=0.0.4; charset=utf-8")],
+        [(
+            header::CONTENT_TYPE,
+            "text/plain; version=0.0.4; charset=utf-8",
+        )],
         text,
     )
         .into_response())
@@ -1082,9 +1123,15 @@ async fn metrics(State(shared): AppState) -> Result<Response, ApiError> {
 /// The API's OpenAPI document.
 #[derive(OpenApi)]
 #[openapi(
-    info(title = "gapack service", description = "Dense 2D disk packings and their genetic-algorithm optimisation, as jobs."),
+    info(
+        title = "gapack service",
+        description = "Dense 2D disk packings and their genetic-algorithm optimisation, as jobs."
+    ),
     paths(submit, validate, list, status, events, cancel, delete, files, file),
-    components(schemas(ErrorBody, Accepted, Links, Validated, Estimates, JobView, JobPage, FileList, FileEntry, JobState, SubmitBody))
+    components(schemas(
+        ErrorBody, Accepted, Links, Validated, Estimates, JobView, JobPage, FileList, FileEntry,
+        JobState, SubmitBody
+    ))
 )]
 struct ApiDoc;
 

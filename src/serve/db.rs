@@ -228,7 +228,8 @@ impl Db {
         let mut conn = self.conn();
         let tx = conn.transaction()?;
         let ids: Vec<String> = {
-            let mut stmt = tx.prepare("SELECT id FROM jobs WHERE state = 'running' ORDER BY seq")?;
+            let mut stmt =
+                tx.prepare("SELECT id FROM jobs WHERE state = 'running' ORDER BY seq")?;
             stmt.query_map([], |r| r.get(0))?
                 .collect::<Result<_, _>>()?
         };
@@ -261,10 +262,11 @@ impl Db {
     ) -> Result<(), DbError> {
         let mut conn = self.conn();
         let tx = conn.transaction()?;
-        let queued: i64 =
-            tx.query_row("SELECT count(*) FROM jobs WHERE state = 'queued'", [], |r| {
-                r.get(0)
-            })?;
+        let queued: i64 = tx.query_row(
+            "SELECT count(*) FROM jobs WHERE state = 'queued'",
+            [],
+            |r| r.get(0),
+        )?;
         if usize::try_from(queued).unwrap_or(usize::MAX) >= max_queue {
             return Err(DbError::QueueFull(max_queue));
         }
@@ -286,9 +288,7 @@ impl Db {
         let tx = conn.transaction()?;
         let job = tx
             .query_row(
-                &format!(
-                    "SELECT {COLUMNS} FROM jobs WHERE state = 'queued' ORDER BY seq LIMIT 1"
-                ),
+                &format!("SELECT {COLUMNS} FROM jobs WHERE state = 'queued' ORDER BY seq LIMIT 1"),
                 [],
                 row,
             )
@@ -318,7 +318,12 @@ impl Db {
     ///
     /// # Errors
     /// [`DbError::Sql`].
-    pub fn event(&self, id: &str, data: &serde_json::Value, progress: bool) -> Result<i64, DbError> {
+    pub fn event(
+        &self,
+        id: &str,
+        data: &serde_json::Value,
+        progress: bool,
+    ) -> Result<i64, DbError> {
         let mut conn = self.conn();
         let tx = conn.transaction()?;
         let seq = append(&tx, id, data)?;
@@ -535,7 +540,11 @@ impl Db {
 }
 
 /// Append an event to `id`'s list in `tx`; its number is one more than the last.
-fn append(tx: &rusqlite::Transaction<'_>, id: &str, data: &serde_json::Value) -> rusqlite::Result<i64> {
+fn append(
+    tx: &rusqlite::Transaction<'_>,
+    id: &str,
+    data: &serde_json::Value,
+) -> rusqlite::Result<i64> {
     let seq: i64 = tx.query_row(
         "SELECT COALESCE(MAX(seq), 0) + 1 FROM events WHERE job = ?1",
         [id],

@@ -65,7 +65,10 @@ impl Metrics {
         let _ = writeln!(out, "# HELP gapack_queue_length Jobs waiting for a worker.");
         let _ = writeln!(out, "# TYPE gapack_queue_length gauge");
         let _ = writeln!(out, "gapack_queue_length {queued}");
-        let _ = writeln!(out, "# HELP gapack_jobs_finished_total Jobs finished since the server started, by final state.");
+        let _ = writeln!(
+            out,
+            "# HELP gapack_jobs_finished_total Jobs finished since the server started, by final state."
+        );
         let _ = writeln!(out, "# TYPE gapack_jobs_finished_total counter");
         for (state, slot) in [("succeeded", 0), ("failed", 1), ("cancelled", 2)] {
             let _ = writeln!(
@@ -74,7 +77,10 @@ impl Metrics {
                 get(&self.finished[slot])
             );
         }
-        let _ = writeln!(out, "# HELP gapack_job_duration_seconds Run time of finished jobs.");
+        let _ = writeln!(
+            out,
+            "# HELP gapack_job_duration_seconds Run time of finished jobs."
+        );
         let _ = writeln!(out, "# TYPE gapack_job_duration_seconds histogram");
         for (bound, count) in BUCKETS.iter().zip(&self.buckets) {
             let _ = writeln!(
@@ -84,17 +90,30 @@ impl Metrics {
             );
         }
         let runs = get(&self.runs);
-        let _ = writeln!(out, "gapack_job_duration_seconds_bucket{{le=\"+Inf\"}} {runs}");
+        let _ = writeln!(
+            out,
+            "gapack_job_duration_seconds_bucket{{le=\"+Inf\"}} {runs}"
+        );
         let _ = writeln!(
             out,
             "gapack_job_duration_seconds_sum {}",
             get(&self.micros) as f64 / 1e6
         );
         let _ = writeln!(out, "gapack_job_duration_seconds_count {runs}");
-        let _ = writeln!(out, "# HELP gapack_ga_evaluations_total Genomes evaluated by finished searches.");
+        let _ = writeln!(
+            out,
+            "# HELP gapack_ga_evaluations_total Genomes evaluated by finished searches."
+        );
         let _ = writeln!(out, "# TYPE gapack_ga_evaluations_total counter");
-        let _ = writeln!(out, "gapack_ga_evaluations_total {}", get(&self.evaluations));
-        let _ = writeln!(out, "# HELP gapack_packed_disks_total Disks in the packings of finished jobs.");
+        let _ = writeln!(
+            out,
+            "gapack_ga_evaluations_total {}",
+            get(&self.evaluations)
+        );
+        let _ = writeln!(
+            out,
+            "# HELP gapack_packed_disks_total Disks in the packings of finished jobs."
+        );
         let _ = writeln!(out, "# TYPE gapack_packed_disks_total counter");
         let _ = writeln!(out, "gapack_packed_disks_total {}", get(&self.disks));
         out

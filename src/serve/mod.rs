@@ -255,9 +255,7 @@ pub fn run(args: &ServeArgs) -> Result<(), Failure> {
         let _ = thread.join();
     }
     tracing::info!("stopped");
-    served
-        .context("the server failed")
-        .map_err(Failure::Run)
+    served.context("the server failed").map_err(Failure::Run)
 }
 
 /// Resolves at SIGINT or SIGTERM, after the server stopped taking jobs,

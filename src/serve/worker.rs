@@ -9,7 +9,9 @@ use std::sync::Arc;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
-use gapack::jobs::{self, Cancel, DirStore, Event, JobError, JobKind, Observer, Outcome, Plan, Report, Store};
+use gapack::jobs::{
+    self, Cancel, DirStore, Event, JobError, JobKind, Observer, Outcome, Plan, Report, Store,
+};
 use serde_json::{Value, json};
 
 use super::Shared;
@@ -169,7 +171,9 @@ fn summary(outcome: &Outcome) -> Value {
     let metrics = match &outcome.report {
         Report::Pack { metrics, .. } | Report::Layer { metrics, .. } => Some(metrics),
         Report::Optimise {
-            metrics, summary: s, ..
+            metrics,
+            summary: s,
+            ..
         } => {
             summary["generations"] = json!(s.generations);
             summary["evaluations"] = json!(s.evaluations);
