@@ -529,7 +529,7 @@ fn malformed_requests_are_refused_with_json_errors() {
         format!("error: {}", v["error"].as_str().expect("error"))
     );
     assert_eq!(v["line"], 4);
-    assert_eq!(v["column"], 12);
+    assert_eq!(v["column"], 9);
     assert_eq!(v["key"], "domain.width");
     assert!(
         v["message"]

@@ -988,7 +988,12 @@ fn manifest(shared: &Shared, id: &str) -> Result<Value, ApiError> {
     let path = job_dir(shared, id).join(gapack::jobs::MANIFEST_JSON);
     let bytes = match std::fs::read(&path) {
         Ok(bytes) => bytes,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+        Err(e)
+            if matches!(
+                e.kind(),
+                std::io::ErrorKind::NotFound | std::io::ErrorKind::NotADirectory
+            ) =>
+        {
             return Err(ApiError::new(
                 StatusCode::NOT_FOUND,
                 format!("job {id} wrote no files"),
