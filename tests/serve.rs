@@ -325,9 +325,8 @@ fn manifest_files(manifest: &[u8]) -> Vec<String> {
 fn every_job_kind_runs_as_the_cli_runs_it() {
     let dir = scratch("serve-kinds");
     let server = Server::start(&dir.join("data"), &[]);
-    let stability = format!(
-        "seed = 1\n[domain]\nshape = \"rectangle\"\nwidth = 10\nheight = 10\n[grading]\nconstant = 1.0\n[packer]\nattempts = 200\n[compare]\nmethods = [\"rsa\"]\n"
-    );
+    let stability = "seed = 1\n[domain]\nshape = \"rectangle\"\nwidth = 10\nheight = 10\n[grading]\nconstant = 1.0\n[packer]\nattempts = 200\n[compare]\nmethods = [\"rsa\"]\n"
+        .to_owned();
     let cases = [
         ("pack", SQUARE.to_owned(), "packing.csv"),
         ("optimise", optimise_config(), "packing.csv"),

@@ -63,7 +63,7 @@ pub fn router(shared: Arc<Shared>) -> Router {
 #[derive(Debug)]
 pub struct ApiError {
     status: StatusCode,
-    body: ErrorBody,
+    body: Box<ErrorBody>,
     retry_after: Option<u64>,
 }
 
@@ -90,13 +90,13 @@ impl ApiError {
     fn new(status: StatusCode, error: impl Into<String>) -> Self {
         ApiError {
             status,
-            body: ErrorBody {
+            body: Box::new(ErrorBody {
                 error: error.into(),
                 line: None,
                 column: None,
                 key: None,
                 message: None,
-            },
+            }),
             retry_after: None,
         }
     }
