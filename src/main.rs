@@ -7,6 +7,7 @@
 
 mod bench;
 mod cli;
+mod serve;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -64,6 +65,9 @@ enum Command {
     /// Measure disks per second and peak memory per disk (MX quadtree vs grid)
     /// on square domains with the thesis' Table 3.4 grading; writes bench.csv.
     Bench(bench::BenchArgs),
+    /// Run jobs as an HTTP service (submit, follow, cancel, fetch files);
+    /// see docs/api.md. Runs until SIGINT or SIGTERM.
+    Serve(serve::ServeArgs),
 }
 
 /// Options of every job.
@@ -136,6 +140,7 @@ fn main() -> ExitCode {
         Command::Verify(args) => cli::inspect::run_verify(&args),
         Command::Plot(args) => cli::inspect::run_plot(&args),
         Command::Bench(args) => bench::run_command(&args),
+        Command::Serve(args) => serve::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,222 @@
+//! Load benchmark of `gapack serve` (not a test): `cargo bench --bench service`.
+//!
+//! Starts the real binary on a random loopback port, then 25 client threads
+//! submit 1,000 jobs of the default scene (seeds 0..40 in turn) and follow
+//! each over SSE to its end. Every job is checked: it succeeded, it is
+//! listed once, and its `packing.csv` is byte for byte the one the jobs
+//! layer gives in process for the same seed. Prints jobs/s, p50 and p99
+//! submit→succeeded latency under load, the service's overhead on one job at
+//! a time (its latency less the in-process run), and the server's peak RSS.
+//!
+//! `GAPACK_BENCH_JOBS` and `GAPACK_BENCH_CLIENTS` change the load.
+
+use std::collections::BTreeSet;
+use std::io::{BufRead, BufReader};
+use std::process::{Child, Command, Stdio};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use gapack::config::{DEFAULT_CONFIG, DEFAULT_ORIGIN};
+use gapack::jobs::{self, Cancel, JobKind, MemoryStore, Plan, Request, Silent};
+
+const SEEDS: u64 = 40;
+
+fn env_or(name: &str, default: usize) -> usize {
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
+fn agent() -> ureq::Agent {
+    ureq::Agent::config_builder()
+        .http_status_as_error(false)
+        .timeout_global(Some(Duration::from_secs(600)))
+        .build()
+        .into()
+}
+
+/// The packing.csv of the default scene with `seed`, run in process.
+fn expected(seed: u64) -> (Vec<u8>, Duration) {
+    let request = Request {
+        seed: Some(seed),
+        ..Request::new(JobKind::Pack)
+    };
+    let plan = Plan::load(DEFAULT_CONFIG, DEFAULT_ORIGIN, &request).expect("plan");
+    let mut store = MemoryStore::default();
+    let start = Instant::now();
+    jobs::run(&plan, &mut Silent, &Cancel::new(), &mut store).expect("runs");
+    let took = start.elapsed();
+    (store.files["packing.csv"].clone(), took)
+}
+
+/// Submit the default scene with `seed`, follow it to its end; the id and
+/// the latency from submit to `succeeded`.
+fn run_one(base: &str, seed: u64) -> (String, Duration) {
+    let agent = agent();
+    let start = Instant::now();
+    let mut r = agent
+        .post(format!("{base}/api/v1/jobs?kind=pack&seed={seed}"))
+        .header("Content-Type", "application/toml")
+        .send(DEFAULT_CONFIG)
+        .expect("submit");
+    let body: serde_json::Value =
+        serde_json::from_str(&r.body_mut().read_to_string().expect("body")).expect("json");
+    assert_eq!(r.status().as_u16(), 201, "{body}");
+    let id = body["id"].as_str().expect("id").to_owned();
+    let events = agent
+        .get(format!("{base}/api/v1/jobs/{id}/events"))
+        .call()
+        .expect("events");
+    let mut last = String::new();
+    for line in BufReader::new(events.into_body().into_reader()).lines() {
+        let line = line.expect("line");
+        if let Some(data) = line.strip_prefix("data:") {
+            last = data.trim().to_owned();
+        }
+    }
+    let latency = start.elapsed();
+    let last: serde_json::Value = serde_json::from_str(&last).expect("last event");
+    assert_eq!(last["state"], "succeeded", "{id}: {last}");
+    (id, latency)
+}
+
+fn percentile(sorted: &[Duration], p: f64) -> Duration {
+    let i = ((sorted.len() as f64 - 1.0) * p).round() as usize;
+    sorted[i.min(sorted.len() - 1)]
+}
+
+/// The server's peak resident memory (kB), from /proc.
+fn peak_kb(child: &Child) -> Option<u64> {
+    let status = std::fs::read_to_string(format!("/proc/{}/status", child.id())).ok()?;
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
+}
+
+fn main() {
+    let total = env_or("GAPACK_BENCH_JOBS", 1000);
+    let clients = env_or("GAPACK_BENCH_CLIENTS", 25);
+    let data = std::env::temp_dir().join(format!("gapack-bench-service-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&data);
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gapack"))
+        .args([
+            "serve",
+            "--listen",
+            "127.0.0.1:0",
+            "--max-queue",
+            "100000",
+            "--data",
+        ])
+        .arg(&data)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start the server");
+    let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
+    let mut line = String::new();
+    stdout.read_line(&mut line).expect("first line");
+    let base = line
+        .trim()
+        .strip_prefix("listening on ")
+        .expect("address")
+        .to_owned();
+
+    let expected: Vec<(Vec<u8>, Duration)> = (0..SEEDS).map(expected).collect();
+    let mut alone: Vec<Duration> = expected.iter().map(|(_, d)| *d).collect();
+    alone.sort();
+    let packing = percentile(&alone, 0.5);
+
+    // One job at a time: the service's own cost.
+    let mut single: Vec<Duration> = (0..20).map(|i| run_one(&base, i % SEEDS).1).collect();
+    single.sort();
+
+    let results = Mutex::new(Vec::with_capacity(total));
+    let start = Instant::now();
+    std::thread::scope(|scope| {
+        for c in 0..clients {
+            let (base, results) = (&base, &results);
+            scope.spawn(move || {
+                let mut i = c;
+                while i < total {
+                    let seed = i as u64 % SEEDS;
+                    let (id, latency) = run_one(base, seed);
+                    results.lock().expect("results").push((id, seed, latency));
+                    i += clients;
+                }
+            });
+        }
+    });
+    let elapsed = start.elapsed();
+    let results = results.into_inner().expect("results");
+
+    // Verify every result: listed once, succeeded, the expected packing.
+    let agent = agent();
+    let ids: BTreeSet<&str> = results.iter().map(|(id, _, _)| id.as_str()).collect();
+    assert_eq!(ids.len(), total, "duplicated ids");
+    for (id, seed, _) in &results {
+        let mut r = agent
+            .get(format!("{base}/api/v1/jobs/{id}/files/packing.csv"))
+            .call()
+            .expect("file");
+        assert_eq!(r.status().as_u16(), 200);
+        let bytes = r
+            .body_mut()
+            .with_config()
+            .limit(64 << 20)
+            .read_to_vec()
+            .expect("bytes");
+        assert!(bytes == expected[*seed as usize].0, "{id}: packing differs");
+    }
+    let mut listed = BTreeSet::new();
+    let mut url = format!("{base}/api/v1/jobs?limit=500&state=succeeded");
+    for _ in 0..(total / 500 + 25) {
+        let mut r = agent.get(&url).call().expect("list");
+        let page: serde_json::Value =
+            serde_json::from_str(&r.body_mut().read_to_string().expect("body")).expect("json");
+        for job in page["jobs"].as_array().expect("jobs") {
+            assert!(
+                listed.insert(job["id"].as_str().expect("id").to_owned()),
+                "listed twice"
+            );
+        }
+        match page["next"].as_str() {
+            Some(next) => url = format!("{base}{next}"),
+            None => break,
+        }
+    }
+    assert_eq!(listed.len(), total + single.len(), "jobs lost");
+
+    let mut latencies: Vec<Duration> = results.iter().map(|(_, _, l)| *l).collect();
+    latencies.sort();
+    let peak = peak_kb(&child);
+    let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    println!("service load: {total} jobs of the default scene from {clients} clients");
+    println!("  none lost or duplicated; every packing.csv verified against the jobs layer");
+    println!(
+        "  throughput: {:.1} jobs/s ({:.2} s)",
+        total as f64 / elapsed.as_secs_f64(),
+        elapsed.as_secs_f64()
+    );
+    println!(
+        "  submit→succeeded under load: p50 {:.1} ms, p99 {:.1} ms",
+        ms(percentile(&latencies, 0.5)),
+        ms(percentile(&latencies, 0.99))
+    );
+    println!(
+        "  one job at a time: p50 {:.1} ms against {:.1} ms in process: the service adds {:.1} ms",
+        ms(percentile(&single, 0.5)),
+        ms(packing),
+        ms(percentile(&single, 0.5)) - ms(packing)
+    );
+    match peak {
+        Some(kb) => println!("  server peak RSS: {:.1} MB", kb as f64 / 1024.0),
+        None => println!("  server peak RSS: unknown (no /proc)"),
+    }
+    let _ = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status();
+    let _ = child.wait();
+    let _ = std::fs::remove_dir_all(&data);
+}

@@ -1,0 +1,121 @@
+//! The counters behind `GET /metrics` (Prometheus text format): what the
+//! store cannot count (durations, evaluations, disks) kept in memory since
+//! the server started; the jobs by state and the queue come from the store.
+
+use std::fmt::Write;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use super::db::State;
+
+/// Upper bounds (s) of the job-duration histogram's buckets.
+const BUCKETS: [f64; 10] = [0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 1.0, 10.0, 60.0, 600.0];
+
+/// Counters since the server started.
+#[derive(Default)]
+pub struct Metrics {
+    /// Jobs finished, per final state (succeeded, failed, cancelled).
+    finished: [AtomicU64; 3],
+    /// Jobs whose run took at most each bucket's bound.
+    buckets: [AtomicU64; BUCKETS.len()],
+    /// Sum of run times (µs).
+    micros: AtomicU64,
+    /// Runs timed.
+    runs: AtomicU64,
+    /// GA evaluations of finished searches.
+    evaluations: AtomicU64,
+    /// Disks in the packings of finished jobs.
+    disks: AtomicU64,
+}
+
+impl Metrics {
+    /// A job reached `state` after a run of `seconds`, with `disks` packed
+    /// and `evaluations` made.
+    pub fn finished(&self, state: State, seconds: f64, disks: u64, evaluations: u64) {
+        let slot = match state {
+            State::Succeeded => 0,
+            State::Failed => 1,
+            _ => 2,
+        };
+        self.finished[slot].fetch_add(1, Ordering::Relaxed);
+        for (bound, count) in BUCKETS.iter().zip(&self.buckets) {
+            if seconds <= *bound {
+                count.fetch_add(1, Ordering::Relaxed);
+            }
+        }
+        self.micros
+            .fetch_add((seconds * 1e6) as u64, Ordering::Relaxed);
+        self.runs.fetch_add(1, Ordering::Relaxed);
+        self.evaluations.fetch_add(evaluations, Ordering::Relaxed);
+        self.disks.fetch_add(disks, Ordering::Relaxed);
+    }
+
+    /// The Prometheus text: these counters and the store's `counts`.
+    pub fn render(&self, counts: &[(State, i64)]) -> String {
+        let mut out = String::new();
+        let get = |a: &AtomicU64| a.load(Ordering::Relaxed);
+        let _ = writeln!(out, "# HELP gapack_jobs Jobs in the store by state.");
+        let _ = writeln!(out, "# TYPE gapack_jobs gauge");
+        for (state, n) in counts {
+            let _ = writeln!(out, "gapack_jobs{{state=\"{}\"}} {n}", state.name());
+        }
+        let queued = counts
+            .iter()
+            .find(|(s, _)| *s == State::Queued)
+            .map_or(0, |(_, n)| *n);
+        let _ = writeln!(out, "# HELP gapack_queue_length Jobs waiting for a worker.");
+        let _ = writeln!(out, "# TYPE gapack_queue_length gauge");
+        let _ = writeln!(out, "gapack_queue_length {queued}");
+        let _ = writeln!(
+            out,
+            "# HELP gapack_jobs_finished_total Jobs finished since the server started, by final state."
+        );
+        let _ = writeln!(out, "# TYPE gapack_jobs_finished_total counter");
+        for (state, slot) in [("succeeded", 0), ("failed", 1), ("cancelled", 2)] {
+            let _ = writeln!(
+                out,
+                "gapack_jobs_finished_total{{state=\"{state}\"}} {}",
+                get(&self.finished[slot])
+            );
+        }
+        let _ = writeln!(
+            out,
+            "# HELP gapack_job_duration_seconds Run time of finished jobs."
+        );
+        let _ = writeln!(out, "# TYPE gapack_job_duration_seconds histogram");
+        for (bound, count) in BUCKETS.iter().zip(&self.buckets) {
+            let _ = writeln!(
+                out,
+                "gapack_job_duration_seconds_bucket{{le=\"{bound}\"}} {}",
+                get(count)
+            );
+        }
+        let runs = get(&self.runs);
+        let _ = writeln!(
+            out,
+            "gapack_job_duration_seconds_bucket{{le=\"+Inf\"}} {runs}"
+        );
+        let _ = writeln!(
+            out,
+            "gapack_job_duration_seconds_sum {}",
+            get(&self.micros) as f64 / 1e6
+        );
+        let _ = writeln!(out, "gapack_job_duration_seconds_count {runs}");
+        let _ = writeln!(
+            out,
+            "# HELP gapack_ga_evaluations_total Genomes evaluated by finished searches."
+        );
+        let _ = writeln!(out, "# TYPE gapack_ga_evaluations_total counter");
+        let _ = writeln!(
+            out,
+            "gapack_ga_evaluations_total {}",
+            get(&self.evaluations)
+        );
+        let _ = writeln!(
+            out,
+            "# HELP gapack_packed_disks_total Disks in the packings of finished jobs."
+        );
+        let _ = writeln!(out, "# TYPE gapack_packed_disks_total counter");
+        let _ = writeln!(out, "gapack_packed_disks_total {}", get(&self.disks));
+        out
+    }
+}

@@ -1,0 +1,287 @@
+//! `gapack serve`: the jobs layer as an HTTP service (axum on tokio).
+//!
+//! - `db`: the SQLite job store (a row per job, its events, transactional
+//!   state changes; crash recovery re-queues what was running);
+//! - `worker`: threads that run claimed jobs with `jobs::run`, each into
+//!   `DATA/jobs/<id>/` with a `DirStore`, exactly as the CLI would;
+//! - `api`: the handlers under `/api/v1`, their OpenAPI document, auth and
+//!   the JSON errors;
+//! - this file: the options, the shared state, startup and shutdown.
+//!
+//! SIGINT or SIGTERM: the server stops taking jobs, cancels the running ones
+//! (an optimise keeps its best packing and its checkpoint), puts them back
+//! in the queue to resume at the next start, ends the event streams, and exits.
+
+mod api;
+mod db;
+mod metrics;
+mod worker;
+
+use std::collections::BTreeMap;
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Condvar, Mutex, PoisonError};
+use std::time::Duration;
+
+use anyhow::Context;
+use clap::Args;
+use gapack::jobs::Cancel;
+use tokio::sync::{broadcast, watch};
+
+use crate::cli::{Failure, print_line};
+use db::Db;
+use metrics::Metrics;
+
+/// `gapack serve` options.
+#[derive(Args)]
+pub struct ServeArgs {
+    /// Address to listen on (port 0: any free port; the first line on
+    /// stdout says which). Any address but loopback needs --token-file.
+    #[arg(long, default_value = "127.0.0.1:8080", value_name = "ADDR")]
+    listen: SocketAddr,
+    /// Folder of the job store (gapack.db) and of the jobs' files (jobs/<id>/).
+    #[arg(long, default_value = "gapack-data", value_name = "DIR")]
+    data: PathBuf,
+    /// Jobs run at once [default: one per two cores]; 0 only queues.
+    #[arg(long, value_name = "N")]
+    workers: Option<usize>,
+    /// File holding the bearer token every request must carry
+    /// (`Authorization: Bearer TOKEN`).
+    #[arg(long, value_name = "F")]
+    token_file: Option<PathBuf>,
+    /// Jobs that may wait in the queue; a submission beyond gets 503.
+    #[arg(long, default_value_t = 1000, value_name = "N")]
+    max_queue: usize,
+    /// Most disks a submitted scene may hold (its upper bound); a config's
+    /// [limits] cannot raise it.
+    #[arg(long, default_value_t = 2_000_000, value_name = "N")]
+    max_particles: u64,
+    /// Most memory a submitted run may be estimated to need (MB).
+    #[arg(long, default_value_t = 1024, value_name = "MB")]
+    max_memory_mb: u64,
+    /// Longest a job may run (s); it is then stopped, keeping what it finished.
+    #[arg(long, default_value_t = 3600, value_name = "S")]
+    max_seconds: u64,
+    /// Let a submission ask for `force=true` (run over the config's and the
+    /// server's limits).
+    #[arg(long)]
+    force: bool,
+    /// optimise: save a checkpoint every N generations (a restart resumes from it).
+    #[arg(long, default_value_t = 10, value_name = "N")]
+    checkpoint_every: usize,
+}
+
+/// The server's ceilings on what a submission may ask.
+#[derive(Debug, Clone)]
+pub struct Limits {
+    /// Most disks a scene may hold.
+    pub max_particles: u64,
+    /// Most estimated memory (bytes).
+    pub max_memory_bytes: f64,
+    /// Longest run.
+    pub max_seconds: Option<Duration>,
+    /// Whether submissions may ask for `force`.
+    pub force: bool,
+    /// Jobs that may wait.
+    pub max_queue: usize,
+    /// optimise: checkpoint period (generations).
+    pub checkpoint_every: usize,
+}
+
+/// What the handlers and the workers share.
+pub struct Shared {
+    db: Db,
+    data: PathBuf,
+    limits: Limits,
+    token: Option<String>,
+    /// Set once SIGINT or SIGTERM came: no new job is taken.
+    stopping: AtomicBool,
+    /// The running jobs' tokens.
+    running: Mutex<BTreeMap<String, Cancel>>,
+    /// Wakes idle workers when a job is queued.
+    wake: (Mutex<u64>, Condvar),
+    /// The id of each job with a new event (or state), for the streams.
+    events: broadcast::Sender<String>,
+    /// Turns true at shutdown: the streams end.
+    shutdown: watch::Sender<bool>,
+    metrics: Metrics,
+}
+
+impl Shared {
+    fn register(&self, id: &str, token: Cancel) {
+        self.lock_running().insert(id.to_owned(), token);
+    }
+
+    fn unregister(&self, id: &str) {
+        self.lock_running().remove(id);
+    }
+
+    /// Raise the token of running job `id`, if it runs here.
+    fn cancel_running(&self, id: &str) {
+        if let Some(token) = self.lock_running().get(id) {
+            token.cancel();
+        }
+    }
+
+    fn lock_running(&self) -> std::sync::MutexGuard<'_, BTreeMap<String, Cancel>> {
+        self.running.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Wake one idle worker.
+    fn wake_worker(&self) {
+        let (lock, condvar) = &self.wake;
+        *lock.lock().unwrap_or_else(PoisonError::into_inner) += 1;
+        condvar.notify_one();
+    }
+
+    /// Sleep until woken or `timeout`.
+    fn wait_for_work(&self, timeout: Duration) {
+        let (lock, condvar) = &self.wake;
+        let guard = lock.lock().unwrap_or_else(PoisonError::into_inner);
+        let seen = *guard;
+        let _ = condvar
+            .wait_timeout_while(guard, timeout, |n| {
+                *n == seen && !self.stopping.load(Ordering::SeqCst)
+            })
+            .unwrap_or_else(PoisonError::into_inner);
+    }
+
+    /// Tell the streams that job `id` has news.
+    fn notify(&self, id: &str) {
+        // No receiver is fine: nobody follows the job.
+        let _ = self.events.send(id.to_owned());
+    }
+}
+
+/// Run the service until SIGINT or SIGTERM.
+///
+/// # Errors
+/// [`Failure::Input`] for bad options (a non-loopback address without a
+/// token), [`Failure::Run`] when the store or the socket cannot be opened.
+pub fn run(args: &ServeArgs) -> Result<(), Failure> {
+    let token = match &args.token_file {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("cannot read the token file {}", path.display()))
+                .map_err(Failure::Input)?;
+            let token = text.trim().to_owned();
+            if token.len() < 16 {
+                return Err(Failure::Input(anyhow::anyhow!(
+                    "the token in {} is too short: at least 16 characters",
+                    path.display()
+                )));
+            }
+            Some(token)
+        }
+        None => None,
+    };
+    if token.is_none() && !args.listen.ip().is_loopback() {
+        return Err(Failure::Input(anyhow::anyhow!(
+            "listening on {} (not loopback) needs --token-file",
+            args.listen
+        )));
+    }
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let workers = args.workers.unwrap_or((cores / 2).max(1));
+    let limits = Limits {
+        max_particles: args.max_particles,
+        max_memory_bytes: args.max_memory_mb as f64 * 1024.0 * 1024.0,
+        max_seconds: (args.max_seconds > 0).then(|| Duration::from_secs(args.max_seconds)),
+        force: args.force,
+        max_queue: args.max_queue,
+        checkpoint_every: args.checkpoint_every,
+    };
+    let run_failure = |e: anyhow::Error| Failure::Run(e);
+    std::fs::create_dir_all(args.data.join("jobs"))
+        .with_context(|| format!("cannot create {}", args.data.display()))
+        .map_err(run_failure)?;
+    let db = Db::open(&args.data.join("gapack.db"))
+        .context("cannot open the job store")
+        .map_err(run_failure)?;
+    let recovered = db
+        .recover()
+        .context("cannot recover the job store")
+        .map_err(run_failure)?;
+    let (events, _) = broadcast::channel(1024);
+    let (shutdown, _) = watch::channel(false);
+    let shared = Arc::new(Shared {
+        db,
+        data: args.data.clone(),
+        limits,
+        token,
+        stopping: AtomicBool::new(false),
+        running: Mutex::new(BTreeMap::new()),
+        wake: (Mutex::new(0), Condvar::new()),
+        events,
+        shutdown,
+        metrics: Metrics::default(),
+    });
+    // Already set (never, in the binary) is fine: logs go where it says.
+    let _ = tracing_subscriber::fmt()
+        .with_writer(std::io::stderr)
+        .with_ansi(false)
+        .with_max_level(tracing::Level::INFO)
+        .try_init();
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .context("cannot start the async runtime")
+        .map_err(run_failure)?;
+    let listener = runtime
+        .block_on(tokio::net::TcpListener::bind(args.listen))
+        .with_context(|| format!("cannot listen on {}", args.listen))
+        .map_err(run_failure)?;
+    let addr = listener
+        .local_addr()
+        .context("cannot read the bound address")
+        .map_err(run_failure)?;
+    print_line(format!("listening on http://{addr}"));
+    tracing::info!(%addr, workers, recovered, data = %args.data.display(), "serving");
+    let threads: Vec<_> = (0..workers)
+        .map(|i| {
+            let shared = Arc::clone(&shared);
+            std::thread::spawn(move || worker::work(&shared, i))
+        })
+        .collect();
+    let router = api::router(Arc::clone(&shared));
+    let served = runtime.block_on(async {
+        axum::serve(listener, router)
+            .with_graceful_shutdown(stop_signal(Arc::clone(&shared)))
+            .await
+    });
+    for thread in threads {
+        let _ = thread.join();
+    }
+    tracing::info!("stopped");
+    served.context("the server failed").map_err(Failure::Run)
+}
+
+/// Resolves at SIGINT or SIGTERM, after the server stopped taking jobs,
+/// cancelled the running ones and ended the streams.
+async fn stop_signal(shared: Arc<Shared>) {
+    let interrupt = tokio::signal::ctrl_c();
+    #[cfg(unix)]
+    let terminate = async {
+        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
+            Ok(mut signal) => {
+                signal.recv().await;
+            }
+            Err(_) => std::future::pending::<()>().await,
+        }
+    };
+    #[cfg(not(unix))]
+    let terminate = std::future::pending::<()>();
+    tokio::select! {
+        _ = interrupt => {}
+        () = terminate => {}
+    }
+    tracing::info!("stopping: no new jobs; running jobs are cancelled and re-queued");
+    shared.stopping.store(true, Ordering::SeqCst);
+    for token in shared.lock_running().values() {
+        token.cancel();
+    }
+    shared.wake.1.notify_all();
+    let _ = shared.shutdown.send(true);
+}

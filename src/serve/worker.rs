@@ -1,0 +1,218 @@
+//! Workers: threads that claim queued jobs from the store and run them with
+//! the jobs layer, exactly as the CLI does: the same plan, a [`DirStore`] on
+//! `DATA/jobs/<id>/`, a cancel token per job, and an observer that appends
+//! each event to the store and wakes the event streams.
+
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::Ordering;
+use std::time::{Duration, Instant};
+
+use gapack::jobs::{
+    self, Cancel, DirStore, Event, JobError, JobKind, Observer, Outcome, Plan, Report, Store,
+};
+use serde_json::{Value, json};
+
+use super::Shared;
+use super::db::{Ending, JobRow, State};
+
+/// The origin every submitted config is named by in messages and files
+/// (`summary.json`, `manifest.json`): a run of `gapack <job> config.toml`
+/// names its config the same way.
+pub const ORIGIN: &str = "config.toml";
+
+/// How long an idle worker sleeps before it looks at the queue again, if
+/// nothing wakes it sooner.
+const IDLE: Duration = Duration::from_millis(500);
+
+/// The folder of job `id`'s files.
+pub fn job_dir(shared: &Shared, id: &str) -> PathBuf {
+    shared.data.join("jobs").join(id)
+}
+
+/// One worker's loop: claim, run, record; until the server stops.
+pub fn work(shared: &Arc<Shared>, index: usize) {
+    while !shared.stopping.load(Ordering::SeqCst) {
+        let job = match shared.db.claim() {
+            Ok(job) => job,
+            Err(e) => {
+                tracing::error!(worker = index, error = %e, "cannot claim a job");
+                None
+            }
+        };
+        match job {
+            Some(job) => run_one(shared, job),
+            None => shared.wait_for_work(IDLE),
+        }
+    }
+}
+
+/// Run one claimed job and record how it ended.
+fn run_one(shared: &Arc<Shared>, job: JobRow) {
+    let id = job.id.clone();
+    tracing::info!(job = %id, kind = %job.kind, attempt = job.attempts, resume = job.resume, state = "running", "job state");
+    shared.notify(&id);
+    let token = Cancel::new();
+    shared.register(&id, token.clone());
+    // A cancel or a stop that came between the claim and the registration.
+    if shared.db.cancel_requested(&id).unwrap_or(false) || shared.stopping.load(Ordering::SeqCst) {
+        token.cancel();
+    }
+    let started = Instant::now();
+    let run_token = match shared.limits.max_seconds {
+        Some(cap) => token.with_deadline(cap),
+        None => token.clone(),
+    };
+    let result = catch_unwind(AssertUnwindSafe(|| execute(shared, &job, &run_token)));
+    shared.unregister(&id);
+    let user_cancel = shared.db.cancel_requested(&id).unwrap_or(false);
+    let stopping = shared.stopping.load(Ordering::SeqCst);
+    let ending = match result {
+        Ok(Ok(outcome)) if !outcome.interrupted => Ending::Final {
+            state: State::Succeeded,
+            summary: Some(summary(&outcome).to_string()),
+            error: None,
+        },
+        Ok(result) => {
+            // Interrupted or cancelled: by whom?
+            let kept = result.as_ref().ok().map(|o| summary(o).to_string());
+            if user_cancel {
+                Ending::Final {
+                    state: State::Cancelled,
+                    summary: kept,
+                    error: None,
+                }
+            } else if stopping && token.is_raised() {
+                Ending::Requeue
+            } else {
+                match result {
+                    Err(e) if !matches!(e, JobError::Cancelled) => Ending::Final {
+                        state: State::Failed,
+                        summary: None,
+                        error: Some(format!("{:#}", anyhow::Error::from(e))),
+                    },
+                    _ => Ending::Final {
+                        state: State::Failed,
+                        summary: kept,
+                        error: Some(format!(
+                            "stopped at the server's run-time ceiling of {} s; what was finished is written",
+                            shared.limits.max_seconds.map_or(0, |d| d.as_secs())
+                        )),
+                    },
+                }
+            }
+        }
+        Err(_) => Ending::Final {
+            state: State::Failed,
+            summary: None,
+            error: Some("internal error: the job panicked".to_owned()),
+        },
+    };
+    let seconds = started.elapsed().as_secs_f64();
+    let state = match &ending {
+        Ending::Final { state, .. } => *state,
+        Ending::Requeue => State::Queued,
+    };
+    if let Err(e) = shared.db.finish(&id, &ending) {
+        tracing::error!(job = %id, error = %e, "cannot record the job's end");
+    }
+    if let Ending::Final { error, summary, .. } = &ending {
+        let summary: Value = summary
+            .as_deref()
+            .and_then(|s| serde_json::from_str(s).ok())
+            .unwrap_or(Value::Null);
+        shared.metrics.finished(
+            state,
+            seconds,
+            summary["particles"].as_u64().unwrap_or(0),
+            summary["evaluations"].as_u64().unwrap_or(0),
+        );
+        tracing::info!(job = %id, state = state.name(), seconds, error = error.as_deref().unwrap_or(""), "job state");
+    } else {
+        tracing::info!(job = %id, state = "queued", reason = "the server stopped", "job state");
+    }
+    shared.notify(&id);
+}
+
+/// Plan and run the job as the CLI would.
+fn execute(shared: &Shared, job: &JobRow, cancel: &Cancel) -> Result<Outcome, JobError> {
+    let kind = JobKind::ALL
+        .into_iter()
+        .find(|k| k.name() == job.kind)
+        .ok_or_else(|| JobError::Input(format!("unknown job kind {:?}", job.kind)))?;
+    let mut store = DirStore::new(job_dir(shared, &job.id));
+    let resume = kind == JobKind::Optimise
+        && job.resume
+        && matches!(store.read(jobs::CHECKPOINT_JSON), Ok(Some(_)));
+    let request = jobs::Request {
+        seed: job.seed,
+        force: shared.limits.force,
+        resume,
+        checkpoint_every: shared.limits.checkpoint_every,
+        ..jobs::Request::new(kind)
+    };
+    let plan = Plan::load(&job.config, ORIGIN, &request)?;
+    let mut observer = Recorder {
+        shared,
+        id: &job.id,
+    };
+    jobs::run(&plan, &mut observer, cancel, &mut store)
+}
+
+/// A finished job's summary: its result in words, its files, and the
+/// figures of its packing.
+fn summary(outcome: &Outcome) -> Value {
+    let mut summary = json!({
+        "interrupted": outcome.interrupted,
+        "files": outcome.files,
+        "lines": outcome.lines(),
+    });
+    let metrics = match &outcome.report {
+        Report::Pack { metrics, .. } | Report::Layer { metrics, .. } => Some(metrics),
+        Report::Optimise {
+            metrics,
+            summary: s,
+            ..
+        } => {
+            summary["generations"] = json!(s.generations);
+            summary["evaluations"] = json!(s.evaluations);
+            summary["best_porosity"] = json!(s.best_porosity);
+            summary["target_porosity"] = json!(s.target_porosity);
+            Some(metrics)
+        }
+        Report::Wells { wells, .. } => {
+            summary["particles"] = json!(wells.iter().map(|w| w.row.particles).sum::<usize>());
+            None
+        }
+        _ => None,
+    };
+    if let Some(m) = metrics {
+        summary["particles"] = json!(m.particles);
+        summary["porosity"] = json!(m.porosity);
+    }
+    summary
+}
+
+/// The observer of a job run by the service: each event appended to the
+/// store (the stream's source), then the streams woken.
+struct Recorder<'a> {
+    shared: &'a Shared,
+    id: &'a str,
+}
+
+impl Observer for Recorder<'_> {
+    fn event(&mut self, event: &Event) {
+        let Ok(data) = serde_json::to_value(event) else {
+            return;
+        };
+        let progress = matches!(
+            event,
+            Event::Stage { .. } | Event::Progress { .. } | Event::Generation { .. }
+        );
+        match self.shared.db.event(self.id, &data, progress) {
+            Ok(_) => self.shared.notify(self.id),
+            Err(e) => tracing::warn!(job = %self.id, error = %e, "cannot record an event"),
+        }
+    }
+}

@@ -1,0 +1,914 @@
+//! `gapack serve` end to end: the real binary on a random loopback port,
+//! driven by an HTTP client. Every job kind is submitted, followed over SSE
+//! to its end and its files compared with the CLI's for the same config and
+//! seed; cancel, delete, paging, every malformed request, the token; and
+//! the faults: `kill -9` mid-optimise then a restart, a job whose output
+//! write fails, SIGTERM with jobs queued and running.
+
+mod common;
+
+use std::fs;
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, ChildStdout, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::{gapack, scratch};
+use serde_json::Value;
+
+const SQUARE: &str = "seed = 3\n[domain]\nshape = \"rectangle\"\nwidth = 20\nheight = 20\n[grading]\nuniform = [1.0, 2.0]\n";
+
+fn optimise_config() -> String {
+    format!(
+        "{SQUARE}[optimise]\ntarget_porosity = 0.05\npopulation = 8\ngenerations = 4\nstagnation = 100\n"
+    )
+}
+
+fn layer_config() -> String {
+    format!(
+        "{SQUARE}[[materials]]\nname = \"a\"\n[[materials]]\nname = \"b\"\n[layering]\naxis = \"y\"\nbins = 10\nprofile = \"steps\"\nlayers = [[\"a\", 0.5], [\"b\", 0.5]]\npopulation = 8\ngenerations = 4\ntolerance = 0.0\n"
+    )
+}
+
+/// A long search (a bigger square, every generation run): long enough to be
+/// stopped part-way.
+fn long_optimise_config() -> String {
+    "seed = 5\n[domain]\nshape = \"rectangle\"\nwidth = 60\nheight = 60\n[grading]\nuniform = [1.0, 2.0]\n\
+     [optimise]\ntarget_porosity = 0.01\npopulation = 8\ngenerations = 30\nstagnation = 100\n"
+        .to_owned()
+}
+
+/// A running `gapack serve`, killed when dropped.
+struct Server {
+    child: Child,
+    base: String,
+    _stdout: BufReader<ChildStdout>,
+}
+
+impl Server {
+    /// Start the server on a random loopback port with its data in `data`.
+    fn start(data: &Path, extra: &[&str]) -> Server {
+        let log = fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(data.with_extension("log"))
+            .expect("server log");
+        let mut child = Command::new(env!("CARGO_BIN_EXE_gapack"))
+            .args(["serve", "--listen", "127.0.0.1:0", "--data"])
+            .arg(data)
+            .args(extra)
+            .stdout(Stdio::piped())
+            .stderr(log)
+            .spawn()
+            .expect("start gapack serve");
+        let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
+        let mut line = String::new();
+        stdout.read_line(&mut line).expect("first line");
+        let base = line
+            .trim()
+            .strip_prefix("listening on ")
+            .unwrap_or_else(|| panic!("first line {line:?}"))
+            .to_owned();
+        Server {
+            child,
+            base,
+            _stdout: stdout,
+        }
+    }
+
+    fn url(&self, path: &str) -> String {
+        format!("{}{path}", self.base)
+    }
+
+    /// Send SIGTERM and wait for the exit (at most 60 s).
+    fn terminate(mut self) {
+        let pid = self.child.id().to_string();
+        let status = Command::new("kill")
+            .args(["-TERM", &pid])
+            .status()
+            .expect("kill");
+        assert!(status.success());
+        let start = Instant::now();
+        loop {
+            if let Some(status) = self.child.try_wait().expect("wait") {
+                assert!(status.success(), "exit {status:?}");
+                return;
+            }
+            assert!(
+                start.elapsed() < Duration::from_secs(60),
+                "no exit after SIGTERM"
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
+    /// `kill -9`.
+    fn kill(mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn agent() -> ureq::Agent {
+    ureq::Agent::config_builder()
+        .http_status_as_error(false)
+        .timeout_global(Some(Duration::from_secs(120)))
+        .build()
+        .into()
+}
+
+/// A response: status, content type, body.
+struct Reply {
+    status: u16,
+    content_type: String,
+    headers: ureq::http::HeaderMap,
+    body: Vec<u8>,
+}
+
+impl Reply {
+    fn json(&self) -> Value {
+        serde_json::from_slice(&self.body)
+            .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&self.body)))
+    }
+
+    fn error(&self) -> String {
+        self.json()["error"]
+            .as_str()
+            .unwrap_or_else(|| panic!("no error in {}", String::from_utf8_lossy(&self.body)))
+            .to_owned()
+    }
+}
+
+fn reply(r: Result<ureq::http::Response<ureq::Body>, ureq::Error>) -> Reply {
+    let mut r = r.expect("request");
+    let content_type = r
+        .headers()
+        .get("content-type")
+        .and_then(|v| v.to_str().ok())
+        .unwrap_or("")
+        .to_owned();
+    Reply {
+        status: r.status().as_u16(),
+        content_type,
+        headers: r.headers().clone(),
+        body: r
+            .body_mut()
+            .with_config()
+            .limit(64 << 20)
+            .read_to_vec()
+            .expect("body"),
+    }
+}
+
+fn get(server: &Server, path: &str) -> Reply {
+    reply(agent().get(server.url(path)).call())
+}
+
+fn post_toml(server: &Server, path: &str, body: &str) -> Reply {
+    reply(
+        agent()
+            .post(server.url(path))
+            .header("Content-Type", "application/toml")
+            .send(body),
+    )
+}
+
+/// Submit and return the job's id.
+fn submit(server: &Server, kind: &str, seed: u64, config: &str) -> String {
+    let r = post_toml(
+        server,
+        &format!("/api/v1/jobs?kind={kind}&seed={seed}"),
+        config,
+    );
+    assert_eq!(r.status, 201, "{}", String::from_utf8_lossy(&r.body));
+    let json = r.json();
+    assert_eq!(json["state"], "queued");
+    json["id"].as_str().expect("id").to_owned()
+}
+
+/// Follow a job's events to the end: `(id, event, data)` of each.
+fn follow(server: &Server, id: &str, last: Option<i64>) -> Vec<(i64, String, Value)> {
+    let mut request = agent().get(server.url(&format!("/api/v1/jobs/{id}/events")));
+    if let Some(last) = last {
+        request = request.header("Last-Event-ID", last.to_string());
+    }
+    let response = request.call().expect("events");
+    assert_eq!(response.status().as_u16(), 200);
+    let reader = BufReader::new(response.into_body().into_reader());
+    let mut events = Vec::new();
+    let (mut seq, mut name, mut data) = (0, String::new(), String::new());
+    for line in reader.lines() {
+        let line = line.expect("line");
+        if let Some(v) = line.strip_prefix("id:") {
+            seq = v.trim().parse().expect("id");
+        } else if let Some(v) = line.strip_prefix("event:") {
+            name = v.trim().to_owned();
+        } else if let Some(v) = line.strip_prefix("data:") {
+            data = v.trim().to_owned();
+        } else if line.is_empty() && !data.is_empty() {
+            events.push((
+                seq,
+                name.clone(),
+                serde_json::from_str(&data).expect("json"),
+            ));
+            data.clear();
+        }
+    }
+    events
+}
+
+/// Wait (at most 120 s) until the job is in one of `states`.
+fn wait_for(server: &Server, id: &str, states: &[&str]) -> Value {
+    let start = Instant::now();
+    loop {
+        let job = get(server, &format!("/api/v1/jobs/{id}")).json();
+        if states.iter().any(|s| job["state"] == *s) {
+            return job;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "job {id} still {}",
+            job["state"]
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// The job's files by name, fetched through the API.
+fn download(server: &Server, id: &str) -> Vec<(String, Vec<u8>)> {
+    let list = get(server, &format!("/api/v1/jobs/{id}/files"));
+    assert_eq!(list.status, 200, "{}", String::from_utf8_lossy(&list.body));
+    let list = list.json();
+    let mut files = Vec::new();
+    for f in list["files"].as_array().expect("files") {
+        let name = f["name"].as_str().expect("name").to_owned();
+        let r = get(server, f["url"].as_str().expect("url"));
+        assert_eq!(r.status, 200, "{name}");
+        let expected = match name.rsplit('.').next() {
+            Some("csv") => "text/csv",
+            Some("json") => "application/json",
+            Some("svg") => "image/svg+xml",
+            Some("png") => "image/png",
+            _ => "",
+        };
+        assert!(
+            r.content_type.starts_with(expected),
+            "{name}: {}",
+            r.content_type
+        );
+        files.push((name, r.body));
+    }
+    files
+}
+
+/// Run the CLI on `config` (as `config.toml`) with `seed` into `dir/cli`.
+fn cli_run(dir: &Path, kind: &str, config: &str, seed: u64) -> PathBuf {
+    fs::write(dir.join("config.toml"), config).expect("config");
+    let seed = seed.to_string();
+    let out = gapack(
+        dir,
+        &[
+            kind,
+            "config.toml",
+            "--out",
+            "cli",
+            "--seed",
+            &seed,
+            "--quiet",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    dir.join("cli")
+}
+
+/// The CSV without the columns named `seconds` (timings differ run to run).
+fn untimed(csv: &[u8]) -> Vec<Vec<String>> {
+    let text = String::from_utf8_lossy(csv);
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+    let keep: Vec<usize> = (0..header.len())
+        .filter(|&i| header[i] != "seconds")
+        .collect();
+    std::iter::once(header.join(","))
+        .chain(lines.map(str::to_owned))
+        .map(|l| {
+            let cells: Vec<&str> = l.split(',').collect();
+            keep.iter()
+                .map(|&i| cells.get(i).unwrap_or(&"").to_string())
+                .collect()
+        })
+        .collect()
+}
+
+fn manifest_files(manifest: &[u8]) -> Vec<String> {
+    let v: Value = serde_json::from_slice(manifest).expect("manifest");
+    v["files"]
+        .as_array()
+        .expect("files")
+        .iter()
+        .map(|f| f.as_str().expect("name").to_owned())
+        .collect()
+}
+
+#[test]
+fn every_job_kind_runs_as_the_cli_runs_it() {
+    let dir = scratch("serve-kinds");
+    let server = Server::start(&dir.join("data"), &[]);
+    let stability = "seed = 1\n[domain]\nshape = \"rectangle\"\nwidth = 10\nheight = 10\n[grading]\nconstant = 1.0\n[packer]\nattempts = 200\n[compare]\nmethods = [\"rsa\"]\n"
+        .to_owned();
+    let cases = [
+        ("pack", SQUARE.to_owned(), "packing.csv"),
+        ("optimise", optimise_config(), "packing.csv"),
+        ("layer", layer_config(), "packing.csv"),
+        (
+            "compare",
+            format!("{SQUARE}[compare]\nmethods = [\"rsa\"]\nrepeats = 1\n"),
+            "compare.csv",
+        ),
+        ("stability", stability, "stability.csv"),
+    ];
+    for (kind, config, table) in cases {
+        let id = submit(&server, kind, 11, &config);
+        let events = follow(&server, &id, None);
+        let names: Vec<&str> = events.iter().map(|(_, n, _)| n.as_str()).collect();
+        assert_eq!(names.first(), Some(&"state"), "{kind}: {names:?}");
+        assert!(names.contains(&"started"), "{kind}: {names:?}");
+        assert!(names.contains(&"written"), "{kind}: {names:?}");
+        let (_, _, last) = events.last().expect("events");
+        assert_eq!(last["state"], "succeeded", "{kind}: {events:?}");
+        for pair in events.windows(2) {
+            assert_eq!(pair[1].0, pair[0].0 + 1, "{kind}: numbered in order");
+        }
+        if kind == "optimise" {
+            let generation = events
+                .iter()
+                .find(|(_, n, _)| n == "generation")
+                .expect("generation events");
+            assert!(generation.2["best"].is_number() && generation.2["mean"].is_number());
+        }
+        // Resumed after the third event: the rest, the same.
+        let tail = follow(&server, &id, Some(events[2].0));
+        assert_eq!(tail.len(), events.len() - 3, "{kind}");
+        assert_eq!(tail[0].2, events[3].2);
+
+        let job = get(&server, &format!("/api/v1/jobs/{id}")).json();
+        assert_eq!(job["state"], "succeeded");
+        assert_eq!(job["kind"], kind);
+        assert!(job["summary"]["lines"].is_array(), "{job}");
+        assert!(job["finished_ms"].as_i64() >= job["started_ms"].as_i64());
+
+        let served = download(&server, &id);
+        let cli = cli_run(&dir, kind, &config, 11);
+        let cli_manifest = fs::read(cli.join("manifest.json")).expect("cli manifest");
+        let served_manifest = &served
+            .iter()
+            .find(|(n, _)| n == "manifest.json")
+            .expect("manifest served")
+            .1;
+        assert_eq!(
+            manifest_files(served_manifest),
+            manifest_files(&cli_manifest),
+            "{kind}"
+        );
+        let mine = &served.iter().find(|(n, _)| n == table).expect(table).1;
+        let theirs = fs::read(cli.join(table)).expect("cli table");
+        if table == "packing.csv" {
+            assert!(mine == &theirs, "{kind}: {table} differs from the CLI's");
+        } else if kind == "compare" {
+            assert_eq!(untimed(mine), untimed(&theirs), "{kind}");
+        } else {
+            assert_eq!(untimed(mine).len(), untimed(&theirs).len(), "{kind}");
+        }
+    }
+}
+
+#[test]
+fn cancel_delete_and_paging() {
+    let dir = scratch("serve-cancel");
+    let server = Server::start(&dir.join("data"), &["--workers", "1"]);
+    let long = submit(&server, "optimise", 1, &long_optimise_config());
+    let queued = submit(&server, "pack", 1, SQUARE);
+    wait_for(&server, &long, &["running"]);
+    // A queued job is cancelled at once, and again without change.
+    for _ in 0..2 {
+        let r = reply(
+            agent()
+                .post(server.url(&format!("/api/v1/jobs/{queued}/cancel")))
+                .send_empty(),
+        );
+        assert_eq!(r.status, 200);
+        assert_eq!(r.json()["state"], "cancelled");
+    }
+    // A running search keeps its best packing.
+    let events = follow_until_generation(&server, &long, 1);
+    assert!(!events.is_empty());
+    let r = reply(
+        agent()
+            .post(server.url(&format!("/api/v1/jobs/{long}/cancel")))
+            .send_empty(),
+    );
+    assert_eq!(r.status, 202, "{}", String::from_utf8_lossy(&r.body));
+    let job = wait_for(&server, &long, &["cancelled"]);
+    assert_eq!(job["summary"]["interrupted"], true, "{job}");
+    let files = download(&server, &long);
+    assert!(files.iter().any(|(n, _)| n == "packing.csv"));
+    assert!(files.iter().any(|(n, _)| n == "checkpoint.json"));
+    let again = reply(
+        agent()
+            .post(server.url(&format!("/api/v1/jobs/{long}/cancel")))
+            .send_empty(),
+    );
+    assert_eq!(again.status, 200);
+    assert_eq!(again.json()["state"], "cancelled");
+
+    // Paging: newest first, by state.
+    let mut ids = vec![long.clone(), queued.clone()];
+    for seed in 0..3 {
+        ids.push(submit(&server, "pack", seed, SQUARE));
+    }
+    for id in &ids[2..] {
+        wait_for(&server, id, &["succeeded"]);
+    }
+    let mut seen = Vec::new();
+    let mut url = "/api/v1/jobs?limit=2".to_owned();
+    for _ in 0..10 {
+        let page = get(&server, &url).json();
+        let jobs = page["jobs"].as_array().expect("jobs");
+        assert!(jobs.len() <= 2);
+        seen.extend(
+            jobs.iter()
+                .map(|j| j["id"].as_str().expect("id").to_owned()),
+        );
+        match page["next"].as_str() {
+            Some(next) => url = next.to_owned(),
+            None => break,
+        }
+    }
+    let mut newest_first = ids.clone();
+    newest_first.reverse();
+    assert_eq!(seen, newest_first);
+    let cancelled = get(&server, "/api/v1/jobs?state=cancelled").json();
+    let cancelled: Vec<&str> = cancelled["jobs"]
+        .as_array()
+        .expect("jobs")
+        .iter()
+        .map(|j| j["id"].as_str().expect("id"))
+        .collect();
+    assert_eq!(cancelled, vec![queued.as_str(), long.as_str()]);
+
+    // Delete: the job and its files go.
+    let job_dir = dir.join("data").join("jobs").join(&long);
+    assert!(job_dir.exists());
+    let r = reply(
+        agent()
+            .delete(server.url(&format!("/api/v1/jobs/{long}")))
+            .call(),
+    );
+    assert_eq!(r.status, 204);
+    assert!(!job_dir.exists());
+    assert_eq!(get(&server, &format!("/api/v1/jobs/{long}")).status, 404);
+    let r = reply(
+        agent()
+            .delete(server.url(&format!("/api/v1/jobs/{long}")))
+            .call(),
+    );
+    assert_eq!(r.status, 404);
+    server.terminate();
+}
+
+/// Follow a job's events until generation `index` of its search (or its end).
+fn follow_until_generation(server: &Server, id: &str, index: u64) -> Vec<Value> {
+    let response = agent()
+        .get(server.url(&format!("/api/v1/jobs/{id}/events")))
+        .call()
+        .expect("events");
+    let reader = BufReader::new(response.into_body().into_reader());
+    let mut seen = Vec::new();
+    for line in reader.lines() {
+        let line = line.expect("line");
+        if let Some(data) = line.strip_prefix("data:") {
+            let v: Value = serde_json::from_str(data.trim()).expect("json");
+            let done = (v["event"] == "generation" && v["index"].as_u64() >= Some(index))
+                || (v["event"] == "state"
+                    && !matches!(v["state"].as_str(), Some("queued" | "running")));
+            seen.push(v);
+            if done {
+                break;
+            }
+        }
+    }
+    seen
+}
+
+#[test]
+fn malformed_requests_are_refused_with_json_errors() {
+    let dir = scratch("serve-malformed");
+    let server = Server::start(&dir.join("data"), &["--workers", "0"]);
+    // Bad TOML: located as the CLI locates it.
+    let bad = SQUARE.replace("width = 20", "width = 20 mm");
+    let r = post_toml(&server, "/api/v1/jobs?kind=pack", &bad);
+    assert_eq!(r.status, 422);
+    let v = r.json();
+    fs::write(dir.join("config.toml"), &bad).expect("write");
+    let cli = gapack(&dir, &["pack", "config.toml"]);
+    let cli_error = String::from_utf8_lossy(&cli.stderr);
+    assert_eq!(
+        cli_error.trim(),
+        format!("error: {}", v["error"].as_str().expect("error"))
+    );
+    assert_eq!(v["line"], 4);
+    assert_eq!(v["column"], 9);
+    assert_eq!(v["key"], "domain.width");
+    assert!(
+        v["message"]
+            .as_str()
+            .expect("message")
+            .contains("TOML syntax error")
+    );
+    // A bad value.
+    let r = post_toml(
+        &server,
+        "/api/v1/jobs",
+        &SQUARE.replace("width = 20", "width = -1"),
+    );
+    assert_eq!(r.status, 422);
+    assert_eq!(r.json()["key"], "domain.width");
+    // Unknown kind.
+    let r = post_toml(&server, "/api/v1/jobs?kind=bake", SQUARE);
+    assert_eq!(r.status, 400);
+    assert!(
+        r.error().contains("unknown job kind \"bake\""),
+        "{}",
+        r.error()
+    );
+    // A job the config has no table for.
+    let r = post_toml(&server, "/api/v1/jobs?kind=optimise", SQUARE);
+    assert_eq!(r.status, 422);
+    assert!(r.error().contains("missing table [optimise]"));
+    // Wrong content type.
+    let r = reply(
+        agent()
+            .post(server.url("/api/v1/jobs"))
+            .header("Content-Type", "text/html")
+            .send(SQUARE),
+    );
+    assert_eq!(r.status, 415);
+    assert!(r.error().contains("application/toml"));
+    // Bad JSON, and good JSON.
+    let r = reply(
+        agent()
+            .post(server.url("/api/v1/jobs"))
+            .header("Content-Type", "application/json")
+            .send("{\"kind\": \"pack\""),
+    );
+    assert_eq!(r.status, 400);
+    let body = serde_json::json!({"kind": "pack", "config": SQUARE, "seed": 4}).to_string();
+    let r = reply(
+        agent()
+            .post(server.url("/api/v1/jobs"))
+            .header("Content-Type", "application/json")
+            .send(&body),
+    );
+    assert_eq!(r.status, 201);
+    // Oversized body.
+    let huge = format!("{SQUARE}#{}\n", "x".repeat(1 << 20));
+    let r = post_toml(&server, "/api/v1/jobs?kind=pack", &huge);
+    assert_eq!(r.status, 413);
+    assert!(r.error().contains("1 MiB"), "{}", r.error());
+    // [output] dir.
+    let r = post_toml(
+        &server,
+        "/api/v1/jobs?kind=pack",
+        &format!("{SQUARE}[output]\ndir = \"/tmp/elsewhere\"\n"),
+    );
+    assert_eq!(r.status, 422);
+    assert_eq!(r.json()["key"], "output.dir");
+    // Over the server's ceiling, though the config raises its own limit.
+    let big = "[domain]\nshape = \"rectangle\"\nwidth = 10000\nheight = 10000\n[grading]\nconstant = 1.0\n[limits]\nmax_particles = 1000000000\nmax_memory_mb = 100000\n";
+    let r = post_toml(&server, "/api/v1/jobs?kind=pack", big);
+    assert_eq!(r.status, 422);
+    assert_eq!(r.json()["key"], "limits.max_particles", "{}", r.error());
+    let r = post_toml(&server, "/api/v1/jobs?kind=pack&force=true", SQUARE);
+    assert_eq!(r.status, 403);
+    // Unknown ids, unknown routes, wrong methods.
+    for path in [
+        "/api/v1/jobs/0123456789abcdef0123456789abcdef",
+        "/api/v1/jobs/../../etc/passwd",
+        "/api/v1/jobs/nope/files",
+        "/api/v1/nothing",
+    ] {
+        let r = get(&server, path);
+        assert_eq!(r.status, 404, "{path}");
+        assert!(!r.error().is_empty());
+    }
+    let r = reply(agent().put(server.url("/api/v1/jobs")).send(""));
+    assert_eq!(r.status, 405);
+    assert!(!r.error().is_empty());
+    let r = get(&server, "/api/v1/jobs?state=sleeping");
+    assert_eq!(r.status, 400);
+    // Validate: the plan without a run.
+    let r = post_toml(
+        &server,
+        "/api/v1/validate?kind=optimise",
+        &optimise_config(),
+    );
+    assert_eq!(r.status, 200, "{}", String::from_utf8_lossy(&r.body));
+    let v = r.json();
+    assert_eq!(v["kind"], "optimise");
+    assert!(v["estimates"]["disks"].as_f64() > Some(10.0));
+    assert!(!v["plan"].as_array().expect("plan").is_empty());
+    // Files of a job that has not run.
+    let id = submit(&server, "pack", 1, SQUARE);
+    let r = get(&server, &format!("/api/v1/jobs/{id}/files"));
+    assert_eq!(r.status, 409);
+    let r = get(&server, &format!("/api/v1/jobs/{id}/files/packing.csv"));
+    assert_eq!(r.status, 409);
+    let r = reply(
+        agent()
+            .delete(server.url(&format!("/api/v1/jobs/{id}")))
+            .call(),
+    );
+    assert_eq!(r.status, 409);
+    // The queue's limit.
+    drop(server);
+    let server = Server::start(&dir.join("data2"), &["--workers", "0", "--max-queue", "2"]);
+    submit(&server, "pack", 1, SQUARE);
+    submit(&server, "pack", 2, SQUARE);
+    let r = post_toml(&server, "/api/v1/jobs?kind=pack", SQUARE);
+    assert_eq!(r.status, 503);
+    assert_eq!(
+        r.headers.get("retry-after").and_then(|v| v.to_str().ok()),
+        Some("5")
+    );
+    assert!(r.error().contains("queue is full"));
+    // Health, metrics and the API's document.
+    assert_eq!(get(&server, "/healthz").json()["status"], "ok");
+    let metrics = String::from_utf8(get(&server, "/metrics").body).expect("text");
+    assert!(
+        metrics.contains("gapack_jobs{state=\"queued\"} 2"),
+        "{metrics}"
+    );
+    assert!(metrics.contains("gapack_queue_length 2"));
+    let doc = get(&server, "/api/v1/openapi.json").json();
+    for path in [
+        "/api/v1/jobs",
+        "/api/v1/jobs/{id}/events",
+        "/api/v1/jobs/{id}/files/{name}",
+    ] {
+        assert!(doc["paths"][path].is_object(), "{path} documented");
+    }
+}
+
+#[test]
+fn files_outside_the_manifest_are_never_served() {
+    let dir = scratch("serve-files");
+    let server = Server::start(&dir.join("data"), &[]);
+    let id = submit(&server, "pack", 1, SQUARE);
+    wait_for(&server, &id, &["succeeded"]);
+    fs::write(dir.join("data/jobs").join(&id).join("secret.txt"), "no").expect("write");
+    fs::write(dir.join("data/secret.txt"), "no").expect("write");
+    for name in [
+        "secret.txt",
+        "../secret.txt",
+        "..%2Fsecret.txt",
+        "%2E%2E/%2E%2E/gapack.db",
+        "/etc/passwd",
+        "..",
+    ] {
+        let r = get(&server, &format!("/api/v1/jobs/{id}/files/{name}"));
+        assert!(
+            r.status == 404 || r.status == 400,
+            "{name}: {} {}",
+            r.status,
+            String::from_utf8_lossy(&r.body)
+        );
+        assert!(!r.body.starts_with(b"no"), "{name}");
+    }
+    assert_eq!(
+        get(&server, &format!("/api/v1/jobs/{id}/files/packing.csv")).status,
+        200
+    );
+}
+
+#[test]
+fn a_token_guards_every_endpoint_but_health() {
+    let dir = scratch("serve-token");
+    fs::create_dir_all(&dir).expect("dir");
+    let token = "s3cret-token-0123456789";
+    fs::write(dir.join("token"), format!("{token}\n")).expect("token");
+    let token_file = dir.join("token");
+    let server = Server::start(
+        &dir.join("data"),
+        &["--token-file", token_file.to_str().expect("utf-8")],
+    );
+    let r = get(&server, "/api/v1/jobs");
+    assert_eq!(r.status, 401);
+    assert!(r.error().contains("Bearer"));
+    let r = reply(
+        agent()
+            .get(server.url("/api/v1/jobs"))
+            .header("Authorization", "Bearer wrong-token-0123456789")
+            .call(),
+    );
+    assert_eq!(r.status, 401);
+    assert_eq!(r.error(), "wrong bearer token");
+    let r = reply(
+        agent()
+            .get(server.url("/api/v1/jobs"))
+            .header("Authorization", format!("Bearer {token}"))
+            .call(),
+    );
+    assert_eq!(r.status, 200);
+    assert_eq!(get(&server, "/healthz").status, 200);
+    assert_eq!(get(&server, "/metrics").status, 401);
+    drop(server);
+    // Any address but loopback needs a token.
+    let out = Command::new(env!("CARGO_BIN_EXE_gapack"))
+        .args(["serve", "--listen", "0.0.0.0:0", "--data"])
+        .arg(dir.join("data"))
+        .output()
+        .expect("run");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("needs --token-file"));
+}
+
+#[test]
+fn kill_9_mid_search_then_restart_resumes_to_the_same_packing() {
+    let dir = scratch("serve-kill9");
+    let data = dir.join("data");
+    let config = long_optimise_config();
+    let server = Server::start(&data, &["--checkpoint-every", "1"]);
+    let id = submit(&server, "optimise", 9, &config);
+    let seen = follow_until_generation(&server, &id, 4);
+    assert!(
+        seen.iter()
+            .any(|e| e["event"] == "generation" && e["index"] == 4),
+        "stopped before generation 4: {seen:?}"
+    );
+    server.kill();
+    assert!(data.join("jobs").join(&id).join("checkpoint.json").exists());
+
+    let server = Server::start(&data, &["--checkpoint-every", "1"]);
+    let job = wait_for(&server, &id, &["succeeded", "failed", "cancelled"]);
+    assert_eq!(job["state"], "succeeded", "{job}");
+    assert_eq!(job["attempts"], 2);
+    let events = follow(&server, &id, None);
+    assert!(
+        events
+            .iter()
+            .any(|(_, n, v)| n == "state" && v["reason"] == "the server restarted")
+    );
+    let served = download(&server, &id);
+    let cli = cli_run(&dir, "optimise", &config, 9);
+    for table in ["packing.csv", "convergence.csv"] {
+        let mine = &served.iter().find(|(n, _)| n == table).expect(table).1;
+        let theirs = fs::read(cli.join(table)).expect("cli");
+        assert_eq!(untimed(mine), untimed(&theirs), "{table}");
+    }
+    server.terminate();
+}
+
+#[test]
+fn a_failed_write_fails_its_job_and_the_next_jobs_run() {
+    let dir = scratch("serve-write-fails");
+    let data = dir.join("data");
+    let server = Server::start(&data, &["--workers", "0"]);
+    let doomed = submit(&server, "pack", 1, SQUARE);
+    server.terminate();
+    // Its folder cannot be made: a file stands in its place.
+    fs::write(data.join("jobs").join(&doomed), "in the way").expect("write");
+    let server = Server::start(&data, &["--workers", "1"]);
+    let job = wait_for(&server, &doomed, &["failed", "succeeded"]);
+    assert_eq!(job["state"], "failed");
+    let error = job["error"].as_str().expect("error");
+    assert!(error.contains("cannot write the outputs"), "{error}");
+    assert!(error.contains(&doomed), "names the folder: {error}");
+    let events = follow(&server, &doomed, None);
+    assert_eq!(events.last().expect("events").2["error"], error);
+    let r = get(&server, &format!("/api/v1/jobs/{doomed}/files"));
+    assert_eq!(r.status, 404);
+    let next = submit(&server, "pack", 2, SQUARE);
+    assert_eq!(
+        wait_for(&server, &next, &["succeeded", "failed"])["state"],
+        "succeeded"
+    );
+    server.terminate();
+}
+
+#[test]
+fn sigterm_loses_nothing_queued_or_running() {
+    let dir = scratch("serve-sigterm");
+    let data = dir.join("data");
+    let config = long_optimise_config();
+    let server = Server::start(&data, &["--workers", "1", "--checkpoint-every", "1"]);
+    let running = submit(&server, "optimise", 9, &config);
+    let queued: Vec<String> = (0..3).map(|s| submit(&server, "pack", s, SQUARE)).collect();
+    follow_until_generation(&server, &running, 2);
+    server.terminate();
+
+    let server = Server::start(&data, &["--workers", "1", "--checkpoint-every", "1"]);
+    let job = wait_for(&server, &running, &["succeeded", "failed", "cancelled"]);
+    assert_eq!(job["state"], "succeeded", "{job}");
+    for id in &queued {
+        assert_eq!(
+            wait_for(&server, id, &["succeeded", "failed"])["state"],
+            "succeeded"
+        );
+    }
+    let served = download(&server, &running);
+    let cli = cli_run(&dir, "optimise", &config, 9);
+    let mine = &served
+        .iter()
+        .find(|(n, _)| n == "packing.csv")
+        .expect("packing")
+        .1;
+    assert!(mine == &fs::read(cli.join("packing.csv")).expect("cli"));
+    let all = get(&server, "/api/v1/jobs?limit=500").json();
+    assert_eq!(
+        all["jobs"].as_array().expect("jobs").len(),
+        4,
+        "none lost, none doubled"
+    );
+    server.terminate();
+}
+
+/// The README's "Run as a service" block, run as a script (on a free port,
+/// with `gapack` on the PATH) in a scratch folder holding the default config.
+#[test]
+fn the_readme_service_commands_run() {
+    let readme =
+        fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).expect("README");
+    let section = readme
+        .split("## Run as a service")
+        .nth(1)
+        .expect("a Run as a service section");
+    let script = section
+        .split("```sh\n")
+        .nth(1)
+        .and_then(|s| s.split("```").next())
+        .expect("a sh block");
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .expect("a free port")
+        .port();
+    let script = script.replace("127.0.0.1:8080", &format!("127.0.0.1:{port}"));
+    let dir = scratch("serve-readme");
+    fs::create_dir_all(dir.join("configs")).expect("dir");
+    fs::copy(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/configs/default.toml"),
+        dir.join("configs/default.toml"),
+    )
+    .expect("config");
+    let bin = Path::new(env!("CARGO_BIN_EXE_gapack"))
+        .parent()
+        .expect("bin dir")
+        .to_owned();
+    let path = format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    let out = Command::new("bash")
+        .args(["-e", "-c", &script])
+        .current_dir(&dir)
+        .env("PATH", path)
+        .output()
+        .expect("bash");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("listening on http://127.0.0.1:"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("\"status\":\"ok\""), "{stdout}");
+    assert!(
+        stdout.contains("event: state\ndata: {\"event\":\"state\",\"state\":\"succeeded\"}"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("\"name\":\"packing.csv\""), "{stdout}");
+    let cli = cli_run(
+        &dir,
+        "pack",
+        &fs::read_to_string(dir.join("configs/default.toml")).expect("read"),
+        7,
+    );
+    assert!(
+        fs::read(dir.join("packing.csv")).expect("fetched")
+            == fs::read(cli.join("packing.csv")).expect("cli")
+    );
+}
