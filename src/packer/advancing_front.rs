@@ -236,9 +236,11 @@ const WORK_FLOOR: u64 = 1 << 30;
 /// # Behavior
 /// Work counts neighbours visited in the index and tested against
 /// candidates, candidates made and wall tests, the units the run's time is
-/// spent in. Ordinary scenes use from 20 to a few hundred per disk (every
-/// shipped config: at most …); a scene that reaches the budget would run
-/// for many minutes, and stops instead.
+/// spent in (about 5·10⁸ a second). The shipped configs use at most about
+/// 2,000 per disk the domain can hold (`wells.toml`, wall disks aside); a
+/// 20 mm square of 0.02–4 mm sizes by 3D mass, 7,300. A scene that reaches
+/// the budget would run for many minutes more, and stops instead: a
+/// packing cut short is not a sample of its grading, so none is returned.
 pub fn work_budget(scene: &Scene) -> u64 {
     let disks = scene.max_disks() + super::wall_disk_count(scene) as f64;
     let disks = disks.min(u64::MAX as f64 / WORK_PER_DISK as f64);
@@ -1321,6 +1323,127 @@ fn wall_wall_spots(a: &Wall, b: &Wall, r: f64, out: &mut Vec<Point>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::grading::{Basis, Grading, Interpolation};
+    use crate::{Limits, pack};
+
+    /// A square of `side` mm with diameters 0.02 to 4 mm, uniform by 3D
+    /// mass: nearly every size is fine, the few large ones hold the mass.
+    fn wide_by_mass(side: f64) -> Scene {
+        let grading = Grading::from_table(
+            &[(0.02, 0.0), (4.0, 100.0)],
+            Interpolation::Linear,
+            Basis::Mass3d,
+        )
+        .unwrap();
+        Scene::new(Domain::rectangle(side, side).unwrap(), grading).with_seed(1)
+    }
+
+    #[test]
+    fn a_wide_grading_by_mass_costs_a_few_thousand_tests_per_disk() {
+        // Each large size was tested at every front among thousands of
+        // fine neighbours, every candidate against every neighbour from the
+        // first: 90,000 tests per disk on an 8 mm square, growing with the
+        // square (a 20 mm square packed for 1,140 s). Now the likely
+        // blocker is tested first, and smaller radii skip the neighbours
+        // out of their reach.
+        let packing = pack(&wide_by_mass(3.0)).unwrap();
+        let per_disk = packing.stats.work as f64 / packing.disks.len() as f64;
+        assert!(packing.disks.len() > 3000, "{}", packing.disks.len());
+        assert!(per_disk < 20_000.0, "{per_disk:.0} units of work per disk");
+    }
+
+    #[test]
+    fn the_disks_packed_never_pass_the_scenes_upper_bound() {
+        // The old bound, the domain filled solid with disks of the mean
+        // area, said "at most 318" for this scene, which packs 2,369.
+        let grading = Grading::from_table(
+            &[(0.01, 0.0), (10.0, 100.0)],
+            Interpolation::Linear,
+            Basis::Mass,
+        )
+        .unwrap();
+        let scene = Scene::new(Domain::rectangle(5.0, 5.0).unwrap(), grading).with_seed(1);
+        let packing = pack(&scene).unwrap();
+        assert!(
+            packing.disks.len() as f64 > scene.domain.area() / scene.mean_disk_area(),
+            "the scene no longer shows what the mean-area bound missed"
+        );
+        assert!(packing.disks.len() as f64 <= scene.max_disks());
+        assert!(scene.max_disks() as u64 == size_count(&scene.domain, scene.d_min()));
+    }
+
+    #[test]
+    fn a_run_stops_with_an_error_once_its_work_budget_is_spent() {
+        let scene = wide_by_mass(3.0);
+        let cancel = Cancel::new();
+        let mut front = Front::<Grid>::new(&scene, &cancel);
+        front.budget = 1 << 16;
+        front.next_look = 0;
+        let genes = (0..10_000).map(|i| f64::from(i % 97) / 97.0);
+        match front.run(genes) {
+            Err(PackError::WorkBudget { budget, disks, .. }) => {
+                assert_eq!(budget, 1 << 16);
+                assert!(disks < 5000, "{disks}");
+            }
+            other => panic!("{:?}", other.map(|p| p.disks.len())),
+        }
+        // The default budget is far above what an ordinary scene uses.
+        let packing = pack(&scene).unwrap();
+        assert!(packing.stats.work * 8 < work_budget(&scene));
+    }
+
+    #[test]
+    fn a_run_looks_at_its_cancel_token_between_sizes_not_only_between_draws() {
+        // The token was looked at only every 4,096 sizes drawn: a run whose
+        // sizes each took tens of milliseconds ignored Ctrl-C for minutes.
+        let scene = wide_by_mass(3.0);
+        let cancel = Cancel::new();
+        cancel.cancel();
+        let mut front = Front::<Grid>::new(&scene, &cancel);
+        front.next_look = 0;
+        let genes = std::iter::repeat_n(0.5, 100);
+        assert!(matches!(
+            front.run(genes),
+            Err(PackError::Cancelled(crate::cancel::Cancelled::Flag))
+        ));
+    }
+
+    #[test]
+    fn every_method_stops_at_the_particle_and_memory_ceilings() {
+        let scene = Scene::new(
+            Domain::rectangle(12.0, 12.0).unwrap(),
+            Grading::constant(1.0).unwrap(),
+        )
+        .with_seed(3);
+        for method in [
+            crate::Method::AdvancingFront,
+            crate::Method::Rsa,
+            crate::Method::Deposition,
+            crate::Method::Relaxation,
+        ] {
+            let scene = scene.clone().with_method(method);
+            let free = pack(&scene).unwrap();
+            let n = free.disks.len() as u64;
+            assert!(n > 50, "{method:?}: {n}");
+            let limited = |limits| pack(&scene.clone().with_limits(limits));
+            // At the count packed, the same packing; one fewer, an error.
+            let same = limited(Limits::none().with_max_particles(n)).unwrap();
+            assert_eq!(same.disks, free.disks, "{method:?}");
+            assert_eq!(
+                limited(Limits::none().with_max_particles(n - 1)).unwrap_err(),
+                PackError::ParticleLimit { limit: n - 1 },
+                "{method:?}"
+            );
+            let bytes = (n - 1) as f64 * crate::packer::PEAK_BYTES_PER_DISK;
+            assert!(
+                matches!(
+                    limited(Limits::none().with_max_memory_bytes(bytes)),
+                    Err(PackError::MemoryLimit { disks, .. }) if disks == n - 1
+                ),
+                "{method:?}"
+            );
+        }
+    }
 
     #[test]
     fn corner_spot_is_tangent_to_both_walls() {

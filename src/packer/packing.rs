@@ -140,10 +140,12 @@ pub enum PackError {
     },
     /// The advancing front did all the work its scene allows
     /// ([`work_budget`](crate::packer::work_budget)) before the domain was
-    /// full: a grading so wide that each size is tried against thousands of
-    /// neighbours, where the run would go on for many minutes more.
+    /// full: a grading so wide, or a boundary of so many edges, that each
+    /// size is tried against thousands of neighbours or walls, where the run
+    /// would go on for many minutes more. No packing is returned: one cut
+    /// short is not a sample of the grading (its upper part is missing).
     #[error(
-        "the packer stopped after the work this scene allows ({budget:.3e} neighbour tests), with {disks} disks placed from {sizes_drawn} sizes drawn and the domain not yet full; a grading this wide for this domain needs a smaller d_max / d_min or a smaller domain"
+        "the packer stopped after the work this scene allows ({budget:.3e} neighbour tests), with {disks} disks placed from {sizes_drawn} sizes drawn and the domain not yet full: each size was tried against thousands of neighbours or walls (a grading this wide for this domain, or a boundary of thousands of edges); narrow the grading (d_max / d_min), pack a smaller domain, or simplify the boundary"
     )]
     WorkBudget {
         /// The work allowed.
