@@ -48,10 +48,10 @@ pub use grading::{Basis, Grading, GradingError, Interpolation, THESIS_TABLE_3_4}
 pub use metrics::{Metrics, PorosityMap, measure, porosity, porosity_map, psd_ks, solid_area};
 pub use packer::index::{Grid, MxQuadtree, SpatialIndex};
 pub use packer::{
-    PEAK_BYTES_PER_DISK, PackError, PackStats, Packing, estimated_peak_bytes, pack, pack_observed,
-    size_count,
+    PEAK_BYTES_PER_DISK, PackError, PackStats, Packing, WORK_PER_DISK, estimated_peak_bytes, pack,
+    pack_observed, size_count, work_budget,
 };
 pub use scene::{
-    Axis, Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method, PackerSettings, Profile,
-    Relaxation, Scene, SizeGradient,
+    Axis, Fill, FrontRules, IndexKind, Limits, MAX_DEFERRED, MAX_GAP, Method, PackerSettings,
+    Profile, Relaxation, Scene, SizeGradient,
 };

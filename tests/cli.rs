@@ -565,3 +565,68 @@ fn a_closed_stdout_ends_validate_verify_and_plot_quietly_with_their_own_exit_cod
     assert!(dir.join("pictures/packing.png").is_file());
     let _ = fs::remove_dir_all(&dir);
 }
+
+// ---------------------------------------------------------------------------
+// Hardening (h16-c): limits that are limits, bounded work, bounded polygons.
+// ---------------------------------------------------------------------------
+
+/// A 20 mm square of 0.02–4 mm by mass: "at most 6,366" disks by the old
+/// mean-area bound, 7,841 packed.
+const WIDE_BY_MASS: &str = "seed = 1\n[domain]\nshape = \"rectangle\"\nwidth = 20\nheight = 20\n[grading]\nuniform = [0.02, 4.0]\nbasis = \"mass\"\n";
+
+#[test]
+fn hardening_a_particle_limit_under_the_true_bound_is_refused_and_holds_when_forced() {
+    // validate said "at most 8,294" under max_particles = 9000, and pack
+    // wrote 10,333 disks. The bound is now area / smallest disk area, and
+    // a forced run stops at the limit instead of passing it.
+    let dir = scratch("hardening-limits");
+    let config = format!("{WIDE_BY_MASS}[limits]\nmax_particles = 5000\n");
+    fs::write(dir.join("wide.toml"), config).unwrap();
+    let refused = gapack(&dir, &["validate", "wide.toml"]);
+    assert_eq!(refused.status.code(), Some(2));
+    let message = String::from_utf8_lossy(&refused.stderr).to_string();
+    assert!(
+        message.starts_with("error: wide.toml:10:17: limits.max_particles: the scene holds up to an estimated 1.273e6 disks"),
+        "{message}"
+    );
+    let forced = gapack(&dir, &["pack", "wide.toml", "--force", "--quiet"]);
+    assert_eq!(forced.status.code(), Some(1));
+    let message = String::from_utf8_lossy(&forced.stderr).to_string();
+    assert!(
+        message.contains("reached the particle limit of 5000 disks before the domain was full"),
+        "{message}"
+    );
+    assert!(!dir.join("out/wide/packing.csv").exists());
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn hardening_a_polygon_of_100000_vertices_is_refused_at_once_naming_its_key() {
+    // validate took 74 s, and pack did not finish in 300 s.
+    let dir = scratch("hardening-polygon");
+    let vertices: Vec<String> = (0..100_000)
+        .map(|i| {
+            let t = std::f64::consts::TAU * f64::from(i) / 100_000.0;
+            let r = 20.0 * (1.0 + 0.03 * (37.0 * t).sin());
+            format!("[{:.9},{:.9}]", 25.0 + r * t.cos(), 25.0 + r * t.sin())
+        })
+        .collect();
+    let config = format!(
+        "[domain]\nshape = \"polygon\"\nvertices = [{}]\n[grading]\nuniform = [0.5, 1.0]\n",
+        vertices.join(",")
+    );
+    fs::write(dir.join("poly.toml"), config).unwrap();
+    for command in ["validate", "pack"] {
+        let out = gapack(
+            &dir,
+            &[command, "poly.toml", "--quiet"][..if command == "pack" { 3 } else { 2 }],
+        );
+        assert_eq!(out.status.code(), Some(2), "{command}");
+        let message = String::from_utf8_lossy(&out.stderr).to_string();
+        assert!(
+            message.starts_with("error: poly.toml:3:12: domain.vertices: a polygon may have at most 4096 vertices, got 100000"),
+            "{command}: {message}"
+        );
+    }
+    let _ = fs::remove_dir_all(&dir);
+}

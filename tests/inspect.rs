@@ -380,17 +380,20 @@ fn plot_draws_a_table_from_any_tool_and_refuses_a_bad_one() {
 
 #[test]
 fn a_scene_over_the_limits_is_refused_with_its_estimate_unless_forced() {
+    // The estimate is the true upper bound, area / smallest disk area (510
+    // disks here; the square packs about 160). Forced, the scene runs, and
+    // the limit still holds during the run.
     let dir = scratch("limits");
     fs::write(
         dir.join("sq.toml"),
-        format!("{SQUARE}[limits]\nmax_particles = 50\n"),
+        format!("{SQUARE}[limits]\nmax_particles = 300\n"),
     )
     .unwrap();
     let refused = gapack(&dir, &["pack", "sq.toml"]);
     assert_eq!(refused.status.code(), Some(2));
     let message = stderr(&refused);
     assert!(
-        message.starts_with("error: sq.toml:9:17: limits.max_particles: the scene holds up to an estimated 2.183e2 disks (about 0.0 s to pack"),
+        message.starts_with("error: sq.toml:9:17: limits.max_particles: the scene holds up to an estimated 5.100e2 disks (about 0.0 s to pack"),
         "{message}"
     );
     assert!(
@@ -405,6 +408,20 @@ fn a_scene_over_the_limits_is_refused_with_its_estimate_unless_forced() {
     let packed = gapack(&dir, &["pack", "sq.toml", "--force", "--quiet"]);
     assert!(packed.status.success(), "{}", stderr(&packed));
     assert!(dir.join("out/sq/packing.csv").exists());
+    // Under a limit the packing would pass, the forced run stops at it.
+    fs::write(
+        dir.join("few.toml"),
+        format!("{SQUARE}[limits]\nmax_particles = 50\n"),
+    )
+    .unwrap();
+    let stopped = gapack(&dir, &["pack", "few.toml", "--force", "--quiet"]);
+    assert_eq!(stopped.status.code(), Some(1));
+    assert!(
+        stderr(&stopped).contains("reached the particle limit of 50 disks"),
+        "{}",
+        stderr(&stopped)
+    );
+    assert!(!dir.join("out/few/packing.csv").exists());
 }
 
 // ---------------------------------------------------------------------------

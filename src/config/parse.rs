@@ -61,8 +61,11 @@ pub fn parse(text: &str, origin: &str) -> Result<Config, ConfigError> {
 /// How [`parse_with`] treats a config.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct ParseOptions {
-    /// Skip the `[limits]` checks (`max_particles`, `max_memory_mb`): the
-    /// CLI's `--force`, for a run the user knows the machine can take.
+    /// Skip the `[limits]` refusals made before the run on the scene's
+    /// upper bounds (`max_particles`, `max_memory_mb`): the CLI's `--force`,
+    /// for a scene whose bound is far above what it will hold (a grading
+    /// with a fine tail). The limits still hold during the run: it stops
+    /// with an error if the packing reaches one.
     pub force: bool,
 }
 

@@ -18,7 +18,6 @@ use super::raw::{
     Pair, RawCompare, RawConfig, RawDomain, RawGrading, RawLayering, RawLimits, RawOptimise,
     RawPacker, Table,
 };
-use crate::Scene;
 use crate::compare::CompareSettings;
 use crate::fracture::{Extent, FractureRun, Well};
 use crate::ga::{OptimiseSettings, RULE_GENES};
@@ -34,6 +33,7 @@ use crate::packer::{
     DEFAULT_ATTEMPTS, MAX_DEFERRED, MAX_GAP, Method, PEAK_BYTES_PER_DISK, PackError,
     PackerSettings, Relaxation, estimated_peak_bytes, size_count,
 };
+use crate::{Limits, Scene};
 
 /// `limits.max_memory_mb` when not given.
 pub const DEFAULT_MAX_MEMORY_MB: f64 = 4096.0;
@@ -59,8 +59,7 @@ const MAX_REPEATS: i64 = 1000;
 /// 400-disk square packs in 0.15 s at 1/100 and in minutes at 1/50 000.
 const MIN_WALL_DISK_FRACTION: f64 = 0.01;
 
-/// Bytes in one MB as `limits.max_memory_mb` counts them (2^20).
-const BYTES_PER_MB: f64 = 1024.0 * 1024.0;
+use crate::packer::BYTES_PER_MB;
 
 /// The four ways to give a grading, in the order messages list them.
 const GRADING_SOURCES: &str = "table, uniform, constant, preset";
@@ -246,6 +245,11 @@ impl Validator<'_> {
         let particles = self.particles_limit(raw.limits.as_deref())?;
         let (grading, gradient) = self.curves(grading, &raw, &materials, layering.as_ref())?;
         let seed = raw.seed.as_ref().map_or(0, |s| *s.get_ref());
+        // The limits hold during the run too, `--force` or not: it skips
+        // only the refusals made on the upper bounds before the run.
+        let limits = Limits::none()
+            .with_max_particles(particles.0)
+            .with_max_memory_bytes(limit.0 * BYTES_PER_MB);
         let scene_of = |domain, walls, wall_disk_diameter| Scene {
             domain,
             walls,
@@ -254,6 +258,7 @@ impl Validator<'_> {
             gradient: gradient.clone(),
             packer,
             seed,
+            limits,
         };
         let (scene, fracture) = match place {
             Place::Domain(plan, raw_domain) => {

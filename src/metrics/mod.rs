@@ -384,7 +384,9 @@ mod tests {
         // the previous sample is tried first; the hole found is the same.
         let text = "[domain]\nshape = \"rectangle\"\nwidth = 40\nheight = 20\n\
                     [grading]\ntable = [[0.0001, 0], [0.001, 0.0001], [3, 100]]\n";
-        let scene = crate::config::parse(text, "t").unwrap().scene;
+        // Forced: its upper bound (area / smallest disk area) is 10¹¹ disks.
+        let force = crate::config::ParseOptions { force: true };
+        let scene = crate::config::parse_with(text, "t", force).unwrap().scene;
         let packing = crate::pack(&scene).unwrap();
         CANDIDATES.with(|c| c.set(0));
         let m = measure(&packing, &scene);

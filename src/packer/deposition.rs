@@ -76,7 +76,7 @@ pub fn pack_deposition(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackEr
                 placed.stats.fallbacks += 1;
             }
             if placed.clear(p, r) {
-                placed.insert(Disk { c: p, r });
+                placed.insert(Disk { c: p, r })?;
                 continue 'sizes;
             }
         }

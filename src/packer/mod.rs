@@ -14,7 +14,7 @@ pub use crate::scene::{
     DEFAULT_ATTEMPTS, Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method, PackerSettings,
     Relaxation,
 };
-pub use advancing_front::{pack_genes_watched, size_count};
+pub use advancing_front::{WORK_PER_DISK, pack_genes_watched, size_count, work_budget};
 pub use deposition::pack_deposition;
 pub use packing::{PackError, PackStats, Packing};
 pub use relaxation::pack_relaxation;
@@ -26,13 +26,58 @@ use crate::cancel::Cancel;
 /// Upper bound of the packer's peak memory per disk (bytes), checked by `gapack bench`.
 pub const PEAK_BYTES_PER_DISK: f64 = 100.0;
 
-/// Estimated peak memory (bytes) to pack `scene`.
+/// Estimated peak memory (bytes) to pack `scene`: an upper bound.
 ///
-/// Counts disks as if the domain were filled solid with disks of the
-/// grading's mean area (an upper bound), times [`PEAK_BYTES_PER_DISK`].
+/// Every disk the scene can hold ([`Scene::max_disks`], a true upper bound)
+/// and every wall disk, times [`PEAK_BYTES_PER_DISK`]. A run with
+/// [`Limits::max_memory_bytes`](crate::Limits) counts its obstacles the
+/// same way and stops when they reach the limit.
 pub fn estimated_peak_bytes(scene: &Scene) -> f64 {
-    scene.max_disks() * PEAK_BYTES_PER_DISK
+    (scene.max_disks() + wall_disk_count(scene) as f64) * PEAK_BYTES_PER_DISK
 }
+
+/// Wall disks the scene's walls are made of (0 with exact walls, or when
+/// they would be too many to make: `pack` refuses that scene).
+pub(crate) fn wall_disk_count(scene: &Scene) -> usize {
+    match scene.walls {
+        crate::geometry::WallMode::Disks => scene
+            .domain
+            .boundary_disk_count(scene.wall_disk())
+            .unwrap_or(0),
+        crate::geometry::WallMode::Exact => 0,
+    }
+}
+
+/// The most disks (wall disks aside) a run of `scene` may place under its
+/// limits, with the error to stop with when one more would pass it; `None`
+/// without limits. The memory limit counts the wall disks too, as
+/// [`estimated_peak_bytes`] does.
+pub(crate) fn disk_ceiling(scene: &Scene) -> Option<(u64, PackError)> {
+    let by_particles = scene
+        .limits
+        .max_particles
+        .map(|limit| (limit, PackError::ParticleLimit { limit }));
+    let by_memory = scene.limits.max_memory_bytes.map(|bytes| {
+        let obstacles = (bytes / PEAK_BYTES_PER_DISK)
+            .floor()
+            .clamp(0.0, u64::MAX as f64) as u64;
+        let disks = obstacles.saturating_sub(wall_disk_count(scene) as u64);
+        (
+            disks,
+            PackError::MemoryLimit {
+                limit_mb: bytes / BYTES_PER_MB,
+                disks,
+            },
+        )
+    });
+    match (by_particles, by_memory) {
+        (Some(a), Some(b)) => Some(if a.0 <= b.0 { a } else { b }),
+        (a, b) => a.or(b),
+    }
+}
+
+/// Bytes in one MB, as `limits.max_memory_mb` counts them (2^20).
+pub const BYTES_PER_MB: f64 = 1_048_576.0;
 
 /// Pack a scene with its packer's method (the advancing front by default),
 /// sizes drawn from its grading with its seed.

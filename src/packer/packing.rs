@@ -54,6 +54,11 @@ pub struct PackStats {
     pub fallbacks: u64,
     /// Witness checks: a returning front's remembered spot tested instead of a full attempt.
     pub witness_checks: u64,
+    /// Work done by the advancing front: neighbours visited in the index and
+    /// tested against candidates, candidates made, walls tested (see
+    /// [`work_budget`](crate::packer::work_budget)). Not counted by the
+    /// comparison generators.
+    pub work: u64,
 }
 
 /// Packing rate assumed by the time estimates of the limits (disks/s): the
@@ -112,6 +117,43 @@ pub enum PackError {
         d_min: f64,
         /// Largest |coordinate| of the domain (mm).
         coordinate: f64,
+    },
+    /// The run reached the particle ceiling ([`crate::Limits::max_particles`])
+    /// before the domain was full.
+    #[error(
+        "the packing reached the particle limit of {limit} disks before the domain was full (limits.max_particles); raise it to pack this scene whole, or pack a smaller domain or coarser sizes"
+    )]
+    ParticleLimit {
+        /// The limit (disks).
+        limit: u64,
+    },
+    /// The run reached the memory ceiling ([`crate::Limits::max_memory_bytes`])
+    /// before the domain was full.
+    #[error(
+        "the packing reached the memory limit of {limit_mb:.0} MB (about {disks} disks) before the domain was full (limits.max_memory_mb); raise it to pack this scene whole"
+    )]
+    MemoryLimit {
+        /// The limit (MB).
+        limit_mb: f64,
+        /// The disks that fit in it, wall disks aside.
+        disks: u64,
+    },
+    /// The advancing front did all the work its scene allows
+    /// ([`work_budget`](crate::packer::work_budget)) before the domain was
+    /// full: a grading so wide, or a boundary of so many edges, that each
+    /// size is tried against thousands of neighbours or walls, where the run
+    /// would go on for many minutes more. No packing is returned: one cut
+    /// short is not a sample of the grading (its upper part is missing).
+    #[error(
+        "the packer stopped after the work this scene allows ({budget:.3e} neighbour tests), with {disks} disks placed from {sizes_drawn} sizes drawn and the domain not yet full: each size was tried against thousands of neighbours or walls (a grading this wide for this domain, or a boundary of thousands of edges); narrow the grading (d_max / d_min), pack a smaller domain, or simplify the boundary"
+    )]
+    WorkBudget {
+        /// The work allowed.
+        budget: u64,
+        /// Disks placed when it stopped.
+        disks: u64,
+        /// Sizes drawn when it stopped.
+        sizes_drawn: u64,
     },
     /// The scene would need more memory than allowed.
     #[error(

@@ -82,6 +82,8 @@ pub(super) struct Placed<'a> {
     /// Radius of the wall disks (0 with exact walls).
     pub wall_r: f64,
     pub stats: PackStats,
+    /// The most disks the scene's limits allow, and the error past it.
+    ceiling: Option<(u64, PackError)>,
 }
 
 impl<'a> Placed<'a> {
@@ -109,6 +111,7 @@ impl<'a> Placed<'a> {
             r_max,
             wall_r,
             stats: PackStats::default(),
+            ceiling: super::disk_ceiling(scene),
         }
     }
 
@@ -136,9 +139,18 @@ impl<'a> Placed<'a> {
     }
 
     /// Place a disk.
-    pub fn insert(&mut self, d: Disk) {
+    ///
+    /// # Errors
+    /// The scene's particle or memory limit, when this disk would pass it.
+    pub fn insert(&mut self, d: Disk) -> Result<(), PackError> {
+        if let Some((max, error)) = &self.ceiling
+            && (self.disks.len() - self.first_packed) as u64 >= *max
+        {
+            return Err(error.clone());
+        }
         self.grid.insert(self.disks.len() as u32, d.c);
         self.disks.push(d);
+        Ok(())
     }
 
     /// The packing: the disks placed after the wall disks.

@@ -46,6 +46,11 @@ pub fn pack_relaxation(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackEr
     let n = (free * (1.0 - settings.porosity) / scene.mean_disk_area())
         .round()
         .max(1.0) as usize;
+    if let Some((max, error)) = super::disk_ceiling(scene)
+        && n as u64 > max
+    {
+        return Err(error);
+    }
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(scene.seed ^ POSITION_STREAM);
     let (lo, hi) = domain.bounds();
     let mut disks: Vec<Disk> = Vec::with_capacity(n);

@@ -49,7 +49,7 @@ pub fn pack_rsa(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackError> {
             }
         }
         match spot {
-            Some(c) => placed.insert(Disk { c, r }),
+            Some(c) => placed.insert(Disk { c, r })?,
             None => {
                 placed.stats.sizes_unplaced += 1;
                 break;
