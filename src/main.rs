@@ -85,7 +85,8 @@ struct JobArgs {
     /// Neither progress bar nor result line.
     #[arg(long)]
     quiet: bool,
-    /// Run even if the scene is over the config's [limits] (particles, memory).
+    /// Start even if the scene's upper bound is over the config's [limits]; the
+    /// limits still stop the run if the packing itself reaches them.
     #[arg(long)]
     force: bool,
     /// optimise: write <out>/checkpoint.json every N generations (0: never);
