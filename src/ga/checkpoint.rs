@@ -221,7 +221,7 @@ impl Checkpoint {
                 ),
             );
         }
-        let mut evaluations = 0;
+        let mut evaluations: u64 = 0;
         for (i, record) in self.history.iter().enumerate() {
             let g = generation_of(record);
             if record[0] != i as u64 {
@@ -231,7 +231,10 @@ impl Checkpoint {
                 &|| format!("the best score of generation {i}"),
                 &[record[1], record[2], record[3]],
             )?;
-            if g.evaluations < evaluations || g.evaluations > self.evaluations {
+            // A generation scores at most its offspring (two per pair of
+            // parents) and its immigrants: under three per member.
+            let most = evaluations.saturating_add(3 * population.max(2) as u64);
+            if g.evaluations < evaluations || g.evaluations > self.evaluations.min(most) {
                 return inconsistent(
                     "history",
                     format!(
@@ -253,6 +256,16 @@ impl Checkpoint {
                     ),
                 );
             }
+        }
+        // Checkpoints are of whole generations: the count is the last one's.
+        if evaluations != self.evaluations {
+            return inconsistent(
+                "evaluations",
+                format!(
+                    "{} evaluations, but the last generation recorded counts {evaluations}",
+                    self.evaluations
+                ),
+            );
         }
         if self.stagnant >= self.history.len() {
             return inconsistent(

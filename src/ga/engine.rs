@@ -941,7 +941,7 @@ mod tests {
     fn every_edited_field_of_a_checkpoint_is_refused_by_name() {
         use serde_json::json;
         type Edit = fn(&mut serde_json::Value);
-        let cases: [(Edit, &str); 11] = [
+        let cases: [(Edit, &str); 13] = [
             (|c| c["population"] = json!([]), "no population"),
             (|c| c["history"] = json!([]), "no history"),
             (
@@ -968,6 +968,19 @@ mod tests {
             (
                 |c| c["evaluations"] = json!(3),
                 "evaluations: 3 evaluations, fewer than",
+            ),
+            (
+                // Found by fuzzing: the next generation's count overflowed.
+                |c| c["evaluations"] = json!(u64::MAX),
+                "but the last generation recorded counts",
+            ),
+            (
+                |c| {
+                    let last = c["history"].as_array().map_or(0, Vec::len) - 1;
+                    c["history"][last][6] = json!(u64::MAX);
+                    c["evaluations"] = json!(u64::MAX);
+                },
+                "evaluations, outside [",
             ),
             (
                 |c| c["stagnant"] = json!(1_000_000_000),
