@@ -18,6 +18,8 @@
 mod common;
 #[path = "common/json_edit.rs"]
 mod json_edit;
+#[path = "common/stopped_search.rs"]
+mod stopped_search;
 
 use std::fs;
 use std::io::Read;
@@ -27,8 +29,7 @@ use std::thread::sleep;
 use std::time::{Duration, Instant};
 
 use common::scratch;
-use gapack::Cancel;
-use gapack::jobs::{self, Event, JobKind, MemoryStore, Plan, Request};
+use gapack::jobs;
 use proptest::prelude::*;
 use proptest::test_runner::{Config as RunnerConfig, TestRunner};
 
@@ -220,32 +221,6 @@ fn random_tables_end_within_bounds() {
         .unwrap();
 }
 
-/// A real checkpoint of the search over `optimise.toml`, stopped after
-/// generation `after`.
-fn real_checkpoint(after: usize) -> Vec<u8> {
-    let text = fs::read_to_string(replay_dir().join("optimise.toml")).unwrap();
-    let request = Request {
-        checkpoint_every: 1,
-        ..Request::new(JobKind::Optimise)
-    };
-    let plan = Plan::load(&text, "optimise.toml", &request).expect("valid fixture");
-    let cancel = Cancel::new();
-    let stop = cancel.clone();
-    let mut observer = |event: &Event| {
-        if let Event::Generation { index, .. } = event
-            && *index >= after
-        {
-            stop.cancel();
-        }
-    };
-    let mut store = MemoryStore::default();
-    let _ = jobs::run(&plan, &mut observer, &cancel, &mut store);
-    store
-        .files
-        .remove(jobs::CHECKPOINT_JSON)
-        .expect("a stopped search keeps its checkpoint")
-}
-
 /// Resume the fixture's search from `checkpoint` in `dir`.
 fn resume(dir: &Path, checkpoint: &[u8]) -> Ended {
     let _ = fs::remove_dir_all(dir.join("out"));
@@ -277,7 +252,7 @@ fn checkpoint_dir(name: &str) -> PathBuf {
 #[test]
 fn every_checkpoint_that_ever_failed_is_refused_or_resumed_within_bounds() {
     let dir = checkpoint_dir("replay-checkpoint");
-    let real = resume(&dir, &real_checkpoint(1));
+    let real = resume(&dir, &stopped_search::checkpoint_after(1));
     judge("a real checkpoint", &real, Some(0));
     for path in inputs("checkpoint", "json") {
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
@@ -290,7 +265,8 @@ fn every_checkpoint_that_ever_failed_is_refused_or_resumed_within_bounds() {
 #[test]
 fn edited_checkpoints_are_refused_or_resumed_within_bounds() {
     let dir = checkpoint_dir("replay-random-checkpoint");
-    let real: serde_json::Value = serde_json::from_slice(&real_checkpoint(2)).unwrap();
+    let real: serde_json::Value =
+        serde_json::from_slice(&stopped_search::checkpoint_after(2)).unwrap();
     let places = json_edit::places(&real);
     let mut runner = TestRunner::new_with_rng(
         RunnerConfig {
