@@ -19,7 +19,7 @@ use crate::ga::{
     PorosityProblem, Search, StopReason, Verdict, lay_out,
 };
 use crate::layering::LayeringSettings;
-use crate::metrics::{Metrics, measure};
+use crate::metrics::{Metrics, measure, measure_cancellable};
 use crate::names::ConfigName;
 use crate::output::{
     FILE_NAMES, FractureSummary, LayeringDetails, LayeringReport, LayeringSummary, OptimiseSummary,
@@ -337,7 +337,8 @@ impl Running<'_> {
         let plan = self.plan;
         let scene = &plan.config.scene;
         let (packing, seconds) = self.pack_scene(scene, "the scene", cancel)?;
-        let metrics = measure(&packing, scene);
+        // A cancel while measuring writes nothing, as one while packing.
+        let metrics = measure_cancellable(&packing, scene, cancel)?;
         let run = RunInfo {
             materials: &plan.config.materials,
             ..RunInfo::new(scene, &plan.origin, seconds, &plan.config.output)

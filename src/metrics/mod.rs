@@ -16,11 +16,15 @@ pub use porosity_map::{PorosityMap, porosity_map};
 use std::ops::ControlFlow;
 
 use crate::Scene;
+use crate::cancel::{Cancel, Cancelled};
 use crate::geometry::predicates::{CONTACT_REL, area_disk_box, overlap_disk_disk};
 use crate::geometry::{Disk, Point};
 use crate::packer::Packing;
 use crate::packer::index::{Grid, SpatialIndex};
 use near::ByRadius;
+
+/// Disks or samples between two polls of the cancel token.
+const POLL_EVERY: usize = 1024;
 
 /// Side of the local-porosity windows, in largest diameters.
 const WINDOW_DIAMETERS: f64 = 5.0;
@@ -103,8 +107,27 @@ pub fn psd_ks(packing: &Packing, scene: &Scene) -> f64 {
 /// Measure a packing of `scene` against the scene's grading.
 ///
 /// # Performance
-/// One grid over the disks serves every neighbour query: O(n) overall.
+/// The disks bucketed by size class serve every neighbour query: O(n)
+/// overall in a dense packing, whatever the grading's width.
 pub fn measure(packing: &Packing, scene: &Scene) -> Metrics {
+    match measure_cancellable(packing, scene, &Cancel::new()) {
+        Ok(metrics) => metrics,
+        Err(_) => unreachable!("a new token is never raised"),
+    }
+}
+
+/// [`measure`], stopped by `cancel`: its loops poll the token every
+/// [`POLL_EVERY`] disks or samples, so a cancel is honoured within
+/// milliseconds however large the packing.
+///
+/// # Errors
+/// [`Cancelled`] once `cancel` is raised or its deadline passes.
+pub fn measure_cancellable(
+    packing: &Packing,
+    scene: &Scene,
+    cancel: &Cancel,
+) -> Result<Metrics, Cancelled> {
+    cancel.check()?;
     let disks = &packing.disks;
     let domain = &packing.domain;
     let domain_area = domain.area();
@@ -134,6 +157,9 @@ pub fn measure(packing: &Packing, scene: &Scene) -> Metrics {
     let mut touched = vec![false; all.len()];
     let mut min_wall_clearance = f64::INFINITY;
     for (i, d) in all.iter().enumerate().skip(nb) {
+        if i % POLL_EVERY == 0 {
+            cancel.check()?;
+        }
         let clearance = domain.signed_distance(d.c) - d.r;
         min_wall_clearance = min_wall_clearance.min(clearance);
         touched[i] |= clearance <= CONTACT_REL * d.r;
@@ -155,7 +181,8 @@ pub fn measure(packing: &Packing, scene: &Scene) -> Metrics {
     let n = disks.len();
     let isolated = touched[nb..].iter().filter(|&&t| !t).count();
     let (local_porosity_std, local_windows) = local_porosity(packing, &grid, &all, r_max);
-    Metrics {
+    let largest_hole = largest_hole(packing, &near, &all, r_max, scene.d_min(), cancel)?;
+    Ok(Metrics {
         particles: n,
         domain_area,
         solid_area,
@@ -168,8 +195,8 @@ pub fn measure(packing: &Packing, scene: &Scene) -> Metrics {
         isolated,
         local_porosity_std,
         local_windows,
-        largest_hole: largest_hole(packing, &near, &all, r_max, scene.d_min()),
-    }
+        largest_hole,
+    })
 }
 
 /// Standard deviation of porosity over tiled square windows wholly inside the domain.
@@ -302,11 +329,18 @@ fn hole_step(extent: nalgebra::Vector2<f64>, disks: usize, d_min: f64) -> f64 {
 }
 
 /// Diameter of the largest empty circle: grid search, then local refinement.
-fn largest_hole(packing: &Packing, near: &ByRadius, all: &[Disk], r_max: f64, d_min: f64) -> f64 {
+fn largest_hole(
+    packing: &Packing,
+    near: &ByRadius,
+    all: &[Disk],
+    r_max: f64,
+    d_min: f64,
+    cancel: &Cancel,
+) -> Result<f64, Cancelled> {
     let (lo, hi) = packing.domain.bounds();
     let step = hole_step(hi - lo, packing.disks.len(), d_min);
     if step <= 0.0 || !step.is_finite() {
-        return 0.0;
+        return Ok(0.0);
     }
     let mut best = (f64::NEG_INFINITY, lo);
     let nx = ((hi.x - lo.x) / step).ceil() as usize;
@@ -316,6 +350,9 @@ fn largest_hole(packing: &Packing, near: &ByRadius, all: &[Disk], r_max: f64, d_
     let mut settler = usize::MAX;
     for iy in 0..=ny {
         for ix in 0..=nx {
+            if ix % POLL_EVERY == 0 {
+                cancel.check()?;
+            }
             let p = Point::new(lo.x + ix as f64 * step, lo.y + iy as f64 * step);
             if let Some(d) = all.get(settler)
                 && (p - d.c).norm() - d.r <= best.0
@@ -332,7 +369,7 @@ fn largest_hole(packing: &Packing, near: &ByRadius, all: &[Disk], r_max: f64, d_
         }
     }
     if best.0 <= 0.0 {
-        return 0.0;
+        return Ok(0.0);
     }
     // Pattern search around the best sample.
     let (mut value, mut p) = best;
@@ -361,7 +398,7 @@ fn largest_hole(packing: &Packing, near: &ByRadius, all: &[Disk], r_max: f64, d_
             h /= 2.0;
         }
     }
-    2.0 * value
+    Ok(2.0 * value)
 }
 
 #[cfg(test)]
@@ -425,6 +462,26 @@ mod tests {
             }
         }
         assert_eq!(m.coordination, coordination(2 * contacts, n));
+    }
+
+    #[test]
+    fn a_raised_token_stops_measure() {
+        let scene = crate::config::parse(crate::config::DEFAULT_CONFIG, "t")
+            .unwrap()
+            .scene;
+        let packing = crate::pack(&scene).unwrap();
+        let cancel = Cancel::new();
+        let measured = measure_cancellable(&packing, &scene, &cancel);
+        // Debug text: a NaN local spread is equal to itself there.
+        assert_eq!(
+            format!("{measured:?}"),
+            format!("{:?}", Ok::<_, Cancelled>(measure(&packing, &scene)))
+        );
+        cancel.cancel();
+        assert_eq!(
+            measure_cancellable(&packing, &scene, &cancel),
+            Err(Cancelled::Flag)
+        );
     }
 
     /// Grid points the largest-hole search visits for these bounds and step.
