@@ -9,6 +9,7 @@ use super::error::JobError;
 use super::event::{Event, Observer, Stage, Warning, WarningKind};
 use super::plan::{Job, JobKind, Plan};
 use super::store::{Store, StoreError};
+use crate::Method;
 use crate::cancel::{Cancel, Cancelled};
 use crate::check::{KS_MARGIN, grading_kept, ks_limit};
 use crate::compare::{CompareRun, Variant, compare};
@@ -23,8 +24,8 @@ use crate::metrics::{Metrics, measure, measure_cancellable};
 use crate::names::ConfigName;
 use crate::output::{
     FILE_NAMES, FractureSummary, LayeringDetails, LayeringReport, LayeringSummary, OptimiseSummary,
-    RunInfo, WELLS_CSV, WellRow, WindowSummary, render_compare, render_outputs, render_stability,
-    variant_label, wells_csv,
+    OutputError, RunInfo, WELLS_CSV, WellRow, WindowSummary, render_compare, render_outputs,
+    render_stability, variant_label, wells_csv,
 };
 use crate::packer::{PackError, Packing, pack_observed};
 use crate::stability::{self, StabilityRun};
@@ -274,7 +275,7 @@ impl Running<'_> {
         metrics: &Metrics,
         run: &RunInfo<'_>,
     ) -> Result<(), JobError> {
-        let files = render_outputs(packing, metrics, run)?;
+        let files = render_outputs(packing, metrics, run).map_err(|e| relaxation_hint(e, run))?;
         self.write(folder, files)?;
         if !grading_kept(metrics.particles, metrics.psd_ks) {
             let advice = match self.plan.job {
@@ -987,6 +988,21 @@ fn layering_report<'a>(settings: &'a LayeringSettings, l: &'a Layered) -> Layeri
         rows: &l.rows,
         profile: &settings.profile,
         axis: settings.axis,
+    }
+}
+
+/// A relaxation packing the write check refuses still overlaps: the
+/// error says which keys let the sweeps separate the disks.
+fn relaxation_hint(err: OutputError, run: &RunInfo<'_>) -> OutputError {
+    match err {
+        OutputError::Invalid(faults) if run.scene.packer.method == Method::Relaxation => {
+            OutputError::Invalid(format!(
+                "{faults}; the relaxation sweeps left these overlaps: raise \
+                 packer.relaxation_iterations (more sweeps) or \
+                 packer.relaxation_porosity (fewer disks placed)"
+            ))
+        }
+        other => other,
     }
 }
 
