@@ -30,6 +30,8 @@ struct Class {
     rows: i64,
     cols: i64,
     keyed: Vec<((i64, i64), u32)>,
+    /// Where each row's keys begin in `keyed`, and its end last.
+    row_start: Vec<u32>,
 }
 
 /// Disks bucketed by size class and position.
@@ -108,17 +110,21 @@ impl Class {
             let c = disks[i].c;
             (x0, y0, x1, y1) = (x0.min(c.x), y0.min(c.y), x1.max(c.x), y1.max(c.y));
         }
-        // Cells of a sparse class hold about one disk each.
-        let sparse = ((x1 - x0) * (y1 - y0) / ids.len() as f64).sqrt();
-        let mut side = (2.0 * r_max).max(sparse);
+        // Cells of a sparse class hold about one disk each, and no class
+        // spans more rows or columns than it has disks.
+        let n = ids.len() as f64;
+        let sparse = ((x1 - x0) * (y1 - y0) / n).sqrt();
+        let mut side = (2.0 * r_max).max(sparse).max((x1 - x0).max(y1 - y0) / n);
         if !(side > 0.0 && side.is_finite()) {
             side = 1.0;
         }
-        // Saturating casts: a class wider than 2^63 cells cannot hold this many disks anyway.
+        // At most n rows and columns past the first (more only from a
+        // centre that is not finite, which no query could find anyway).
+        let last = ids.len() as i64;
         let key = |c: Point| {
             (
-                ((c.y - y0) / side).floor() as i64,
-                ((c.x - x0) / side).floor() as i64,
+                (((c.y - y0) / side).floor() as i64).clamp(0, last),
+                (((c.x - x0) / side).floor() as i64).clamp(0, last),
             )
         };
         let mut keyed: Vec<((i64, i64), u32)> =
@@ -127,6 +133,9 @@ impl Class {
         let (rows, cols) = keyed
             .iter()
             .fold((0, 0), |(r, c), &((kr, kc), _)| (r.max(kr), c.max(kc)));
+        let row_start = (0..=rows + 1)
+            .map(|row| keyed.partition_point(|(k, _)| k.0 < row) as u32)
+            .collect();
         Class {
             r_max,
             side,
@@ -134,6 +143,7 @@ impl Class {
             rows,
             cols,
             keyed,
+            row_start,
         }
     }
 
@@ -157,14 +167,45 @@ impl Class {
             return ControlFlow::Continue(());
         }
         for row in r0..=r1 {
-            let lo = self.keyed.partition_point(|(k, _)| *k < (row, c0));
-            let hi = lo + self.keyed[lo..].partition_point(|(k, _)| *k <= (row, c1));
-            for &(_, j) in &self.keyed[lo..hi] {
+            let keys = &self.keyed
+                [self.row_start[row as usize] as usize..self.row_start[row as usize + 1] as usize];
+            let lo = keys.partition_point(|(k, _)| k.1 < c0);
+            let hi = lo + keys[lo..].partition_point(|(k, _)| k.1 <= c1);
+            for &(_, j) in &keys[lo..hi] {
                 #[cfg(test)]
                 VISITED.with(|v| v.set(v.get() + 1));
                 f(j as usize)?;
             }
         }
         ControlFlow::Continue(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn far_apart_tiny_disks_keep_the_rows_few() {
+        // Cells of 2·r would make 5·10¹¹ rows of a table indexed by row.
+        let disks = [Disk::new(0.0, 0.0, 1e-9), Disk::new(0.0, 1000.0, 1e-9)];
+        let near = ByRadius::new(&disks, 0..2);
+        assert!(near.classes.iter().all(|c| c.rows <= 2 && c.cols <= 2));
+        let mut seen = Vec::new();
+        near.visit(Point::new(0.0, 500.0), 600.0, |j| seen.push(j));
+        seen.sort_unstable();
+        assert_eq!(seen, [0, 1]);
+        let mut seen = Vec::new();
+        near.visit(Point::new(0.0, 999.0), 2.0, |j| seen.push(j));
+        assert_eq!(seen, [1]);
+        // A centre that is not finite is bucketed without a huge table.
+        let odd = [
+            Disk::new(0.0, 0.0, 1.0),
+            Disk::new(f64::INFINITY, 1e300, 1.0),
+        ];
+        let near = ByRadius::new(&odd, 0..2);
+        let mut seen = Vec::new();
+        near.visit(Point::new(0.0, 0.0), 1.0, |j| seen.push(j));
+        assert!(seen.contains(&0));
     }
 }
