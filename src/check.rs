@@ -2,14 +2,15 @@
 //! containment, porosity and grading fidelity.
 //!
 //! Nothing here uses the generator's bookkeeping or its spatial indexes: the
-//! disks are bucketed afresh by sorting cell keys, and every pair in
-//! neighbouring cells is tested. A packing that passes has no two disks
+//! disks are bucketed afresh by size class and sorted cell keys
+//! ([`ByRadius`]), and every pair within reach is tested. A packing that passes has no two disks
 //! overlapping by more than [`OVERLAP_REL`] of their radii sum and no disk
 //! outside the domain by more than [`OVERLAP_REL`] of the largest diameter.
 
 use crate::geometry::predicates::OVERLAP_REL;
 use crate::geometry::{Disk, Domain};
 use crate::grading::Grading;
+use crate::metrics::near::ByRadius;
 use crate::metrics::{porosity, solid_area};
 
 /// The KS distance beyond the sampling noise of n sizes (1.36/√n, the 95 %
@@ -116,7 +117,7 @@ pub fn check(disks: &[Disk], domain: &Domain, grading: Option<&Grading>) -> Chec
         .collect();
     let r_max = ok.iter().fold(0.0f64, |m, &i| m.max(disks[i].r));
 
-    let (overlaps, worst_overlap) = overlapping_pairs(disks, &ok, r_max);
+    let (overlaps, worst_overlap) = overlapping_pairs(disks, &ok);
 
     let tolerance = OVERLAP_REL * 2.0 * r_max;
     let mut outside = 0;
@@ -169,77 +170,37 @@ pub fn grading_kept(n: usize, ks: f64) -> bool {
         .is_none_or(|ks| ks <= ks_limit(n))
 }
 
-/// Count the overlapping pairs among `disks[ok]` and find the deepest.
+/// Count the overlapping pairs among `disks[ok]` and find the deepest (of
+/// equally deep pairs, the first by index).
 ///
-/// Cells of side 2·`r_max` hold the centres; two disks can only overlap if
-/// their cells are the same or adjacent. Cells are keyed (row, column) and
-/// sorted, and each cell looks up the next cell of its row and the three
-/// cells above by binary search.
-fn overlapping_pairs(
-    disks: &[Disk],
-    ok: &[usize],
-    r_max: f64,
-) -> (usize, Option<(usize, usize, f64)>) {
+/// The disks are bucketed by size class ([`ByRadius`]): each looks for
+/// partners in every class as far as its own radius plus that class's
+/// largest radius, and tests those of lower index. Cells sized by the
+/// largest radius made each fine disk of a wide grading test thousands.
+fn overlapping_pairs(disks: &[Disk], ok: &[usize]) -> (usize, Option<(usize, usize, f64)>) {
     if ok.len() < 2 {
         return (0, None);
     }
-    let side = 2.0 * r_max;
-    let (x0, y0) = ok
-        .iter()
-        .fold((f64::INFINITY, f64::INFINITY), |(x, y), &i| {
-            (x.min(disks[i].c.x), y.min(disks[i].c.y))
-        });
-    // Saturating casts: a packing wider than 2^63 cells cannot hold this many disks anyway.
-    let cell = |d: &Disk| {
-        (
-            ((d.c.y - y0) / side).floor() as i64,
-            ((d.c.x - x0) / side).floor() as i64,
-        )
-    };
-    let mut keyed: Vec<((i64, i64), usize)> = ok.iter().map(|&i| (cell(&disks[i]), i)).collect();
-    keyed.sort_unstable();
-    let range_of = |key: (i64, i64)| {
-        let lo = keyed.partition_point(|(k, _)| *k < key);
-        let hi = keyed.partition_point(|(k, _)| *k <= key);
-        lo..hi
-    };
+    let near = ByRadius::new(disks, ok.iter().copied());
     let mut count = 0;
     let mut worst: Option<(usize, usize, f64)> = None;
-    let mut test = |a: usize, b: usize| {
-        let (p, q) = (&disks[a], &disks[b]);
-        let sum = p.r + q.r;
-        let overlap = (sum - (p.c - q.c).norm()) / sum;
-        if overlap > OVERLAP_REL {
-            count += 1;
-            if worst.is_none_or(|(_, _, w)| overlap > w) {
-                worst = Some((a.min(b), a.max(b), overlap));
+    for &a in ok {
+        let p = &disks[a];
+        near.visit(p.c, p.r, |b| {
+            if b >= a {
+                return;
             }
-        }
-    };
-    let mut start = 0;
-    while start < keyed.len() {
-        let key = keyed[start].0;
-        let here = range_of(key);
-        for i in here.clone() {
-            for j in i + 1..here.end {
-                test(keyed[i].1, keyed[j].1);
-            }
-        }
-        let (row, col) = key;
-        for other in [
-            (row, col + 1),
-            (row + 1, col - 1),
-            (row + 1, col),
-            (row + 1, col + 1),
-        ] {
-            let there = range_of(other);
-            for i in here.clone() {
-                for j in there.clone() {
-                    test(keyed[i].1, keyed[j].1);
+            let q = &disks[b];
+            let sum = p.r + q.r;
+            let overlap = (sum - (p.c - q.c).norm()) / sum;
+            if overlap > OVERLAP_REL {
+                count += 1;
+                let pair = (b, a);
+                if worst.is_none_or(|(x, y, w)| overlap > w || (overlap == w && pair < (x, y))) {
+                    worst = Some((b, a, overlap));
                 }
             }
-        }
-        start = here.end;
+        });
     }
     (count, worst)
 }
@@ -289,6 +250,43 @@ mod tests {
             assert_eq!(c.overlaps, brute_force(&disks));
             assert!(c.overlaps > 0);
         }
+    }
+
+    #[test]
+    fn fine_disks_beside_a_coarse_one_test_only_their_neighbours() {
+        // A wide grading: 10 000 touching disks of radius 0.01 mm on a
+        // lattice, and one of radius 1 mm touching the lattice's corner
+        // disk. Cells sized by the largest radius (2 mm) put the whole
+        // lattice in a few cells: each fine disk tested thousands.
+        let mut disks: Vec<Disk> = (0..100 * 100)
+            .map(|k| {
+                disk(
+                    0.01 + 0.02 * (k % 100) as f64,
+                    0.01 + 0.02 * (k / 100) as f64,
+                    0.01,
+                )
+            })
+            .collect();
+        let gap = 0.01 + 1.0;
+        disks.push(disk(
+            1.99 + gap / 2f64.sqrt(),
+            1.99 + gap / 2f64.sqrt(),
+            1.0,
+        ));
+        let domain = Domain::rectangle(4.0, 4.0).unwrap();
+        crate::metrics::near::VISITED.with(|v| v.set(0));
+        let c = check(&disks, &domain, None);
+        let visited = crate::metrics::near::VISITED.with(std::cell::Cell::get);
+        assert!(c.valid(), "{c:?}");
+        let per_disk = visited as f64 / disks.len() as f64;
+        assert!(per_disk < 30.0, "{per_disk} disks visited per disk");
+        // The coarse disk still meets a fine one it overlaps.
+        disks.push(disk(1.99 + 0.3, 1.99 + 0.3, 0.01));
+        let c = check(&disks, &domain, None);
+        assert_eq!(
+            (c.overlaps, c.worst_overlap.map(|w| (w.0, w.1))),
+            (1, Some((10_000, 10_001)))
+        );
     }
 
     #[test]

@@ -800,3 +800,26 @@ fn a_symlinked_well_folder_is_never_written_or_removed_through() {
     );
     assert_eq!(tree(&out), before, "the failed run changed nothing");
 }
+
+#[test]
+fn a_relaxation_pack_refused_by_the_write_check_names_the_keys_to_change() {
+    // Placed at 5 % porosity with one sweep: the overlaps stay.
+    let text = format!(
+        "{SQUARE}[packer]\nmethod = \"relaxation\"\nrelaxation_porosity = 0.05\nrelaxation_iterations = 1\n"
+    );
+    let plan = plan(&text, JobKind::Pack);
+    let mut store = MemoryStore::default();
+    let (outcome, _) = recorded(&plan, &mut store, |_| false);
+    let Err(err @ JobError::Output(_)) = outcome else {
+        panic!("{outcome:?}");
+    };
+    let message = format!("{:?}", err);
+    for key in [
+        "packer.relaxation_iterations",
+        "packer.relaxation_porosity",
+        "overlapping pairs",
+    ] {
+        assert!(message.contains(key), "{message}");
+    }
+    assert!(store.files.is_empty(), "nothing is written");
+}

@@ -9,6 +9,7 @@ use super::error::JobError;
 use super::event::{Event, Observer, Stage, Warning, WarningKind};
 use super::plan::{Job, JobKind, Plan};
 use super::store::{Store, StoreError};
+use crate::Method;
 use crate::cancel::{Cancel, Cancelled};
 use crate::check::{KS_MARGIN, grading_kept, ks_limit};
 use crate::compare::{CompareRun, Variant, compare};
@@ -19,12 +20,12 @@ use crate::ga::{
     PorosityProblem, Search, StopReason, Verdict, lay_out,
 };
 use crate::layering::LayeringSettings;
-use crate::metrics::{Metrics, measure};
+use crate::metrics::{Metrics, measure, measure_cancellable};
 use crate::names::ConfigName;
 use crate::output::{
     FILE_NAMES, FractureSummary, LayeringDetails, LayeringReport, LayeringSummary, OptimiseSummary,
-    RunInfo, WELLS_CSV, WellRow, WindowSummary, render_compare, render_outputs, render_stability,
-    variant_label, wells_csv,
+    OutputError, RunInfo, WELLS_CSV, WellRow, WindowSummary, render_compare, render_outputs,
+    render_stability, variant_label, wells_csv,
 };
 use crate::packer::{PackError, Packing, pack_observed};
 use crate::stability::{self, StabilityRun};
@@ -274,7 +275,7 @@ impl Running<'_> {
         metrics: &Metrics,
         run: &RunInfo<'_>,
     ) -> Result<(), JobError> {
-        let files = render_outputs(packing, metrics, run)?;
+        let files = render_outputs(packing, metrics, run).map_err(|e| relaxation_hint(e, run))?;
         self.write(folder, files)?;
         if !grading_kept(metrics.particles, metrics.psd_ks) {
             let advice = match self.plan.job {
@@ -337,7 +338,8 @@ impl Running<'_> {
         let plan = self.plan;
         let scene = &plan.config.scene;
         let (packing, seconds) = self.pack_scene(scene, "the scene", cancel)?;
-        let metrics = measure(&packing, scene);
+        // A cancel while measuring writes nothing, as one while packing.
+        let metrics = measure_cancellable(&packing, scene, cancel)?;
         let run = RunInfo {
             materials: &plan.config.materials,
             ..RunInfo::new(scene, &plan.origin, seconds, &plan.config.output)
@@ -986,6 +988,21 @@ fn layering_report<'a>(settings: &'a LayeringSettings, l: &'a Layered) -> Layeri
         rows: &l.rows,
         profile: &settings.profile,
         axis: settings.axis,
+    }
+}
+
+/// A relaxation packing the write check refuses still overlaps: the
+/// error says which keys let the sweeps separate the disks.
+fn relaxation_hint(err: OutputError, run: &RunInfo<'_>) -> OutputError {
+    match err {
+        OutputError::Invalid(faults) if run.scene.packer.method == Method::Relaxation => {
+            OutputError::Invalid(format!(
+                "{faults}; the relaxation sweeps left these overlaps: raise \
+                 packer.relaxation_iterations (more sweeps) or \
+                 packer.relaxation_porosity (fewer disks placed)"
+            ))
+        }
+        other => other,
     }
 }
 

@@ -6,6 +6,7 @@
 //! is a [`coordination`] of contacts found by one neighbour visit.
 
 mod contacts;
+pub(crate) mod near;
 mod porosity_map;
 
 pub use contacts::coordination;
@@ -15,10 +16,15 @@ pub use porosity_map::{PorosityMap, porosity_map};
 use std::ops::ControlFlow;
 
 use crate::Scene;
-use crate::geometry::predicates::{CONTACT_REL, area_disk_box};
+use crate::cancel::{Cancel, Cancelled};
+use crate::geometry::predicates::{CONTACT_REL, area_disk_box, overlap_disk_disk};
 use crate::geometry::{Disk, Point};
 use crate::packer::Packing;
 use crate::packer::index::{Grid, SpatialIndex};
+use near::ByRadius;
+
+/// Disks or samples between two polls of the cancel token.
+const POLL_EVERY: usize = 1024;
 
 /// Side of the local-porosity windows, in largest diameters.
 const WINDOW_DIAMETERS: f64 = 5.0;
@@ -101,8 +107,27 @@ pub fn psd_ks(packing: &Packing, scene: &Scene) -> f64 {
 /// Measure a packing of `scene` against the scene's grading.
 ///
 /// # Performance
-/// One grid over the disks serves every neighbour query: O(n) overall.
+/// The disks bucketed by size class serve every neighbour query: O(n)
+/// overall in a dense packing, whatever the grading's width.
 pub fn measure(packing: &Packing, scene: &Scene) -> Metrics {
+    match measure_cancellable(packing, scene, &Cancel::new()) {
+        Ok(metrics) => metrics,
+        Err(_) => unreachable!("a new token is never raised"),
+    }
+}
+
+/// [`measure`], stopped by `cancel`: its loops poll the token every
+/// [`POLL_EVERY`] disks or samples, so a cancel is honoured within
+/// milliseconds however large the packing.
+///
+/// # Errors
+/// [`Cancelled`] once `cancel` is raised or its deadline passes.
+pub fn measure_cancellable(
+    packing: &Packing,
+    scene: &Scene,
+    cancel: &Cancel,
+) -> Result<Metrics, Cancelled> {
+    cancel.check()?;
     let disks = &packing.disks;
     let domain = &packing.domain;
     let domain_area = domain.area();
@@ -124,35 +149,40 @@ pub fn measure(packing: &Packing, scene: &Scene) -> Metrics {
         grid.insert(id as u32, d.c);
     }
 
+    // Neighbours by size class: a grid sized by the largest radius makes a
+    // wide grading's fine disks visit cells full of fine disks.
+    let near = ByRadius::new(&all, 0..all.len());
     let mut max_overlap = 0.0f64;
     let mut contacts = 0usize;
     let mut touched = vec![false; all.len()];
     let mut min_wall_clearance = f64::INFINITY;
     for (i, d) in all.iter().enumerate().skip(nb) {
+        if i % POLL_EVERY == 0 {
+            cancel.check()?;
+        }
         let clearance = domain.signed_distance(d.c) - d.r;
         min_wall_clearance = min_wall_clearance.min(clearance);
         touched[i] |= clearance <= CONTACT_REL * d.r;
         // Each packed pair once (j < i); wall disks against every packed disk.
-        visit_near(
-            &grid,
-            &all,
-            r_max,
-            i,
-            |j| j < i,
-            |j, overlap, touching| {
-                max_overlap = max_overlap.max(overlap);
-                if touching {
-                    touched[i] = true;
-                    touched[j] = true;
-                    contacts += usize::from(j >= nb);
-                }
-            },
-        );
+        near.visit(d.c, d.r, |j| {
+            if j >= i {
+                return;
+            }
+            let o = all[j];
+            let overlap = overlap_disk_disk(d.c, d.r, o.c, o.r);
+            max_overlap = max_overlap.max(overlap);
+            if overlap >= -CONTACT_REL {
+                touched[i] = true;
+                touched[j] = true;
+                contacts += usize::from(j >= nb);
+            }
+        });
     }
     let n = disks.len();
     let isolated = touched[nb..].iter().filter(|&&t| !t).count();
     let (local_porosity_std, local_windows) = local_porosity(packing, &grid, &all, r_max);
-    Metrics {
+    let largest_hole = largest_hole(packing, &near, &all, r_max, scene.d_min(), cancel)?;
+    Ok(Metrics {
         particles: n,
         domain_area,
         solid_area,
@@ -165,8 +195,8 @@ pub fn measure(packing: &Packing, scene: &Scene) -> Metrics {
         isolated,
         local_porosity_std,
         local_windows,
-        largest_hole: largest_hole(packing, &grid, &all, r_max, scene.d_min()),
-    }
+        largest_hole,
+    })
 }
 
 /// Standard deviation of porosity over tiled square windows wholly inside the domain.
@@ -234,7 +264,7 @@ fn local_porosity(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64) -> (
 /// the next sample.
 fn clearance_above(
     packing: &Packing,
-    grid: &Grid,
+    near: &ByRadius,
     all: &[Disk],
     r_max: f64,
     p: Point,
@@ -246,34 +276,31 @@ fn clearance_above(
         return wall;
     }
     let mut best = wall;
-    // Twice the largest radius settles a sample nearer than r_max to a disk
-    // edge (most of them in a dense packing) in one query of the grid.
     // Every centre lies within the domain's bounds: a box of half side
     // `reach` around a point of the domain holds them all.
     let (lo, hi) = packing.domain.bounds();
     let reach = (hi - lo).norm() + r_max;
-    let mut half = (2.0 * r_max).max(reach / 1024.0);
+    // The finest class's size settles most samples of a dense packing in
+    // one query; each class is searched as far as its own largest radius asks.
+    let mut half = near.finest_r_max().max(reach / 1024.0);
     loop {
         let mut found = f64::INFINITY;
-        let (lo, hi) = (
-            Point::new(p.x - half, p.y - half),
-            Point::new(p.x + half, p.y + half),
-        );
-        let settled = grid.try_visit_box(lo, hi, |j| {
+        let settled = near.try_visit(p, half, |j| {
             #[cfg(test)]
             tests::CANDIDATES.with(|c| c.set(c.get() + 1));
-            let d = all[j as usize];
+            let d = all[j];
             found = found.min((p - d.c).norm() - d.r);
             if found <= floor {
-                *settler = j as usize;
+                *settler = j;
                 ControlFlow::Break(())
             } else {
                 ControlFlow::Continue(())
             }
         });
         best = best.min(found);
-        // Disks outside the box are at least `half − r_max` away.
-        if settled.is_break() || best <= half - r_max || half > reach {
+        // A disk not visited lies farther than `half` plus its class's
+        // largest radius from `p` along an axis: its edge is beyond `half`.
+        if settled.is_break() || best <= half || half > reach {
             return best;
         }
         half *= 2.0;
@@ -302,11 +329,18 @@ fn hole_step(extent: nalgebra::Vector2<f64>, disks: usize, d_min: f64) -> f64 {
 }
 
 /// Diameter of the largest empty circle: grid search, then local refinement.
-fn largest_hole(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64, d_min: f64) -> f64 {
+fn largest_hole(
+    packing: &Packing,
+    near: &ByRadius,
+    all: &[Disk],
+    r_max: f64,
+    d_min: f64,
+    cancel: &Cancel,
+) -> Result<f64, Cancelled> {
     let (lo, hi) = packing.domain.bounds();
     let step = hole_step(hi - lo, packing.disks.len(), d_min);
     if step <= 0.0 || !step.is_finite() {
-        return 0.0;
+        return Ok(0.0);
     }
     let mut best = (f64::NEG_INFINITY, lo);
     let nx = ((hi.x - lo.x) / step).ceil() as usize;
@@ -316,6 +350,9 @@ fn largest_hole(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64, d_min:
     let mut settler = usize::MAX;
     for iy in 0..=ny {
         for ix in 0..=nx {
+            if ix % POLL_EVERY == 0 {
+                cancel.check()?;
+            }
             let p = Point::new(lo.x + ix as f64 * step, lo.y + iy as f64 * step);
             if let Some(d) = all.get(settler)
                 && (p - d.c).norm() - d.r <= best.0
@@ -325,14 +362,14 @@ fn largest_hole(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64, d_min:
             if packing.domain.signed_distance(p) <= 0.0 {
                 continue;
             }
-            let c = clearance_above(packing, grid, all, r_max, p, best.0, &mut settler);
+            let c = clearance_above(packing, near, all, r_max, p, best.0, &mut settler);
             if c > best.0 {
                 best = (c, p);
             }
         }
     }
     if best.0 <= 0.0 {
-        return 0.0;
+        return Ok(0.0);
     }
     // Pattern search around the best sample.
     let (mut value, mut p) = best;
@@ -350,7 +387,7 @@ fn largest_hole(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64, d_min:
             (-1.0, 1.0),
         ] {
             let q = Point::new(p.x + dx * h, p.y + dy * h);
-            let c = clearance_above(packing, grid, all, r_max, q, value, &mut settler);
+            let c = clearance_above(packing, near, all, r_max, q, value, &mut settler);
             if c > value {
                 value = c;
                 p = q;
@@ -361,7 +398,7 @@ fn largest_hole(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64, d_min:
             h /= 2.0;
         }
     }
-    2.0 * value
+    Ok(2.0 * value)
 }
 
 #[cfg(test)]
@@ -397,6 +434,54 @@ mod tests {
         // About 2.8, against 128 when every sample ran a full query.
         assert!(per_sample < 10.0, "{per_sample} disks visited per sample");
         assert!(m.largest_hole > 0.0 && m.largest_hole < scene.d_max());
+    }
+
+    #[test]
+    fn wide_grading_neighbours_are_found_by_size_class() {
+        // 5 mm square, d 0.02–2 mm by mass (thousands of fine disks beside
+        // a few coarse ones). A grid of cells sized by the largest radius
+        // made every fine disk visit cells full of fine disks: about 1 000
+        // disks per contact query and 50 per hole sample.
+        let text = "[domain]\nshape = \"rectangle\"\nwidth = 5\nheight = 5\n\
+                    [grading]\nuniform = [0.02, 2.0]\nbasis = \"mass3d\"\n";
+        let scene = crate::config::parse_with(text, "t", Default::default())
+            .unwrap()
+            .scene;
+        let packing = crate::pack(&scene).unwrap();
+        let n = packing.disks.len();
+        assert!(n > 2000, "{n} disks");
+        near::VISITED.with(|c| c.set(0));
+        let m = measure(&packing, &scene);
+        let per_disk = near::VISITED.with(Cell::get) as f64 / n as f64;
+        assert!(per_disk < 200.0, "{per_disk} disks visited per packed disk");
+        // The same contacts as a test of every pair.
+        let mut contacts = 0;
+        for (i, a) in packing.disks.iter().enumerate() {
+            for b in &packing.disks[..i] {
+                contacts += usize::from(overlap_disk_disk(a.c, a.r, b.c, b.r) >= -CONTACT_REL);
+            }
+        }
+        assert_eq!(m.coordination, coordination(2 * contacts, n));
+    }
+
+    #[test]
+    fn a_raised_token_stops_measure() {
+        let scene = crate::config::parse(crate::config::DEFAULT_CONFIG, "t")
+            .unwrap()
+            .scene;
+        let packing = crate::pack(&scene).unwrap();
+        let cancel = Cancel::new();
+        let measured = measure_cancellable(&packing, &scene, &cancel);
+        // Debug text: a NaN local spread is equal to itself there.
+        assert_eq!(
+            format!("{measured:?}"),
+            format!("{:?}", Ok::<_, Cancelled>(measure(&packing, &scene)))
+        );
+        cancel.cancel();
+        assert_eq!(
+            measure_cancellable(&packing, &scene, &cancel),
+            Err(Cancelled::Flag)
+        );
     }
 
     /// Grid points the largest-hole search visits for these bounds and step.
