@@ -7,7 +7,7 @@
 //! bucketed by cells sized by its own largest radius (or coarser when the
 //! class is sparse); a query looks in each class around the point as far
 //! as that class's own largest radius asks. Nothing here uses the
-//! generator's spatial indexes: [`crate::check`] relies on it too.
+//! generator's spatial indexes: the independent check relies on it too.
 
 use std::ops::ControlFlow;
 
