@@ -1,14 +1,18 @@
 //! Load benchmark of `gapack serve` (not a test): `cargo bench --bench service`.
 //!
-//! Starts the real binary on a random loopback port, then 25 client threads
-//! submit 1,000 jobs of the default scene (seeds 0..40 in turn) and follow
-//! each over SSE to its end. Every job is checked: it succeeded, it is
-//! listed once, and its `packing.csv` is byte for byte the one the jobs
-//! layer gives in process for the same seed. Prints jobs/s, p50 and p99
-//! submit→succeeded latency under load, the service's overhead on one job at
-//! a time (its latency less the in-process run), and the server's peak RSS.
+//! Two loads, each on a fresh server (the real binary on a random loopback
+//! port, two workers): 25 client threads submit 1,000 jobs (seeds 0..40 in
+//! turn) and follow each over SSE to its end; first the default scene as
+//! shipped (its pictures included), then the same scene writing
+//! `packing.csv` and `summary.json` only. Every job is checked: it
+//! succeeded, it is listed once, and its `packing.csv` is byte for byte the
+//! one the jobs layer gives in process for the same seed. Prints jobs/s, p50
+//! and p99 submit→succeeded latency under load, the service's overhead on one
+//! job at a time (its latency less the same run in process, files written to
+//! disk as the CLI writes them), and the server's peak RSS.
 //!
-//! `GAPACK_BENCH_JOBS` and `GAPACK_BENCH_CLIENTS` change the load.
+//! `GAPACK_BENCH_JOBS`, `GAPACK_BENCH_CLIENTS` and `GAPACK_BENCH_WORKERS`
+//! change the load.
 
 use std::collections::BTreeSet;
 use std::io::{BufRead, BufReader};
@@ -17,7 +21,7 @@ use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use gapack::config::{DEFAULT_CONFIG, DEFAULT_ORIGIN};
-use gapack::jobs::{self, Cancel, JobKind, MemoryStore, Plan, Request, Silent};
+use gapack::jobs::{self, Cancel, DirStore, JobKind, Plan, Request, Silent};
 
 const SEEDS: u64 = 40;
 
@@ -36,29 +40,33 @@ fn agent() -> ureq::Agent {
         .into()
 }
 
-/// The packing.csv of the default scene with `seed`, run in process.
-fn expected(seed: u64) -> (Vec<u8>, Duration) {
+/// The packing.csv of the default scene with `seed`, run in process as the
+/// CLI runs it (its files written to a folder under `scratch`), and how
+/// long that took.
+fn expected(config: &str, seed: u64, scratch: &std::path::Path) -> (Vec<u8>, Duration) {
     let request = Request {
         seed: Some(seed),
         ..Request::new(JobKind::Pack)
     };
-    let plan = Plan::load(DEFAULT_CONFIG, DEFAULT_ORIGIN, &request).expect("plan");
-    let mut store = MemoryStore::default();
+    let plan = Plan::load(config, DEFAULT_ORIGIN, &request).expect("plan");
+    let dir = scratch.join(format!("cli-{seed}"));
+    let mut store = DirStore::new(dir.clone());
     let start = Instant::now();
     jobs::run(&plan, &mut Silent, &Cancel::new(), &mut store).expect("runs");
     let took = start.elapsed();
-    (store.files["packing.csv"].clone(), took)
+    let csv = std::fs::read(dir.join("packing.csv")).expect("packing.csv");
+    (csv, took)
 }
 
 /// Submit the default scene with `seed`, follow it to its end; the id and
 /// the latency from submit to `succeeded`.
-fn run_one(base: &str, seed: u64) -> (String, Duration) {
+fn run_one(base: &str, config: &str, seed: u64) -> (String, Duration) {
     let agent = agent();
     let start = Instant::now();
     let mut r = agent
         .post(format!("{base}/api/v1/jobs?kind=pack&seed={seed}"))
         .header("Content-Type", "application/toml")
-        .send(DEFAULT_CONFIG)
+        .send(config)
         .expect("submit");
     let body: serde_json::Value =
         serde_json::from_str(&r.body_mut().read_to_string().expect("body")).expect("json");
@@ -98,6 +106,22 @@ fn peak_kb(child: &Child) -> Option<u64> {
 fn main() {
     let total = env_or("GAPACK_BENCH_JOBS", 1000);
     let clients = env_or("GAPACK_BENCH_CLIENTS", 25);
+    let workers = env_or("GAPACK_BENCH_WORKERS", 2);
+    load("the default scene", DEFAULT_CONFIG, total, clients, workers);
+    let csv_only = format!("{DEFAULT_CONFIG}\n[output]\nformats = [\"csv\"]\n");
+    load(
+        "the default scene, packing.csv and summary.json only",
+        &csv_only,
+        total,
+        clients,
+        workers,
+    );
+}
+
+/// One load: a fresh server, `total` jobs of `config` from `clients`
+/// clients, every result verified, the figures printed.
+fn load(label: &str, config: &str, total: usize, clients: usize, workers: usize) {
+    let workers = workers.to_string();
     let data = std::env::temp_dir().join(format!("gapack-bench-service-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&data);
     let mut child = Command::new(env!("CARGO_BIN_EXE_gapack"))
@@ -107,6 +131,8 @@ fn main() {
             "127.0.0.1:0",
             "--max-queue",
             "100000",
+            "--workers",
+            &workers,
             "--data",
         ])
         .arg(&data)
@@ -123,13 +149,18 @@ fn main() {
         .expect("address")
         .to_owned();
 
-    let expected: Vec<(Vec<u8>, Duration)> = (0..SEEDS).map(expected).collect();
+    let scratch = data.with_extension("cli");
+    let expected: Vec<(Vec<u8>, Duration)> =
+        (0..SEEDS).map(|s| expected(config, s, &scratch)).collect();
+    let _ = std::fs::remove_dir_all(&scratch);
     let mut alone: Vec<Duration> = expected.iter().map(|(_, d)| *d).collect();
     alone.sort();
     let packing = percentile(&alone, 0.5);
 
     // One job at a time: the service's own cost.
-    let mut single: Vec<Duration> = (0..20).map(|i| run_one(&base, i % SEEDS).1).collect();
+    let mut single: Vec<Duration> = (0..20)
+        .map(|i| run_one(&base, config, i % SEEDS).1)
+        .collect();
     single.sort();
 
     let results = Mutex::new(Vec::with_capacity(total));
@@ -141,7 +172,7 @@ fn main() {
                 let mut i = c;
                 while i < total {
                     let seed = i as u64 % SEEDS;
-                    let (id, latency) = run_one(base, seed);
+                    let (id, latency) = run_one(base, config, seed);
                     results.lock().expect("results").push((id, seed, latency));
                     i += clients;
                 }
@@ -192,7 +223,7 @@ fn main() {
     latencies.sort();
     let peak = peak_kb(&child);
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
-    println!("service load: {total} jobs of the default scene from {clients} clients");
+    println!("service load: {total} jobs of {label} from {clients} clients, {workers} workers");
     println!("  none lost or duplicated; every packing.csv verified against the jobs layer");
     println!(
         "  throughput: {:.1} jobs/s ({:.2} s)",
@@ -205,7 +236,7 @@ fn main() {
         ms(percentile(&latencies, 0.99))
     );
     println!(
-        "  one job at a time: p50 {:.1} ms against {:.1} ms in process: the service adds {:.1} ms",
+        "  one job at a time: p50 {:.1} ms against {:.1} ms for the same run in process (files written as the CLI writes them): the service adds {:.1} ms",
         ms(percentile(&single, 0.5)),
         ms(packing),
         ms(percentile(&single, 0.5)) - ms(packing)

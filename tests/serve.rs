@@ -594,6 +594,16 @@ fn malformed_requests_are_refused_with_json_errors() {
     );
     assert_eq!(r.status, 422);
     assert_eq!(r.json()["key"], "output.dir");
+    assert_eq!(
+        (r.json()["line"].as_u64(), r.json()["column"].as_u64()),
+        (Some(9), Some(1))
+    );
+    assert!(
+        r.error()
+            .starts_with("config.toml:9:1: output.dir: the server chooses"),
+        "{}",
+        r.error()
+    );
     // Over the server's ceiling, though the config raises its own limit.
     let big = "[domain]\nshape = \"rectangle\"\nwidth = 10000\nheight = 10000\n[grading]\nconstant = 1.0\n[limits]\nmax_particles = 1000000000\nmax_memory_mb = 100000\n";
     let r = post_toml(&server, "/api/v1/jobs?kind=pack", big);

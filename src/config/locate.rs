@@ -77,6 +77,23 @@ pub(crate) fn from_toml_error(err: &toml::de::Error, text: &str, origin: &str) -
 }
 
 /// A key or value of the parsed tree, with its path (`domain.vertices[2]`).
+/// Where key `path` (`output.dir`) is written in `text`: the place of
+/// its key, for a fault found after parsing by a caller with its own rules
+/// (a service that refuses a key the CLI accepts). `None` if the text does
+/// not parse or has no such key.
+#[must_use]
+pub fn key_location(text: &str, origin: &str, path: &str) -> Option<Location> {
+    let tree = DeTable::parse(text).ok()?;
+    let mut nodes = Vec::new();
+    collect_table(tree.get_ref(), "", &mut nodes);
+    nodes
+        .iter()
+        .filter(|n| n.path == path)
+        .map(|n| n.span.start)
+        .min()
+        .map(|start| Location::at(origin, text, start))
+}
+
 struct Node {
     span: Range<usize>,
     path: String,

@@ -16,5 +16,6 @@ mod tests;
 
 pub use crate::names::{ConfigName, METHOD};
 pub use error::{ConfigError, Location};
+pub use locate::key_location;
 pub use parse::{Config, DEFAULT_CONFIG, DEFAULT_ORIGIN, ParseOptions, parse, parse_with};
 pub use validate::{DEFAULT_MAX_MEMORY_MB, DEFAULT_MAX_PARTICLES};

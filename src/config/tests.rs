@@ -1076,3 +1076,18 @@ fn relaxation_tolerance_above_the_write_check_is_refused_with_a_value_that_passe
     );
     assert!(parse(&rsa, "t.toml").is_ok());
 }
+
+#[test]
+fn a_key_is_located_where_it_is_written() {
+    let text = "seed = 1\n[output]\nformats = [\"csv\"]\n  dir = \"x\"\n";
+    let at = super::key_location(text, "t.toml", "output.dir").expect("found");
+    assert_eq!(at.to_string(), "t.toml:4:3");
+    let dotted = "output.dir = \"x\"\n";
+    let at = super::key_location(dotted, "t.toml", "output.dir").expect("found");
+    assert_eq!(at.to_string(), "t.toml:1:8");
+    assert_eq!(super::key_location(text, "t.toml", "output.density"), None);
+    assert_eq!(
+        super::key_location("[output\n", "t.toml", "output.dir"),
+        None
+    );
+}

@@ -9,6 +9,8 @@ use std::fs;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
+use rayon::prelude::*;
+
 use super::error::OutputError;
 
 /// Write `contents` to `path` atomically: readers see the old file or the new
@@ -55,13 +57,24 @@ pub fn write_all_atomic(files: &[(PathBuf, Vec<u8>)]) -> Result<(), OutputError>
 /// [`OutputError::Remove`] with the I/O cause.
 pub fn commit_atomic(files: &[(PathBuf, &[u8])], remove: &[PathBuf]) -> Result<(), OutputError> {
     let mut commit = Commit::default();
-    for (path, contents) in files {
-        let written = temp_path(path, "tmp").and_then(|temp| {
-            // Owned by the guard before the file exists: a partial one goes too.
-            commit.temps.push(temp.clone());
-            write_synced(&temp, contents)
-        });
-        written.map_err(|source| OutputError::Write {
+    for (path, _) in files {
+        let temp = temp_path(path, "tmp").map_err(|source| OutputError::Write {
+            path: path.clone(),
+            source,
+        })?;
+        // Owned by the guard before the file exists: a partial one goes too.
+        commit.temps.push(temp);
+    }
+    // Written and synced side by side: each waits for its own disk flush,
+    // and those flushes overlap instead of queueing one after another. The
+    // error reported is the first file's in order, whichever failed first.
+    let written: Vec<io::Result<()>> = files
+        .par_iter()
+        .zip(&commit.temps)
+        .map(|((_, contents), temp)| write_synced(temp, contents))
+        .collect();
+    for ((path, _), result) in files.iter().zip(written) {
+        result.map_err(|source| OutputError::Write {
             path: path.clone(),
             source,
         })?;

@@ -1,5 +1,7 @@
 //! Writing the outputs of a run, as one atomic set.
 
+use rayon::prelude::*;
+
 use super::csv::{COMPARE_CSV, STABILITY_CSV, compare_csv, stability_csv};
 use super::csv::{
     CONVERGENCE_CSV, PACKING_CSV, PROFILE_CSV, WINDOW_CSV, convergence_csv, packing_csv,
@@ -175,67 +177,63 @@ pub fn render_outputs(
     let out = run.output;
     let materials = run.materials;
     let opts = &out.export;
-    let mut files = vec![(
-        SUMMARY_JSON.to_owned(),
-        summary_json(packing, metrics, run)?,
-    )];
-    let mut add = |name: &str, bytes: Vec<u8>| files.push((name.to_owned(), bytes));
+    let mut tasks = Tasks::new(out);
+    tasks.add(SUMMARY_JSON, || summary_json(packing, metrics, run));
     if out.wants(Format::Csv) {
-        add(PACKING_CSV, packing_csv(packing, materials)?);
+        tasks.add(PACKING_CSV, || packing_csv(packing, materials));
     }
     if out.wants(Format::Json) {
-        add(PACKING_JSON, packing_json(packing, metrics, run)?);
+        tasks.add(PACKING_JSON, || packing_json(packing, metrics, run));
     }
     if out.wants(Format::Vtk) {
-        add(PACKING_VTK, packing_vtk(packing, materials, opts)?);
-        add(BOUNDARY_VTK, boundary_vtk(packing));
+        tasks.add(PACKING_VTK, || packing_vtk(packing, materials, opts));
+        tasks.add(BOUNDARY_VTK, || Ok(boundary_vtk(packing)));
     }
     if out.wants(Format::Lammps) {
-        add(LAMMPS_DATA, lammps_data(packing, materials, opts)?);
+        tasks.add(LAMMPS_DATA, || lammps_data(packing, materials, opts));
     }
     if out.wants(Format::Yade) {
-        add(YADE_TEXT, yade_text(packing, materials, opts)?);
+        tasks.add(YADE_TEXT, || yade_text(packing, materials, opts));
     }
     if out.wants(Format::Pfc) {
-        add(PFC_COMMANDS, pfc_commands(packing, materials, opts)?);
+        tasks.add(PFC_COMMANDS, || pfc_commands(packing, materials, opts));
     }
     if out.wants(Format::Mercury) {
-        add(MERCURY_DATA, mercury_data(packing, materials, opts)?);
+        tasks.add(MERCURY_DATA, || mercury_data(packing, materials, opts));
     }
     if out.wants(Format::Esys) {
-        add(ESYS_GEOMETRY, esys_geometry(packing, materials, opts)?);
+        tasks.add(ESYS_GEOMETRY, || esys_geometry(packing, materials, opts));
     }
-    let mut pictures = Pictures { out, add };
-    pictures.packing(
-        packing,
-        materials,
-        (run.scene.d_min(), run.scene.d_max()),
-        Some(&run.scene.grading),
-    )?;
+    let diameters = (run.scene.d_min(), run.scene.d_max());
+    let grading = Some(&run.scene.grading);
+    tasks.packing(packing, materials, diameters, grading);
     if let Some((summary, history)) = run.optimise {
         if out.wants(Format::Csv) {
-            (pictures.add)(CONVERGENCE_CSV, convergence_csv(history)?);
+            tasks.add(CONVERGENCE_CSV, || convergence_csv(history));
         }
-        let chart = convergence_chart(history, summary.target_porosity);
-        pictures.chart((CONVERGENCE_SVG, CONVERGENCE_PNG), &chart)?;
+        tasks.chart((CONVERGENCE_SVG, CONVERGENCE_PNG), move || {
+            convergence_chart(history, summary.target_porosity)
+        });
     }
     if let Some(layering) = &run.layering {
         if out.wants(Format::Csv) {
-            (pictures.add)(PROFILE_CSV, profile_csv(layering.rows, materials)?);
+            tasks.add(PROFILE_CSV, || profile_csv(layering.rows, materials));
         }
-        let chart = profile_chart(layering.rows, materials, layering.profile, layering.axis);
-        pictures.chart((PROFILE_SVG, PROFILE_PNG), &chart)?;
+        tasks.chart((PROFILE_SVG, PROFILE_PNG), move || {
+            profile_chart(layering.rows, materials, layering.profile, layering.axis)
+        });
     }
     if let Some(fracture) = &run.fracture
         && let Some(window) = &fracture.window
     {
         if out.wants(Format::Csv) {
-            (pictures.add)(WINDOW_CSV, window_csv(window.steps)?);
+            tasks.add(WINDOW_CSV, || window_csv(window.steps));
         }
-        let chart = window_chart(window.steps, window.tolerance, fracture.name);
-        pictures.chart((WINDOW_SVG, WINDOW_PNG), &chart)?;
+        tasks.chart((WINDOW_SVG, WINDOW_PNG), move || {
+            window_chart(window.steps, window.tolerance, fracture.name)
+        });
     }
-    Ok(files)
+    tasks.make()
 }
 
 /// Largest difference between the summary's porosity and the one the check
@@ -291,51 +289,82 @@ fn confirm(packing: &Packing, metrics: &Metrics) -> Result<(), OutputError> {
     }
 }
 
-/// Adds a run's charts to its files in the picture formats asked for.
-struct Pictures<'o, F> {
-    out: &'o OutputSettings,
-    add: F,
+/// How one file is made.
+type Make<'a> = Box<dyn Fn() -> Result<Vec<u8>, OutputError> + Send + Sync + 'a>;
+
+/// The files of a run, listed first and made together: each file is
+/// independent of the others, so they are rendered on all cores (a run's
+/// pictures cost far more than its packing on small scenes), and come out
+/// in the order listed whatever the number of threads.
+struct Tasks<'a> {
+    out: &'a OutputSettings,
+    list: Vec<(&'static str, Make<'a>)>,
 }
 
-impl<F: FnMut(&str, Vec<u8>)> Pictures<'_, F> {
+impl<'a> Tasks<'a> {
+    fn new(out: &'a OutputSettings) -> Self {
+        Tasks {
+            out,
+            list: Vec::new(),
+        }
+    }
+
+    /// File `name`, made by `make`.
+    fn add(
+        &mut self,
+        name: &'static str,
+        make: impl Fn() -> Result<Vec<u8>, OutputError> + Send + Sync + 'a,
+    ) {
+        self.list.push((name, Box::new(make)));
+    }
+
     /// The pictures of a packing, each in the formats asked for: the
     /// packing coloured by diameter (over `diameters`) or material, its
     /// grading against `grading`, its porosity map.
     fn packing(
         &mut self,
-        packing: &Packing,
-        materials: &[Material],
+        packing: &'a Packing,
+        materials: &'a [Material],
         diameters: (f64, f64),
-        grading: Option<&Grading>,
-    ) -> Result<(), OutputError> {
+        grading: Option<&'a Grading>,
+    ) {
         if self.out.wants(Format::Svg) {
-            let svg = packing_svg(packing, materials, diameters);
-            (self.add)(PACKING_SVG, svg.into_bytes());
+            self.add(PACKING_SVG, move || {
+                Ok(packing_svg(packing, materials, diameters).into_bytes())
+            });
         }
         if self.out.wants(Format::Png) {
-            (self.add)(PACKING_PNG, packing_png(packing, materials, diameters)?);
+            self.add(PACKING_PNG, move || {
+                packing_png(packing, materials, diameters)
+            });
         }
-        if self.out.wants(Format::Svg) || self.out.wants(Format::Png) {
-            self.chart((PSD_SVG, PSD_PNG), &psd_chart(packing, grading))?;
-            let map = porosity_map_chart(packing);
-            self.chart((POROSITY_MAP_SVG, POROSITY_MAP_PNG), &map)?;
-        }
-        Ok(())
+        self.chart((PSD_SVG, PSD_PNG), move || psd_chart(packing, grading));
+        self.chart((POROSITY_MAP_SVG, POROSITY_MAP_PNG), move || {
+            porosity_map_chart(packing)
+        });
     }
 
-    /// The chart as SVG and as PNG under `names`, each if asked for.
-    fn chart(
+    /// The chart `chart` draws, as SVG and as PNG under `names`, each if
+    /// asked for.
+    fn chart<C: Drawable>(
         &mut self,
-        (svg, png): (&str, &str),
-        chart: &impl Drawable,
-    ) -> Result<(), OutputError> {
+        (svg, png): (&'static str, &'static str),
+        chart: impl Fn() -> C + Send + Sync + Copy + 'a,
+    ) {
         if self.out.wants(Format::Svg) {
-            (self.add)(svg, chart.to_svg()?.into_bytes());
+            self.add(svg, move || Ok(chart().to_svg()?.into_bytes()));
         }
         if self.out.wants(Format::Png) {
-            (self.add)(png, chart.to_png()?);
+            self.add(png, move || chart().to_png());
         }
-        Ok(())
+    }
+
+    /// Make every file listed, in parallel; the first error if any fails.
+    fn make(self) -> Result<Files, OutputError> {
+        self.list
+            .into_par_iter()
+            .map(|(name, make)| make().map(|bytes| (name.to_owned(), bytes)))
+            .collect()
     }
 }
 
@@ -355,10 +384,9 @@ pub fn render_pictures(
         formats: vec![Format::Svg, Format::Png],
         ..OutputSettings::default()
     };
-    let mut files = Vec::new();
-    let add = |name: &str, bytes: Vec<u8>| files.push((name.to_owned(), bytes));
-    Pictures { out: &out, add }.packing(packing, materials, diameters, grading)?;
-    Ok(files)
+    let mut tasks = Tasks::new(&out);
+    tasks.packing(packing, materials, diameters, grading);
+    tasks.make()
 }
 
 #[cfg(test)]

@@ -395,10 +395,19 @@ fn plan(shared: &Shared, s: &Submission) -> Result<(Plan, JobRequest), ApiError>
     };
     let plan = Plan::load(&s.config, ORIGIN, &request)?;
     if plan.config.output.dir.is_some() {
-        return Err(ApiError::config(
+        let mut e = ApiError::config(
             "output.dir",
             "the server chooses where a job's files go; remove dir from [output]".to_owned(),
-        ));
+        );
+        if let Some(at) = gapack::config::key_location(&s.config, ORIGIN, "output.dir") {
+            e.body.error = format!(
+                "{at}: {}",
+                e.body.error.trim_start_matches(&format!("{ORIGIN}: "))
+            );
+            e.body.line = Some(at.line);
+            e.body.column = Some(at.column);
+        }
+        return Err(e);
     }
     if !s.force {
         ceilings(shared, &plan)?;

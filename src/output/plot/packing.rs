@@ -191,10 +191,34 @@ impl Canvas<'_> {
             clip(cy - r - 1.0, self.height),
             clip(cy + r + 1.0, self.height),
         );
+        // Per row, pixels well inside the fill radius take the fill as is
+        // (cover and inner share both 1); only the rim is blended. The
+        // spans are one pixel narrower than their exact bound, so the
+        // blended pixels are all those the exact test could put either way.
+        let solid = r - line - 0.5;
+        let outer = r + 0.5;
         for j in j0..j1 {
             let dy = j as f64 + 0.5 - cy;
             let row = j * self.width;
-            for i in i0..i1 {
+            let reach = (outer * outer - dy * dy).max(0.0).sqrt() + 1.0;
+            let (a0, a1) = (
+                clip(cx - reach, self.width).max(i0),
+                clip(cx + reach + 1.0, self.width).min(i1),
+            );
+            let (s0, s1) = if solid > dy.abs() {
+                let half = (solid * solid - dy * dy).sqrt();
+                (
+                    clip((cx - half - 0.5).ceil() + 1.0, self.width).max(a0),
+                    clip((cx + half - 0.5).floor(), self.width).min(a1),
+                )
+            } else {
+                (a0, a0)
+            };
+            let s1 = s1.max(s0);
+            for i in s0..s1 {
+                self.rgb[3 * (row + i)..3 * (row + i) + 3].copy_from_slice(&fill);
+            }
+            for i in (a0..s0).chain(s1..a1) {
                 let dx = i as f64 + 0.5 - cx;
                 let dist = (dx * dx + dy * dy).sqrt();
                 // Covered share of the pixel, and the share inside the edge line.
