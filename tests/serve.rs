@@ -10,9 +10,10 @@ mod common;
 use std::fs;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStdout, Command, Stdio};
+use std::process::Command;
 use std::time::{Duration, Instant};
 
+use common::server::Server;
 use common::{gapack, scratch};
 use serde_json::Value;
 
@@ -36,84 +37,6 @@ fn long_optimise_config() -> String {
     "seed = 5\n[domain]\nshape = \"rectangle\"\nwidth = 60\nheight = 60\n[grading]\nuniform = [1.0, 2.0]\n\
      [optimise]\ntarget_porosity = 0.01\npopulation = 8\ngenerations = 30\nstagnation = 100\n"
         .to_owned()
-}
-
-/// A running `gapack serve`, killed when dropped.
-struct Server {
-    child: Child,
-    base: String,
-    _stdout: BufReader<ChildStdout>,
-}
-
-impl Server {
-    /// Start the server on a random loopback port with its data in `data`.
-    fn start(data: &Path, extra: &[&str]) -> Server {
-        let log = fs::OpenOptions::new()
-            .create(true)
-            .append(true)
-            .open(data.with_extension("log"))
-            .expect("server log");
-        let mut child = Command::new(env!("CARGO_BIN_EXE_gapack"))
-            .args(["serve", "--listen", "127.0.0.1:0", "--data"])
-            .arg(data)
-            .args(extra)
-            .stdout(Stdio::piped())
-            .stderr(log)
-            .spawn()
-            .expect("start gapack serve");
-        let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
-        let mut line = String::new();
-        stdout.read_line(&mut line).expect("first line");
-        let base = line
-            .trim()
-            .strip_prefix("listening on ")
-            .unwrap_or_else(|| panic!("first line {line:?}"))
-            .to_owned();
-        Server {
-            child,
-            base,
-            _stdout: stdout,
-        }
-    }
-
-    fn url(&self, path: &str) -> String {
-        format!("{}{path}", self.base)
-    }
-
-    /// Send SIGTERM and wait for the exit (at most 60 s).
-    fn terminate(mut self) {
-        let pid = self.child.id().to_string();
-        let status = Command::new("kill")
-            .args(["-TERM", &pid])
-            .status()
-            .expect("kill");
-        assert!(status.success());
-        let start = Instant::now();
-        loop {
-            if let Some(status) = self.child.try_wait().expect("wait") {
-                assert!(status.success(), "exit {status:?}");
-                return;
-            }
-            assert!(
-                start.elapsed() < Duration::from_secs(60),
-                "no exit after SIGTERM"
-            );
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    }
-
-    /// `kill -9`.
-    fn kill(mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-impl Drop for Server {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
 }
 
 fn agent() -> ureq::Agent {
@@ -742,6 +665,11 @@ fn a_token_guards_every_endpoint_but_health() {
     assert_eq!(r.status, 200);
     assert_eq!(get(&server, "/healthz").status, 200);
     assert_eq!(get(&server, "/metrics").status, 401);
+    assert_eq!(get(&server, "/api/v1/examples").status, 401);
+    // The page holds no data: served to anyone, it asks for the token.
+    let page = get(&server, "/");
+    assert_eq!(page.status, 200);
+    assert!(page.content_type.starts_with("text/html"));
     drop(server);
     // Any address but loopback needs a token.
     let out = Command::new(env!("CARGO_BIN_EXE_gapack"))
@@ -751,6 +679,101 @@ fn a_token_guards_every_endpoint_but_health() {
         .expect("run");
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("needs --token-file"));
+}
+
+#[test]
+fn the_page_and_the_data_it_draws() {
+    let dir = scratch("serve-page");
+    let server = Server::start(&dir.join("data"), &[]);
+    for (path, kind) in [
+        ("/", "text/html"),
+        ("/app.js", "text/javascript"),
+        ("/app.css", "text/css"),
+    ] {
+        let r = get(&server, path);
+        assert_eq!(r.status, 200, "{path}");
+        assert!(
+            r.content_type.starts_with(kind),
+            "{path}: {}",
+            r.content_type
+        );
+    }
+    // Every shipped example, the default scene first, as on disk.
+    let examples = get(&server, "/api/v1/examples").json();
+    let examples = examples.as_array().expect("a list");
+    assert_eq!(examples[0]["name"], "default");
+    assert_eq!(
+        examples.len(),
+        fs::read_dir("configs").expect("configs").count()
+    );
+    for e in examples {
+        let name = e["name"].as_str().expect("name");
+        let text = fs::read_to_string(format!("configs/{name}.toml")).expect("config");
+        assert_eq!(e["config"].as_str(), Some(text.as_str()), "{name}");
+    }
+    // Estimates: a search's packings are bounded by its population and generations.
+    let v = post_toml(
+        &server,
+        "/api/v1/validate?kind=optimise",
+        &optimise_config(),
+    )
+    .json();
+    assert_eq!(v["estimates"]["packings"], 8 + 4 * 3 * 8);
+    assert!(v["estimates"]["seconds"].as_f64().is_some_and(|s| s > 0.0));
+    let v = post_toml(&server, "/api/v1/validate?kind=pack", SQUARE).json();
+    assert_eq!(v["estimates"]["packings"], 1);
+    // A finished job: its config, its words without the server's path, its packing as columns.
+    let id = submit(&server, "layer", 2, &layer_config());
+    let job = wait_for(&server, &id, &["succeeded"]);
+    assert_eq!(job["config"].as_str(), Some(layer_config().as_str()));
+    let data_dir = dir.join("data").display().to_string();
+    for line in job["summary"]["lines"].as_array().expect("lines") {
+        let line = line.as_str().expect("line");
+        assert!(!line.contains(&data_dir), "{line}");
+        assert!(line.starts_with(&format!("jobs/{id}")), "{line}");
+    }
+    let drawn = get(&server, &format!("/api/v1/jobs/{id}/packing")).json();
+    let csv = String::from_utf8(get(&server, &format!("/api/v1/jobs/{id}/files/packing.csv")).body)
+        .expect("UTF-8");
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(drawn["x"].as_array().map(Vec::len), Some(rows.len()));
+    assert_eq!(drawn["materials"], serde_json::json!(["a", "b"]));
+    for (i, row) in rows.iter().enumerate() {
+        for (k, column) in ["x", "y", "r"].iter().enumerate() {
+            // Within an ulp or two: serde_json's own float parsing is not exact.
+            let v: f64 = row[k + 1].parse().expect("number");
+            let got = drawn[column][i].as_f64().expect("number");
+            assert!(
+                (got - v).abs() <= 4.0 * f64::EPSILON * v.abs(),
+                "disk {i} {column}: {got} against {v}"
+            );
+        }
+        let material = drawn["material"][i].as_u64().expect("material") as usize;
+        assert_eq!(drawn["materials"][material].as_str(), Some(row[4]));
+    }
+    assert_eq!(
+        drawn["bounds"],
+        serde_json::json!([[0.0, 0.0], [20.0, 20.0]])
+    );
+    assert!(drawn["outline"].as_array().is_some_and(|o| o.len() >= 4));
+    // Not finished, or no packing: refused.
+    let queued = get(&server, "/api/v1/jobs?limit=1").json();
+    assert!(queued["jobs"].is_array());
+    let compare = submit(
+        &server,
+        "compare",
+        1,
+        &format!("{SQUARE}[compare]\nmethods = [\"rsa\"]\nrepeats = 1\n"),
+    );
+    wait_for(&server, &compare, &["succeeded"]);
+    assert_eq!(
+        get(&server, &format!("/api/v1/jobs/{compare}/packing")).status,
+        404
+    );
 }
 
 #[test]

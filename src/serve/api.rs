@@ -27,6 +27,7 @@ use utoipa::{IntoParams, OpenApi, ToSchema};
 
 use super::Shared;
 use super::db::{CancelOutcome, DbError, JobRow, State as JobState};
+use super::web;
 use super::worker::{ORIGIN, job_dir};
 
 /// Largest request body (bytes): 1 MiB.
@@ -44,12 +45,19 @@ pub fn router(shared: Arc<Shared>) -> Router {
         .route("/jobs/{id}/cancel", post(cancel))
         .route("/jobs/{id}/files", get(files))
         .route("/jobs/{id}/files/{*name}", get(file))
+        .route("/jobs/{id}/packing", get(packing))
+        .route("/examples", get(examples))
         .route("/openapi.json", get(openapi));
     Router::new()
         .nest("/api/v1", api)
         .route("/metrics", get(metrics))
         .layer(middleware::from_fn_with_state(Arc::clone(&shared), auth))
         .route("/healthz", get(healthz))
+        // The page and its assets hold no data: a server with a token
+        // serves them to anyone, and the page asks for the token.
+        .route("/", get(web::index))
+        .route("/app.js", get(web::script))
+        .route("/app.css", get(web::style))
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed)
         .layer(DefaultBodyLimit::max(MAX_BODY))
@@ -596,6 +604,51 @@ pub struct Estimates {
     max_disks: f64,
     /// Peak memory of a packing (bytes, an upper bound).
     peak_bytes: f64,
+    /// Packings the job makes at most: 1 for a pack; for a search the
+    /// initial population and, per generation, under three per member
+    /// (offspring and immigrants); absent for batches and sweeps.
+    packings: Option<u64>,
+    /// A guide to the run time (s), not a bound: `disks × packings` at
+    /// 10⁶ disks a second, the packer's speed on one core.
+    seconds: Option<f64>,
+}
+
+/// The packer's speed the time guide assumes (disks per second, one core).
+const GUIDE_DISKS_PER_SECOND: f64 = 1e6;
+
+impl Estimates {
+    fn of(plan: &Plan) -> Self {
+        let scene = &plan.config.scene;
+        let search = |population: usize, generations: usize| {
+            let per_generation = 3 * population.max(2) as u64;
+            Some(
+                (population as u64)
+                    .saturating_add(per_generation.saturating_mul(generations as u64)),
+            )
+        };
+        let packings = match plan.kind {
+            JobKind::Pack if plan.config.fracture.is_none() => Some(1),
+            JobKind::Optimise => plan
+                .config
+                .optimise
+                .as_ref()
+                .and_then(|o| search(o.population, o.generations)),
+            JobKind::Layer => plan
+                .config
+                .layering
+                .as_ref()
+                .and_then(|l| search(l.population, l.generations)),
+            _ => None,
+        };
+        let disks = scene.estimated_disks();
+        Estimates {
+            disks,
+            max_disks: scene.max_disks(),
+            peak_bytes: gapack::estimated_peak_bytes(scene),
+            packings,
+            seconds: packings.map(|n| disks * n as f64 / GUIDE_DISKS_PER_SECOND),
+        }
+    }
 }
 
 /// Check a config and return the plan and estimates, without running it.
@@ -614,18 +667,13 @@ async fn validate(
     let s = submission(&headers, query, body)?;
     let validated = blocking(move || {
         let (plan, request) = plan(&shared, &s)?;
-        let scene = &plan.config.scene;
         Ok(Validated {
             kind: request.kind.name().to_owned(),
             seed: plan.seed(),
             identity: plan.identity.clone(),
             plan: plan.describe("jobs/<id>"),
             warnings: plan.warnings.iter().map(|w| w.message.clone()).collect(),
-            estimates: Estimates {
-                disks: scene.estimated_disks(),
-                max_disks: scene.max_disks(),
-                peak_bytes: gapack::estimated_peak_bytes(scene),
-            },
+            estimates: Estimates::of(&plan),
         })
     })
     .await?;
@@ -643,6 +691,8 @@ pub struct JobView {
     kind: String,
     /// The seed asked for (the config's own when absent).
     seed: Option<u64>,
+    /// The config it runs, as submitted.
+    config: String,
     /// Its state.
     state: JobState,
     /// Attempts started (more than one after a restart).
@@ -674,6 +724,7 @@ fn view(row: JobRow) -> JobView {
         id: row.id,
         kind: row.kind,
         seed: row.seed,
+        config: row.config,
         state: row.state,
         attempts: row.attempts,
         cancel_requested: row.cancel_requested,
@@ -1101,6 +1152,98 @@ async fn file(
     Ok(([(header::CONTENT_TYPE, content_type(&name))], bytes).into_response())
 }
 
+// ---------------------------------------------------------------- page data
+
+/// A finished job's packing, for drawing: the domain's outline and the
+/// disks as columns.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct PackingView {
+    /// The domain's boundary, a closed polyline (mm; circles as 256 segments).
+    outline: Vec<[f64; 2]>,
+    /// Lower-left and upper-right corners of the domain's bounding box (mm).
+    bounds: [[f64; 2]; 2],
+    /// Centres and radii (mm), in `packing.csv`'s order (`id` is the index).
+    x: Vec<f64>,
+    y: Vec<f64>,
+    r: Vec<f64>,
+    /// Per disk, an index into `materials`; empty without materials.
+    material: Vec<u16>,
+    /// Material names.
+    materials: Vec<String>,
+}
+
+/// Segments per circle in a drawn outline.
+const OUTLINE_SEGMENTS: usize = 256;
+
+/// The packing of a finished job that wrote `packing.csv`, as columns.
+#[utoipa::path(get, path = "/api/v1/jobs/{id}/packing", params(("id" = String, Path, description = "Job id")),
+    responses((status = 200, body = PackingView), (status = 404, body = ErrorBody), (status = 409, description = "Not finished", body = ErrorBody)))]
+async fn packing(
+    State(shared): AppState,
+    Path(id): Path<String>,
+) -> Result<Json<PackingView>, ApiError> {
+    checked_id(&id)?;
+    let view = blocking(move || {
+        let manifest = manifest(&shared, &id)?;
+        if !listed(&manifest).iter().any(|f| f == "packing.csv") {
+            return Err(ApiError::new(
+                StatusCode::NOT_FOUND,
+                format!("job {id} wrote no packing.csv"),
+            ));
+        }
+        let row = shared
+            .db
+            .get(&id)?
+            .ok_or_else(|| ApiError::unknown_job(&id))?;
+        let text = std::fs::read_to_string(job_dir(&shared, &id).join("packing.csv"))
+            .map_err(ApiError::internal)?;
+        let table =
+            gapack::output::read_packing_csv(&text, "packing.csv").map_err(ApiError::internal)?;
+        let request = JobRequest {
+            seed: row.seed,
+            ..JobRequest::new(JobKind::Pack)
+        };
+        let plan = Plan::load(&row.config, ORIGIN, &request)?;
+        let domain = &plan.config.scene.domain;
+        let (lo, hi) = domain.bounds();
+        Ok(PackingView {
+            outline: domain
+                .outline(OUTLINE_SEGMENTS)
+                .iter()
+                .map(|p| [p.x, p.y])
+                .collect(),
+            bounds: [[lo.x, lo.y], [hi.x, hi.y]],
+            x: table.disks.iter().map(|d| d.c.x).collect(),
+            y: table.disks.iter().map(|d| d.c.y).collect(),
+            r: table.disks.iter().map(|d| d.r).collect(),
+            material: table.materials,
+            materials: table.material_names,
+        })
+    })
+    .await?;
+    Ok(Json(view))
+}
+
+/// A shipped example config.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct Example {
+    /// Its name (the file stem under `configs/`).
+    name: &'static str,
+    /// Its text.
+    config: &'static str,
+}
+
+/// The shipped example configs, the default scene first.
+#[utoipa::path(get, path = "/api/v1/examples", responses((status = 200, body = Vec<Example>)))]
+async fn examples() -> Json<Vec<Example>> {
+    Json(
+        web::EXAMPLES
+            .iter()
+            .map(|&(name, config)| Example { name, config })
+            .collect(),
+    )
+}
+
 // ---------------------------------------------------------------- service
 
 /// Whether the server is up.
@@ -1141,10 +1284,23 @@ async fn metrics(State(shared): AppState) -> Result<Response, ApiError> {
         title = "gapack service",
         description = "Dense 2D disk packings and their genetic-algorithm optimisation, as jobs."
     ),
-    paths(submit, validate, list, status, events, cancel, delete, files, file),
+    paths(
+        submit, validate, list, status, events, cancel, delete, files, file, packing, examples
+    ),
     components(schemas(
-        ErrorBody, Accepted, Links, Validated, Estimates, JobView, JobPage, FileList, FileEntry,
-        JobState, SubmitBody
+        ErrorBody,
+        Accepted,
+        Links,
+        Validated,
+        Estimates,
+        JobView,
+        JobPage,
+        FileList,
+        FileEntry,
+        JobState,
+        SubmitBody,
+        PackingView,
+        Example
     ))
 )]
 struct ApiDoc;

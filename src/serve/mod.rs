@@ -15,6 +15,7 @@
 mod api;
 mod db;
 mod metrics;
+mod web;
 mod worker;
 
 use axum::serve::ListenerExt as _;

@@ -163,10 +163,21 @@ fn execute(shared: &Shared, job: &JobRow, cancel: &Cancel) -> Result<Outcome, Jo
 /// A finished job's summary: its result in words, its files, and the
 /// figures of its packing.
 fn summary(outcome: &Outcome) -> Value {
+    // The lines name the job's folder as `jobs/<id>`, never by the
+    // server's own path.
+    let shown = format!(
+        "jobs/{}",
+        outcome.location.rsplit('/').next().unwrap_or_default()
+    );
+    let lines: Vec<String> = outcome
+        .lines()
+        .iter()
+        .map(|l| l.replace(&outcome.location, &shown))
+        .collect();
     let mut summary = json!({
         "interrupted": outcome.interrupted,
         "files": outcome.files,
-        "lines": outcome.lines(),
+        "lines": lines,
     });
     let metrics = match &outcome.report {
         Report::Pack { metrics, .. } | Report::Layer { metrics, .. } => Some(metrics),

@@ -1,6 +1,8 @@
 //! Scene builders shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod server;
+
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
