@@ -166,6 +166,58 @@ fn same_seed_same_packing_with_one_or_two_threads() {
     let _ = fs::remove_dir_all(&dir);
 }
 
+/// An evaluation budget stops the search at the same place on every run;
+/// a time limit says that its result is not reproducible.
+#[test]
+fn an_evaluation_budget_is_reproducible_and_a_time_limit_says_it_is_not() {
+    let dir = scratch("optimise-budget");
+    let config = "seed = 2\n[domain]\nshape = \"rectangle\"\nwidth = 30\nheight = 30\n\
+                  [grading]\nuniform = [1.0, 2.0]\n[optimise]\ntarget_porosity = 0.01\n\
+                  population = 8\ngenerations = 500\nstagnation = 1000\nmax_evaluations = 60\n";
+    fs::write(dir.join("budget.toml"), config).unwrap();
+    let run = |out: &str| {
+        let o = gapack(&dir, &["optimise", "budget.toml", "--out", out]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        (
+            dir.join(out),
+            String::from_utf8_lossy(&o.stdout).into_owned(),
+        )
+    };
+    let ((a, line), (b, _)) = (run("a"), run("b"));
+    let s = summary(&a);
+    assert_eq!(s["stop"], "evaluation budget");
+    assert_eq!(s["reproducible"], true);
+    let evaluations = s["evaluations"].as_u64().unwrap();
+    assert!((60..60 + 3 * 8).contains(&evaluations), "{evaluations}");
+    assert!(line.contains("evaluation budget"), "{line}");
+    assert!(!line.contains("not reproducible"), "{line}");
+    assert_eq!(
+        fs::read(a.join("packing.csv")).unwrap(),
+        fs::read(b.join("packing.csv")).unwrap()
+    );
+    assert_eq!(summary(&b)["evaluations"], s["evaluations"]);
+    // A time limit too short for a generation: the result says it is not reproducible.
+    let timed = config.replace("max_evaluations = 60\n", "time_limit_s = 0.000001\n");
+    fs::write(dir.join("budget.toml"), &timed).unwrap();
+    let (c, line) = run("c");
+    let s = summary(&c);
+    assert_eq!(s["stop"], "time limit");
+    assert_eq!(s["reproducible"], false);
+    assert!(
+        line.contains("not reproducible") && line.contains("max_evaluations"),
+        "{line}"
+    );
+    // A budget of zero is refused at its key.
+    fs::write(dir.join("budget.toml"), config.replace("= 60", "= 0")).unwrap();
+    let o = gapack(&dir, &["optimise", "budget.toml", "--out", "d"]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("budget.toml:13:19: optimise.max_evaluations"),
+        "{err}"
+    );
+}
+
 /// A target no packing of this domain and grading can reach is reported as
 /// such, with the range, and the nearest packing is still written.
 #[test]

@@ -223,6 +223,7 @@ pub(crate) struct RawLayering {
     pub generations: Option<Spanned<i64>>,
     pub stagnation: Option<Spanned<i64>>,
     pub time_limit_s: Option<Spanned<f64>>,
+    pub max_evaluations: Option<Spanned<i64>>,
 }
 
 /// `[fracture]`: one fracture (absolute or normalised form), or a batch of wells.
@@ -309,6 +310,7 @@ pub(crate) struct RawOptimise {
     pub generations: Option<Spanned<i64>>,
     pub stagnation: Option<Spanned<i64>>,
     pub time_limit_s: Option<Spanned<f64>>,
+    pub max_evaluations: Option<Spanned<i64>>,
     pub max_psd_ks: Option<Spanned<f64>>,
 }
 

@@ -603,6 +603,9 @@ impl Validator<'_> {
         if let Some(v) = &o.time_limit_s {
             s.time_limit_s = self.positive("optimise.time_limit_s", v)?;
         }
+        if let Some(v) = &o.max_evaluations {
+            s.max_evaluations = Some(self.whole("optimise.max_evaluations", v, 1, None)? as u64);
+        }
         if let Some(v) = &o.population {
             s.population = self.whole("optimise.population", v, 2, None)?;
         }

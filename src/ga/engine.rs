@@ -141,6 +141,8 @@ pub struct Limits {
     pub stagnation: usize,
     /// Wall-clock budget, checked between generations.
     pub time_limit: Duration,
+    /// Evaluation budget, checked between generations (`None`: none).
+    pub max_evaluations: Option<u64>,
 }
 
 impl From<&OptimiseSettings> for Limits {
@@ -150,6 +152,7 @@ impl From<&OptimiseSettings> for Limits {
             generations: s.generations,
             stagnation: s.stagnation,
             time_limit: Duration::from_secs_f64(s.time_limit_s.max(0.0)),
+            max_evaluations: s.max_evaluations,
         }
     }
 }
@@ -185,6 +188,8 @@ pub enum StopReason {
     Stagnation,
     /// The time limit passed.
     TimeLimit,
+    /// The evaluation budget was spent.
+    Evaluations,
 }
 
 impl StopReason {
@@ -196,7 +201,15 @@ impl StopReason {
             StopReason::Generations => "generation limit",
             StopReason::Stagnation => "stagnation",
             StopReason::TimeLimit => "time limit",
+            StopReason::Evaluations => "evaluation budget",
         }
+    }
+
+    /// Whether the same config and seed stop here on any machine: every
+    /// reason but the time limit (which depends on the machine's speed and
+    /// load) and an interruption.
+    pub fn reproducible(self) -> bool {
+        !matches!(self, StopReason::TimeLimit | StopReason::Interrupted)
     }
 }
 
@@ -358,6 +371,13 @@ impl<'a, P: Problem> Search<'a, P> {
             }
             if self.stagnant >= self.limits.stagnation {
                 break StopReason::Stagnation;
+            }
+            if self
+                .limits
+                .max_evaluations
+                .is_some_and(|most| self.evaluations >= most)
+            {
+                break StopReason::Evaluations;
             }
             if self.start.elapsed() >= self.limits.time_limit {
                 break StopReason::TimeLimit;
@@ -691,7 +711,45 @@ mod tests {
             generations: 60,
             stagnation: 60,
             time_limit: Duration::from_secs(60),
+            max_evaluations: None,
         }
+    }
+
+    #[test]
+    fn an_evaluation_budget_stops_at_the_same_generation_every_time() {
+        let budget = 100;
+        let run = || {
+            let problem = Mean {
+                calls: Mutex::new(Vec::new()),
+            };
+            let limits = Limits {
+                max_evaluations: Some(budget),
+                ..limits()
+            };
+            Search::start(&problem, limits, 4, &Cancel::new())
+                .expect("a fresh token is never raised")
+                .run(&Cancel::new(), |_| {})
+        };
+        let (a, b) = (run(), run());
+        assert_eq!(a.stop, StopReason::Evaluations);
+        assert!(a.stop.reproducible());
+        // Checked between generations: at or past the budget by less than one generation.
+        assert!(
+            a.evaluations >= budget && a.evaluations < budget + 3 * 16,
+            "{}",
+            a.evaluations
+        );
+        let before = a.history[a.history.len() - 2].evaluations;
+        assert!(
+            before < budget,
+            "the generation before was under the budget"
+        );
+        assert_eq!(
+            (a.evaluations, a.history.len()),
+            (b.evaluations, b.history.len())
+        );
+        assert_eq!(a.genes, b.genes);
+        assert!(!StopReason::TimeLimit.reproducible());
     }
 
     #[test]

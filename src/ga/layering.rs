@@ -222,6 +222,7 @@ pub fn lay_out(
         generations: settings.generations,
         stagnation: settings.stagnation,
         time_limit: Duration::from_secs_f64(settings.time_limit_s),
+        max_evaluations: settings.max_evaluations,
     };
     let (tags, seconds, evaluations, generations, stopped) =
         match Search::start(&problem, limits, seed, stop) {

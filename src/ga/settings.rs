@@ -18,7 +18,12 @@ pub struct OptimiseSettings {
     /// Stop after this many generations without a better best genome.
     pub stagnation: usize,
     /// Stop after this much wall-clock time (s), checked between generations.
+    /// A stop here depends on the machine's speed and load.
     pub time_limit_s: f64,
+    /// Stop at the first generation boundary with at least this many
+    /// genomes evaluated: a budget that stops at the same place on every
+    /// machine (`None`: no budget).
+    pub max_evaluations: Option<u64>,
     /// Largest KS distance of the packing's sizes to the grading curve (the constraint).
     pub max_psd_ks: f64,
 }
@@ -45,6 +50,7 @@ impl OptimiseSettings {
             generations: 200,
             stagnation: 30,
             time_limit_s: 60.0,
+            max_evaluations: None,
             max_psd_ks: 0.05,
         }
     }

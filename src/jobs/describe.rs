@@ -7,7 +7,7 @@ use crate::check::{grading_kept, ks_limit};
 use crate::compare::Variant;
 use crate::config::ConfigName;
 use crate::fracture::{Extent, MM_PER_M};
-use crate::ga::{Layered, Verdict};
+use crate::ga::{Layered, StopReason, Verdict};
 use crate::geometry::predicates::OVERLAP_REL;
 use crate::metrics::Metrics;
 use crate::packer::{PEAK_BYTES_PER_DISK, estimated_peak_bytes};
@@ -46,7 +46,7 @@ impl Plan {
                 resume,
                 ..
             } => format!(
-                "job: optimise{}: target porosity {} ± {}, population {}, at most {} generations, {} s",
+                "job: optimise{}: target porosity {} ± {}, population {}, at most {} generations{}, {} s",
                 if *resume {
                     " (resumed from the checkpoint)"
                 } else {
@@ -56,6 +56,9 @@ impl Plan {
                 o.tolerance,
                 o.population,
                 o.generations,
+                o.max_evaluations
+                    .map(|n| format!(" or {n} evaluations"))
+                    .unwrap_or_default(),
                 o.time_limit_s
             ),
             Job::Layer { .. } => "job: layer: pack once, then lay the materials out".to_owned(),
@@ -242,16 +245,24 @@ impl Outcome {
                     summary.stop,
                     grading_note(metrics),
                 ));
+                if !summary.reproducible && !summary.interrupted {
+                    lines.push(TIME_LIMIT_NOTE.to_owned());
+                }
             }
             Report::Layer {
                 metrics, layered, ..
-            } => lines.push(format!(
-                "{at}: {} disks, porosity {:.4}, {}{}",
-                metrics.particles,
-                metrics.porosity,
-                layering_line(layered),
-                grading_note(metrics)
-            )),
+            } => {
+                lines.push(format!(
+                    "{at}: {} disks, porosity {:.4}, {}{}",
+                    metrics.particles,
+                    metrics.porosity,
+                    layering_line(layered),
+                    grading_note(metrics)
+                ));
+                if layered.stop == Some(StopReason::TimeLimit) {
+                    lines.push(TIME_LIMIT_NOTE.to_owned());
+                }
+            }
             Report::Compare {
                 runs,
                 variants,
@@ -359,6 +370,9 @@ fn grading_note(metrics: &Metrics) -> String {
         )
     }
 }
+
+/// The line under a result that a time limit stopped.
+const TIME_LIMIT_NOTE: &str = "  stopped by the time limit: another machine or load stops elsewhere, so this result is not reproducible; max_evaluations stops at the same place everywhere";
 
 /// `profile RMS 0.0123 (baseline 0.0187), GA 1.20 s, baseline 2.1 ms`.
 fn layering_line(l: &Layered) -> String {

@@ -596,6 +596,7 @@ impl Running<'_> {
             initial_range,
             interrupted,
             stop: evolution.stop.describe(),
+            reproducible: evolution.stop.reproducible(),
         };
         let run = RunInfo {
             materials: &config.materials,
@@ -982,6 +983,7 @@ fn layering_report<'a>(settings: &'a LayeringSettings, l: &'a Layered) -> Layeri
                 evaluations: l.evaluations,
                 generations: l.generations,
                 stop: l.stop.map(StopReason::describe),
+                reproducible: l.stop.is_none_or(StopReason::reproducible),
             },
         },
         fractions: &l.fractions,

@@ -33,8 +33,12 @@ pub struct LayeringSettings {
     pub generations: usize,
     /// Stop the GA after this many generations without progress.
     pub stagnation: usize,
-    /// Stop the GA after this much wall-clock time (s).
+    /// Stop the GA after this much wall-clock time (s); such a stop
+    /// depends on the machine's speed and load.
     pub time_limit_s: f64,
+    /// Stop the GA at the first generation boundary with at least this
+    /// many genomes evaluated, the same on every machine (`None`: no budget).
+    pub max_evaluations: Option<u64>,
 }
 
 impl LayeringSettings {
@@ -50,6 +54,7 @@ impl LayeringSettings {
             generations: 200,
             stagnation: 30,
             time_limit_s: 60.0,
+            max_evaluations: None,
         }
     }
 }

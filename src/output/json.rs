@@ -131,6 +131,9 @@ pub struct LayeringDetails {
     pub generations: usize,
     /// Why the GA stopped (none without a GA).
     pub stop: Option<&'static str>,
+    /// Whether the same config and seed give this result on any machine:
+    /// false when the GA was stopped by its time limit.
+    pub reproducible: bool,
 }
 
 /// What a target-porosity run adds to `summary.json` (keys in `docs/config.md`).
@@ -170,8 +173,12 @@ pub struct OptimiseSummary {
     /// Whether the run was stopped by Ctrl-C (the best packing so far is written).
     pub interrupted: bool,
     /// Why the run stopped: `target reached`, `interrupted`, `generation limit`,
-    /// `stagnation` or `time limit`.
+    /// `stagnation`, `evaluation budget` or `time limit`.
     pub stop: &'static str,
+    /// Whether the same config and seed give this result on any machine:
+    /// false when the search was stopped by its time limit (or interrupted),
+    /// which depends on the machine's speed and load.
+    pub reproducible: bool,
 }
 
 #[derive(Serialize)]

@@ -321,6 +321,9 @@ impl Validator<'_> {
         if let Some(v) = &l.time_limit_s {
             s.time_limit_s = self.positive("layering.time_limit_s", v)?;
         }
+        if let Some(v) = &l.max_evaluations {
+            s.max_evaluations = Some(self.whole("layering.max_evaluations", v, 1, None)? as u64);
+        }
         if let Some(v) = &l.tolerance {
             s.tolerance = self.checked("layering.tolerance", v, "a finite number ≥ 0", |v| {
                 v.is_finite() && v >= 0.0
