@@ -34,24 +34,31 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Pack a scene (the embedded default without a config) and write
-    /// packing.csv, summary.json and the pictures; a [fracture] config packs
-    /// each fracture (a batch: a folder each and wells.csv).
+    /// Pack a scene (the embedded default without a config)
+    ///
+    /// Writes summary.json and what [output] formats asks for (by default
+    /// packing.csv and the packing, psd and porosity_map pictures as SVG and
+    /// PNG; also packing.json, VTK and the LAMMPS, YADE, PFC, MercuryDPM and
+    /// ESyS-Particle files); a [fracture] config packs each fracture (a
+    /// batch: a folder each and wells.csv).
     Pack(JobArgs),
     /// Reach the config's target porosity with the genetic algorithm (needs
     /// an [optimise] table); writes what `pack` writes plus convergence.csv
     /// and its chart. Ctrl-C stops and writes the best so far and a checkpoint.
-    #[command(alias = "optimize")]
+    #[command(visible_alias = "optimize")]
     Optimise(JobArgs),
     /// Lay materials out along the config's [layering] profile on one
     /// packing (baseline, then the GA; or size-graded packing); writes what
     /// `pack` writes with a material column, plus profile.csv and its chart.
+    /// Ctrl-C stops the GA and writes the best layout so far.
     Layer(JobArgs),
     /// Run every generator of the config's [compare] table on its scene;
-    /// writes compare.csv and a chart of time against accuracy.
+    /// writes compare.csv and a chart of time against accuracy. Ctrl-C
+    /// stops and writes the runs finished.
     Compare(JobArgs),
     /// Sweep the [compare] methods over gradings (d_max/d_min 1 to 16),
     /// widths (1.2 to 20 d_max) and shapes; writes stability.csv and a map.
+    /// Ctrl-C stops and writes the runs finished.
     Stability(JobArgs),
     /// Check a config without running it and print the plan the run would
     /// execute: job, scenes, estimated disks and memory, outputs.
@@ -76,10 +83,11 @@ struct JobArgs {
     /// Config (TOML); `pack` without one packs the embedded default scene.
     config: Option<PathBuf>,
     /// Output directory [default: the config's `[output] dir`, else
-    /// out/<config file stem>, or out/default].
+    /// out/<config file stem>; `pack` without a config: out/default].
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
-    /// Seed of the random sizes (and of the search), overriding the config's `seed`.
+    /// Seed of the run, overriding the config's `seed`: its random sizes,
+    /// and for optimise and layer also the GA's draws.
     #[arg(long, value_name = "N")]
     seed: Option<u64>,
     /// Neither progress bar nor result line.

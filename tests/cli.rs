@@ -630,3 +630,48 @@ fn hardening_a_polygon_of_100000_vertices_is_refused_at_once_naming_its_key() {
     }
     let _ = fs::remove_dir_all(&dir);
 }
+
+/// The help says what each command writes and does on Ctrl-C, shows the
+/// `optimize` spelling, and `verify --quiet` answers by its exit code alone.
+#[test]
+fn help_tells_the_whole_story_and_verify_can_be_quiet() {
+    let dir = scratch("cli-help");
+    let help = |args: &[&str]| {
+        let out = gapack(&dir, args);
+        assert!(out.status.success());
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    assert!(help(&["--help"]).contains("[alias: optimize]"));
+    let pack = help(&["pack", "--help"]);
+    for what in [
+        "packing.csv",
+        "VTK",
+        "LAMMPS",
+        "YADE",
+        "PFC",
+        "MercuryDPM",
+        "ESyS-Particle",
+    ] {
+        assert!(pack.contains(what), "pack --help names {what}");
+    }
+    assert!(!pack.contains("of the search"), "{pack}");
+    for command in ["optimise", "layer", "compare", "stability"] {
+        assert!(help(&[command, "--help"]).contains("Ctrl-C"), "{command}");
+    }
+    fs::write(
+        dir.join("sq.toml"),
+        rect("width = 10\nheight = 10", "constant = 2.0"),
+    )
+    .unwrap();
+    fs::write(dir.join("good.csv"), "x,y,r\n2,2,1\n6,6,1\n").unwrap();
+    fs::write(dir.join("bad.csv"), "x,y,r\n2,2,1\n2.5,2,1\n").unwrap();
+    for (file, code) in [("good.csv", 0), ("bad.csv", 1)] {
+        let out = gapack(&dir, &["verify", file, "--config", "sq.toml", "--quiet"]);
+        assert_eq!(out.status.code(), Some(code), "{file}");
+        assert!(
+            out.stdout.is_empty(),
+            "{file}: {}",
+            String::from_utf8_lossy(&out.stdout)
+        );
+    }
+}

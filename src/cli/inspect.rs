@@ -29,6 +29,9 @@ pub struct VerifyArgs {
     /// In a fracture batch, the well the packing belongs to [default: the only well].
     #[arg(long, value_name = "NAME")]
     well: Option<String>,
+    /// No findings printed: the exit code alone says (0 valid, 1 not).
+    #[arg(long)]
+    quiet: bool,
 }
 
 /// `gapack plot` arguments.
@@ -77,12 +80,14 @@ pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
         (true, GradingCheck::TooFewDisks(_)) => "valid, grading not checked",
         (true, _) => "valid",
     };
-    print_line(format_args!(
-        "{} against {origin}: {verdict}",
-        args.packing.display(),
-    ));
-    for line in &lines {
-        print_line(format_args!("  {line}"));
+    if !args.quiet {
+        print_line(format_args!(
+            "{} against {origin}: {verdict}",
+            args.packing.display(),
+        ));
+        for line in &lines {
+            print_line(format_args!("  {line}"));
+        }
     }
     if !result.valid() {
         return Err(Failure::Run(anyhow!(
