@@ -675,3 +675,40 @@ fn help_tells_the_whole_story_and_verify_can_be_quiet() {
         );
     }
 }
+
+/// A run far larger than a typical one, or a density in g/cm³, is said
+/// before the run starts.
+#[test]
+fn units_mistakes_are_said_before_the_run() {
+    let dir = scratch("cli-units");
+    fs::write(
+        dir.join("tall.toml"),
+        "[fracture]\nwidth_mm = 10\nheight_m = 300\n[grading]\nconstant = 1.0\n",
+    )
+    .unwrap();
+    let out = gapack(&dir, &["validate", "tall.toml"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("warning: tall.toml: this run is estimated at about 3,055,775 disks and")
+            && text.contains("keys ending in _m (metres)"),
+        "{text}"
+    );
+    fs::write(
+        dir.join("light.toml"),
+        format!(
+            "{}[output]\ndensity = 2.65\nformats = [\"csv\"]\n",
+            rect("width = 10\nheight = 10", "constant = 1.0")
+        ),
+    )
+    .unwrap();
+    let out = gapack(&dir, &["pack", "light.toml"]);
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("output.density = 2.65 kg/m³") && err.contains("2650 kg/m³"),
+        "{err}"
+    );
+    // A typical run says neither.
+    let out = gapack(&dir, &["validate", "light.toml"]);
+    assert!(!String::from_utf8_lossy(&out.stdout).contains("estimated at about"));
+}

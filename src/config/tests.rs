@@ -1091,3 +1091,25 @@ fn a_key_is_located_where_it_is_written() {
         None
     );
 }
+
+#[test]
+fn sizes_that_dwarf_the_domain_blame_the_grading_and_name_millimetres() {
+    let text = "[domain]\nshape = \"rectangle\"\nwidth = 50\nheight = 50\n[grading]\ntable = [[425, 0], [850, 100]]\n";
+    let message = parse(text, "t.toml").unwrap_err().to_string();
+    assert!(
+        message.starts_with("t.toml:6:9: grading.table: the domain is too narrow"),
+        "{message}"
+    );
+    assert!(
+        message.contains("8.5 times") && message.contains("millimetres"),
+        "{message}"
+    );
+    // A near miss is still the domain's.
+    let slot =
+        "[domain]\nshape = \"rectangle\"\nwidth = 2.3\nheight = 50\n[grading]\nconstant = 2.5\n";
+    let message = parse(slot, "t.toml").unwrap_err().to_string();
+    assert!(
+        message.starts_with("t.toml:3:9: domain.width: the domain is too narrow"),
+        "{message}"
+    );
+}

@@ -154,6 +154,10 @@ mod output;
 use fracture::FracturePlan;
 use materials::MaterialPlan;
 
+/// How many times the widest disk the domain holds the smallest size must
+/// be for the grading, not the domain, to be blamed.
+const SIZES_DWARF: f64 = 2.0;
+
 /// A checked `[grading]`, not yet built.
 #[derive(Clone)]
 struct GradingPlan {
@@ -243,6 +247,8 @@ impl Validator<'_> {
             .transpose()?;
         let limit = self.limit(raw.limits.as_deref())?;
         let particles = self.particles_limit(raw.limits.as_deref())?;
+        // Blamed instead of the domain when the sizes dwarf it (a table in µm).
+        let sizes_key = grading.as_ref().map(|g| (g.key.clone(), g.at.clone()));
         let (grading, gradient) = self.curves(grading, &raw, &materials, layering.as_ref())?;
         let seed = raw.seed.as_ref().map_or(0, |s| *s.get_ref());
         // The limits hold during the run too, `--force` or not: it skips
@@ -264,7 +270,7 @@ impl Validator<'_> {
             Place::Domain(plan, raw_domain) => {
                 let built = self.build_domain(&plan, raw_domain)?;
                 let scene = scene_of(built, plan.walls, plan.wall_disk);
-                self.check_width(&scene, &plan.width_key)?;
+                self.check_width(&scene, &plan.width_key, sizes_key.as_ref())?;
                 self.check_resolution(&scene, &coordinate_key(&plan, raw_domain))?;
                 self.check_particles(&scene, &plan.width_key, particles.clone())?;
                 let walls = (raw_domain.walls.as_ref(), raw_domain.wall_disk.as_ref());
@@ -299,7 +305,7 @@ impl Validator<'_> {
                         })?;
                     let mut scene = scene_of(domain, plan.walls, plan.wall_disk);
                     scene.packer.fill = well.fill.unwrap_or(scene.packer.fill);
-                    self.check_width(&scene, &well.width_key)
+                    self.check_width(&scene, &well.width_key, sizes_key.as_ref())
                         .map_err(|e| match e {
                             ConfigError::Scene { at, key, error, .. } => ConfigError::Scene {
                                 at,
@@ -1206,12 +1212,34 @@ impl Validator<'_> {
     }
 
     /// Refuse a domain whose largest disk inside the walls (wall disks
-    /// included) is smaller than the smallest disk.
-    fn check_width(&self, scene: &Scene, width_key: &KeyAt) -> Result<(), ConfigError> {
+    /// included) is smaller than the smallest disk. Sizes [`SIZES_DWARF`]
+    /// times what the domain holds are the grading's fault, most likely
+    /// given in micrometres: `sizes_key` (the curve's key) is blamed then.
+    fn check_width(
+        &self,
+        scene: &Scene,
+        width_key: &KeyAt,
+        sizes_key: Option<&(String, Location)>,
+    ) -> Result<(), ConfigError> {
         let inscribed = scene.inscribed_diameter();
         let d_min = scene.d_min();
         if inscribed >= d_min {
             return Ok(());
+        }
+        // The domain's own room, wall disks aside (they have their own hint).
+        let room = 2.0 * scene.domain.inradius();
+        if let Some((key, at)) = sizes_key
+            && d_min >= SIZES_DWARF * room
+        {
+            return Err(ConfigError::Scene {
+                at: at.clone(),
+                key: key.clone(),
+                error: PackError::DomainTooNarrow { inscribed, d_min },
+                hint: format!(
+                    "; the smallest size is {:.1} times the widest disk the domain holds: sizes and lengths are both in millimetres (a grading in µm reads 1000 times too large)",
+                    d_min / room
+                ),
+            });
         }
         let hint = if scene.walls == WallMode::Disks && 2.0 * scene.domain.inradius() >= d_min {
             format!(

@@ -46,6 +46,11 @@ pub enum WarningKind {
     GradingBent,
     /// Wells of a `[fracture]` batch that the job does not pack.
     IgnoredWells,
+    /// A run estimated at over a million disks or 100 MB of files: said
+    /// before it starts, in case a length was given in the wrong unit.
+    LargeRun,
+    /// A value that reads as if given in another unit (a density in g/cm³).
+    Units,
 }
 
 /// A warning: its kind and a message naming config keys (never a front

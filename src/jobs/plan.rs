@@ -12,6 +12,7 @@ use crate::config::{self, Config, ParseOptions};
 use crate::fracture::{Extent, FIRST_DIAMETERS, FractureRun, MM_PER_M};
 use crate::ga::OptimiseSettings;
 use crate::layering::{LayeringMode, LayeringSettings};
+use crate::output::Format;
 
 /// The jobs gapack runs, as a front end names them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, serde::Deserialize)]
@@ -282,6 +283,8 @@ impl Plan {
         {
             compare_fracture(run, origin, &mut warnings)?;
         }
+        warnings.extend(size_warning(&config, origin));
+        warnings.extend(density_warning(&config, origin));
         let identity = identity(text, config.scene.seed);
         Ok(Plan {
             kind: request.kind,
@@ -366,6 +369,81 @@ fn identity(text: &str, seed: u64) -> String {
         h = h.wrapping_mul(0x0000_0100_0000_01b3);
     }
     format!("{h:016x}")
+}
+
+/// Disks over which a run is announced before it starts.
+const LARGE_RUN_DISKS: f64 = 1e6;
+/// Bytes of files over which a run is announced before it starts.
+const LARGE_RUN_BYTES: f64 = 100e6;
+
+/// Bytes per disk of each format's file, measured on the default scene's
+/// (59 to 128 bytes with shortest round-trip numbers) and rounded up by a
+/// third for longer numbers; the pictures at their largest.
+fn bytes_per_disk(format: Format) -> f64 {
+    match format {
+        Format::Csv => 80.0,
+        Format::Json => 115.0,
+        Format::Vtk => 120.0,
+        Format::Lammps | Format::Mercury => 100.0,
+        Format::Yade | Format::Esys => 95.0,
+        Format::Pfc => 170.0,
+        Format::Svg => 85.0,
+        Format::Png => 0.0,
+    }
+}
+
+/// A run estimated at over [`LARGE_RUN_DISKS`] disks or
+/// [`LARGE_RUN_BYTES`] of files, said in one line before it starts: most
+/// often a length in the wrong unit (`height_m` is metres, every other
+/// length millimetres).
+fn size_warning(config: &Config, origin: &str) -> Option<Warning> {
+    let disks: f64 = match &config.fracture {
+        Some(run) => run.wells.iter().map(|w| w.scene.estimated_disks()).sum(),
+        None => config.scene.estimated_disks(),
+    };
+    let per_disk: f64 = config
+        .output
+        .formats
+        .iter()
+        .map(|&f| bytes_per_disk(f))
+        .sum();
+    let bytes = disks * per_disk;
+    (disks > LARGE_RUN_DISKS || bytes > LARGE_RUN_BYTES).then(|| Warning {
+        kind: WarningKind::LargeRun,
+        message: format!(
+            "{origin}: this run is estimated at about {} disks and {:.0} MB of files; lengths are millimetres but for keys ending in _m (metres): check the domain's sizes if that is more than meant",
+            group_thousands(disks),
+            bytes / 1e6
+        ),
+    })
+}
+
+/// Densities under this (kg/m³) read as g/cm³: no solid is lighter.
+const LIGHTEST_SOLID: f64 = 100.0;
+
+/// `[output] density` under [`LIGHTEST_SOLID`] kg/m³, said before the run.
+fn density_warning(config: &Config, origin: &str) -> Option<Warning> {
+    let density = config.output.export.density;
+    (density < LIGHTEST_SOLID).then(|| Warning {
+        kind: WarningKind::Units,
+        message: format!(
+            "{origin}: output.density = {density} kg/m³ is lighter than any solid: densities are in kg/m³ (did you mean {} kg/m³, from g/cm³?)",
+            density * 1000.0
+        ),
+    })
+}
+
+/// `2150759` as `2,150,759`.
+fn group_thousands(v: f64) -> String {
+    let digits = format!("{:.0}", v.max(0.0));
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
 }
 
 #[cfg(test)]
