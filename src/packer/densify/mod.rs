@@ -350,6 +350,23 @@ mod tests {
     }
 
     #[test]
+    fn a_domain_that_holds_one_disk_packs_it() {
+        let mut s = scene(1.1, 1.1, 0.17);
+        s.grading = Grading::constant(1.0).unwrap();
+        let packing = pack(&s).unwrap();
+        assert_eq!(packing.disks.len(), 1);
+        let d = packing.disks[0];
+        assert!(s.domain.signed_distance(d.c) >= d.r, "{d:?}");
+        // Two disks of 1 mm cannot fit in it: jammed, with what one reaches.
+        s.packer.densify.porosity = 0.0;
+        s.domain = Domain::rectangle(1.9, 1.1).unwrap();
+        assert!(matches!(
+            pack(&s),
+            Err(PackError::DensityUnreached { jammed: true, .. })
+        ));
+    }
+
+    #[test]
     fn the_step_budget_and_the_cancel_token_stop_the_run() {
         let mut s = scene(30.0, 30.0, 0.17);
         s.packer.densify.iterations = 10;
