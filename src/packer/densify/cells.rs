@@ -81,8 +81,25 @@ impl Cells {
         )
     }
 
+    /// The number of cells.
+    pub fn count(&self) -> usize {
+        self.nx * self.ny
+    }
+
+    /// The side of a cell.
+    pub fn side(&self) -> f64 {
+        1.0 / self.inv_side
+    }
+
+    /// The centre of cell `c` (an index of [`Cells::index`]).
+    pub fn centre(&self, c: usize) -> V2 {
+        let (x, y) = ((c % self.nx) as f64 + 0.5, (c / self.nx) as f64 + 0.5);
+        self.origin + V2::new(x, y) * self.side()
+    }
+
+    /// The index of the cell of `p`, clamped into the grid.
     #[inline]
-    fn index(&self, p: V2) -> usize {
+    pub fn index(&self, p: V2) -> usize {
         let (x, y) = self.cell(p);
         y * self.nx + x
     }

@@ -99,6 +99,10 @@ pub(super) struct System<'a> {
     /// Neighbours `j > i` of slot `i`: `nbr[start[i]..start[i + 1]]`.
     start: Vec<u32>,
     nbr: Vec<u32>,
+    /// For each cell of the lists' grid (of the side given), whether every
+    /// point of it lies farther inside the domain than any disk reaches a
+    /// wall: its disks need no look at the walls. Made once per scale.
+    deep: (f64, Vec<bool>),
     /// Disks near a wall: (slot, range in `feats`, whether its centre may
     /// leave the domain before the next build).
     near_walls: Vec<(u32, u32, u32, bool)>,
@@ -146,6 +150,7 @@ impl<'a> System<'a> {
             skin,
             start: Vec::with_capacity(n + 1),
             nbr: Vec::new(),
+            deep: (0.0, Vec::new()),
             near_walls: Vec::new(),
             feats: Vec::new(),
             fixed: fixed.0,
@@ -198,7 +203,25 @@ impl<'a> System<'a> {
         self.near_walls.clear();
         self.feats.clear();
         let outside_rule = self.boundary.needs_outside_rule();
+        // A polygon of many edges costs a look at each per disk: the cells
+        // deep inside are found once (the signed distance is 1-Lipschitz).
+        if self.deep.0 != cells.side() {
+            let reach = self.r_max * k + skin;
+            let half_diagonal = std::f64::consts::FRAC_1_SQRT_2 * cells.side();
+            self.deep = (
+                cells.side(),
+                (0..cells.count())
+                    .map(|c| {
+                        let centre = Point::from(cells.centre(c));
+                        self.domain.signed_distance(centre) - half_diagonal > reach
+                    })
+                    .collect(),
+            );
+        }
         for (i, &p) in self.pos.iter().enumerate() {
+            if self.deep.1[cells.index(cells.clamp(p))] {
+                continue;
+            }
             let first = self.feats.len() as u32;
             self.boundary.near(p, self.r[i] * k + skin, &mut self.feats);
             // A centre within a skin of the boundary may cross it before
