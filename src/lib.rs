@@ -52,6 +52,6 @@ pub use packer::{
     pack_observed, size_count, work_budget,
 };
 pub use scene::{
-    Axis, Fill, FrontRules, IndexKind, Limits, MAX_DEFERRED, MAX_GAP, Method, PackerSettings,
-    Profile, Relaxation, Scene, SizeGradient,
+    Axis, Densify, Fill, FrontRules, IndexKind, Limits, MAX_DEFERRED, MAX_GAP, Method,
+    PackerSettings, Profile, Relaxation, Scene, SizeGradient,
 };

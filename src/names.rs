@@ -99,6 +99,7 @@ pub(crate) const METHODS: Names<Method> = Names {
         ("rsa", Method::Rsa),
         ("deposition", Method::Deposition),
         ("relaxation", Method::Relaxation),
+        ("densify", Method::Densify),
     ],
 };
 

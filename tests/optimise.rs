@@ -234,6 +234,8 @@ fn an_out_of_reach_target_is_reported_with_its_range() {
         stderr.contains("target_porosity = 0.05 is out of reach"),
         "{stderr}"
     );
+    // Denser than the advancing front packs: the method that does is named.
+    assert!(stderr.contains("method = \"densify\""), "{stderr}");
     let s = summary(&dir.join("o"));
     assert_eq!(s["feasible"], false);
     let range = s["achievable_range"].as_array().unwrap();

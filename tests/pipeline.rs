@@ -354,6 +354,7 @@ fn packer() -> impl Strategy<Value = PackerText> {
         2 => Just(Method::Rsa),
         2 => Just(Method::Deposition),
         1 => Just(Method::Relaxation),
+        1 => Just(Method::Densify),
     ];
     (
         any::<bool>(),
@@ -389,6 +390,7 @@ fn packer() -> impl Strategy<Value = PackerText> {
                     Method::Rsa => "rsa",
                     Method::Deposition => "deposition",
                     Method::Relaxation => "relaxation",
+                    Method::Densify => "densify",
                 };
                 if !table && method == Method::AdvancingFront {
                     return PackerText { text: None, method };
@@ -415,6 +417,13 @@ fn packer() -> impl Strategy<Value = PackerText> {
                     Method::Relaxation => writeln!(
                         s,
                         "relaxation_porosity = {porosity:?}\nrelaxation_iterations = {iterations}"
+                    )
+                    .unwrap(),
+                    Method::Densify => writeln!(
+                        s,
+                        "densify_porosity = {:?}\ndensify_iterations = {}",
+                        0.2 + 0.4 * porosity,
+                        iterations * 1000
                     )
                     .unwrap(),
                     _ => {}

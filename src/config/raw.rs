@@ -298,6 +298,8 @@ pub(crate) struct RawPacker {
     pub relaxation_porosity: Option<Spanned<f64>>,
     pub relaxation_iterations: Option<Spanned<i64>>,
     pub relaxation_tolerance: Option<Spanned<f64>>,
+    pub densify_porosity: Option<Spanned<f64>>,
+    pub densify_iterations: Option<Spanned<i64>>,
 }
 
 /// `[optimise]` (or `[optimize]`): a target-porosity run.

@@ -318,7 +318,7 @@ fn unknown_packer_names_list_the_valid_ones() {
     let packer = |line: &str| rect("width = 20\nheight = 30", &format!("[packer]\n{line}\n"));
     fails_with(
         &packer("method = \"drop-and-roll\""),
-        "t.toml:8:10: packer.method: unknown method \"drop-and-roll\"; valid: advancing-front, rsa, deposition, relaxation",
+        "t.toml:8:10: packer.method: unknown method \"drop-and-roll\"; valid: advancing-front, rsa, deposition, relaxation, densify",
     );
     fails_with(
         &packer("attempts = 0"),
@@ -331,6 +331,18 @@ fn unknown_packer_names_list_the_valid_ones() {
     fails_with(
         &packer("relaxation_porosity = 1.0"),
         "t.toml:8:23: packer.relaxation_porosity: must be in [0, 1), got 1",
+    );
+    fails_with(
+        &packer("densify_porosity = -0.1"),
+        "t.toml:8:20: packer.densify_porosity: must be in [0, 1), got -0.1",
+    );
+    fails_with(
+        &packer("densify_iterations = 0"),
+        "t.toml:8:22: packer.densify_iterations: must be a whole number in [1, 1000000], got 0",
+    );
+    fails_with(
+        &packer("densify_porosity = \"0.17\""),
+        "t.toml:8:20: packer.densify_porosity: invalid type: string \"0.17\", expected a number",
     );
     fails_with(
         &format!(

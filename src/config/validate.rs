@@ -30,7 +30,7 @@ use crate::names::{
     WALLS,
 };
 use crate::packer::{
-    DEFAULT_ATTEMPTS, MAX_DEFERRED, MAX_GAP, Method, PEAK_BYTES_PER_DISK, PackError,
+    DEFAULT_ATTEMPTS, Densify, MAX_DEFERRED, MAX_GAP, Method, PEAK_BYTES_PER_DISK, PackError,
     PackerSettings, Relaxation, estimated_peak_bytes, size_count,
 };
 use crate::{Limits, Scene};
@@ -47,7 +47,7 @@ const FORCE_HINT: &str = ", or run with --force to go ahead";
 /// Largest `packer.attempts`: more tries per disk than this would run for hours.
 const MAX_ATTEMPTS: i64 = 10_000_000;
 
-/// Largest `packer.relaxation_iterations`, for the same reason.
+/// Largest `packer.relaxation_iterations` and `packer.densify_iterations`, for the same reason.
 const MAX_ITERATIONS: i64 = 1_000_000;
 
 /// Largest `compare.repeats`.
@@ -1135,6 +1135,16 @@ impl Validator<'_> {
                 });
             }
         }
+        let mut densify = Densify::default();
+        if let Some(v) = &p.densify_porosity {
+            densify.porosity = self.checked("packer.densify_porosity", v, "in [0, 1)", |v| {
+                (0.0..1.0).contains(&v)
+            })?;
+        }
+        if let Some(v) = &p.densify_iterations {
+            densify.iterations =
+                self.whole("packer.densify_iterations", v, 1, Some(MAX_ITERATIONS))?;
+        }
         let contacts = p
             .contacts
             .as_ref()
@@ -1163,6 +1173,7 @@ impl Validator<'_> {
             method,
             attempts,
             relaxation,
+            densify,
             index: self.name(&INDEXES, "packer.index", p.index.as_ref())?,
             rules: self.name(&RULES, "packer.rules", p.rules.as_ref())?,
             one_contact_share,

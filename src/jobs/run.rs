@@ -844,6 +844,17 @@ fn span([lo, hi]: [f64; 2]) -> Option<[f64; 2]> {
     (lo.is_finite() && hi.is_finite() && lo <= hi).then_some([lo, hi])
 }
 
+/// Where a target lies below every porosity the advancing front packed:
+/// the method that packs denser than it, down to the grading's jamming limit.
+fn denser_than(target: f64, range: Option<[f64; 2]>) -> &'static str {
+    match range {
+        Some([lo, _]) if target < lo => {
+            "; [packer] method = \"densify\" with densify_porosity packs the drawn sizes denser than the advancing front, down to near the grading's jamming limit (docs/densify.md)"
+        }
+        _ => "",
+    }
+}
+
 /// The warning a finished search gives about its target, if any: out of
 /// reach only after a conclusive search (`PorosityProblem::conclusive`),
 /// else not reached in so many evaluations.
@@ -883,7 +894,10 @@ fn verdict_warning<O>(
         Verdict::Reached | Verdict::Interrupted => return None,
         Verdict::OutOfReach => (
             WarningKind::TargetOutOfReach,
-            format!("optimise.target_porosity = {target} is out of reach: after {effort}, {seen}"),
+            format!(
+                "optimise.target_porosity = {target} is out of reach: after {effort}, {seen}{}",
+                denser_than(target, range)
+            ),
         ),
         Verdict::InRange => (
             WarningKind::TargetNotReached,

@@ -1420,6 +1420,7 @@ mod tests {
             crate::Method::Rsa,
             crate::Method::Deposition,
             crate::Method::Relaxation,
+            crate::Method::Densify,
         ] {
             let scene = scene.clone().with_method(method);
             let free = pack(&scene).unwrap();

@@ -2,6 +2,7 @@
 
 mod advancing_front;
 mod arcs;
+mod densify;
 mod deposition;
 pub mod index;
 mod packing;
@@ -11,10 +12,11 @@ mod rsa;
 mod sizer;
 
 pub use crate::scene::{
-    DEFAULT_ATTEMPTS, Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method, PackerSettings,
-    Relaxation,
+    DEFAULT_ATTEMPTS, Densify, Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method,
+    PackerSettings, Relaxation,
 };
 pub use advancing_front::{WORK_PER_DISK, pack_genes_watched, size_count, work_budget};
+pub use densify::pack_densify;
 pub use deposition::pack_deposition;
 pub use packing::{PackError, PackStats, Packing};
 pub use relaxation::pack_relaxation;
@@ -116,6 +118,7 @@ pub fn pack_observed(
         Method::Rsa => near_origin(scene, |s| pack_rsa(s, cancel)),
         Method::Deposition => near_origin(scene, |s| pack_deposition(s, cancel)),
         Method::Relaxation => near_origin(scene, |s| pack_relaxation(s, cancel)),
+        Method::Densify => near_origin(scene, |s| pack_densify(s, cancel)),
     }
 }
 

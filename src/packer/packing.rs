@@ -155,6 +155,32 @@ pub enum PackError {
         /// Sizes drawn when it stopped.
         sizes_drawn: u64,
     },
+    /// The densify method did not pack its disks at the target porosity
+    /// without overlap: the target is denser than this grading packs in this
+    /// domain (past its jamming limit: the disks jammed), or needs more
+    /// steps than allowed. No packing is returned (one with overlaps is
+    /// never written); `reached` says which target to ask for instead.
+    #[error(
+        "packer.densify_porosity = {target} was not reached without overlap ({}, after {steps} minimisation steps): the densest porosity these disks were packed at without overlap is {reached:.4} (each disk at {scale:.4} of its size); ask for a porosity of {:.3} or more{}",
+        if *.jammed { "the disks jammed: their overlaps are held in balance" } else { "the step budget ran out" },
+        (.reached * 1000.0).ceil() / 1000.0,
+        if *.jammed { "" } else { ", or raise packer.densify_iterations" }
+    )]
+    DensityUnreached {
+        /// The target porosity.
+        target: f64,
+        /// The densest porosity the same disks were packed at without
+        /// overlap, with their radii scaled by `scale`: of the area the
+        /// target is (inside the walls, less the wall disks' strip).
+        reached: f64,
+        /// The scale of the radii at `reached` (< 1).
+        scale: f64,
+        /// Minimisation steps taken, the search for `reached` included (at
+        /// most `packer.densify_iterations`, 10⁶).
+        steps: u32,
+        /// Whether the disks jammed at the target (rather than running out of steps).
+        jammed: bool,
+    },
     /// The scene would need more memory than allowed.
     #[error(
         "the scene needs an estimated {estimate_mb:.0} MB ({disks:.3e} disks), over the limit of {limit_mb:.0} MB"

@@ -177,7 +177,12 @@ mod tests {
     fn comparison_generators_refuse_too_many_wall_disks() {
         // 80 mm of boundary in wall disks of 10 nm: 8 million, over the cap.
         // These generators used to pack without any wall disk instead.
-        for method in [Method::Rsa, Method::Deposition, Method::Relaxation] {
+        for method in [
+            Method::Rsa,
+            Method::Deposition,
+            Method::Relaxation,
+            Method::Densify,
+        ] {
             let scene = Scene::new(
                 Domain::rectangle(20.0, 20.0).unwrap(),
                 Grading::constant(1.0).unwrap(),

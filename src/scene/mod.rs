@@ -7,8 +7,8 @@ mod settings;
 
 pub use profile::{Axis, Frame, Profile, SizeGradient};
 pub use settings::{
-    DEFAULT_ATTEMPTS, Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method, PackerSettings,
-    Relaxation,
+    DEFAULT_ATTEMPTS, Densify, Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method,
+    PackerSettings, Relaxation,
 };
 
 use crate::geometry::{Domain, WallMode};

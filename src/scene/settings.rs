@@ -37,6 +37,10 @@ pub enum Method {
     /// Disks placed overlapping at a set porosity, then pushed apart
     /// (PFC's explosive repulsion, geometric separation).
     Relaxation,
+    /// Disks of the drawn sizes placed at a target porosity below the
+    /// advancing front's, their overlap energy minimised (FIRE) to zero:
+    /// dense packings up to near the jamming limit of the grading.
+    Densify,
 }
 
 /// Default of [`PackerSettings::attempts`]: PFC's 20,000 tries.
@@ -73,6 +77,26 @@ impl Default for Relaxation {
     }
 }
 
+/// Settings of the densify method.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Densify {
+    /// Target porosity: the number of disks is the area inside the walls ×
+    /// (1 − porosity) / the mean disk area, their sizes the drawn ones.
+    pub porosity: f64,
+    /// Minimisation steps at most, over the whole run (the search for the
+    /// densest porosity reached, when the target is not, included).
+    pub iterations: usize,
+}
+
+impl Default for Densify {
+    fn default() -> Self {
+        Densify {
+            porosity: 0.17,
+            iterations: 200_000,
+        }
+    }
+}
+
 /// Settings of the packer.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PackerSettings {
@@ -83,6 +107,8 @@ pub struct PackerSettings {
     pub attempts: usize,
     /// The relaxation method's settings.
     pub relaxation: Relaxation,
+    /// The densify method's settings.
+    pub densify: Densify,
     /// Neighbour-search structure.
     pub index: IndexKind,
     /// What happens to fronts and sizes that fail.
@@ -113,6 +139,7 @@ impl Default for PackerSettings {
             method: Method::default(),
             attempts: DEFAULT_ATTEMPTS,
             relaxation: Relaxation::default(),
+            densify: Densify::default(),
             index: IndexKind::default(),
             rules: FrontRules::default(),
             one_contact_share: 0.0,

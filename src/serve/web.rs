@@ -27,6 +27,22 @@ pub const EXAMPLES: &[(&str, &str)] = &[
         include_str!("../../configs/compare_fracture.toml"),
     ),
     (
+        "dense_circle",
+        include_str!("../../configs/dense_circle.toml"),
+    ),
+    (
+        "dense_l_shape",
+        include_str!("../../configs/dense_l_shape.toml"),
+    ),
+    (
+        "dense_pfc_genesis",
+        include_str!("../../configs/dense_pfc_genesis.toml"),
+    ),
+    (
+        "dense_table31",
+        include_str!("../../configs/dense_table31.toml"),
+    ),
+    (
         "dense_target",
         include_str!("../../configs/dense_target.toml"),
     ),
