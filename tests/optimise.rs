@@ -418,3 +418,64 @@ fn resuming_a_checkpoint_with_a_zeroed_random_state_is_refused() {
     );
     let _ = fs::remove_dir_all(&dir);
 }
+
+/// A target below the advancing front's range is packed by the densify
+/// method: reached with zero overlap and the grading kept; one below where
+/// the drawn disks jam is reported as below the densest packing found,
+/// with that figure, never as a span of the front's packings.
+#[test]
+fn dense_targets_go_through_densify_with_an_honest_verdict() {
+    let dir = scratch("optimise-dense");
+    let config = |target: f64| {
+        format!(
+            "seed = 1\n[domain]\nshape = \"rectangle\"\nwidth = 30\nheight = 40\n\
+             [grading]\nuniform = [1.0, 1.66]\n[optimise]\ntarget_porosity = {target}\n"
+        )
+    };
+    fs::write(dir.join("dense.toml"), config(0.175)).unwrap();
+    let out = gapack(&dir, &["optimise", "dense.toml", "--out", "a"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let s = summary(&dir.join("a"));
+    assert_eq!(s["verdict"], "reached");
+    assert_eq!(s["stop"], "densified");
+    assert!(
+        (s["porosity"].as_f64().unwrap() - 0.175).abs() <= 0.002,
+        "{s}"
+    );
+    assert!(s["psd_ks"].as_f64().unwrap() <= 0.05, "{s}");
+    assert!(max_overlap(&disks(&dir.join("a"))) <= OVERLAP_REL);
+    let range = s["achievable_range"].as_array().unwrap();
+    assert!(
+        range[0].as_f64().unwrap() <= 0.177,
+        "the range's dense end is measured: {s}"
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("lies below the range of the initial population"),
+        "{err}"
+    );
+    // Below the jamming point.
+    fs::write(dir.join("dense.toml"), config(0.10)).unwrap();
+    let out = gapack(&dir, &["optimise", "dense.toml", "--out", "b"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let s = summary(&dir.join("b"));
+    assert_eq!(s["verdict"], "out of reach");
+    let densest = s["porosity"].as_f64().unwrap();
+    assert!(densest < 0.19 && densest > 0.10, "{s}");
+    assert!(max_overlap(&disks(&dir.join("b"))) <= OVERLAP_REL);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("is below the densest packing found for this grading and domain")
+            && err.contains(&format!("{densest:.4}"))
+            && !err.contains("the packings that honour the grading span"),
+        "{err}"
+    );
+}

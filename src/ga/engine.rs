@@ -190,6 +190,9 @@ pub enum StopReason {
     TimeLimit,
     /// The evaluation budget was spent.
     Evaluations,
+    /// The target lay below the advancing front's range: the densify
+    /// method packed the drawn sizes at it (or at the densest it reached).
+    Densified,
 }
 
 impl StopReason {
@@ -202,6 +205,7 @@ impl StopReason {
             StopReason::Stagnation => "stagnation",
             StopReason::TimeLimit => "time limit",
             StopReason::Evaluations => "evaluation budget",
+            StopReason::Densified => "densified",
         }
     }
 
@@ -395,6 +399,14 @@ impl<'a, P: Problem> Search<'a, P> {
                 save(&self.checkpoint());
             }
         };
+        self.ended(reason)
+    }
+
+    /// The search as it stands, ended for `reason` without another
+    /// generation: generation 0 alone when called after [`Search::start`]
+    /// (a job that reaches its target by other means keeps the record of
+    /// what the search measured).
+    pub fn ended(self, reason: StopReason) -> Evolution<P::Outcome> {
         let (genes, best, outcome) = self.best;
         Evolution {
             genes,

@@ -515,6 +515,10 @@ impl Running<'_> {
             self.event(Event::Warning(Warning {
                 kind: WarningKind::TargetOutsideInitialRange,
                 message: match initial_range {
+                    Some([lo, hi]) if settings.target_porosity < lo - settings.tolerance => format!(
+                        "optimise.target_porosity = {} lies below the range of the initial population, [{lo:.4}, {hi:.4}]: the densify method packs the drawn sizes at it (docs/densify.md)",
+                        settings.target_porosity
+                    ),
                     Some([lo, hi]) => format!(
                         "optimise.target_porosity = {} lies outside the range of the initial population, [{lo:.4}, {hi:.4}]; searching beyond it",
                         settings.target_porosity
@@ -526,13 +530,31 @@ impl Running<'_> {
                 },
             }));
         }
+        // A target below every porosity the advancing front packed in
+        // generation 0, beyond its tolerance: the densify method packs the
+        // drawn sizes at it directly (docs/densify.md), no search needed.
+        let dense_route = !resume
+            && initial_range
+                .is_some_and(|[lo, _]| settings.target_porosity < lo - settings.tolerance);
         self.event(Event::Stage {
             stage: Stage::Optimise,
-            total: Some(settings.generations as u64),
+            total: Some(if dense_route {
+                0
+            } else {
+                settings.generations as u64
+            }),
         });
         let mut save_failed: Option<StoreError> = None;
         let mut saved = false;
-        let evolution = {
+        let mut dense = None;
+        let evolution = if let Some([lo, hi]) = initial_range.filter(|_| dense_route) {
+            let evolution = search.ended(StopReason::Densified);
+            for g in &evolution.history {
+                self.event(generation(Stage::Optimise, g));
+            }
+            dense = Some(self.densify_to(settings, [lo, hi], &stop)?);
+            evolution
+        } else {
             let observer = &mut *self.observer;
             let store = &mut *self.store;
             search.run_saving(
@@ -561,14 +583,31 @@ impl Running<'_> {
                 },
             )
         };
-        let interrupted = evolution.stop == StopReason::Interrupted;
-        let verdict = problem.verdict(&evolution);
-        let range = span(evolution.explored);
-        let warning = verdict_warning(settings, &evolution, verdict, range);
-        let Some(mut packing) = evolution.outcome else {
-            return Err(JobError::NothingPacked);
+        let (verdict, range, warning, packs, best) = match dense {
+            Some(Dense {
+                verdict,
+                range,
+                warning,
+                packs,
+                best,
+            }) => (verdict, range, warning, packs, best),
+            None => {
+                let verdict = problem.verdict(&evolution);
+                let range = span(evolution.explored);
+                let warning = verdict_warning(settings, &evolution, verdict, range);
+                (verdict, range, warning, 0, None)
+            }
         };
-        let best_scene = problem.scene_of(&evolution.genes);
+        let interrupted = verdict == Verdict::Interrupted;
+        let (mut packing, best_scene) = match best {
+            Some(best) => best,
+            None => {
+                let Some(packing) = evolution.outcome else {
+                    return Err(JobError::NothingPacked);
+                };
+                (packing, problem.scene_of(&evolution.genes))
+            }
+        };
         let layered = config
             .layering
             .as_ref()
@@ -587,7 +626,7 @@ impl Running<'_> {
             best_porosity: metrics.porosity,
             error: (metrics.porosity - settings.target_porosity).abs(),
             max_psd_ks: settings.max_psd_ks,
-            evaluations: evolution.evaluations,
+            evaluations: evolution.evaluations + packs,
             generations: evolution.history.len().saturating_sub(1),
             population: settings.population,
             feasible: verdict.feasible(),
@@ -595,8 +634,12 @@ impl Running<'_> {
             achievable_range: range,
             initial_range,
             interrupted,
-            stop: evolution.stop.describe(),
-            reproducible: evolution.stop.reproducible(),
+            stop: if interrupted {
+                StopReason::Interrupted.describe()
+            } else {
+                evolution.stop.describe()
+            },
+            reproducible: !interrupted && evolution.stop.reproducible(),
         };
         let run = RunInfo {
             materials: &config.materials,
@@ -630,6 +673,105 @@ impl Running<'_> {
             },
             interrupted,
         ))
+    }
+
+    /// Pack the drawn sizes at the target with the densify method; if the
+    /// disks jam before it, the densest packing of the true sizes found,
+    /// from just above the porosity at which they jammed. `front` is the
+    /// range the advancing front packed in generation 0.
+    fn densify_to(
+        &mut self,
+        settings: &OptimiseSettings,
+        front: [f64; 2],
+        stop: &Cancel,
+    ) -> Result<Dense, JobError> {
+        let target = settings.target_porosity;
+        let at = |porosity: f64| {
+            let mut scene = self.plan.config.scene.clone();
+            scene.packer.method = Method::Densify;
+            scene.packer.densify.porosity = porosity;
+            scene
+        };
+        let interrupted = || Dense {
+            verdict: Verdict::Interrupted,
+            range: Some(front),
+            warning: None,
+            packs: 1,
+            best: None,
+        };
+        let scene = at(target);
+        let jammed = match pack_observed(&scene, &mut |_| {}, stop) {
+            Ok(packing) => {
+                let m = measure(&packing, &scene);
+                let reached = (m.porosity - target).abs() <= settings.tolerance
+                    && m.psd_ks <= settings.max_psd_ks;
+                let warning = (!reached).then(|| Warning {
+                    kind: WarningKind::TargetNotReached,
+                    message: format!(
+                        "optimise.target_porosity = {target}: the densify method packed the drawn sizes at porosity {:.4}, psd_ks {:.3} (optimise.tolerance {}, optimise.max_psd_ks {})",
+                        m.porosity, m.psd_ks, settings.tolerance, settings.max_psd_ks
+                    ),
+                });
+                return Ok(Dense {
+                    verdict: if reached {
+                        Verdict::Reached
+                    } else {
+                        Verdict::NotReached
+                    },
+                    range: Some([m.porosity.min(front[0]), front[1]]),
+                    warning,
+                    packs: 1,
+                    best: Some((packing, scene)),
+                });
+            }
+            Err(PackError::DensityUnreached { reached, .. }) => reached,
+            Err(PackError::Cancelled(_)) => return Ok(interrupted()),
+            Err(source) => return Err(dense_failure(source)),
+        };
+        // Step up from where the disks jammed until the true sizes pack.
+        for k in 1..=DENSE_STEPS {
+            let porosity = jammed + k as f64 * settings.tolerance.max(DENSE_STEP_MIN);
+            if porosity >= front[0] {
+                break;
+            }
+            let scene = at(porosity);
+            match pack_observed(&scene, &mut |_| {}, stop) {
+                Ok(packing) => {
+                    let m = measure(&packing, &scene);
+                    return Ok(Dense {
+                        verdict: Verdict::OutOfReach,
+                        range: Some([m.porosity, front[1]]),
+                        warning: Some(Warning {
+                            kind: WarningKind::TargetOutOfReach,
+                            message: format!(
+                                "optimise.target_porosity = {target} is below the densest packing found for this grading and domain: the drawn disks jam at porosity {jammed:.4} (densify, their radii scaled down until no overlap is left; jammed polydisperse disks reach about 0.16, O'Hern et al. 2003); the densest packing of the true sizes found, porosity {:.4}, is written",
+                                m.porosity
+                            ),
+                        }),
+                        packs: 1 + k as u64,
+                        best: Some((packing, scene)),
+                    });
+                }
+                Err(PackError::DensityUnreached { .. }) => {}
+                Err(PackError::Cancelled(_)) => return Ok(interrupted()),
+                Err(source) => return Err(dense_failure(source)),
+            }
+        }
+        // Nothing between the jamming point and the front's range packed:
+        // the front's densest packing of generation 0 stands.
+        Ok(Dense {
+            verdict: Verdict::OutOfReach,
+            range: Some(front),
+            warning: Some(Warning {
+                kind: WarningKind::TargetOutOfReach,
+                message: format!(
+                    "optimise.target_porosity = {target} is below the densest packing found for this grading and domain: the drawn disks jam at porosity {jammed:.4} (densify), and no denser packing of the true sizes than the advancing front's {:.4} was found; that one is written",
+                    front[0]
+                ),
+            }),
+            packs: 1 + DENSE_STEPS as u64,
+            best: None,
+        })
     }
 
     /// The store's checkpoint, if it belongs to this plan.
@@ -842,6 +984,31 @@ impl Running<'_> {
 /// seen) or anything else that is not one: never an infinite range.
 fn span([lo, hi]: [f64; 2]) -> Option<[f64; 2]> {
     (lo.is_finite() && hi.is_finite() && lo <= hi).then_some([lo, hi])
+}
+
+/// The densify route's packer failed for another reason than jamming.
+fn dense_failure(source: PackError) -> JobError {
+    JobError::Pack {
+        what: "the scene with the densify method".to_owned(),
+        source,
+    }
+}
+
+/// Tries of the densify route between the jamming point and the front's range.
+const DENSE_STEPS: usize = 8;
+/// Smallest step of porosity between those tries.
+const DENSE_STEP_MIN: f64 = 0.001;
+
+/// What the densify route of an optimise found: the verdict on the
+/// target, the range measured (its dense end the densest packing of the
+/// true sizes found), the warning to give, the packings made, and the
+/// packing to write with its scene (`None`: the search's best stands).
+struct Dense {
+    verdict: Verdict,
+    range: Option<[f64; 2]>,
+    warning: Option<Warning>,
+    packs: u64,
+    best: Option<(Packing, crate::Scene)>,
 }
 
 /// Where a target lies below every porosity the advancing front packed:
