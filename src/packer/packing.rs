@@ -65,6 +65,15 @@ pub struct PackStats {
 /// MX quadtree's measured rate on 10⁵–10⁶ disks (`gapack bench`), rounded down.
 pub const PACK_RATE: f64 = 400_000.0;
 
+/// The target to suggest after a densify run reached `reached` but not
+/// `target`: the densest reached rounded up to 0.001, and looser than the
+/// target (the disks drawn for a target lie within one disk of it, so the
+/// densest reached may round below a target that jammed).
+fn looser(target: f64, reached: f64) -> f64 {
+    let up = (reached.max(target) * 1000.0).ceil() / 1000.0;
+    if up > target { up } else { up + 0.001 }
+}
+
 /// Why a scene cannot be packed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
@@ -161,9 +170,10 @@ pub enum PackError {
     /// steps than allowed. No packing is returned (one with overlaps is
     /// never written); `reached` says which target to ask for instead.
     #[error(
-        "packer.densify_porosity = {target} was not reached without overlap ({}, after {steps} minimisation steps): the densest porosity these disks were packed at without overlap is {reached:.4} (each disk at {scale:.4} of its size); ask for a porosity of {:.3} or more{}",
+        "packer.densify_porosity = {target} was not reached without overlap ({}, after {steps} minimisation steps): these disks (porosity {:.4} at their size) were packed without overlap only at {scale:.4} of their size, porosity {reached:.4}; ask for a porosity of {:.3} or more{}",
         if *.jammed { "the disks jammed: their overlaps are held in balance" } else { "the step budget ran out" },
-        (.reached * 1000.0).ceil() / 1000.0,
+        1.0 - (1.0 - .reached) / (.scale * .scale),
+        looser(*.target, *.reached),
         if *.jammed { "" } else { ", or raise packer.densify_iterations" }
     )]
     DensityUnreached {

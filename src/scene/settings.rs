@@ -80,8 +80,10 @@ impl Default for Relaxation {
 /// Settings of the densify method.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Densify {
-    /// Target porosity: the number of disks is the area inside the walls ×
-    /// (1 − porosity) / the mean disk area, their sizes the drawn ones.
+    /// Target porosity, of the area inside the walls (less a strip half a
+    /// wall disk wide with wall disks, as relaxation counts it): the disks
+    /// are the first sizes drawn whose area comes nearest to that area ×
+    /// (1 − porosity), about that over the grading's mean disk area.
     pub porosity: f64,
     /// Minimisation steps at most, over the whole run (the search for the
     /// densest porosity reached, when the target is not, included).
