@@ -167,6 +167,16 @@ fn an_example_is_validated_submitted_followed_and_its_packing_shown() {
             .is_some_and(|t| t.contains("target_porosity = 0.20")),
         "the editor holds the example: {editor_text}"
     );
+    // Edit it as a user would: a looser target than any packing reaches, so
+    // the search runs its twelve generations (a target below the advancing
+    // front's range would be packed by densify at once, without a search).
+    browser.run(
+        "const e = document.getElementById('config'); \
+         e.value = e.value.replace('target_porosity = 0.20', \
+           'target_porosity = 0.95\\ngenerations = 12\\nstagnation = 100'); \
+         e.dispatchEvent(new Event('input'));",
+        &[],
+    );
     browser.click(&browser.find("#kind option[value='optimise']"));
     browser.click(&browser.find("#validate"));
     let estimates = browser.wait("the estimates", || shown_text(&browser, "#estimates"));
@@ -310,7 +320,7 @@ fn a_long_optimise_is_cancelled_and_keeps_its_best_packing() {
     let server = Server::start(&dir.join("data"), &[]);
     let browser = Browser::start(&dir.join("downloads"), DESKTOP);
     let config = "seed = 5\n[domain]\nshape = \"rectangle\"\nwidth = 80\nheight = 80\n\
-                  [grading]\nuniform = [1.0, 2.0]\n[optimise]\ntarget_porosity = 0.01\n\
+                  [grading]\nuniform = [1.0, 2.0]\n[optimise]\ntarget_porosity = 0.95\n\
                   population = 8\ngenerations = 5000\nstagnation = 10000\n";
     let id = submit(&server, "optimise", config, 2);
     browser.goto(&server.url(&format!("/#/job/{id}")));
@@ -509,7 +519,7 @@ fn a_large_packing_and_ten_streaming_jobs_keep_the_page_responsive() {
 
     // Ten searches streaming at once: the job page of one, then the list.
     let config = "seed = 2\n[domain]\nshape = \"rectangle\"\nwidth = 40\nheight = 40\n\
-                  [grading]\nuniform = [1.0, 2.0]\n[optimise]\ntarget_porosity = 0.01\n\
+                  [grading]\nuniform = [1.0, 2.0]\n[optimise]\ntarget_porosity = 0.95\n\
                   population = 6\ngenerations = 400\nstagnation = 10000\n[output]\nformats = [\"csv\"]\n";
     let ids: Vec<String> = (0..10)
         .map(|i| submit(&server, "optimise", config, i))

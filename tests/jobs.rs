@@ -110,7 +110,7 @@ fn a_pack_reports_its_stage_progress_and_files_in_order() {
 #[test]
 fn a_search_reports_every_generation_and_its_total() {
     let text = format!(
-        "{SQUARE}[optimise]\ntarget_porosity = 0.05\npopulation = 8\ngenerations = 4\nstagnation = 100\n"
+        "{SQUARE}[optimise]\ntarget_porosity = 0.95\npopulation = 8\ngenerations = 4\nstagnation = 100\n"
     );
     let plan = plan(&text, JobKind::Optimise);
     let mut store = MemoryStore::default();
@@ -166,7 +166,7 @@ fn a_cancelled_pack_of_a_million_disks_returns_at_once_and_writes_nothing() {
 #[test]
 fn a_cancelled_search_keeps_its_best_and_resumes_to_the_uninterrupted_result() {
     let text = format!(
-        "{SQUARE}[optimise]\ntarget_porosity = 0.05\npopulation = 8\ngenerations = 6\nstagnation = 100\n"
+        "{SQUARE}[optimise]\ntarget_porosity = 0.95\npopulation = 8\ngenerations = 6\nstagnation = 100\n"
     );
     let whole_plan = plan(&text, JobKind::Optimise);
     let mut whole = MemoryStore::default();
@@ -371,7 +371,7 @@ fn a_reused_output_folder_holds_only_the_new_runs_files() {
 /// A search of `SQUARE` cancelled after generation 2: its store holds a checkpoint.
 fn stopped_search() -> (String, MemoryStore) {
     let text = format!(
-        "{SQUARE}[optimise]\ntarget_porosity = 0.05\npopulation = 8\ngenerations = 6\nstagnation = 100\n"
+        "{SQUARE}[optimise]\ntarget_porosity = 0.95\npopulation = 8\ngenerations = 6\nstagnation = 100\n"
     );
     let mut store = MemoryStore::default();
     let (outcome, _) = recorded(&plan(&text, JobKind::Optimise), &mut store, |e| {

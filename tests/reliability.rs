@@ -14,7 +14,7 @@ use common::{gapack, scratch};
 
 /// A search that cannot reach its target and runs its 20 generations (about
 /// 2 s): long enough to be stopped part-way.
-const LONG: &str = "seed = 2\n[domain]\nshape = \"rectangle\"\nwidth = 30\nheight = 30\n[grading]\nuniform = [1.0, 2.0]\n[optimise]\ntarget_porosity = 0.05\npopulation = 32\ngenerations = 20\nstagnation = 1000\ntime_limit_s = 600\n[output]\nformats = [\"csv\"]\n";
+const LONG: &str = "seed = 2\n[domain]\nshape = \"rectangle\"\nwidth = 30\nheight = 30\n[grading]\nuniform = [1.0, 2.0]\n[optimise]\ntarget_porosity = 0.95\npopulation = 32\ngenerations = 20\nstagnation = 1000\ntime_limit_s = 600\n[output]\nformats = [\"csv\"]\n";
 
 /// Start `gapack optimise long.toml --out <out>` in `dir`, send `signal` once
 /// its first checkpoint is on disk, and wait for it; the exit code.

@@ -21,7 +21,7 @@ const SQUARE: &str = "seed = 3\n[domain]\nshape = \"rectangle\"\nwidth = 20\nhei
 
 fn optimise_config() -> String {
     format!(
-        "{SQUARE}[optimise]\ntarget_porosity = 0.05\npopulation = 8\ngenerations = 4\nstagnation = 100\n"
+        "{SQUARE}[optimise]\ntarget_porosity = 0.95\npopulation = 8\ngenerations = 4\nstagnation = 100\n"
     )
 }
 
@@ -35,7 +35,7 @@ fn layer_config() -> String {
 /// stopped part-way.
 fn long_optimise_config() -> String {
     "seed = 5\n[domain]\nshape = \"rectangle\"\nwidth = 60\nheight = 60\n[grading]\nuniform = [1.0, 2.0]\n\
-     [optimise]\ntarget_porosity = 0.01\npopulation = 8\ngenerations = 30\nstagnation = 100\n"
+     [optimise]\ntarget_porosity = 0.95\npopulation = 8\ngenerations = 30\nstagnation = 100\n"
         .to_owned()
 }
 
