@@ -44,7 +44,7 @@ pub(crate) fn wall_disk_count(scene: &Scene) -> usize {
             .domain
             .boundary_disk_count(scene.wall_disk())
             .unwrap_or(0),
-        crate::geometry::WallMode::Exact => 0,
+        crate::geometry::WallMode::Exact | crate::geometry::WallMode::Periodic => 0,
     }
 }
 
