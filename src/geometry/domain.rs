@@ -1070,6 +1070,68 @@ mod tests {
     }
 
     #[test]
+    fn a_periodic_cell_wraps_points_into_itself_and_lists_the_images_near_a_box() {
+        let cell = Domain::periodic_rectangle(10.0, 4.0).unwrap();
+        assert_eq!(cell.shape(), Domain::rectangle(10.0, 4.0).unwrap().shape());
+        assert_eq!(cell.area(), 40.0);
+        // Inside: unchanged, bit for bit; on the upper edge: the lower one.
+        let inside = Point::new(0.1 + 0.2, 3.999_999_999_999_999);
+        assert_eq!(cell.wrap(inside), inside);
+        assert_eq!(cell.wrap(Point::new(10.0, 4.0)), Point::new(0.0, 0.0));
+        assert_eq!(cell.wrap(Point::new(-2.5, 9.0)), Point::new(7.5, 1.0));
+        // A tiny negative coordinate rounds onto the upper edge: the lower one.
+        let p = cell.wrap(Point::new(-1e-17, -1e-17));
+        assert!(p.x >= 0.0 && p.x < 10.0 && p.y >= 0.0 && p.y < 4.0, "{p:?}");
+        // A domain with walls wraps nothing and has one shift, zero.
+        let walled = Domain::rectangle(10.0, 4.0).unwrap();
+        assert_eq!(walled.wrap(Point::new(-2.5, 9.0)), Point::new(-2.5, 9.0));
+        let far = (Point::new(-30.0, -30.0), Point::new(30.0, 30.0));
+        assert_eq!(
+            walled.image_shifts(far.0, far.1).collect::<Vec<_>>(),
+            [Vector2::zeros()]
+        );
+        let shifts = |lo: (f64, f64), hi: (f64, f64)| -> Vec<(f64, f64)> {
+            cell.image_shifts(Point::new(lo.0, lo.1), Point::new(hi.0, hi.1))
+                .map(|v| (v.x, v.y))
+                .collect()
+        };
+        assert_eq!(shifts((4.0, 1.0), (6.0, 3.0)), [(0.0, 0.0)]);
+        // Across the right edge: the centres stored near x = 0 are images at x + 10.
+        assert_eq!(shifts((9.0, 1.0), (11.0, 3.0)), [(0.0, 0.0), (10.0, 0.0)]);
+        assert_eq!(
+            shifts((-1.0, -1.0), (1.0, 1.0)),
+            [(-10.0, -4.0), (0.0, -4.0), (-10.0, 0.0), (0.0, 0.0)]
+        );
+        // A box wider than two cells: the images at −10 (of x near 10) to
+        // +20 (of x near 0) may lie in it, each once.
+        assert_eq!(shifts((-1.0, 1.0), (21.0, 2.0)).len(), 4);
+        // Brute force: every centre of the cell whose image lies in a box is found.
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
+        for _ in 0..2000 {
+            let c = Point::new(rng.gen_range(0.0..10.0), rng.gen_range(0.0..4.0));
+            let (x, y) = (rng.gen_range(-15.0..25.0), rng.gen_range(-6.0..10.0));
+            let half = rng.gen_range(0.0..6.0);
+            let (lo, hi) = (
+                Point::new(x - half, y - half),
+                Point::new(x + half, y + half),
+            );
+            for kx in -4..=4 {
+                for ky in -4..=4 {
+                    let v = Vector2::new(10.0 * f64::from(kx), 4.0 * f64::from(ky));
+                    let q = c + v;
+                    if q.x >= lo.x && q.x <= hi.x && q.y >= lo.y && q.y <= hi.y {
+                        assert!(cell.image_shifts(lo, hi).any(|s| s == v), "{c:?} {v:?}");
+                    }
+                }
+            }
+        }
+        // Transposed, it stays a periodic cell; with walls again, a rectangle.
+        let t = cell.transposed();
+        assert_eq!(t.period(), Some(Vector2::new(4.0, 10.0)));
+        assert_eq!(cell.with_periodic(false), walled);
+    }
+
+    #[test]
     fn rectangle_area_centroid_bounds_walls() {
         let d = Domain::rectangle(40.0, 10.0).unwrap();
         assert_eq!(d.area(), 400.0);

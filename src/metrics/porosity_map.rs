@@ -216,6 +216,34 @@ mod tests {
     }
 
     #[test]
+    fn a_periodic_cell_counts_each_disk_once_whole() {
+        // 43 × 31 mm: partial cells at the edges, disks crossing every edge.
+        let grading = Grading::uniform(0.5, 1.5, Basis::Number).expect("grading");
+        let domain = Domain::periodic_rectangle(43.0, 31.0).expect("cell");
+        let scene = Scene::new(domain, grading)
+            .with_walls(crate::geometry::WallMode::Periodic)
+            .with_seed(7);
+        let p = pack(&scene).expect("packs");
+        let crossing = p
+            .disks
+            .iter()
+            .filter(|d| d.c.x < d.r || d.c.x > 43.0 - d.r)
+            .count();
+        assert!(crossing > 5, "{crossing}");
+        let (_, solid, inside) = map_with_areas(&p);
+        let total: f64 = p.disks.iter().map(Disk::area).sum();
+        let summed: f64 = solid.iter().sum();
+        assert!(
+            ((summed - total) / total).abs() < 1e-9,
+            "{summed} vs {total}"
+        );
+        // No cell holds more solid than its part of the cell.
+        for (s, a) in solid.iter().zip(&inside) {
+            assert!(*s <= a * (1.0 + 1e-9), "{s} > {a}");
+        }
+    }
+
+    #[test]
     fn the_cell_side_follows_the_disks_within_limits() {
         let rect = || Domain::rectangle(1000.0, 10.0).expect("rectangle");
         // 5 × 2 mm = 10 mm cells.

@@ -60,6 +60,21 @@
 //! [`PackerSettings::gap`] radii clear of every other disk (it may rest
 //! against a wall); a front with no such arc left fails for that size.
 //!
+//! # Periodic cells
+//! With `walls = "periodic"` there is no wall and no reflex corner: the
+//! first disk sits at the cell's centre and the second touches it (the
+//! only disk placed with one contact in a dense pack); every later one is
+//! placed as above, with two changes. Every index query is made once per
+//! lattice shift whose images may meet its box ([`Domain::image_shifts`]:
+//! one query inside the cell, two or four near its edges), each obstacle
+//! found being met as that image, so the neighbours, the witnesses and the
+//! holes see across the edges and memory stays one entry per disk; a
+//! centre is wrapped into the cell when the disk is placed. And the winning
+//! candidate is the nearest the first disk's centre (its nearest image),
+//! not the lowest (see `Front::rank`). A domain with walls makes one query
+//! with the zero shift and ranks every candidate 0: the same packings, bit
+//! for bit.
+//!
 //! [`PackerSettings::one_contact_share`]: super::PackerSettings::one_contact_share
 //! [`PackerSettings::gap`]: super::PackerSettings::gap
 
@@ -1337,7 +1352,7 @@ impl<I: SpatialIndex> Front<'_, I> {
     /// cell's centre) to the nearest image of `p`: the pack grows out from
     /// its first disk as a round cluster and closes on its own images along
     /// the cell's edges, two rough fronts meeting (the 1 mm bands along the
-    /// edges: porosity 0.27 to 0.32, against 0.18 to 0.19 inside; 50 × 100
+    /// edges: porosity 0.27 to 0.32, against 0.18 to 0.20 inside; 50 × 100
     /// mm, 1–1.66 mm, 20 seeds). Filled lowest first, the cell grew from a
     /// row of disks centred on its bottom edge, which the last layers met
     /// like a wall of disks: the band below the top edge reached 0.50.

@@ -346,14 +346,9 @@ fn draw_legend<DB: DrawingBackend>(
         Ok(area.estimate_text_size(s, &text)?.0 as i32)
     };
     let counts = format!(
-        "{} disks, porosity {:.3}{}",
+        "{} disks, porosity {:.3}",
         packing.disks.len(),
-        porosity(solid_area(&packing.disks), packing.domain.area()),
-        if packing.domain.is_periodic() {
-            ", periodic cell (dashed)"
-        } else {
-            ""
-        }
+        porosity(solid_area(&packing.disks), packing.domain.area())
     );
     let right = width - GAP - text_width(&counts)?;
     area.draw(&Text::new(
@@ -438,7 +433,19 @@ fn draw_legend<DB: DrawingBackend>(
     let walls = "wall disks";
     if !packing.boundary.is_empty() && x + item(walls)? <= room {
         area.draw(&swatch(x, WALL_FILL))?;
-        area.draw(&Text::new(walls, (x + SWATCH + 8, mid), text))?;
+        area.draw(&Text::new(walls, (x + SWATCH + 8, mid), text.clone()))?;
+    }
+    let periodic = "periodic cell";
+    if packing.domain.is_periodic() && x + item(periodic)? <= room {
+        // The outline's dashes, as the swatch.
+        for k in 0..3 {
+            let at = x + k * SWATCH / 3;
+            area.draw(&PathElement::new(
+                vec![(at, mid), (at + SWATCH / 5, mid)],
+                BLACK.stroke_width(2),
+            ))?;
+        }
+        area.draw(&Text::new(periodic, (x + SWATCH + 8, mid), text))?;
     }
     Ok(())
 }
