@@ -47,6 +47,8 @@ const EPS: f64 = 1e-9;
 pub fn pack_deposition(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackError> {
     let stopped = Cell::new(None);
     check_fits(scene)?;
+    // `check_fits` refuses a periodic cell for this method; one packed with
+    // another method's settings is refused here.
     if scene.domain.is_periodic() {
         return Err(PackError::PeriodicMethod {
             method: "deposition",

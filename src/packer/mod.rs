@@ -20,6 +20,8 @@ pub use packing::{PackError, PackStats, Packing};
 pub use relaxation::pack_relaxation;
 pub use rsa::pack_rsa;
 
+pub(crate) use placed::packs_periodic;
+
 use crate::Scene;
 use crate::cancel::Cancel;
 

@@ -7,7 +7,7 @@ use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
 use super::index::{Grid, SpatialIndex};
-use super::{PackError, PackStats, Packing, size_count};
+use super::{Method, PackError, PackStats, Packing, size_count};
 use crate::Scene;
 use crate::cancel::{Cancel, Cancelled};
 use crate::geometry::predicates::{FEASIBLE_REL, clear_disk_walls};
@@ -74,6 +74,16 @@ pub(super) fn check_fits(scene: &Scene) -> Result<(), PackError> {
     Ok(())
 }
 
+/// Whether `method` packs periodic cells: the advancing front, and the
+/// comparison generators that need no wall (`rsa`, `relaxation`); any
+/// other (deposition drops disks onto a floor) is refused one.
+pub(crate) fn packs_periodic(method: Method) -> bool {
+    matches!(
+        method,
+        Method::AdvancingFront | Method::Rsa | Method::Relaxation
+    )
+}
+
 /// The periodic model's own refusals (see [`check_fits`]).
 fn check_periodic(scene: &Scene) -> Result<(), PackError> {
     let periodic = scene.walls == WallMode::Periodic;
@@ -92,6 +102,12 @@ fn check_periodic(scene: &Scene) -> Result<(), PackError> {
         let (side, d_max) = (period.x.min(period.y), scene.d_max());
         if side < 2.0 * d_max {
             return Err(PackError::PeriodicCellTooSmall { side, d_max });
+        }
+        let method = scene.packer.method;
+        if !packs_periodic(method) {
+            return Err(PackError::PeriodicMethod {
+                method: method.config_name(),
+            });
         }
     }
     Ok(())

@@ -10,7 +10,7 @@ use crate::config::error::ConfigError;
 use crate::config::raw::{RawCompare, RawConfig, RawDomain, Table};
 use crate::geometry::WallMode;
 use crate::names::{ConfigName, ShapeKind};
-use crate::packer::{Method, PackError};
+use crate::packer::{PackError, packs_periodic};
 
 impl Validator<'_> {
     /// Refuse `domain.walls = "periodic"` on a shape other than a
@@ -74,7 +74,7 @@ impl Validator<'_> {
             });
         }
         let method = scene.packer.method;
-        if !periodic_method(method)
+        if !packs_periodic(method)
             && let Some(given) = raw.packer.as_ref().and_then(|p| p.method.as_ref())
         {
             return Err(ConfigError::NotApplicable {
@@ -104,7 +104,7 @@ impl Validator<'_> {
         if let Some(methods) = named {
             for (i, (name, &method)) in methods.get_ref().iter().zip(&settings.methods).enumerate()
             {
-                if !periodic_method(method) {
+                if !packs_periodic(method) {
                     return Err(ConfigError::NotApplicable {
                         at: self.at(&name.span()),
                         key: format!("compare.methods[{i}]"),
@@ -116,12 +116,7 @@ impl Validator<'_> {
                 }
             }
         }
-        settings.methods.retain(|&m| periodic_method(m));
+        settings.methods.retain(|&m| packs_periodic(m));
         Ok(settings)
     }
-}
-
-/// Whether `method` packs periodic cells.
-fn periodic_method(method: Method) -> bool {
-    method != Method::Deposition
 }
