@@ -6,9 +6,16 @@
 //! ([`ByRadius`]), and every pair within reach is tested. A packing that passes has no two disks
 //! overlapping by more than [`OVERLAP_REL`] of their radii sum and no disk
 //! outside the domain by more than [`OVERLAP_REL`] of the largest diameter.
+//!
+//! In a periodic cell ([`Domain::periodic_rectangle`]) a disk may cross the
+//! edges: overlaps are counted with every image of the other disks (and of
+//! the disk itself), and a disk is outside when its centre is outside the
+//! cell.
 
 use crate::geometry::predicates::OVERLAP_REL;
-use crate::geometry::{Disk, Domain};
+use nalgebra::Vector2;
+
+use crate::geometry::{Disk, Domain, Point};
 use crate::grading::Grading;
 use crate::metrics::near::ByRadius;
 use crate::metrics::{porosity, solid_area};
@@ -68,7 +75,8 @@ pub struct Check {
     pub overlaps: usize,
     /// The deepest overlap: the two disks' indices and the overlap relative to their radii sum.
     pub worst_overlap: Option<(usize, usize, f64)>,
-    /// Disks reaching outside the domain by more than the tolerance.
+    /// Disks reaching outside the domain by more than the tolerance (in a
+    /// periodic cell: whose centre lies outside the cell by more than it).
     pub outside: usize,
     /// The disk reaching farthest outside: its index and how far (mm).
     pub worst_outside: Option<(usize, f64)>,
@@ -106,6 +114,13 @@ impl Check {
 /// boundary minus the radius, counted when below `−OVERLAP_REL · d_max`.
 /// Malformed disks are counted and left out of the other tests.
 ///
+/// A periodic cell has no walls: each pair is tested at every image of
+/// the second disk shifted by whole periods (an overlap that exists only
+/// across an edge counts, once per image overlapped; a disk overlapping
+/// its own image counts too), and containment asks the centre to lie in
+/// the cell, to within the same tolerance. The porosity is the cell's:
+/// every disk counts once, whole.
+///
 /// # Performance
 /// O(n log n): one sort of the disks by cell, then the pairs of each cell
 /// and its neighbours.
@@ -117,14 +132,22 @@ pub fn check(disks: &[Disk], domain: &Domain, grading: Option<&Grading>) -> Chec
         .collect();
     let r_max = ok.iter().fold(0.0f64, |m, &i| m.max(disks[i].r));
 
-    let (overlaps, worst_overlap) = overlapping_pairs(disks, &ok);
+    let (overlaps, worst_overlap) = overlapping_pairs(disks, &ok, domain);
 
     let tolerance = OVERLAP_REL * 2.0 * r_max;
     let mut outside = 0;
     let mut worst_outside: Option<(usize, f64)> = None;
+    let (lo, hi) = domain.bounds();
     for &i in &ok {
         let d = &disks[i];
-        let beyond = d.r - domain.signed_distance(d.c);
+        let beyond = if domain.is_periodic() {
+            (lo.x - d.c.x)
+                .max(d.c.x - hi.x)
+                .max(lo.y - d.c.y)
+                .max(d.c.y - hi.y)
+        } else {
+            d.r - domain.signed_distance(d.c)
+        };
         if beyond > tolerance {
             outside += 1;
             if worst_outside.is_none_or(|(_, w)| beyond > w) {
@@ -177,30 +200,52 @@ pub fn grading_kept(n: usize, ks: f64) -> bool {
 /// partners in every class as far as its own radius plus that class's
 /// largest radius, and tests those of lower index. Cells sized by the
 /// largest radius made each fine disk of a wide grading test thousands.
-fn overlapping_pairs(disks: &[Disk], ok: &[usize]) -> (usize, Option<(usize, usize, f64)>) {
-    if ok.len() < 2 {
+///
+/// In a periodic cell each disk looks around itself shifted back by every
+/// lattice shift whose images reach it ([`Domain::image_shifts`]), and
+/// tests the partners found there at their shifted image; a disk meets its
+/// own images (each pair of opposite shifts once) as a pair with itself.
+fn overlapping_pairs(
+    disks: &[Disk],
+    ok: &[usize],
+    domain: &Domain,
+) -> (usize, Option<(usize, usize, f64)>) {
+    if ok.len() < 2 && !domain.is_periodic() {
         return (0, None);
     }
     let near = ByRadius::new(disks, ok.iter().copied());
+    let r_max = ok.iter().fold(0.0f64, |m, &i| m.max(disks[i].r));
     let mut count = 0;
     let mut worst: Option<(usize, usize, f64)> = None;
     for &a in ok {
         let p = &disks[a];
-        near.visit(p.c, p.r, |b| {
-            if b >= a {
-                return;
-            }
-            let q = &disks[b];
-            let sum = p.r + q.r;
-            let overlap = (sum - (p.c - q.c).norm()) / sum;
-            if overlap > OVERLAP_REL {
-                count += 1;
-                let pair = (b, a);
-                if worst.is_none_or(|(x, y, w)| overlap > w || (overlap == w && pair < (x, y))) {
-                    worst = Some((b, a, overlap));
+        let reach = p.r + r_max;
+        let (lo, hi) = (
+            Point::new(p.c.x - reach, p.c.y - reach),
+            Point::new(p.c.x + reach, p.c.y + reach),
+        );
+        for v in domain.image_shifts(lo, hi) {
+            let zero = v == Vector2::zeros();
+            near.visit(p.c - v, p.r, |b| {
+                // Each pair once: the partner of lower index, or the disk's
+                // own image of the shift that comes first.
+                if b > a || (b == a && (zero || (v.y, v.x) < (0.0, 0.0))) {
+                    return;
                 }
-            }
-        });
+                let q = &disks[b];
+                let sum = p.r + q.r;
+                let at = if zero { q.c } else { q.c + v };
+                let overlap = (sum - (p.c - at).norm()) / sum;
+                if overlap > OVERLAP_REL {
+                    count += 1;
+                    let pair = (b, a);
+                    if worst.is_none_or(|(x, y, w)| overlap > w || (overlap == w && pair < (x, y)))
+                    {
+                        worst = Some((b, a, overlap));
+                    }
+                }
+            });
+        }
     }
     (count, worst)
 }

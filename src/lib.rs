@@ -43,7 +43,7 @@ pub mod stability;
 pub use cancel::{Cancel, Cancelled};
 pub use check::{Check, GradingCheck, KS_MARGIN, MIN_GRADING_DISKS, check, grading_kept, ks_limit};
 pub use geometry::predicates::OVERLAP_REL;
-pub use geometry::{Disk, Domain, GeometryError, Point, Shape, Wall, WallMode};
+pub use geometry::{Disk, Domain, GeometryError, ImageShifts, Point, Shape, Wall, WallMode};
 pub use grading::{Basis, Grading, GradingError, Interpolation, THESIS_TABLE_3_4};
 pub use metrics::{Metrics, PorosityMap, measure, porosity, porosity_map, psd_ks, solid_area};
 pub use packer::index::{Grid, MxQuadtree, SpatialIndex};

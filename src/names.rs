@@ -72,7 +72,11 @@ pub(crate) const SHAPES: Names<ShapeKind> = Names {
 
 pub(crate) const WALLS: Names<WallMode> = Names {
     what: "wall model",
-    entries: &[("exact", WallMode::Exact), ("disks", WallMode::Disks)],
+    entries: &[
+        ("exact", WallMode::Exact),
+        ("disks", WallMode::Disks),
+        ("periodic", WallMode::Periodic),
+    ],
 };
 
 pub(crate) const INTERPOLATIONS: Names<Interpolation> = Names {

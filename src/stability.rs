@@ -20,7 +20,7 @@ use crate::Scene;
 use crate::cancel::{Cancel, Cancelled};
 use crate::compare::Variant;
 use crate::geometry::predicates::OVERLAP_REL;
-use crate::geometry::{Domain, GeometryError, Point};
+use crate::geometry::{Domain, GeometryError, Point, WallMode};
 use crate::grading::Grading;
 use crate::metrics::measure;
 use crate::packer::index::{Grid, SpatialIndex};
@@ -121,7 +121,8 @@ impl Case {
         out
     }
 
-    /// The case's scene: `base` with this domain and grading.
+    /// The case's scene: `base` with this domain and grading. The sweep's
+    /// shapes have walls: a periodic base sweeps them with exact walls.
     ///
     /// # Errors
     /// The domain's, for a base whose d_max makes a size overflow.
@@ -133,11 +134,16 @@ impl Case {
             Grading::uniform(d_max / self.ratio, d_max, base.grading.basis())
         }
         .unwrap_or_else(|_| base.grading.clone());
+        let walls = match base.walls {
+            WallMode::Periodic => WallMode::Exact,
+            walls => walls,
+        };
         Ok(Scene {
             gradient: None,
             grading,
             ..base.clone()
         }
+        .with_walls(walls)
         .with_domain(self.shape.domain(self.width * d_max)?))
     }
 }

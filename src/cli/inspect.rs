@@ -73,7 +73,7 @@ pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
             psd_ks(&packing_of(&table, scene, &config), scene)
         });
     }
-    let mut lines = findings(&result, &table);
+    let mut lines = findings(&result, &table, scene.domain.is_periodic());
     lines.splice(0..0, domain_note);
     let verdict = match (result.valid() && result.grading_kept(), result.grading) {
         (false, _) => "FAILED",
@@ -363,7 +363,7 @@ fn packing_of(table: &PackingTable, scene: &Scene, config: &Config) -> Packing {
 }
 
 /// The lines `gapack verify` prints under its verdict.
-fn findings(c: &Check, table: &PackingTable) -> Vec<String> {
+fn findings(c: &Check, table: &PackingTable, periodic: bool) -> Vec<String> {
     let row = |i: usize| format!("row {}", i + 1);
     let mut lines = vec![format!(
         "{table}, porosity {:.4} (solid {:.4} of {:.4} mm²)",
@@ -375,20 +375,31 @@ fn findings(c: &Check, table: &PackingTable) -> Vec<String> {
             count(c.malformed, "disk", "disks")
         ));
     }
+    let images = if periodic {
+        ", images across the periodic edges included"
+    } else {
+        ""
+    };
     lines.push(match c.worst_overlap {
-        None => format!("overlaps: none (tolerance {OVERLAP_REL:.0e} of the radii sum)"),
+        None => format!("overlaps: none (tolerance {OVERLAP_REL:.0e} of the radii sum{images})"),
         Some((a, b, depth)) => format!(
-            "overlaps: {}; the deepest {depth:.2e} of the radii sum ({} and {})",
+            "overlaps: {}{images}; the deepest {depth:.2e} of the radii sum ({} and {})",
             count(c.overlaps, "pair", "pairs"),
             row(a),
             row(b)
         ),
     });
-    lines.push(match c.worst_outside {
-        None => "containment: every disk inside the domain".to_owned(),
-        Some((i, by)) => format!(
+    lines.push(match (c.worst_outside, periodic) {
+        (None, false) => "containment: every disk inside the domain".to_owned(),
+        (None, true) => "containment: every centre inside the periodic cell".to_owned(),
+        (Some((i, by)), false) => format!(
             "containment: {} outside; the farthest by {by:.3e} mm ({})",
             count(c.outside, "disk reaches", "disks reach"),
+            row(i)
+        ),
+        (Some((i, by)), true) => format!(
+            "containment: {} outside the periodic cell; the farthest by {by:.3e} mm ({})",
+            count(c.outside, "centre lies", "centres lie"),
             row(i)
         ),
     });

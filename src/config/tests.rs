@@ -223,7 +223,7 @@ fn unknown_shape_lists_the_valid_ones() {
 fn walls_and_wall_disk() {
     fails_with(
         &rect("width = 20\nheight = 30\nwalls = \"soft\"", ""),
-        "t.toml:5:9: domain.walls: unknown wall model \"soft\"; valid: exact, disks",
+        "t.toml:5:9: domain.walls: unknown wall model \"soft\"; valid: exact, disks, periodic",
     );
     fails_with(
         &rect("width = 20\nheight = 30\nwall_disk = 1", ""),
@@ -235,6 +235,70 @@ fn walls_and_wall_disk() {
             "",
         ),
         "t.toml:6:13: domain.wall_disk: must be a positive finite number, got -2",
+    );
+}
+
+#[test]
+fn periodic_walls_make_a_rectangle_a_periodic_cell() {
+    let scene = parse(
+        &rect("width = 20\nheight = 30\nwalls = \"periodic\"", ""),
+        "t",
+    )
+    .expect("valid config")
+    .scene;
+    assert_eq!(scene.walls, WallMode::Periodic);
+    let period = scene.domain.period().expect("a periodic cell");
+    assert_eq!((period.x, period.y), (20.0, 30.0));
+    // Any other wall model keeps the rectangle's walls.
+    let walled = parse(&rect("width = 20\nheight = 30", ""), "t").expect("valid");
+    assert!(!walled.scene.domain.is_periodic());
+    // Its default [compare] leaves out deposition, which needs a floor.
+    let methods = parse(
+        &rect("width = 20\nheight = 30\nwalls = \"periodic\"", ""),
+        "t",
+    )
+    .expect("valid")
+    .compare
+    .methods;
+    assert!(!methods.contains(&crate::packer::Method::Deposition));
+    assert!(methods.contains(&crate::packer::Method::Rsa));
+}
+
+#[test]
+fn periodic_walls_are_refused_where_they_make_no_cell() {
+    fails_with(
+        "[domain]\nshape = \"circle\"\nradius = 10\nwalls = \"periodic\"\n[grading]\nconstant = 1\n",
+        "t.toml:4:9: domain.walls: \"periodic\" needs shape = \"rectangle\" (only a rectangle tiles the plane as a periodic cell); shape \"circle\" has walls: use walls = \"exact\" or \"disks\"",
+    );
+    fails_with(
+        &rect(
+            "width = 20\nheight = 30\nwalls = \"periodic\"\nwall_disk = 0.1",
+            "",
+        ),
+        "t.toml:6:13: domain.wall_disk: applies only with walls = \"disks\"",
+    );
+    // A disk could touch another and its image at once.
+    fails_with(
+        &rect("width = 2\nheight = 30\nwalls = \"periodic\"", ""),
+        "t.toml:3:9: domain.width: the periodic cell's shorter side, 2 mm, is less than twice the largest diameter (1.2 mm): a disk could then touch another disk and its image at once, or its own image; pack a larger cell or smaller disks",
+    );
+    fails_with(
+        &rect(
+            "width = 20\nheight = 30\nwalls = \"periodic\"",
+            "[packer]\nmethod = \"deposition\"\n",
+        ),
+        "t.toml:9:10: packer.method: \"deposition\" packs against walls and does not pack periodic cells (domain.walls = \"periodic\"); use \"advancing-front\", \"rsa\" or \"relaxation\"",
+    );
+    fails_with(
+        &rect(
+            "width = 20\nheight = 30\nwalls = \"periodic\"",
+            "[compare]\nmethods = [\"rsa\", \"deposition\"]\n",
+        ),
+        "t.toml:9:19: compare.methods[1]: \"deposition\" packs against walls and does not pack periodic cells (domain.walls = \"periodic\"); leave it out",
+    );
+    fails_with(
+        "[fracture]\nwidth_mm = 2\nheight_m = 0.01\nwalls = \"periodic\"\n[grading]\nconstant = 0.5\n",
+        "t.toml:4:9: fracture.walls: a fracture is bounded by its faces, not a periodic cell; for a bulk sample without walls give a [domain] rectangle with walls = \"periodic\"",
     );
 }
 

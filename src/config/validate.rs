@@ -150,6 +150,7 @@ impl ShapePlan {
 mod fracture;
 mod materials;
 mod output;
+mod periodic;
 
 use fracture::FracturePlan;
 use materials::MaterialPlan;
@@ -268,9 +269,12 @@ impl Validator<'_> {
         };
         let (scene, fracture) = match place {
             Place::Domain(plan, raw_domain) => {
-                let built = self.build_domain(&plan, raw_domain)?;
+                let built = self
+                    .build_domain(&plan, raw_domain)?
+                    .with_periodic(plan.walls == WallMode::Periodic);
                 let scene = scene_of(built, plan.walls, plan.wall_disk);
                 self.check_width(&scene, &plan.width_key, sizes_key.as_ref())?;
+                self.check_periodic(&scene, &raw, &plan.width_key)?;
                 self.check_resolution(&scene, &coordinate_key(&plan, raw_domain))?;
                 self.check_particles(&scene, &plan.width_key, particles.clone())?;
                 let walls = (raw_domain.walls.as_ref(), raw_domain.wall_disk.as_ref());
@@ -352,13 +356,15 @@ impl Validator<'_> {
             self.check_bins(&scene, settings, table)?;
             self.check_layering_memory(&scene, settings, table, limit.clone())?;
         }
+        let compare = self.compare(raw.compare.as_ref())?;
+        let compare = self.periodic_compare(&scene, raw.compare.as_ref(), compare)?;
         Ok(Config {
             scene,
             optimise,
             materials: materials.into_iter().map(|m| m.material).collect(),
             layering,
             fracture,
-            compare: self.compare(raw.compare.as_ref())?,
+            compare,
             output: self.output(raw.output.as_ref())?,
         })
     }
@@ -895,6 +901,7 @@ impl Validator<'_> {
             self.check_area(area, formula, &sizes)?;
         }
         let (walls, wall_disk) = self.walls("domain", d.walls.as_ref(), d.wall_disk.as_ref())?;
+        self.periodic_shape(walls, kind, d)?;
         Ok(DomainPlan {
             shape,
             walls,

@@ -25,6 +25,10 @@ pub enum WallMode {
     Exact,
     /// The boundary discretised into touching disks centred on it, as the thesis does.
     Disks,
+    /// No walls: a rectangle as a periodic cell, each disk crossing an edge
+    /// present again, as its image, across the opposite edge (see
+    /// [`Domain::periodic_rectangle`]).
+    Periodic,
 }
 
 /// The shape a domain was built from, kept for reporting and drawing.
@@ -168,6 +172,8 @@ pub struct Domain {
     centroid: Point,
     bounds: (Point, Point),
     inradius: f64,
+    /// A periodic cell: its edges are not walls (see [`Domain::period`]).
+    periodic: bool,
 }
 
 impl Domain {
@@ -209,6 +215,137 @@ impl Domain {
         let mut domain = Self::polygonal(shape, vertices, Some(0.5 * width.min(height)))?;
         domain.centroid = Point::new(0.5 * width, 0.5 * height);
         Ok(domain)
+    }
+
+    /// Periodic cell `width` × `height`, lower-left corner at the origin: a
+    /// rectangle whose edges are not walls. A disk may cross an edge; it is
+    /// then present, as its image shifted by ±`width` or ±`height`, across
+    /// the opposite one (`walls = "periodic"`).
+    ///
+    /// # Behavior
+    /// The same rectangle as [`Domain::rectangle`] (shape, area, bounds,
+    /// inradius, signed distance to its outline), marked periodic: see
+    /// [`Domain::period`], [`Domain::wrap`] and [`Domain::image_shifts`].
+    /// A packing of it stores each centre in `[0, width) × [0, height)`.
+    ///
+    /// # Returns
+    /// As [`Domain::rectangle`].
+    ///
+    /// # Example
+    /// ```
+    /// use gapack::{Domain, Point};
+    /// let cell = Domain::periodic_rectangle(10.0, 4.0).unwrap();
+    /// assert_eq!(cell.period().map(|p| (p.x, p.y)), Some((10.0, 4.0)));
+    /// assert_eq!(cell.wrap(Point::new(-1.0, 9.0)), Point::new(9.0, 1.0));
+    /// assert!(Domain::rectangle(10.0, 4.0).unwrap().period().is_none());
+    /// ```
+    pub fn periodic_rectangle(width: f64, height: f64) -> Result<Self, GeometryError> {
+        Ok(Domain {
+            periodic: true,
+            ..Self::rectangle(width, height)?
+        })
+    }
+
+    /// This domain as a periodic cell if `periodic` (and it is a rectangle),
+    /// else with walls; a domain of any other shape is returned as it is,
+    /// with walls.
+    ///
+    /// # Example
+    /// ```
+    /// use gapack::{Domain, Point};
+    /// let square = Domain::rectangle(4.0, 4.0).unwrap();
+    /// assert!(square.with_periodic(true).period().is_some());
+    /// assert_eq!(square.with_periodic(true).with_periodic(false), square);
+    /// let disk = Domain::circle(Point::new(0.0, 0.0), 2.0).unwrap();
+    /// assert!(disk.with_periodic(true).period().is_none());
+    /// ```
+    #[must_use]
+    pub fn with_periodic(&self, periodic: bool) -> Domain {
+        let periodic = periodic && matches!(self.shape, Shape::Rectangle { .. });
+        Domain {
+            periodic,
+            ..self.clone()
+        }
+    }
+
+    /// The periods of a periodic cell along x and y (its width and height),
+    /// or `None` for a domain with walls.
+    #[inline]
+    pub fn period(&self) -> Option<Vector2<f64>> {
+        self.periodic.then(|| self.bounds.1 - self.bounds.0)
+    }
+
+    /// Whether the domain is a periodic cell.
+    #[inline]
+    pub fn is_periodic(&self) -> bool {
+        self.periodic
+    }
+
+    /// `p` moved by whole periods into the cell `[min, max)` along each
+    /// axis (a periodic cell); `p` itself for a domain with walls.
+    ///
+    /// # Behavior
+    /// A point already in the cell is returned unchanged, bit for bit. A
+    /// coordinate that rounds onto the upper edge goes to the lower one
+    /// (the same point, one period away), so the result is always in the
+    /// half-open cell.
+    #[inline]
+    pub fn wrap(&self, p: Point) -> Point {
+        if !self.periodic {
+            return p;
+        }
+        let (lo, hi) = self.bounds;
+        Point::new(wrap_axis(p.x, lo.x, hi.x), wrap_axis(p.y, lo.y, hi.y))
+    }
+
+    /// The lattice shifts `s` (whole periods along x and y) whose images
+    /// may meet the box `lo`–`hi`: every centre `c` stored in the cell
+    /// whose image `c + s` lies in the box is found by searching the box
+    /// `lo − s`–`hi − s`, and no other shift gives one. A domain with walls
+    /// gives the zero shift alone.
+    ///
+    /// # Behavior
+    /// Shifts come row by row (y, then x), lowest first; a box inside the
+    /// cell gives the zero shift alone, one across an edge two, one across
+    /// a corner four. A box wider than the cell gives more (each image once).
+    ///
+    /// # Example
+    /// ```
+    /// use gapack::{Domain, Point};
+    /// let cell = Domain::periodic_rectangle(10.0, 10.0).unwrap();
+    /// let shifts: Vec<(f64, f64)> = cell
+    ///     .image_shifts(Point::new(-1.0, 4.0), Point::new(1.0, 6.0))
+    ///     .map(|s| (s.x, s.y))
+    ///     .collect();
+    /// assert_eq!(shifts, [(-10.0, 0.0), (0.0, 0.0)]);
+    /// ```
+    pub fn image_shifts(&self, lo: Point, hi: Point) -> ImageShifts {
+        let Some(period) = self.period() else {
+            return ImageShifts::single();
+        };
+        let (cell_lo, cell_hi) = self.bounds;
+        // Shift k along an axis when [a − k·w, b − k·w] meets [lo, hi].
+        let range = |a: f64, b: f64, lo: f64, hi: f64, w: f64| {
+            let first = ((a - hi) / w).ceil();
+            let last = ((b - lo) / w).floor();
+            if first.is_finite() && last.is_finite() && first <= last {
+                // A box spanning absurdly many periods is cut to what the
+                // cell's neighbours hold; no caller asks for more.
+                let first = first.max(-MAX_SHIFT);
+                let last = last.min(MAX_SHIFT);
+                (first as i64, last as i64)
+            } else {
+                (1, 0)
+            }
+        };
+        let kx = range(lo.x, hi.x, cell_lo.x, cell_hi.x, period.x);
+        let ky = range(lo.y, hi.y, cell_lo.y, cell_hi.y, period.y);
+        ImageShifts {
+            period,
+            kx,
+            ky,
+            next: (kx.0, ky.0),
+        }
     }
 
     /// Simple polygon (either orientation, stored counter-clockwise).
@@ -277,6 +414,7 @@ impl Domain {
             centroid: center,
             bounds: (center - half, center + half),
             inradius: radius,
+            periodic: false,
         })
     }
 
@@ -365,6 +503,7 @@ impl Domain {
             centroid: swap(self.centroid),
             bounds: (swap(self.bounds.0), swap(self.bounds.1)),
             inradius: self.inradius,
+            periodic: self.periodic,
         }
     }
 
@@ -411,6 +550,7 @@ impl Domain {
             centroid: self.centroid + v,
             bounds: (self.bounds.0 + v, self.bounds.1 + v),
             inradius: self.inradius,
+            periodic: self.periodic,
         }
     }
 
@@ -692,7 +832,65 @@ impl Domain {
             reflex,
             area,
             inradius,
+            periodic: false,
         })
+    }
+}
+
+/// Most whole periods [`Domain::image_shifts`] goes along an axis either way.
+const MAX_SHIFT: f64 = 1024.0;
+
+/// `v` moved by whole periods into `[lo, hi)`.
+#[inline]
+fn wrap_axis(v: f64, lo: f64, hi: f64) -> f64 {
+    if v >= lo && v < hi {
+        return v;
+    }
+    let w = hi - lo;
+    let moved = lo + (v - lo).rem_euclid(w);
+    if moved < hi && moved >= lo { moved } else { lo }
+}
+
+/// The shifts of [`Domain::image_shifts`], as vectors (mm).
+#[derive(Debug, Clone)]
+pub struct ImageShifts {
+    period: Vector2<f64>,
+    /// Whole periods along x, first to last (an empty range when first > last).
+    kx: (i64, i64),
+    ky: (i64, i64),
+    /// The next (x, y) shift in periods.
+    next: (i64, i64),
+}
+
+impl ImageShifts {
+    /// The zero shift alone (a domain with walls).
+    fn single() -> Self {
+        ImageShifts {
+            period: Vector2::zeros(),
+            kx: (0, 0),
+            ky: (0, 0),
+            next: (0, 0),
+        }
+    }
+}
+
+impl Iterator for ImageShifts {
+    type Item = Vector2<f64>;
+
+    fn next(&mut self) -> Option<Vector2<f64>> {
+        let (i, j) = self.next;
+        if j > self.ky.1 || self.kx.0 > self.kx.1 {
+            return None;
+        }
+        self.next = if i < self.kx.1 {
+            (i + 1, j)
+        } else {
+            (self.kx.0, j + 1)
+        };
+        Some(Vector2::new(
+            i as f64 * self.period.x,
+            j as f64 * self.period.y,
+        ))
     }
 }
 
@@ -869,6 +1067,68 @@ mod tests {
         assert_eq!(l_shape().area_in_box(10.0, 20.0, 10.0, 20.0), 0.0);
         assert_eq!(l_shape().area_in_box(6.0, 10.0, 6.0, 10.0), 12.0);
         assert_eq!(circle.area_in_box(9.0, 10.0, -2.0, 0.0), 0.0);
+    }
+
+    #[test]
+    fn a_periodic_cell_wraps_points_into_itself_and_lists_the_images_near_a_box() {
+        let cell = Domain::periodic_rectangle(10.0, 4.0).unwrap();
+        assert_eq!(cell.shape(), Domain::rectangle(10.0, 4.0).unwrap().shape());
+        assert_eq!(cell.area(), 40.0);
+        // Inside: unchanged, bit for bit; on the upper edge: the lower one.
+        let inside = Point::new(0.1 + 0.2, 3.999_999_999_999_999);
+        assert_eq!(cell.wrap(inside), inside);
+        assert_eq!(cell.wrap(Point::new(10.0, 4.0)), Point::new(0.0, 0.0));
+        assert_eq!(cell.wrap(Point::new(-2.5, 9.0)), Point::new(7.5, 1.0));
+        // A tiny negative coordinate rounds onto the upper edge: the lower one.
+        let p = cell.wrap(Point::new(-1e-17, -1e-17));
+        assert!(p.x >= 0.0 && p.x < 10.0 && p.y >= 0.0 && p.y < 4.0, "{p:?}");
+        // A domain with walls wraps nothing and has one shift, zero.
+        let walled = Domain::rectangle(10.0, 4.0).unwrap();
+        assert_eq!(walled.wrap(Point::new(-2.5, 9.0)), Point::new(-2.5, 9.0));
+        let far = (Point::new(-30.0, -30.0), Point::new(30.0, 30.0));
+        assert_eq!(
+            walled.image_shifts(far.0, far.1).collect::<Vec<_>>(),
+            [Vector2::zeros()]
+        );
+        let shifts = |lo: (f64, f64), hi: (f64, f64)| -> Vec<(f64, f64)> {
+            cell.image_shifts(Point::new(lo.0, lo.1), Point::new(hi.0, hi.1))
+                .map(|v| (v.x, v.y))
+                .collect()
+        };
+        assert_eq!(shifts((4.0, 1.0), (6.0, 3.0)), [(0.0, 0.0)]);
+        // Across the right edge: the centres stored near x = 0 are images at x + 10.
+        assert_eq!(shifts((9.0, 1.0), (11.0, 3.0)), [(0.0, 0.0), (10.0, 0.0)]);
+        assert_eq!(
+            shifts((-1.0, -1.0), (1.0, 1.0)),
+            [(-10.0, -4.0), (0.0, -4.0), (-10.0, 0.0), (0.0, 0.0)]
+        );
+        // A box wider than two cells: the images at −10 (of x near 10) to
+        // +20 (of x near 0) may lie in it, each once.
+        assert_eq!(shifts((-1.0, 1.0), (21.0, 2.0)).len(), 4);
+        // Brute force: every centre of the cell whose image lies in a box is found.
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
+        for _ in 0..2000 {
+            let c = Point::new(rng.gen_range(0.0..10.0), rng.gen_range(0.0..4.0));
+            let (x, y) = (rng.gen_range(-15.0..25.0), rng.gen_range(-6.0..10.0));
+            let half = rng.gen_range(0.0..6.0);
+            let (lo, hi) = (
+                Point::new(x - half, y - half),
+                Point::new(x + half, y + half),
+            );
+            for kx in -4..=4 {
+                for ky in -4..=4 {
+                    let v = Vector2::new(10.0 * f64::from(kx), 4.0 * f64::from(ky));
+                    let q = c + v;
+                    if q.x >= lo.x && q.x <= hi.x && q.y >= lo.y && q.y <= hi.y {
+                        assert!(cell.image_shifts(lo, hi).any(|s| s == v), "{c:?} {v:?}");
+                    }
+                }
+            }
+        }
+        // Transposed, it stays a periodic cell; with walls again, a rectangle.
+        let t = cell.transposed();
+        assert_eq!(t.period(), Some(Vector2::new(4.0, 10.0)));
+        assert_eq!(cell.with_periodic(false), walled);
     }
 
     #[test]

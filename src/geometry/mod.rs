@@ -7,4 +7,4 @@ mod polygon;
 pub mod predicates;
 
 pub use disk::{Disk, Point};
-pub use domain::{Domain, GeometryError, Shape, Wall, WallMode};
+pub use domain::{Domain, GeometryError, ImageShifts, Shape, Wall, WallMode};

@@ -511,11 +511,19 @@ impl Running<'_> {
             Search::start(&problem, limits, plan.seed(), &stop).map_err(|_| JobError::Cancelled)?
         };
         let initial_range = span(PorosityProblem::range(search.initial()));
+        // A target below every porosity the advancing front packed in
+        // generation 0, beyond its tolerance: the densify method packs the
+        // drawn sizes at it directly (docs/densify.md), no search needed;
+        // not in a periodic cell, which densify does not pack (yet).
+        let dense_route = !resume
+            && !scene.domain.is_periodic()
+            && initial_range
+                .is_some_and(|[lo, _]| settings.target_porosity < lo - settings.tolerance);
         if !resume && initial_range.is_none_or(|r| !problem.feasible(r)) {
             self.event(Event::Warning(Warning {
                 kind: WarningKind::TargetOutsideInitialRange,
                 message: match initial_range {
-                    Some([lo, hi]) if settings.target_porosity < lo - settings.tolerance => format!(
+                    Some([lo, hi]) if dense_route => format!(
                         "optimise.target_porosity = {} lies below the range of the initial population, [{lo:.4}, {hi:.4}]: the densify method packs the drawn sizes at it (docs/densify.md)",
                         settings.target_porosity
                     ),
@@ -530,12 +538,6 @@ impl Running<'_> {
                 },
             }));
         }
-        // A target below every porosity the advancing front packed in
-        // generation 0, beyond its tolerance: the densify method packs the
-        // drawn sizes at it directly (docs/densify.md), no search needed.
-        let dense_route = !resume
-            && initial_range
-                .is_some_and(|[lo, _]| settings.target_porosity < lo - settings.tolerance);
         self.event(Event::Stage {
             stage: Stage::Optimise,
             total: Some(if dense_route {

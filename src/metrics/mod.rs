@@ -4,6 +4,11 @@
 //! Every porosity in the crate is [`porosity`] of a solid area (a
 //! [`solid_area`] when whole disks count), and every coordination number
 //! is a [`coordination`] of contacts found by one neighbour visit.
+//!
+//! A periodic cell ([`crate::Domain::periodic_rectangle`]) is measured with
+//! the images of its disks: contacts and overlaps across the edges count,
+//! windows and holes near an edge see the disks across it, and each disk's
+//! area counts once.
 
 mod contacts;
 pub(crate) mod near;
@@ -18,6 +23,8 @@ use std::ops::ControlFlow;
 use crate::Scene;
 use crate::cancel::{Cancel, Cancelled};
 use crate::geometry::predicates::{CONTACT_REL, area_disk_box, overlap_disk_disk};
+use nalgebra::Vector2;
+
 use crate::geometry::{Disk, Point};
 use crate::packer::Packing;
 use crate::packer::index::{Grid, SpatialIndex};
@@ -46,15 +53,18 @@ pub struct Metrics {
     pub psd_ks: f64,
     /// Largest overlap between two disks (packed or wall), relative to the sum of their radii; 0 if none.
     pub max_overlap: f64,
-    /// Smallest distance from a disk's edge to the domain boundary (mm); negative means outside.
+    /// Smallest distance from a disk's edge to the domain boundary (mm);
+    /// negative means outside. NaN in a periodic cell, which has no walls.
     pub min_wall_clearance: f64,
-    /// Mean number of disk–disk contacts per packed disk (gap within 1e-6 of the radii sum).
+    /// Mean number of disk–disk contacts per packed disk (gap within 1e-6
+    /// of the radii sum), contacts across a periodic cell's edges included.
     pub coordination: f64,
     /// Packed disks that float: touching no other disk (packed or wall disk)
     /// and no wall, within the contact gap.
     pub isolated: usize,
     /// Standard deviation of local porosity over square windows of about 5·d_max
-    /// that lie wholly inside the domain; NaN when fewer than two fit.
+    /// that lie wholly inside the domain (in a periodic cell, with the
+    /// images of the disks across its edges); NaN when fewer than two fit.
     pub local_porosity_std: f64,
     /// Number of local-porosity windows.
     pub local_windows: usize,
@@ -156,27 +166,39 @@ pub fn measure_cancellable(
     let mut contacts = 0usize;
     let mut touched = vec![false; all.len()];
     let mut min_wall_clearance = f64::INFINITY;
+    let periodic = domain.is_periodic();
     for (i, d) in all.iter().enumerate().skip(nb) {
         if i % POLL_EVERY == 0 {
             cancel.check()?;
         }
-        let clearance = domain.signed_distance(d.c) - d.r;
-        min_wall_clearance = min_wall_clearance.min(clearance);
-        touched[i] |= clearance <= CONTACT_REL * d.r;
-        // Each packed pair once (j < i); wall disks against every packed disk.
-        near.visit(d.c, d.r, |j| {
-            if j >= i {
-                return;
-            }
-            let o = all[j];
-            let overlap = overlap_disk_disk(d.c, d.r, o.c, o.r);
-            max_overlap = max_overlap.max(overlap);
-            if overlap >= -CONTACT_REL {
-                touched[i] = true;
-                touched[j] = true;
-                contacts += usize::from(j >= nb);
-            }
-        });
+        if !periodic {
+            let clearance = domain.signed_distance(d.c) - d.r;
+            min_wall_clearance = min_wall_clearance.min(clearance);
+            touched[i] |= clearance <= CONTACT_REL * d.r;
+        }
+        // Each packed pair once (j < i); wall disks against every packed
+        // disk. In a periodic cell, every image of the disks of lower index
+        // that reaches this one, and its own images once per opposite pair.
+        for v in images_near(domain, d.c, d.r + r_max) {
+            let zero = v == Vector2::zeros();
+            near.visit(d.c - v, d.r, |j| {
+                if j > i || (j == i && (zero || (v.y, v.x) < (0.0, 0.0))) {
+                    return;
+                }
+                let o = all[j];
+                let at = if zero { o.c } else { o.c + v };
+                let overlap = overlap_disk_disk(d.c, d.r, at, o.r);
+                max_overlap = max_overlap.max(overlap);
+                if overlap >= -CONTACT_REL {
+                    touched[i] = true;
+                    touched[j] = true;
+                    contacts += usize::from(j >= nb);
+                }
+            });
+        }
+    }
+    if periodic {
+        min_wall_clearance = f64::NAN;
     }
     let n = disks.len();
     let isolated = touched[nb..].iter().filter(|&&t| !t).count();
@@ -189,7 +211,11 @@ pub fn measure_cancellable(
         porosity: porosity(solid_area, domain_area),
         psd_ks: psd_ks(packing, scene),
         max_overlap,
-        min_wall_clearance: if n == 0 { 0.0 } else { min_wall_clearance },
+        min_wall_clearance: if n == 0 && !periodic {
+            0.0
+        } else {
+            min_wall_clearance
+        },
         // Each pair has two ends.
         coordination: coordination(2 * contacts, n),
         isolated,
@@ -234,12 +260,15 @@ fn local_porosity(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64) -> (
                 Point::new(x0 - r_max, y0 - r_max),
                 Point::new(x1 + r_max, y1 + r_max),
             );
-            grid.visit_box(qlo, qhi, |j| {
-                if j as usize >= nb {
-                    let d = all[j as usize];
-                    solid += area_disk_box(d.c, d.r, x0, x1, y0, y1);
-                }
-            });
+            // The images of the disks across a periodic cell's edges too.
+            for v in domain.image_shifts(qlo, qhi) {
+                grid.visit_box(qlo - v, qhi - v, |j| {
+                    if j as usize >= nb {
+                        let d = all[j as usize];
+                        solid += area_disk_box(image(d.c, v), d.r, x0, x1, y0, y1);
+                    }
+                });
+            }
             values.push(porosity(solid, w * w));
         }
     }
@@ -269,9 +298,15 @@ fn clearance_above(
     r_max: f64,
     p: Point,
     floor: f64,
-    settler: &mut usize,
+    settler: &mut (usize, Vector2<f64>),
 ) -> f64 {
-    let wall = packing.domain.signed_distance(p);
+    let domain = &packing.domain;
+    // A periodic cell has no wall.
+    let wall = if domain.is_periodic() {
+        f64::INFINITY
+    } else {
+        domain.signed_distance(p)
+    };
     if wall <= floor {
         return wall;
     }
@@ -285,18 +320,25 @@ fn clearance_above(
     let mut half = near.finest_r_max().max(reach / 1024.0);
     loop {
         let mut found = f64::INFINITY;
-        let settled = near.try_visit(p, half, |j| {
-            #[cfg(test)]
-            tests::CANDIDATES.with(|c| c.set(c.get() + 1));
-            let d = all[j];
-            found = found.min((p - d.c).norm() - d.r);
-            if found <= floor {
-                *settler = j;
-                ControlFlow::Break(())
-            } else {
-                ControlFlow::Continue(())
+        let mut settled = ControlFlow::Continue(());
+        for v in images_near(domain, p, half + r_max) {
+            settled = near.try_visit(p - v, half, |j| {
+                #[cfg(test)]
+                tests::CANDIDATES.with(|c| c.set(c.get() + 1));
+                let d = all[j];
+                let at = if v == Vector2::zeros() { d.c } else { d.c + v };
+                found = found.min((p - at).norm() - d.r);
+                if found <= floor {
+                    *settler = (j, v);
+                    ControlFlow::Break(())
+                } else {
+                    ControlFlow::Continue(())
+                }
+            });
+            if settled.is_break() {
+                break;
             }
-        });
+        }
         best = best.min(found);
         // A disk not visited lies farther than `half` plus its class's
         // largest radius from `p` along an axis: its edge is beyond `half`.
@@ -305,6 +347,21 @@ fn clearance_above(
         }
         half *= 2.0;
     }
+}
+
+/// The lattice shifts whose images of the disks may reach within `reach`
+/// of `p` along each axis ([`crate::Domain::image_shifts`]): the zero shift
+/// alone in a domain with walls.
+fn images_near(domain: &crate::Domain, p: Point, reach: f64) -> crate::geometry::ImageShifts {
+    domain.image_shifts(
+        Point::new(p.x - reach, p.y - reach),
+        Point::new(p.x + reach, p.y + reach),
+    )
+}
+
+/// `c` shifted by `v`; `c` itself for the zero shift.
+fn image(c: Point, v: Vector2<f64>) -> Point {
+    if v == Vector2::zeros() { c } else { c + v }
 }
 
 /// Grid points per packed disk the largest-hole search samples at most.
@@ -347,19 +404,20 @@ fn largest_hole(
     let ny = ((hi.y - lo.y) / step).ceil() as usize;
     // Neighbouring samples are mostly settled by the same disk: trying it
     // first skips the grid query (a skipped sample is no better than `best`).
-    let mut settler = usize::MAX;
+    let mut settler = (usize::MAX, Vector2::zeros());
+    let periodic = packing.domain.is_periodic();
     for iy in 0..=ny {
         for ix in 0..=nx {
             if ix % POLL_EVERY == 0 {
                 cancel.check()?;
             }
             let p = Point::new(lo.x + ix as f64 * step, lo.y + iy as f64 * step);
-            if let Some(d) = all.get(settler)
-                && (p - d.c).norm() - d.r <= best.0
+            if let Some(d) = all.get(settler.0)
+                && (p - image(d.c, settler.1)).norm() - d.r <= best.0
             {
                 continue;
             }
-            if packing.domain.signed_distance(p) <= 0.0 {
+            if !periodic && packing.domain.signed_distance(p) <= 0.0 {
                 continue;
             }
             let c = clearance_above(packing, near, all, r_max, p, best.0, &mut settler);

@@ -51,6 +51,10 @@ pub struct PorosityMap {
 /// noisy to read. Overlapping disks (relaxation leaves a few) count twice,
 /// which is why values are clamped to [0, 1].
 ///
+/// In a periodic cell a disk crossing an edge is counted where each of its
+/// images lies, clipped to the cell: the cells' solid areas still add up
+/// to the packing's.
+///
 /// # Performance
 /// A cell is at least 5 diameters wide, so a disk meets at most four cells
 /// and is visited once: O(disks + cells × boundary vertices), no index.
@@ -94,19 +98,38 @@ fn map_with_areas(packing: &Packing) -> (PorosityMap, Vec<f64>, Vec<f64>) {
     // Index of the cell column (row) holding `v` along x (y), clamped to the grid.
     let index =
         |v: f64, o: f64, n: usize| ((v - o) / cell).floor().clamp(0.0, (n - 1) as f64) as usize;
+    let periodic = domain.is_periodic();
     for d in &packing.disks {
-        let (c0, c1) = (
-            index(d.c.x - d.r, origin.x, cols),
-            index(d.c.x + d.r, origin.x, cols),
+        // A periodic cell: each image of the disk that crosses into the
+        // cell, clipped to it, so that the disk counts once, whole.
+        let (dlo, dhi) = (
+            Point::new(d.c.x - d.r, d.c.y - d.r),
+            Point::new(d.c.x + d.r, d.c.y + d.r),
         );
-        let (r0, r1) = (
-            index(d.c.y - d.r, origin.y, rows),
-            index(d.c.y + d.r, origin.y, rows),
-        );
-        for row in r0..=r1 {
-            for col in c0..=c1 {
-                let (x0, y0) = corner(col, row);
-                solid[row * cols + col] += area_disk_box(d.c, d.r, x0, x0 + cell, y0, y0 + cell);
+        for v in domain.image_shifts(dlo, dhi) {
+            let c = if periodic { d.c - v } else { d.c };
+            let (c0, c1) = (
+                index(c.x - d.r, origin.x, cols),
+                index(c.x + d.r, origin.x, cols),
+            );
+            let (r0, r1) = (
+                index(c.y - d.r, origin.y, rows),
+                index(c.y + d.r, origin.y, rows),
+            );
+            for row in r0..=r1 {
+                for col in c0..=c1 {
+                    let (x0, y0) = corner(col, row);
+                    let (mut x1, mut y1) = (x0 + cell, y0 + cell);
+                    let (mut x0, mut y0) = (x0, y0);
+                    if periodic {
+                        (x0, x1) = (x0.max(lo.x), x1.min(hi.x));
+                        (y0, y1) = (y0.max(lo.y), y1.min(hi.y));
+                        if x0 >= x1 || y0 >= y1 {
+                            continue;
+                        }
+                    }
+                    solid[row * cols + col] += area_disk_box(c, d.r, x0, x1, y0, y1);
+                }
             }
         }
     }
@@ -189,6 +212,34 @@ mod tests {
                 assert!((v - porosity).abs() < 0.15, "cell {i}: {v} vs {porosity}");
             }
             assert!(v.is_nan() || (0.0..=1.0).contains(v), "cell {i}: {v}");
+        }
+    }
+
+    #[test]
+    fn a_periodic_cell_counts_each_disk_once_whole() {
+        // 43 × 31 mm: partial cells at the edges, disks crossing every edge.
+        let grading = Grading::uniform(0.5, 1.5, Basis::Number).expect("grading");
+        let domain = Domain::periodic_rectangle(43.0, 31.0).expect("cell");
+        let scene = Scene::new(domain, grading)
+            .with_walls(crate::geometry::WallMode::Periodic)
+            .with_seed(7);
+        let p = pack(&scene).expect("packs");
+        let crossing = p
+            .disks
+            .iter()
+            .filter(|d| d.c.x < d.r || d.c.x > 43.0 - d.r)
+            .count();
+        assert!(crossing > 5, "{crossing}");
+        let (_, solid, inside) = map_with_areas(&p);
+        let total: f64 = p.disks.iter().map(Disk::area).sum();
+        let summed: f64 = solid.iter().sum();
+        assert!(
+            ((summed - total) / total).abs() < 1e-9,
+            "{summed} vs {total}"
+        );
+        // No cell holds more solid than its part of the cell.
+        for (s, a) in solid.iter().zip(&inside) {
+            assert!(*s <= a * (1.0 + 1e-9), "{s} > {a}");
         }
     }
 

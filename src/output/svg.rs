@@ -46,6 +46,10 @@ pub fn diameter_range(packing: &Packing) -> (f64, f64) {
 /// The `viewBox` is in mm with y pointing up (flipped), plus a small margin;
 /// the drawing is 800 px wide. Numbers are written with 4 decimals (0.1 µm),
 /// so the same packing always gives the same text.
+///
+/// A periodic cell is outlined dashed, and a disk crossing its edges is
+/// drawn again at each image that reaches into it, every disk clipped to
+/// the cell (the title says so).
 pub fn packing_svg(packing: &Packing, materials: &[Material], diameters: (f64, f64)) -> String {
     let outline = packing.domain.outline(CIRCLE_SEGMENTS);
     let (lo, hi) = frame(&outline, packing);
@@ -79,11 +83,17 @@ pub fn packing_svg(packing: &Packing, materials: &[Material], diameters: (f64, f
     } else {
         Vec::new()
     };
+    let periodic = packing.domain.is_periodic();
     let _ = writeln!(
         svg,
-        "<title>gapack: {} disks, {} wall disks (mm, y up){}</title>",
+        "<title>gapack: {} disks, {} wall disks (mm, y up){}{}</title>",
         packing.disks.len(),
         packing.boundary.len(),
+        if periodic {
+            "; periodic cell (dashed): a disk crossing an edge is drawn again across the opposite one"
+        } else {
+            ""
+        },
         if legend.is_empty() {
             String::new()
         } else {
@@ -94,11 +104,24 @@ pub fn packing_svg(packing: &Packing, materials: &[Material], diameters: (f64, f
         .iter()
         .map(|p| format!("{},{}", num(p.x), num(flip(p.y))))
         .collect();
-    let _ = writeln!(
-        svg,
-        r#"<polygon points="{}" fill="white" stroke="black" stroke-width="{stroke}"/>"#,
-        points.join(" ")
-    );
+    if periodic {
+        let _ = writeln!(
+            svg,
+            r#"<defs><clipPath id="cell"><polygon points="{}"/></clipPath></defs>"#,
+            points.join(" ")
+        );
+        let _ = writeln!(
+            svg,
+            r#"<polygon points="{}" fill="white"/>"#,
+            points.join(" ")
+        );
+    } else {
+        let _ = writeln!(
+            svg,
+            r#"<polygon points="{}" fill="white" stroke="black" stroke-width="{stroke}"/>"#,
+            points.join(" ")
+        );
+    }
     if !packing.boundary.is_empty() {
         let _ = writeln!(
             svg,
@@ -111,18 +134,61 @@ pub fn packing_svg(packing: &Packing, materials: &[Material], diameters: (f64, f
         }
         let _ = writeln!(svg, "</g>");
     }
+    let clip = if periodic {
+        r#" clip-path="url(#cell)""#
+    } else {
+        ""
+    };
     let _ = writeln!(
         svg,
-        r##"<g stroke="{}" stroke-width="{stroke}">"##,
+        r##"<g stroke="{}" stroke-width="{stroke}"{clip}>"##,
         hex(DISK_EDGE)
     );
     for (i, disk) in packing.disks.iter().enumerate() {
         let fill = hex(disk_fill(packing, i, by_material, diameters));
-        let _ = writeln!(svg, r#"{} fill="{fill}"/>"#, circle(disk, flip(disk.c.y)));
+        for at in drawn_images(packing, disk) {
+            let _ = writeln!(svg, r#"{} fill="{fill}"/>"#, circle(&at, flip(at.c.y)));
+        }
     }
     let _ = writeln!(svg, "</g>");
+    if periodic {
+        // Drawn over the disks, 1 px wide in dashes of 8 px.
+        let (wide, dash) = (num(2.0 * STROKE_PX * w / WIDTH_PX), num(8.0 * w / WIDTH_PX));
+        let _ = writeln!(
+            svg,
+            r#"<polygon points="{}" fill="none" stroke="black" stroke-width="{wide}" stroke-dasharray="{dash}"/>"#,
+            points.join(" ")
+        );
+    }
     let _ = writeln!(svg, "</svg>");
     svg
+}
+
+/// The copies of `disk` a drawing shows: the disk itself; in a periodic
+/// cell, each of its images that reaches into the cell (the disk first
+/// when it is one of them).
+pub(super) fn drawn_images(packing: &Packing, disk: &Disk) -> impl Iterator<Item = Disk> {
+    let domain = &packing.domain;
+    let shifts: Vec<_> = if domain.is_periodic() {
+        let (lo, hi) = (
+            Point::new(disk.c.x - disk.r, disk.c.y - disk.r),
+            Point::new(disk.c.x + disk.r, disk.c.y + disk.r),
+        );
+        let mut shifts: Vec<_> = domain.image_shifts(lo, hi).collect();
+        shifts.sort_by_key(|v| *v != nalgebra::Vector2::zeros());
+        shifts
+    } else {
+        vec![nalgebra::Vector2::zeros()]
+    };
+    let disk = *disk;
+    shifts.into_iter().map(move |v| Disk {
+        c: if v == nalgebra::Vector2::zeros() {
+            disk.c
+        } else {
+            disk.c - v
+        },
+        r: disk.r,
+    })
 }
 
 /// Fill of the wall disks (light grey).
@@ -152,10 +218,15 @@ pub(super) fn disk_fill(
     }
 }
 
-/// The box drawn (mm): the outline and every disk, plus a margin of
-/// [`MARGIN`] of the shorter side all round.
+/// The box drawn (mm): the outline and every disk (a periodic cell: the
+/// outline, the disks being clipped to it), plus a margin of [`MARGIN`] of
+/// the shorter side all round.
 pub(super) fn frame(outline: &[Point], packing: &Packing) -> (Point, Point) {
-    let (lo, hi) = extent(outline, packing);
+    let (lo, hi) = if packing.domain.is_periodic() {
+        packing.domain.bounds()
+    } else {
+        extent(outline, packing)
+    };
     let margin = MARGIN * (hi.x - lo.x).min(hi.y - lo.y);
     (
         Point::new(lo.x - margin, lo.y - margin),

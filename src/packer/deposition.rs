@@ -42,10 +42,18 @@ const EPS: f64 = 1e-9;
 ///
 /// # Errors
 /// [`PackError::DomainTooNarrow`] when no disk of the grading fits;
-/// [`PackError::TooManyWallDisks`] when the wall disks would be too many.
+/// [`PackError::TooManyWallDisks`] when the wall disks would be too many;
+/// [`PackError::PeriodicMethod`] for a periodic cell (disks fall onto a floor).
 pub fn pack_deposition(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackError> {
     let stopped = Cell::new(None);
     check_fits(scene)?;
+    // `check_fits` refuses a periodic cell for this method; one packed with
+    // another method's settings is refused here.
+    if scene.domain.is_periodic() {
+        return Err(PackError::PeriodicMethod {
+            method: "deposition",
+        });
+    }
     let mut placed = Placed::new(scene);
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(scene.seed ^ POSITION_STREAM);
     let (lo, hi) = scene.domain.bounds();

@@ -22,6 +22,8 @@ pub use packing::{PackError, PackStats, Packing};
 pub use relaxation::pack_relaxation;
 pub use rsa::pack_rsa;
 
+pub(crate) use placed::packs_periodic;
+
 use crate::Scene;
 use crate::cancel::Cancel;
 
@@ -46,7 +48,7 @@ pub(crate) fn wall_disk_count(scene: &Scene) -> usize {
             .domain
             .boundary_disk_count(scene.wall_disk())
             .unwrap_or(0),
-        crate::geometry::WallMode::Exact => 0,
+        crate::geometry::WallMode::Exact | crate::geometry::WallMode::Periodic => 0,
     }
 }
 

@@ -99,6 +99,41 @@ pub enum PackError {
         /// The most wall disks allowed.
         max: usize,
     },
+    /// `walls = "periodic"` on a domain that is not a periodic cell (a
+    /// rectangle: [`Domain::periodic_rectangle`]).
+    #[error(
+        "walls = \"periodic\" needs a rectangle, the periodic cell; a {shape} has walls (use walls = \"exact\" or \"disks\", or a rectangle)"
+    )]
+    NotPeriodic {
+        /// The domain's shape, as a config names it.
+        shape: &'static str,
+    },
+    /// A periodic cell ([`Domain::periodic_rectangle`]) packed with walls.
+    #[error(
+        "the domain is a periodic cell but walls = \"{walls}\": a periodic cell has no walls; set walls = \"periodic\" (Scene::with_walls)"
+    )]
+    PeriodicWalls {
+        /// The wall model given, as a config names it.
+        walls: &'static str,
+    },
+    /// A periodic cell narrower than twice the largest diameter.
+    #[error(
+        "the periodic cell's shorter side, {side} mm, is less than twice the largest diameter ({d_max} mm): a disk could then touch another disk and its image at once, or its own image; pack a larger cell or smaller disks"
+    )]
+    PeriodicCellTooSmall {
+        /// The cell's shorter side (mm).
+        side: f64,
+        /// Largest diameter of the grading (mm).
+        d_max: f64,
+    },
+    /// A method that packs against walls asked to pack a periodic cell.
+    #[error(
+        "method \"{method}\" packs against walls and does not pack periodic cells; use method = \"advancing-front\", \"rsa\" or \"relaxation\" with walls = \"periodic\""
+    )]
+    PeriodicMethod {
+        /// The method, as a config names it.
+        method: &'static str,
+    },
     /// The run was cancelled, or its time cap passed, before it finished.
     #[error("{0}")]
     Cancelled(#[from] crate::cancel::Cancelled),

@@ -7,11 +7,12 @@ use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
 use super::index::{Grid, SpatialIndex};
-use super::{PackError, PackStats, Packing, size_count};
+use super::{Method, PackError, PackStats, Packing, size_count};
 use crate::Scene;
 use crate::cancel::{Cancel, Cancelled};
 use crate::geometry::predicates::{FEASIBLE_REL, clear_disk_walls};
 use crate::geometry::{Disk, Domain, Point, WallMode};
+use crate::names::ConfigName;
 
 /// Stream offset so positions never share random numbers with the sizes.
 pub(super) const POSITION_STREAM: u64 = 0xD1B5_4A32_D192_ED03;
@@ -54,8 +55,11 @@ pub(super) fn unless_stopped(
 
 /// Refuse, for every method, a scene no disk of the grading fits
 /// in, and one whose wall disks would be too many to make (packing it
-/// without them would leave the walls out unannounced).
+/// without them would leave the walls out unannounced); and a periodic
+/// model that is not a periodic cell (walls on it, another shape), or a
+/// cell under twice the largest diameter.
 pub(super) fn check_fits(scene: &Scene) -> Result<(), PackError> {
+    check_periodic(scene)?;
     let (inscribed, d_min) = (scene.inscribed_diameter(), scene.d_min());
     if inscribed < d_min {
         return Err(PackError::DomainTooNarrow { inscribed, d_min });
@@ -66,6 +70,45 @@ pub(super) fn check_fits(scene: &Scene) -> Result<(), PackError> {
             diameter,
             max: Domain::MAX_BOUNDARY_DISKS,
         });
+    }
+    Ok(())
+}
+
+/// Whether `method` packs periodic cells: the advancing front, and the
+/// comparison generators that need no wall (`rsa`, `relaxation`); any
+/// other (deposition drops disks onto a floor) is refused one.
+pub(crate) fn packs_periodic(method: Method) -> bool {
+    matches!(
+        method,
+        Method::AdvancingFront | Method::Rsa | Method::Relaxation
+    )
+}
+
+/// The periodic model's own refusals (see [`check_fits`]).
+fn check_periodic(scene: &Scene) -> Result<(), PackError> {
+    let periodic = scene.walls == WallMode::Periodic;
+    if periodic != scene.domain.is_periodic() {
+        return Err(if periodic {
+            PackError::NotPeriodic {
+                shape: scene.domain.shape().config_name(),
+            }
+        } else {
+            PackError::PeriodicWalls {
+                walls: scene.walls.config_name(),
+            }
+        });
+    }
+    if let Some(period) = scene.domain.period() {
+        let (side, d_max) = (period.x.min(period.y), scene.d_max());
+        if side < 2.0 * d_max {
+            return Err(PackError::PeriodicCellTooSmall { side, d_max });
+        }
+        let method = scene.packer.method;
+        if !packs_periodic(method) {
+            return Err(PackError::PeriodicMethod {
+                method: method.config_name(),
+            });
+        }
     }
     Ok(())
 }
@@ -92,7 +135,7 @@ impl<'a> Placed<'a> {
         let domain = &scene.domain;
         let disks = match scene.walls {
             WallMode::Disks => domain.boundary_disks(scene.wall_disk()),
-            WallMode::Exact => Vec::new(),
+            WallMode::Exact | WallMode::Periodic => Vec::new(),
         };
         let wall_r = disks.iter().fold(0.0f64, |m, d| m.max(d.r));
         let r_max = wall_r.max(scene.d_max() / 2.0);
@@ -115,17 +158,28 @@ impl<'a> Placed<'a> {
         }
     }
 
-    /// Whether a disk of radius `r` at `p` is inside the domain and clear of every disk.
+    /// Whether a disk of radius `r` at `p` is inside the domain and clear
+    /// of every disk; in a periodic cell, of every disk's images too (and
+    /// no wall).
     pub fn clear(&self, p: Point, r: f64) -> bool {
         let slack = 1.0 - FEASIBLE_REL;
-        if !clear_disk_walls(self.domain, p, r) {
-            return false;
-        }
         let half = r + self.r_max;
         let (lo, hi) = (
             Point::new(p.x - half, p.y - half),
             Point::new(p.x + half, p.y + half),
         );
+        if self.domain.is_periodic() {
+            return !self.domain.image_shifts(lo, hi).any(|v| {
+                self.grid.any_in_box(lo - v, hi - v, |id| {
+                    let o = self.disks[id as usize];
+                    let s = (r + o.r) * slack;
+                    (o.c + v - p).norm_squared() < s * s
+                })
+            });
+        }
+        if !clear_disk_walls(self.domain, p, r) {
+            return false;
+        }
         !self.grid.any_in_box(lo, hi, |id| {
             let o = self.disks[id as usize];
             let s = (r + o.r) * slack;
@@ -148,6 +202,10 @@ impl<'a> Placed<'a> {
         {
             return Err(error.clone());
         }
+        let d = Disk {
+            c: self.domain.wrap(d.c),
+            r: d.r,
+        };
         self.grid.insert(self.disks.len() as u32, d.c);
         self.disks.push(d);
         Ok(())

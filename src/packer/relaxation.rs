@@ -11,7 +11,9 @@
 //! inside along the wall's normal; the displacements of a sweep are applied
 //! together. The run stops when the largest overlap (relative to the sum of
 //! the radii, or to the radius at a wall) falls below the tolerance, or
-//! after the set number of sweeps. What overlap is left stays in the
+//! after the set number of sweeps. A periodic cell has no wall: its disks
+//! are pushed off every image of the others, and each centre is wrapped
+//! back into the cell after each sweep. What overlap is left stays in the
 //! packing: the metrics report it, nothing hides it.
 
 use std::cell::Cell;
@@ -53,6 +55,7 @@ pub fn pack_relaxation(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackEr
     }
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(scene.seed ^ POSITION_STREAM);
     let (lo, hi) = domain.bounds();
+    let periodic = domain.is_periodic();
     let mut disks: Vec<Disk> = Vec::with_capacity(n);
     for r in radii(scene, cancel, &stopped).take(n) {
         let c = loop {
@@ -122,6 +125,19 @@ pub fn pack_relaxation(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackEr
                     .visit_box(qlo, qhi, |j| repel(j as usize, walls[j as usize], 1.0));
             }
             let (qlo, qhi) = near(r_moving);
+            if periodic {
+                // Every image of every other disk (and of itself) in reach.
+                for v in domain.image_shifts(qlo, qhi) {
+                    grid.visit_box(qlo - v, qhi - v, |k| {
+                        let k = k as usize;
+                        if k != i || v != nalgebra::Vector2::zeros() {
+                            let o = disks[k];
+                            repel(nw + k, Disk { c: o.c + v, r: o.r }, 0.5);
+                        }
+                    });
+                }
+                continue;
+            }
             grid.visit_box(qlo, qhi, |k| {
                 let k = k as usize;
                 if k != i {
@@ -139,6 +155,9 @@ pub fn pack_relaxation(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackEr
         }
         for (d, v) in disks.iter_mut().zip(&push) {
             d.c += v;
+            if periodic {
+                d.c = domain.wrap(d.c);
+            }
         }
     }
     let mut packing = placed.into_packing();

@@ -4,7 +4,9 @@
 //! # Behavior
 //! Sizes come in the order `pack` draws them (same seed, same sizes).
 //! Each tries up to `attempts` centres drawn uniformly over the domain's
-//! bounds; one inside the domain and clear of every disk is kept. The first
+//! bounds; one inside the domain and clear of every disk is kept. In a
+//! periodic cell the centres are drawn over the whole cell, and a spot
+//! must be clear of every disk's images too. The first
 //! size that finds no place stops the run: at that effort the domain is
 //! full (PFC stops the same way when its tries run out). No overlaps; the
 //! packing stays loose (jamming near 0.45 porosity for equal disks), which
@@ -33,9 +35,12 @@ pub fn pack_rsa(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackError> {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(scene.seed ^ POSITION_STREAM);
     let (lo, hi) = scene.domain.bounds();
     let attempts = scene.packer.attempts.max(1);
+    // A disk may cross a periodic cell's edges: its centre anywhere in the cell.
+    let inset = |r: f64| if scene.domain.is_periodic() { 0.0 } else { r };
     for r in radii(scene, cancel, &stopped) {
         placed.stats.sizes_drawn += 1;
-        let (x0, x1, y0, y1) = (lo.x + r, hi.x - r, lo.y + r, hi.y - r);
+        let e = inset(r);
+        let (x0, x1, y0, y1) = (lo.x + e, hi.x - e, lo.y + e, hi.y - e);
         let mut spot = None;
         for _ in 0..attempts {
             placed.stats.front_attempts += 1;

@@ -23,7 +23,9 @@ use crate::grading::Grading;
 pub struct Scene {
     /// The region to fill (mm).
     pub domain: Domain,
-    /// How walls are modelled: exact lines and arcs, or discretised into disks.
+    /// How walls are modelled: exact lines and arcs, discretised into
+    /// disks, or none (a periodic cell, whose domain is then
+    /// [`Domain::periodic_rectangle`]: see [`Scene::with_walls`]).
     pub walls: WallMode,
     /// Diameter of the wall disks for `walls = "disks"`; `None` uses
     /// [`Scene::DEFAULT_WALL_DISK_FRACTION`] of the grading's smallest diameter.
@@ -103,10 +105,18 @@ impl Scene {
         Scene { seed, ..self }
     }
 
-    /// The same scene with another wall model.
+    /// The same scene with another wall model. `WallMode::Periodic` makes
+    /// a rectangle a periodic cell ([`Domain::with_periodic`]), any other
+    /// model makes a periodic cell a plain rectangle again; a periodic model
+    /// on another shape leaves the domain as it is, and `pack` refuses it.
     #[must_use]
     pub fn with_walls(self, walls: WallMode) -> Scene {
-        Scene { walls, ..self }
+        let domain = self.domain.with_periodic(walls == WallMode::Periodic);
+        Scene {
+            walls,
+            domain,
+            ..self
+        }
     }
 
     /// The same scene with walls of disks of `diameter` (mm).
@@ -148,10 +158,26 @@ impl Scene {
         Scene { limits, ..self }
     }
 
-    /// The same scene over another domain.
+    /// The same scene over another domain. A periodic cell
+    /// ([`Domain::periodic_rectangle`]) sets `walls = "periodic"`; with
+    /// periodic walls already, a rectangle becomes a periodic cell.
     #[must_use]
     pub fn with_domain(self, domain: Domain) -> Scene {
-        Scene { domain, ..self }
+        let walls = if domain.is_periodic() {
+            WallMode::Periodic
+        } else {
+            self.walls
+        };
+        let domain = if walls == WallMode::Periodic {
+            domain.with_periodic(true)
+        } else {
+            domain
+        };
+        Scene {
+            domain,
+            walls,
+            ..self
+        }
     }
 
     /// Default wall-disk diameter as a fraction of the smallest diameter.
@@ -172,12 +198,13 @@ impl Scene {
     /// Diameter of the largest disk that fits inside the walls (mm): the
     /// domain's inscribed diameter, less one wall-disk diameter with
     /// `walls = "disks"` (wall disks are centred on the boundary, so each
-    /// reaches half its diameter into the domain). A scene whose smallest
-    /// disk is larger packs nothing.
+    /// reaches half its diameter into the domain). A periodic cell's is its
+    /// shorter side (a wider disk would overlap its own image). A scene
+    /// whose smallest disk is larger packs nothing.
     pub fn inscribed_diameter(&self) -> f64 {
         let inscribed = 2.0 * self.domain.inradius();
         match self.walls {
-            WallMode::Exact => inscribed,
+            WallMode::Exact | WallMode::Periodic => inscribed,
             WallMode::Disks => (inscribed - self.wall_disk()).max(0.0),
         }
     }

@@ -67,6 +67,10 @@ pub const EXAMPLES: &[(&str, &str)] = &[
     ("mgf3", include_str!("../../configs/mgf3.toml")),
     ("narrow", include_str!("../../configs/narrow.toml")),
     (
+        "periodic_pfc",
+        include_str!("../../configs/periodic_pfc.toml"),
+    ),
+    (
         "proppant_20_40",
         include_str!("../../configs/proppant_20_40.toml"),
     ),

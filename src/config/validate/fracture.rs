@@ -78,6 +78,7 @@ impl Validator<'_> {
             });
         }
         let (walls, wall_disk) = self.walls("fracture", f.walls.as_ref(), f.wall_disk.as_ref())?;
+        self.periodic_fracture(walls, f.walls.as_ref())?;
         let tolerance = match &f.window_tolerance {
             None => DEFAULT_WINDOW_TOLERANCE,
             Some(v) => self.checked(

@@ -103,9 +103,13 @@ pub(super) fn type_count(materials: &[Material]) -> usize {
     materials.len().max(1)
 }
 
-/// Axis-aligned box (mm) holding the domain and every packed disk whole.
+/// Axis-aligned box (mm) holding the domain and every packed disk whole;
+/// a periodic cell's own bounds (its disks cross them, as periodic images).
 pub(super) fn extent(packing: &Packing) -> (Point, Point) {
     let (mut lo, mut hi) = packing.domain.bounds();
+    if packing.domain.is_periodic() {
+        return (lo, hi);
+    }
     for d in &packing.disks {
         lo.x = lo.x.min(d.c.x - d.r);
         lo.y = lo.y.min(d.c.y - d.r);

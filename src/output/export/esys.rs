@@ -28,7 +28,8 @@ pub const ESYS_GEOMETRY: &str = "packing.geo";
 /// EndConnect
 /// ```
 /// The box holds the domain and every disk, z from minus to plus the
-/// largest radius; z = 0; `id` from 0 in placement order (`packing.csv`'s
+/// largest radius (a periodic cell: the cell, with `PeriodicBoundaries 1 1
+/// 0`, periodic along x and y); z = 0; `id` from 0 in placement order (`packing.csv`'s
 /// id); `tag` the material index + 1 (1 without materials); no bonds. No
 /// comments: ESyS reads the file token by token. Densities are not in the
 /// file: set them per tag.
@@ -63,7 +64,8 @@ pub fn esys_geometry(
         Num(hi.y * s),
         Num(z)
     ));
-    t.line(format_args!("PeriodicBoundaries 0 0 0"));
+    let periodic = u8::from(packing.domain.is_periodic());
+    t.line(format_args!("PeriodicBoundaries {periodic} {periodic} 0"));
     t.line(format_args!("Dimension 2D"));
     t.line(format_args!("BeginParticles"));
     t.line(format_args!("Simple"));

@@ -96,6 +96,10 @@ fn domain(t: &mut Text, domain: &Domain) -> Result<(), OutputError> {
         },
     )?;
     member(t, "area", &domain.area())?;
+    member(t, "periodic", &domain.is_periodic())?;
+    if let Some(period) = domain.period() {
+        member(t, "period", &[period.x, period.y])?;
+    }
     points(t, "outline", &domain.outline(CIRCLE_SEGMENTS), true)?;
     t.line(format_args!("  }},"));
     Ok(())
@@ -119,6 +123,7 @@ fn nested(value: &impl Serialize) -> Result<String, OutputError> {
 ///     "height": 20.0,
 ///     "bounds": {"min":[0.0,0.0],"max":[20.0,20.0]},
 ///     "area": 400.0,
+///     "periodic": false,
 ///     "outline": [
 ///       [0.0,0.0],
 ///       …
@@ -134,7 +139,10 @@ fn nested(value: &impl Serialize) -> Result<String, OutputError> {
 ///
 /// `domain` gives the shape with its config parameters (`width`/`height`,
 /// `vertices`, `center`/`radius`, `bottom`/`top`/`height`), the bounds, the
-/// area (mm²) and the outline (a circle as 256 points, counter-clockwise).
+/// area (mm²), whether it is a periodic cell (`walls = "periodic"`; then
+/// also `period`: `[width, height]`, the shifts of a disk's images, the
+/// bounds being the cell) and the outline (a circle as 256 points,
+/// counter-clockwise).
 /// `disks` lists the packed disks (not the wall disks) one per line, `id`
 /// from 0 in placement order as in `packing.csv`, with the material's name
 /// when `run.materials` is not empty. `summary` is exactly what

@@ -19,8 +19,11 @@ pub const LAMMPS_DATA: &str = "packing.lammps";
 /// A first comment line (`read_data` always skips it) giving the version,
 /// the count and the units (`units si` in metres); the header `N atoms`,
 /// `T atom types` (one per material, at least one), `xlo xhi` and `ylo yhi`
-/// (the domain's bounds, which hold every disk) and `zlo zhi` (± the largest
-/// radius: a 2d box must straddle z = 0); comment lines naming each type;
+/// (the domain's bounds, which hold every disk; a periodic cell's own
+/// bounds, which its disks cross) and `zlo zhi` (± the largest radius: a 2d
+/// box must straddle z = 0); for a periodic cell the comment line `#
+/// periodic cell: boundary p p p` (a data file has no boundary keyword:
+/// the input script sets it); comment lines naming each type;
 /// then `Atoms # sphere` (the comment lets LAMMPS check the atom style), a
 /// blank line and one line per disk: `id type diameter density x y z`, with
 /// `id` from 1 in placement order (`packing.csv`'s id + 1), `type` the
@@ -40,7 +43,10 @@ pub const LAMMPS_DATA: &str = "packing.lammps";
 /// `read_data` turns density into mass as for a sphere, m = ρ·4/3·π·r³,
 /// even with `dimension 2` (LAMMPS `read_data` docs); for the mass of a disk
 /// use `set type 1 density/disc ρ·t` (mass per area, t the thickness) and
-/// `fix nve/sphere disc`. A 2d run needs z periodic.
+/// `fix nve/sphere disc`. A 2d run needs z periodic. A periodic cell
+/// (`walls = "periodic"`) needs `boundary p p p` instead of `f f p`: its
+/// centres lie in `[xlo, xhi) × [ylo, yhi)` and the disks crossing an edge
+/// meet their neighbours across it.
 ///
 /// # Errors
 /// [`OutputError::UnknownMaterial`] if a disk's material is not in a
@@ -74,6 +80,11 @@ pub fn lammps_data(
     t.line(format_args!("{} {} xlo xhi", Num(lo.x * s), Num(hi.x * s)));
     t.line(format_args!("{} {} ylo yhi", Num(lo.y * s), Num(hi.y * s)));
     t.line(format_args!("{} {} zlo zhi", Num(-z), Num(z)));
+    if packing.domain.is_periodic() {
+        t.line(format_args!(
+            "# periodic cell: boundary p p p (x and y periodic: the cell is the box; z periodic as for any 2d run)"
+        ));
+    }
     for (i, label) in labels(materials).iter().enumerate() {
         t.line(format_args!("# type {} = {label}", i + 1));
     }

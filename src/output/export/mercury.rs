@@ -19,7 +19,9 @@ pub const MERCURY_DATA: &str = "packing.mercury.data";
 /// angular velocity 0 and `species` the material index (from 0; 0 without
 /// materials) — MercuryDPM takes it as an index into its species handler.
 /// No comments: MercuryDPM reads the first number as the count. Densities
-/// are not in the file: they belong to MercuryDPM's species.
+/// are not in the file: they belong to MercuryDPM's species. A periodic
+/// cell's box is the cell itself, but the format has no place to declare
+/// it periodic: the driver adds the periodic boundaries (below).
 ///
 /// # In MercuryDPM
 /// In the driver, before `solve()` (in `setupInitialConditions`):
@@ -29,6 +31,15 @@ pub const MERCURY_DATA: &str = "packing.mercury.data";
 /// speciesHandler.copyAndAddObject(species);  // one per material, config order
 /// readSpeciesFromDataFile(true);              // only with several materials
 /// readDataFile("packing.mercury.data", 8);
+/// ```
+/// For a periodic cell (`walls = "periodic"`), before reading the data,
+/// one `PeriodicBoundary` per axis on the box's bounds:
+/// ```text
+/// PeriodicBoundary bx, by;
+/// bx.set(Vec3D(1, 0, 0), xmin, xmax);
+/// by.set(Vec3D(0, 1, 0), ymin, ymax);
+/// boundaryHandler.copyAndAddObject(bx);
+/// boundaryHandler.copyAndAddObject(by);
 /// ```
 ///
 /// # Errors

@@ -37,6 +37,11 @@ const DEFAULT_GROUP: &str = "gapack";
 /// circle` for a circle, else `wall create vertices` with the first edge and
 /// one `wall addfacet` per further edge (PFC walls are active on both sides).
 ///
+/// A periodic cell is PFC's periodic domain instead: `model domain extent
+/// xmin xmax ymin ymax condition periodic periodic` on the cell itself (no
+/// margin: the balls crossing its edges are PFC's ghosts) and no wall (PFC
+/// refuses walls across a periodic domain).
+///
 /// # In PFC2D
 /// `program call 'packing.p2dat'` (PFC 6 / 7), then set contact models and
 /// properties (`contact cmat default …`) before cycling.
@@ -60,8 +65,15 @@ pub fn pfc_commands(
     };
     let (lo, hi) = extent(packing);
     let r = r_max(packing);
-    let mx = (MARGIN * (hi.x - lo.x)).max(2.0 * r);
-    let my = (MARGIN * (hi.y - lo.y)).max(2.0 * r);
+    let periodic = packing.domain.is_periodic();
+    let (mx, my) = if periodic {
+        (0.0, 0.0)
+    } else {
+        (
+            (MARGIN * (hi.x - lo.x)).max(2.0 * r),
+            (MARGIN * (hi.y - lo.y)).max(2.0 * r),
+        )
+    };
 
     let mut t = Text::with_lines(n + groups.len() + 16);
     t.line(format_args!(
@@ -71,11 +83,16 @@ pub fn pfc_commands(
     t.line(format_args!("; run with: program call 'packing.p2dat'"));
     t.line(format_args!("model new"));
     t.line(format_args!(
-        "model domain extent {} {} {} {}",
+        "model domain extent {} {} {} {}{}",
         Num((lo.x - mx) * s),
         Num((hi.x + mx) * s),
         Num((lo.y - my) * s),
-        Num((hi.y + my) * s)
+        Num((hi.y + my) * s),
+        if periodic {
+            " condition periodic periodic"
+        } else {
+            ""
+        }
     ));
     for (i, (d, m)) in packing.disks.iter().zip(&kinds).enumerate() {
         t.line(format_args!(
@@ -97,6 +114,12 @@ pub fn pfc_commands(
         ));
     }
     let point = |x: f64, y: f64| format!("({},{})", Num(x * s), Num(y * s));
+    if periodic {
+        t.line(format_args!(
+            "; periodic cell: no wall, the balls crossing its edges meet their neighbours across them"
+        ));
+        return Ok(t.into_bytes());
+    }
     match *packing.domain.shape() {
         Shape::Circle { center, radius } => t.line(format_args!(
             "wall generate name 'domain' circle position {} radius {}",

@@ -27,6 +27,11 @@ pub const BOUNDARY_VTK: &str = "boundary.vtk";
 /// `opts.units` says: ParaView has no units and the picture matches the
 /// other outputs.
 ///
+/// A periodic cell says so in the title line (`periodic cell xmin xmax
+/// ymin ymax`) and in field data of the dataset, before the points:
+/// `periodic` (int, 1) and `cell` (double, one tuple `xmin xmax ymin
+/// ymax`); a domain with walls has neither.
+///
 /// In ParaView: open the file, add a Glyph filter with Glyph Type `Sphere`,
 /// Orientation Array `No orientation array`, Scale Array `radius`, Scale
 /// Factor `2` (the sphere source has diameter 1) and Glyph Mode `All Points`
@@ -44,11 +49,26 @@ pub fn packing_vtk(
     let n = packing.disks.len();
     let mut t = Text::with_lines(6 * n + 16);
     t.line(format_args!("# vtk DataFile Version 3.0"));
+    let (lo, hi) = packing.domain.bounds();
+    let cell = format!("{} {} {} {}", Num(lo.x), Num(hi.x), Num(lo.y), Num(hi.y));
+    let periodic = packing.domain.is_periodic();
     t.line(format_args!(
-        "gapack {VERSION} packing: {n} disks, lengths in mm"
+        "gapack {VERSION} packing: {n} disks, lengths in mm{}",
+        if periodic {
+            format!(", periodic cell {cell}")
+        } else {
+            String::new()
+        }
     ));
     t.line(format_args!("ASCII"));
     t.line(format_args!("DATASET POLYDATA"));
+    if periodic {
+        t.line(format_args!("FIELD FieldData 2"));
+        t.line(format_args!("periodic 1 1 int"));
+        t.line(format_args!("1"));
+        t.line(format_args!("cell 4 1 double"));
+        t.line(format_args!("{cell}"));
+    }
     t.line(format_args!("POINTS {n} double"));
     for d in &packing.disks {
         t.line(format_args!("{} {} 0", Num(d.c.x), Num(d.c.y)));
@@ -109,8 +129,13 @@ pub fn boundary_vtk(packing: &Packing) -> Vec<u8> {
     let mut t = Text::with_lines(m + 8);
     t.line(format_args!("# vtk DataFile Version 3.0"));
     t.line(format_args!(
-        "gapack {VERSION} domain outline ({}), lengths in mm",
-        packing.domain.shape().config_name()
+        "gapack {VERSION} domain outline ({}{}), lengths in mm",
+        packing.domain.shape().config_name(),
+        if packing.domain.is_periodic() {
+            ", a periodic cell: its edges are not walls"
+        } else {
+            ""
+        }
     ));
     t.line(format_args!("ASCII"));
     t.line(format_args!("DATASET POLYDATA"));

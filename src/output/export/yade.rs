@@ -1,6 +1,6 @@
 //! `packing.yade.txt`: spheres for YADE's `ymport.text` / `ymport.textExt`.
 
-use super::common::{Num, Text, VERSION, disk_materials, labels};
+use super::common::{Num, Text, VERSION, disk_materials, labels, r_max};
 use crate::layering::Material;
 use crate::names::ConfigName;
 use crate::output::OutputError;
@@ -22,7 +22,11 @@ pub const YADE_TEXT: &str = "packing.yade.txt";
 /// follows with the version, count, unit and, with materials, which id is
 /// which. z = 0; disks in placement order; no blank line (the reader fails
 /// on one). Densities are not in the file: they belong to YADE's
-/// materials.
+/// materials. A periodic cell adds a comment line declaring it in YADE's
+/// terms: `# periodic cell: O.periodic = True; O.cell.setBox(w, h, t)`,
+/// `w` × `h` the cell (its lower-left corner at the origin, as gapack's)
+/// and `t` twice the largest diameter (z must hold the spheres without
+/// their meeting their own images).
 ///
 /// # In YADE
 /// ```text
@@ -31,7 +35,8 @@ pub const YADE_TEXT: &str = "packing.yade.txt";
 /// ```
 /// With materials, append them to `O.materials` first, in config order
 /// (their ids must be 0, 1, …); YADE is 3D, so keep the spheres in the plane
-/// with `b.state.blockedDOFs = 'zXY'`.
+/// with `b.state.blockedDOFs = 'zXY'`. For a periodic cell, run the
+/// commands of its comment line before appending the spheres.
 ///
 /// # Errors
 /// [`OutputError::UnknownMaterial`] if a disk's material is not in a
@@ -62,6 +67,15 @@ pub fn yade_text(
             "# gapack {VERSION}: {n} disks, lengths in {}, matId = O.materials id: {}",
             opts.units.config_name(),
             ids.join(", ")
+        ));
+    }
+    if let Some(cell) = packing.domain.period() {
+        let depth = 4.0 * r_max(packing);
+        t.line(format_args!(
+            "# periodic cell: O.periodic = True; O.cell.setBox({}, {}, {})",
+            Num(cell.x * s),
+            Num(cell.y * s),
+            Num(if depth > 0.0 { depth * s } else { 1.0 })
         ));
     }
     for (d, m) in packing.disks.iter().zip(&kinds) {

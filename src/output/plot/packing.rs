@@ -17,7 +17,7 @@ use crate::metrics::{porosity, solid_area};
 use crate::output::OutputError;
 use crate::output::palette::{colour, ramp};
 use crate::output::svg::{
-    CIRCLE_SEGMENTS, DISK_EDGE, WALL_EDGE, WALL_FILL, by_material, disk_fill, frame,
+    CIRCLE_SEGMENTS, DISK_EDGE, WALL_EDGE, WALL_FILL, by_material, disk_fill, drawn_images, frame,
 };
 use crate::packer::Packing;
 
@@ -124,10 +124,21 @@ pub fn packing_png(
     let layout = Layout::new(packing, &outline);
     let (w, h) = layout.size;
     let mut rgb = vec![255u8; w as usize * h as usize * 3];
+    let periodic = packing.domain.is_periodic();
+    // A periodic cell's disks are clipped to it (pixel columns and rows).
+    let clip = if periodic {
+        let (lo, hi) = packing.domain.bounds();
+        let ((x0, y1), (x1, y0)) = (layout.map(lo), layout.map(hi));
+        let at = |v: f64, n: u32| v.round().clamp(0.0, f64::from(n)) as usize;
+        (at(x0, w), at(x1, w), at(y0, h), at(y1, h))
+    } else {
+        (0, w as usize, 0, h as usize)
+    };
     let mut canvas = Canvas {
         rgb: &mut rgb,
         width: w as usize,
         height: h as usize,
+        clip,
     };
     for disk in &packing.boundary {
         canvas.disk(&layout, disk, WALL_FILL, WALL_EDGE);
@@ -135,7 +146,9 @@ pub fn packing_png(
     let by_material = by_material(packing, materials);
     for (i, disk) in packing.disks.iter().enumerate() {
         let fill = disk_fill(packing, i, by_material, diameters);
-        canvas.disk(&layout, disk, fill, DISK_EDGE);
+        for at in drawn_images(packing, disk) {
+            canvas.disk(&layout, &at, fill, DISK_EDGE);
+        }
     }
     {
         let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
@@ -148,8 +161,16 @@ pub fn packing_png(
             })
             .collect();
         ring.extend(ring.first().copied());
-        root.draw(&PathElement::new(ring, BLACK.stroke_width(2)))
-            .map_err(plot)?;
+        if periodic {
+            // Dashed: the cell's edges are not walls.
+            for dash in dashes(&ring, DASH_PX) {
+                root.draw(&PathElement::new(dash, BLACK.stroke_width(2)))
+                    .map_err(plot)?;
+            }
+        } else {
+            root.draw(&PathElement::new(ring, BLACK.stroke_width(2)))
+                .map_err(plot)?;
+        }
         if layout.legend {
             let strip = root.margin(h - LEGEND_PX, 0, 0, 0);
             let legend = if by_material {
@@ -164,11 +185,64 @@ pub fn packing_png(
     encode_png(&rgb, (w, h))
 }
 
+/// Length of the dashes (and of the gaps between them) of a periodic cell's outline (pixels).
+const DASH_PX: f64 = 10.0;
+
+/// The dashes of the polyline `ring`, each `dash` pixels long with gaps as
+/// long, the pattern running on across its corners.
+fn dashes(ring: &[(i32, i32)], dash: f64) -> Vec<Vec<(i32, i32)>> {
+    let mut out: Vec<Vec<(i32, i32)>> = Vec::new();
+    // Distance along the polyline, and whether the pen is down there.
+    let mut along = 0.0f64;
+    let mut current: Vec<(i32, i32)> = Vec::new();
+    let point = |a: (i32, i32), b: (i32, i32), t: f64| {
+        (
+            (f64::from(a.0) + t * f64::from(b.0 - a.0)).round() as i32,
+            (f64::from(a.1) + t * f64::from(b.1 - a.1)).round() as i32,
+        )
+    };
+    for pair in ring.windows(2) {
+        let (a, b) = (pair[0], pair[1]);
+        let len = f64::from(b.0 - a.0).hypot(f64::from(b.1 - a.1));
+        if len == 0.0 {
+            continue;
+        }
+        let mut t = 0.0;
+        while t < len {
+            let phase = along % (2.0 * dash);
+            let down = phase < dash;
+            let step = (if down {
+                dash - phase
+            } else {
+                2.0 * dash - phase
+            })
+            .min(len - t);
+            if down {
+                if current.is_empty() {
+                    current.push(point(a, b, t / len));
+                }
+                current.push(point(a, b, (t + step) / len));
+            } else if !current.is_empty() {
+                out.push(std::mem::take(&mut current));
+            }
+            t += step;
+            along += step;
+        }
+    }
+    if !current.is_empty() {
+        out.push(current);
+    }
+    out
+}
+
 /// An RGB buffer, row by row from the top.
 struct Canvas<'a> {
     rgb: &'a mut [u8],
     width: usize,
     height: usize,
+    /// Pixel columns `.0..1` and rows `.2..3` drawn into (the whole image,
+    /// or a periodic cell).
+    clip: (usize, usize, usize, usize),
 }
 
 impl Canvas<'_> {
@@ -184,13 +258,16 @@ impl Canvas<'_> {
         let line = EDGE_PX.min(0.25 * r);
         let clip = |v: f64, n: usize| v.clamp(0.0, n as f64) as usize;
         let (i0, i1) = (
-            clip(cx - r - 1.0, self.width),
-            clip(cx + r + 1.0, self.width),
+            clip(cx - r - 1.0, self.width).max(self.clip.0),
+            clip(cx + r + 1.0, self.width).min(self.clip.1),
         );
         let (j0, j1) = (
-            clip(cy - r - 1.0, self.height),
-            clip(cy + r + 1.0, self.height),
+            clip(cy - r - 1.0, self.height).max(self.clip.2),
+            clip(cy + r + 1.0, self.height).min(self.clip.3),
         );
+        if i0 >= i1 {
+            return;
+        }
         // Per row, pixels well inside the fill radius take the fill as is
         // (cover and inner share both 1); only the rim is blended. The
         // spans are one pixel narrower than their exact bound, so the
@@ -205,6 +282,9 @@ impl Canvas<'_> {
                 clip(cx - reach, self.width).max(i0),
                 clip(cx + reach + 1.0, self.width).min(i1),
             );
+            if a0 >= a1 {
+                continue;
+            }
             let (s0, s1) = if solid > dy.abs() {
                 let half = (solid * solid - dy * dy).sqrt();
                 (
@@ -214,6 +294,8 @@ impl Canvas<'_> {
             } else {
                 (a0, a0)
             };
+            // A fill clipped away whole (a periodic cell's edge) draws nothing.
+            let s0 = s0.min(a1);
             let s1 = s1.max(s0);
             for i in s0..s1 {
                 self.rgb[3 * (row + i)..3 * (row + i) + 3].copy_from_slice(&fill);
@@ -351,7 +433,19 @@ fn draw_legend<DB: DrawingBackend>(
     let walls = "wall disks";
     if !packing.boundary.is_empty() && x + item(walls)? <= room {
         area.draw(&swatch(x, WALL_FILL))?;
-        area.draw(&Text::new(walls, (x + SWATCH + 8, mid), text))?;
+        area.draw(&Text::new(walls, (x + SWATCH + 8, mid), text.clone()))?;
+    }
+    let periodic = "periodic cell";
+    if packing.domain.is_periodic() && x + item(periodic)? <= room {
+        // The outline's dashes, as the swatch.
+        for k in 0..3 {
+            let at = x + k * SWATCH / 3;
+            area.draw(&PathElement::new(
+                vec![(at, mid), (at + SWATCH / 5, mid)],
+                BLACK.stroke_width(2),
+            ))?;
+        }
+        area.draw(&Text::new(periodic, (x + SWATCH + 8, mid), text))?;
     }
     Ok(())
 }
@@ -435,6 +529,7 @@ mod tests {
             rgb: &mut rgb,
             width: layout.size.0 as usize,
             height: layout.size.1 as usize,
+            clip: (0, layout.size.0 as usize, 0, layout.size.1 as usize),
         };
         for (i, d) in p.disks.iter().enumerate() {
             canvas.disk(&layout, d, disk_fill(&p, i, false, (4.0, 6.0)), DISK_EDGE);

@@ -63,6 +63,8 @@ pub struct PorosityMapChart {
     plot: (u32, u32),
     /// Porosity at the two ends of the colour scale.
     scale: (f64, f64),
+    /// Whether the domain is a periodic cell (said in the title).
+    periodic: bool,
 }
 
 /// The porosity map of `packing` ([`porosity_map`]) as a chart.
@@ -115,6 +117,7 @@ pub fn porosity_map_chart(packing: &Packing) -> PorosityMapChart {
         plot: (plot_w as u32, plot_h as u32),
         scale: (lo, hi),
         map,
+        periodic: packing.domain.is_periodic(),
     }
 }
 
@@ -129,8 +132,13 @@ impl PorosityMapChart {
     /// The title: what is drawn and at which resolution.
     fn title(&self) -> String {
         format!(
-            "Local porosity, cells of {} mm",
-            tidy(&round4(self.map.cell))
+            "Local porosity, cells of {} mm{}",
+            tidy(&round4(self.map.cell)),
+            if self.periodic {
+                ", periodic cell (disks across its edges counted on both sides)"
+            } else {
+                ""
+            }
         )
     }
 
