@@ -14,14 +14,19 @@
 //! `GAPACK_BENCH_JOBS`, `GAPACK_BENCH_CLIENTS` and `GAPACK_BENCH_WORKERS`
 //! change the load.
 
+#[path = "../tests/common/server.rs"]
+#[allow(dead_code)] // the tests use all of it, this bench only the start
+mod server;
+
 use std::collections::BTreeSet;
 use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
+
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use gapack::config::{DEFAULT_CONFIG, DEFAULT_ORIGIN};
 use gapack::jobs::{self, Cancel, DirStore, JobKind, Plan, Request, Silent};
+use server::Server;
 
 const SEEDS: u64 = 40;
 
@@ -95,8 +100,8 @@ fn percentile(sorted: &[Duration], p: f64) -> Duration {
 }
 
 /// The server's peak resident memory (kB), from /proc.
-fn peak_kb(child: &Child) -> Option<u64> {
-    let status = std::fs::read_to_string(format!("/proc/{}/status", child.id())).ok()?;
+fn peak_kb(pid: u32) -> Option<u64> {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
     status
         .lines()
         .find_map(|l| l.strip_prefix("VmHWM:"))
@@ -124,30 +129,8 @@ fn load(label: &str, config: &str, total: usize, clients: usize, workers: usize)
     let workers = workers.to_string();
     let data = std::env::temp_dir().join(format!("gapack-bench-service-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&data);
-    let mut child = Command::new(env!("CARGO_BIN_EXE_gapack"))
-        .args([
-            "serve",
-            "--listen",
-            "127.0.0.1:0",
-            "--max-queue",
-            "100000",
-            "--workers",
-            &workers,
-            "--data",
-        ])
-        .arg(&data)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("start the server");
-    let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
-    let mut line = String::new();
-    stdout.read_line(&mut line).expect("first line");
-    let base = line
-        .trim()
-        .strip_prefix("listening on ")
-        .expect("address")
-        .to_owned();
+    let server = Server::start(&data, &["--max-queue", "100000", "--workers", &workers]);
+    let base = server.base.clone();
 
     let scratch = data.with_extension("cli");
     let expected: Vec<(Vec<u8>, Duration)> =
@@ -221,7 +204,7 @@ fn load(label: &str, config: &str, total: usize, clients: usize, workers: usize)
 
     let mut latencies: Vec<Duration> = results.iter().map(|(_, _, l)| *l).collect();
     latencies.sort();
-    let peak = peak_kb(&child);
+    let peak = peak_kb(server.pid());
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
     println!("service load: {total} jobs of {label} from {clients} clients, {workers} workers");
     println!("  none lost or duplicated; every packing.csv verified against the jobs layer");
@@ -245,9 +228,6 @@ fn load(label: &str, config: &str, total: usize, clients: usize, workers: usize)
         Some(kb) => println!("  server peak RSS: {:.1} MB", kb as f64 / 1024.0),
         None => println!("  server peak RSS: unknown (no /proc)"),
     }
-    let _ = Command::new("kill")
-        .args(["-TERM", &child.id().to_string()])
-        .status();
-    let _ = child.wait();
+    server.terminate();
     let _ = std::fs::remove_dir_all(&data);
 }

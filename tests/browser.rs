@@ -16,7 +16,7 @@ use std::sync::Mutex;
 use std::time::Duration;
 
 use common::scratch;
-use common::server::Server;
+use common::server::{Server, agent};
 use serde_json::{Value, json};
 use webdriver::Browser;
 
@@ -49,14 +49,6 @@ fn shots() -> PathBuf {
         || Path::new(env!("CARGO_TARGET_TMPDIR")).join("screenshots"),
         PathBuf::from,
     )
-}
-
-fn agent() -> ureq::Agent {
-    ureq::Agent::config_builder()
-        .http_status_as_error(false)
-        .timeout_global(Some(Duration::from_secs(120)))
-        .build()
-        .into()
 }
 
 /// `GET` through the API: status and body.
@@ -100,6 +92,27 @@ fn shown_text(browser: &Browser, css: &str) -> Option<String> {
         &[json!(css)],
     );
     v.as_str().map(str::to_owned)
+}
+
+/// Points of the convergence chart drawn so far (none before it is drawn).
+fn chart_points(browser: &Browser) -> Option<u64> {
+    browser
+        .run(
+            "return Number(document.getElementById('convergence').dataset.points || 0);",
+            &[],
+        )
+        .as_u64()
+}
+
+/// Disks of the packing canvas once it is drawn.
+fn drawn_disks(browser: &Browser) -> Option<String> {
+    browser
+        .run(
+            "return document.getElementById('packing').dataset.disks || null;",
+            &[],
+        )
+        .as_str()
+        .map(str::to_owned)
 }
 
 /// Pixels of canvas `css` that are not white.
@@ -197,13 +210,7 @@ fn an_example_is_validated_submitted_followed_and_its_packing_shown() {
     // The convergence chart gains points while the search runs.
     let mut seen = Vec::new();
     browser.wait("the search to end", || {
-        let points = browser
-            .run(
-                "return Number(document.getElementById('convergence').dataset.points || 0);",
-                &[],
-            )
-            .as_u64()
-            .unwrap_or(0);
+        let points = chart_points(&browser).unwrap_or(0);
         if seen.last() != Some(&points) {
             seen.push(points);
         }
@@ -216,15 +223,7 @@ fn an_example_is_validated_submitted_followed_and_its_packing_shown() {
     assert!(inked(&browser, "#convergence") > 1000);
 
     // The packing is drawn from its data; hovering a disk gives its data.
-    browser.wait("the packing drawn", || {
-        browser
-            .run(
-                "return document.getElementById('packing').dataset.disks || null;",
-                &[],
-            )
-            .as_str()
-            .map(str::to_owned)
-    });
+    browser.wait("the packing drawn", || drawn_disks(&browser));
     assert!(inked(&browser, "#packing") > 10_000);
     let (_, csv) = get(&server, &format!("/api/v1/jobs/{id}/files/packing.csv"));
     let csv = String::from_utf8(csv).expect("UTF-8");
@@ -325,12 +324,7 @@ fn a_long_optimise_is_cancelled_and_keeps_its_best_packing() {
     let id = submit(&server, "optimise", config, 2);
     browser.goto(&server.url(&format!("/#/job/{id}")));
     browser.wait("two generations drawn", || {
-        let n = browser
-            .run(
-                "return Number(document.getElementById('convergence').dataset.points || 0);",
-                &[],
-            )
-            .as_u64()?;
+        let n = chart_points(&browser)?;
         (n >= 2).then_some(())
     });
     browser.click(&browser.find("#cancel"));
@@ -339,15 +333,7 @@ fn a_long_optimise_is_cancelled_and_keeps_its_best_packing() {
     });
     assert_eq!(state(&server, &id), "cancelled");
     // The best packing was kept: drawn, and listed with the other files.
-    browser.wait("the kept packing drawn", || {
-        browser
-            .run(
-                "return document.getElementById('packing').dataset.disks || null;",
-                &[],
-            )
-            .as_str()
-            .map(str::to_owned)
-    });
+    browser.wait("the kept packing drawn", || drawn_disks(&browser));
     assert!(inked(&browser, "#packing") > 10_000);
     let files = browser.wait("the files", || {
         shown_text(&browser, "#files").filter(|t| t.contains("packing.csv"))
@@ -526,12 +512,7 @@ fn a_large_packing_and_ten_streaming_jobs_keep_the_page_responsive() {
         .collect();
     browser.goto(&server.url(&format!("/#/job/{}", ids[0])));
     browser.wait("generations streaming", || {
-        let n = browser
-            .run(
-                "return Number(document.getElementById('convergence').dataset.points || 0);",
-                &[],
-            )
-            .as_u64()?;
+        let n = chart_points(&browser)?;
         (n >= 3).then_some(())
     });
     let gaps = |browser: &Browser| {

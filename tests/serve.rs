@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use common::server::Server;
+use common::server::{Server, agent};
 use common::{gapack, scratch};
 use serde_json::Value;
 
@@ -37,14 +37,6 @@ fn long_optimise_config() -> String {
     "seed = 5\n[domain]\nshape = \"rectangle\"\nwidth = 60\nheight = 60\n[grading]\nuniform = [1.0, 2.0]\n\
      [optimise]\ntarget_porosity = 0.95\npopulation = 8\ngenerations = 30\nstagnation = 100\n"
         .to_owned()
-}
-
-fn agent() -> ureq::Agent {
-    ureq::Agent::config_builder()
-        .http_status_as_error(false)
-        .timeout_global(Some(Duration::from_secs(120)))
-        .build()
-        .into()
 }
 
 /// A response: status, content type, body.

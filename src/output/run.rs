@@ -1,5 +1,7 @@
 //! Writing the outputs of a run, as one atomic set.
 
+use std::sync::Arc;
+
 use rayon::prelude::*;
 
 use super::csv::{COMPARE_CSV, STABILITY_CSV, compare_csv, stability_csv};
@@ -344,18 +346,25 @@ impl<'a> Tasks<'a> {
         });
     }
 
-    /// The chart `chart` draws, as SVG and as PNG under `names`, each if
-    /// asked for.
-    fn chart<C: Drawable>(
+    /// The chart `make` builds, as SVG and as PNG under `names`, each if
+    /// asked for: built once (a porosity map measures the packing), drawn
+    /// twice.
+    fn chart<C: Drawable + Send + Sync + 'a>(
         &mut self,
         (svg, png): (&'static str, &'static str),
-        chart: impl Fn() -> C + Send + Sync + Copy + 'a,
+        make: impl FnOnce() -> C,
     ) {
-        if self.out.wants(Format::Svg) {
-            self.add(svg, move || Ok(chart().to_svg()?.into_bytes()));
+        let (wants_svg, wants_png) = (self.out.wants(Format::Svg), self.out.wants(Format::Png));
+        if !wants_svg && !wants_png {
+            return;
         }
-        if self.out.wants(Format::Png) {
-            self.add(png, move || chart().to_png());
+        let chart = Arc::new(make());
+        if wants_svg {
+            let chart = Arc::clone(&chart);
+            self.add(svg, move || Ok(chart.to_svg()?.into_bytes()));
+        }
+        if wants_png {
+            self.add(png, move || chart.to_png());
         }
     }
 
