@@ -287,7 +287,7 @@ fn periodic_walls_are_refused_where_they_make_no_cell() {
             "width = 20\nheight = 30\nwalls = \"periodic\"",
             "[packer]\nmethod = \"deposition\"\n",
         ),
-        "t.toml:9:10: packer.method: \"deposition\" packs against walls and does not pack periodic cells (domain.walls = \"periodic\"); use \"advancing-front\", \"rsa\" or \"relaxation\"",
+        "t.toml:9:10: packer.method: \"deposition\" packs against walls and does not pack periodic cells (domain.walls = \"periodic\"); use \"advancing-front\", \"rsa\", \"relaxation\" or \"densify\"",
     );
     fails_with(
         &rect(

@@ -513,10 +513,8 @@ impl Running<'_> {
         let initial_range = span(PorosityProblem::range(search.initial()));
         // A target below every porosity the advancing front packed in
         // generation 0, beyond its tolerance: the densify method packs the
-        // drawn sizes at it directly (docs/densify.md), no search needed;
-        // not in a periodic cell, which densify does not pack (yet).
+        // drawn sizes at it directly (docs/densify.md), no search needed.
         let dense_route = !resume
-            && !scene.domain.is_periodic()
             && initial_range
                 .is_some_and(|[lo, _]| settings.target_porosity < lo - settings.tolerance);
         if !resume && initial_range.is_none_or(|r| !problem.feasible(r)) {

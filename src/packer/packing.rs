@@ -128,7 +128,7 @@ pub enum PackError {
     },
     /// A method that packs against walls asked to pack a periodic cell.
     #[error(
-        "method \"{method}\" packs against walls and does not pack periodic cells; use method = \"advancing-front\", \"rsa\" or \"relaxation\" with walls = \"periodic\""
+        "method \"{method}\" packs against walls and does not pack periodic cells; use method = \"advancing-front\", \"rsa\", \"relaxation\" or \"densify\" with walls = \"periodic\""
     )]
     PeriodicMethod {
         /// The method, as a config names it.

@@ -80,7 +80,7 @@ pub(super) fn check_fits(scene: &Scene) -> Result<(), PackError> {
 pub(crate) fn packs_periodic(method: Method) -> bool {
     matches!(
         method,
-        Method::AdvancingFront | Method::Rsa | Method::Relaxation
+        Method::AdvancingFront | Method::Rsa | Method::Relaxation | Method::Densify
     )
 }
 

@@ -39,6 +39,10 @@ pub const EXAMPLES: &[(&str, &str)] = &[
         include_str!("../../configs/dense_pfc_genesis.toml"),
     ),
     (
+        "dense_periodic_pfc",
+        include_str!("../../configs/dense_periodic_pfc.toml"),
+    ),
+    (
         "dense_table31",
         include_str!("../../configs/dense_table31.toml"),
     ),

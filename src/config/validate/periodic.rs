@@ -81,7 +81,7 @@ impl Validator<'_> {
                 at: self.at(&given.span()),
                 key: "packer.method".to_owned(),
                 reason: format!(
-                    "{:?} packs against walls and does not pack periodic cells (domain.walls = \"periodic\"); use \"advancing-front\", \"rsa\" or \"relaxation\"",
+                    "{:?} packs against walls and does not pack periodic cells (domain.walls = \"periodic\"); use \"advancing-front\", \"rsa\", \"relaxation\" or \"densify\"",
                     method.config_name()
                 ),
             });

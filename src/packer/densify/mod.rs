@@ -159,7 +159,8 @@ fn sizes(scene: &Scene, solid: f64, cancel: &Cancel) -> Result<Vec<f64>, PackErr
 /// Uniform random centres inside `domain`, one per radius, drawn from the
 /// positions' stream of `seed`: each the first of [`START_DRAWS`] draws
 /// that keeps its disk inside the walls, else the first of as many that
-/// keeps its centre inside, else the last draw.
+/// keeps its centre inside, else the last draw (in a periodic cell, the
+/// first draw).
 fn start(domain: &Domain, r: &[f64], seed: u64) -> Vec<Point> {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed ^ POSITION_STREAM);
     let (lo, hi) = domain.bounds();
@@ -172,6 +173,9 @@ fn start(domain: &Domain, r: &[f64], seed: u64) -> Vec<Point> {
     r.iter()
         .map(|&r| {
             let mut last = draw();
+            if domain.is_periodic() {
+                return last;
+            }
             for need in [r, 0.0] {
                 for _ in 0..START_DRAWS {
                     if domain.signed_distance(last) >= need {
@@ -322,6 +326,44 @@ mod tests {
                 .iter()
                 .all(|d| s.domain.signed_distance(d.c) >= d.r)
         );
+    }
+
+    #[test]
+    fn a_periodic_cell_is_packed_without_overlap_across_its_edges() {
+        let mut s = scene(20.0, 30.0, 0.165).with_walls(WallMode::Periodic);
+        s.domain = s.domain.with_periodic(true);
+        let packing = pack(&s).unwrap();
+        let c = crate::check::check(&packing.disks, &packing.domain, Some(&s.grading));
+        assert!(c.valid(), "{c:?}");
+        assert!((c.porosity - 0.165).abs() < 0.003, "{}", c.porosity);
+        let (lo, hi) = s.domain.bounds();
+        assert!(
+            packing
+                .disks
+                .iter()
+                .all(|d| { (lo.x..hi.x).contains(&d.c.x) && (lo.y..hi.y).contains(&d.c.y) })
+        );
+        // Some disks cross an edge (no wall keeps them in), and the nearest
+        // images of every pair keep the margin.
+        assert!(
+            packing
+                .disks
+                .iter()
+                .any(|d| s.domain.signed_distance(d.c) < d.r)
+        );
+        let w = s.domain.period().unwrap();
+        let least = packing
+            .disks
+            .iter()
+            .enumerate()
+            .flat_map(|(i, a)| packing.disks[i + 1..].iter().map(move |b| (a, b)))
+            .map(|(a, b)| {
+                let d = b.c - a.c;
+                let d = d - w.component_mul(&d.component_div(&w).map(f64::round));
+                d.norm() / (a.r + b.r)
+            })
+            .fold(f64::INFINITY, f64::min);
+        assert!(least >= 1.0 + 0.5 * MARGIN * 0.999, "{least}");
     }
 
     #[test]

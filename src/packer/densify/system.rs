@@ -99,6 +99,11 @@ pub(super) struct System<'a> {
     /// Neighbours `j > i` of slot `i`: `nbr[start[i]..start[i + 1]]`.
     start: Vec<u32>,
     nbr: Vec<u32>,
+    /// In a periodic cell: the image of each listed neighbour, an index
+    /// into `shifts` (empty with walls).
+    nbr_image: Vec<u8>,
+    /// The lattice shifts of a periodic cell, by [`image_code`].
+    shifts: [V2; 9],
     /// For each cell of the lists' grid (of the side given), whether every
     /// point of it lies farther inside the domain than any disk reaches a
     /// wall: its disks need no look at the walls. Made once per scale.
@@ -150,6 +155,12 @@ impl<'a> System<'a> {
             skin,
             start: Vec::with_capacity(n + 1),
             nbr: Vec::new(),
+            nbr_image: Vec::new(),
+            shifts: domain.period().map_or([V2::zeros(); 9], |w| {
+                std::array::from_fn(|c| {
+                    V2::new((c % 3) as f64 - 1.0, (c / 3) as f64 - 1.0).component_mul(&w)
+                })
+            }),
             deep: (0.0, Vec::new()),
             near_walls: Vec::new(),
             feats: Vec::new(),
@@ -173,6 +184,11 @@ impl<'a> System<'a> {
         let skin = self.skin;
         let (lo, hi) = self.domain.bounds();
         let side = 2.0 * self.r_max * k + skin;
+        if self.domain.is_periodic() {
+            for p in &mut self.pos {
+                *p = self.domain.wrap(Point::from(*p)).coords;
+            }
+        }
         let (cells, mut order) = Cells::sort(&self.pos, lo.coords, hi.coords, side);
         {
             let (pos, vel, r, ids) = (&mut self.pos, &mut self.vel, &mut self.r, &mut self.ids);
@@ -186,20 +202,32 @@ impl<'a> System<'a> {
         drop(order);
         self.start.clear();
         self.nbr.clear();
+        self.nbr_image.clear();
         for (i, &p) in self.pos.iter().enumerate() {
             self.start.push(self.nbr.len() as u32);
             let ri = self.r[i] * k;
-            let (pos, r, nbr) = (&self.pos, &self.r, &mut self.nbr);
-            cells.visit_around(cells.clamp(p), |j| {
-                if j > i {
-                    let reach = ri + r[j] * k + skin;
-                    if (pos[j] - p).norm_squared() < reach * reach {
-                        nbr.push(j as u32);
+            let (pos, r, nbr, image) = (&self.pos, &self.r, &mut self.nbr, &mut self.nbr_image);
+            // The images of j near i are j + s for the shifts s of the box
+            // around i (the zero shift alone with walls): found around i − s.
+            let around = V2::new(side, side);
+            let box_ = (Point::from(p - around), Point::from(p + around));
+            for s in self.domain.image_shifts(box_.0, box_.1) {
+                let code = image_code(s, &self.shifts);
+                cells.visit_around(cells.clamp(p - s), |j| {
+                    if j > i {
+                        let reach = ri + r[j] * k + skin;
+                        if (pos[j] + s - p).norm_squared() < reach * reach {
+                            nbr.push(j as u32);
+                            image.push(code);
+                        }
                     }
-                }
-            });
+                });
+            }
         }
         self.start.push(self.nbr.len() as u32);
+        if !self.domain.is_periodic() {
+            self.nbr_image.clear();
+        }
         self.near_walls.clear();
         self.feats.clear();
         let outside_rule = self.boundary.needs_outside_rule();
@@ -219,7 +247,7 @@ impl<'a> System<'a> {
             );
         }
         for (i, &p) in self.pos.iter().enumerate() {
-            if self.deep.1[cells.index(cells.clamp(p))] {
+            if self.deep.1[cells.index(cells.clamp(p))] || self.domain.is_periodic() {
                 continue;
             }
             let first = self.feats.len() as u32;
@@ -263,8 +291,9 @@ impl<'a> System<'a> {
         }
     }
 
-    /// The forces at the current centres (into `force`), and what they found.
-    fn forces(&mut self) -> Eval {
+    /// The pair forces at the current centres (into `force`, set afresh),
+    /// and what they found; `PERIODIC` reads each neighbour's image.
+    fn pair_forces<const PERIODIC: bool>(&mut self) -> Eval {
         let k = self.widen();
         let mut e = Eval::default();
         let (pos, r, force) = (&self.pos, &self.r, &mut self.force);
@@ -273,9 +302,14 @@ impl<'a> System<'a> {
         for i in (0..pos.len()).rev() {
             let (pi, ri) = (pos[i], r[i] * k);
             let mut fi = V2::zeros();
-            for &j in &self.nbr[self.start[i] as usize..self.start[i + 1] as usize] {
+            let (a, b) = (self.start[i] as usize, self.start[i + 1] as usize);
+            for (n, &j) in self.nbr[a..b].iter().enumerate() {
                 let j = j as usize;
-                let d = pos[j] - pi;
+                let d = if PERIODIC {
+                    pos[j] + self.shifts[usize::from(self.nbr_image[a + n])] - pi
+                } else {
+                    pos[j] - pi
+                };
                 let sum = ri + r[j] * k;
                 // Without a branch on whether the pair overlaps: about half
                 // the listed pairs do, past any prediction.
@@ -294,6 +328,18 @@ impl<'a> System<'a> {
             }
             force[i] = fi;
         }
+        e
+    }
+
+    /// The forces at the current centres (into `force`), and what they found.
+    fn forces(&mut self) -> Eval {
+        let mut e = if self.domain.is_periodic() {
+            self.pair_forces::<true>()
+        } else {
+            self.pair_forces::<false>()
+        };
+        let k = self.widen();
+        let (pos, r, force) = (&self.pos, &self.r, &mut self.force);
         for &(i, a, b, risky) in &self.near_walls {
             let i = i as usize;
             let p = pos[i];
@@ -445,12 +491,13 @@ impl<'a> System<'a> {
         out
     }
 
-    /// The disks at their true size, in the order drawn.
+    /// The disks at their true size, in the order drawn (in a periodic
+    /// cell, each centre in the cell).
     pub fn disks(&self) -> Vec<Disk> {
         let mut out = vec![Disk::new(0.0, 0.0, 1.0); self.pos.len()];
         for ((p, &r), &id) in self.pos.iter().zip(&self.r).zip(&self.ids) {
             out[id as usize] = Disk {
-                c: Point::from(*p),
+                c: self.domain.wrap(Point::from(*p)),
                 r,
             };
         }
@@ -464,19 +511,30 @@ impl<'a> System<'a> {
     pub fn clearance(&self) -> f64 {
         let (lo, hi) = self.domain.bounds();
         let side = 2.0 * self.r_max;
-        let (cells, order) = Cells::sort(&self.pos, lo.coords, hi.coords, side);
+        let pos: Vec<V2> = self
+            .pos
+            .iter()
+            .map(|&p| self.domain.wrap(Point::from(p)).coords)
+            .collect();
+        let (cells, order) = Cells::sort(&pos, lo.coords, hi.coords, side);
         let at = |slot: usize| order[slot] as usize;
+        let around = V2::new(side, side);
         let mut s = f64::INFINITY;
         for slot in 0..order.len() {
             let i = at(slot);
-            let (p, ri) = (self.pos[i], self.r[i]);
-            cells.visit_around(cells.clamp(p), |other| {
-                if other > slot {
-                    let j = at(other);
-                    s = s.min((self.pos[j] - p).norm() / (ri + self.r[j]));
-                }
-            });
-            s = s.min(self.domain.signed_distance(Point::from(p)) / ri);
+            let (p, ri) = (pos[i], self.r[i]);
+            let box_ = (Point::from(p - around), Point::from(p + around));
+            for shift in self.domain.image_shifts(box_.0, box_.1) {
+                cells.visit_around(cells.clamp(p - shift), |other| {
+                    if other > slot {
+                        let j = at(other);
+                        s = s.min((pos[j] + shift - p).norm() / (ri + self.r[j]));
+                    }
+                });
+            }
+            if !self.domain.is_periodic() {
+                s = s.min(self.domain.signed_distance(Point::from(p)) / ri);
+            }
             let half = ri + self.fixed_r;
             self.fixed_grid.visit_box(
                 Point::new(p.x - half, p.y - half),
@@ -489,6 +547,13 @@ impl<'a> System<'a> {
         }
         s
     }
+}
+
+/// The index in `shifts` (a 3 × 3 table of whole periods) of `shift`.
+fn image_code(shift: V2, shifts: &[V2; 9]) -> u8 {
+    (0..9u8)
+        .find(|&c| shifts[usize::from(c)] == shift)
+        .unwrap_or(4)
 }
 
 /// A direction to push apart disks `i` and `j` whose centres coincide, set by the pair.
