@@ -479,3 +479,66 @@ fn dense_targets_go_through_densify_with_an_honest_verdict() {
         "{err}"
     );
 }
+
+/// A large scene is searched on a window of it and the target verified on
+/// the whole: a 240 mm square of 1–1.66 mm disks (about 33,000), searched
+/// on windows from 20,000 disks up. A loose target goes through the
+/// window's search and the whole's tuning; a dense one through densify on
+/// the whole.
+#[test]
+fn a_large_scene_is_searched_on_a_window_and_verified_on_the_whole() {
+    let dir = scratch("optimise-window");
+    let config = |target: f64| {
+        format!(
+            "seed = 2\n[domain]\nshape = \"rectangle\"\nwidth = 240\nheight = 240\n\
+             [grading]\nuniform = [1.0, 1.66]\n[optimise]\ntarget_porosity = {target}\n\
+             population = 16\nmax_evaluations = 200\nwindow_disks = 20000\n\
+             [output]\nformats = [\"csv\"]\n"
+        )
+    };
+    for (target, out, stop) in [(0.3, "loose", None), (0.17, "dense", Some("densified"))] {
+        fs::write(dir.join("w.toml"), config(target)).unwrap();
+        let run = gapack(&dir, &["optimise", "w.toml", "--out", out]);
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert!(run.status.success(), "{err}");
+        let s = summary(&dir.join(out));
+        let w = &s["window"];
+        let share = w["share"].as_f64().unwrap();
+        assert!(share > 0.0 && share <= 0.25, "{w}");
+        let window_disks = w["disks"].as_u64().unwrap();
+        let whole = s["particles"].as_u64().unwrap();
+        assert!(whole as f64 > 3.5 * window_disks as f64, "{whole} {w}");
+        // The target is verified on the whole, whatever the window found.
+        assert_eq!(s["verdict"], "reached", "{s}");
+        let porosity = s["porosity"].as_f64().unwrap();
+        assert!((porosity - target).abs() <= 0.002, "{target}: {porosity}");
+        assert!(s["psd_ks"].as_f64().unwrap() <= 0.05, "{s}");
+        if let Some(stop) = stop {
+            assert_eq!(s["stop"], stop, "{s}");
+        }
+        assert!(
+            String::from_utf8_lossy(&run.stdout).contains("searched on a"),
+            "{}",
+            String::from_utf8_lossy(&run.stdout)
+        );
+        // No overlap, every disk inside: gapack verify on the file.
+        let verify = gapack(
+            &dir,
+            &["verify", &format!("{out}/packing.csv"), "--config", "w.toml"],
+        );
+        assert!(
+            verify.status.success(),
+            "{}",
+            String::from_utf8_lossy(&verify.stdout)
+        );
+    }
+    // Below the window size nothing changes: the whole is searched.
+    fs::write(
+        dir.join("w.toml"),
+        config(0.3).replace("window_disks = 20000", "window_disks = 0"),
+    )
+    .unwrap();
+    let run = gapack(&dir, &["optimise", "w.toml", "--out", "whole"]);
+    assert!(run.status.success());
+    assert!(summary(&dir.join("whole"))["window"].is_null());
+}

@@ -237,7 +237,10 @@ fn densify_packs_random_cells_at_dense_targets_or_names_the_densest_reached() {
     for seed in 0..12u64 {
         let (lo, hi) = gradings[seed as usize % gradings.len()];
         let sides = [7.5, 12.0, 20.0];
-        let (w, h) = (sides[seed as usize % 3] * hi, sides[(seed as usize / 3) % 3] * hi);
+        let (w, h) = (
+            sides[seed as usize % 3] * hi,
+            sides[(seed as usize / 3) % 3] * hi,
+        );
         let target = 0.15 + 0.005 * (seed % 9) as f64;
         let mut scene = cell(w, h, uniform(lo, hi), seed).with_method(Method::Densify);
         scene.packer.densify.porosity = target;

@@ -313,6 +313,7 @@ pub(crate) struct RawOptimise {
     pub stagnation: Option<Spanned<i64>>,
     pub time_limit_s: Option<Spanned<f64>>,
     pub max_evaluations: Option<Spanned<i64>>,
+    pub window_disks: Option<Spanned<i64>>,
     pub max_psd_ks: Option<Spanned<f64>>,
 }
 

@@ -618,6 +618,9 @@ impl Validator<'_> {
         if let Some(v) = &o.max_evaluations {
             s.max_evaluations = Some(self.whole("optimise.max_evaluations", v, 1, None)? as u64);
         }
+        if let Some(v) = &o.window_disks {
+            s.window_disks = self.whole("optimise.window_disks", v, 0, None)? as u64;
+        }
         if let Some(v) = &o.population {
             s.population = self.whole("optimise.population", v, 2, None)?;
         }

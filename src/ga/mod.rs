@@ -10,6 +10,7 @@ mod operators;
 mod porosity;
 mod score;
 mod settings;
+pub mod window;
 
 pub use checkpoint::{Checkpoint, ResumeError};
 pub use engine::{

@@ -81,6 +81,12 @@ impl<'a> PorosityProblem<'a> {
         scene
     }
 
+    /// The packing-rule genes of a genome (see the module documentation).
+    pub fn rules_of(&self, genes: &[f64]) -> [f64; RULE_GENES] {
+        let rules = &genes[self.sizes.min(genes.len())..];
+        std::array::from_fn(|i| rules.get(i).copied().unwrap_or(0.0))
+    }
+
     /// The porosity range generation 0 spans, `[low, high]`: its genomes run
     /// from dense to the loosest packing rules, so this estimates before the
     /// search what the domain and grading can reach. The search refines it

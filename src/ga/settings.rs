@@ -24,9 +24,15 @@ pub struct OptimiseSettings {
     /// genomes evaluated: a budget that stops at the same place on every
     /// machine (`None`: no budget).
     pub max_evaluations: Option<u64>,
+    /// Search a scene estimated at this many disks or more on a window of
+    /// it (`ga::window`); 0: always the whole.
+    pub window_disks: u64,
     /// Largest KS distance of the packing's sizes to the grading curve (the constraint).
     pub max_psd_ks: f64,
 }
+
+/// Default `window_disks`: scenes of this many disks or more are searched on a window.
+pub const WINDOW_DISKS: u64 = 50_000;
 
 impl OptimiseSettings {
     /// Estimated peak memory (bytes) of a search on `scene`.
@@ -51,6 +57,7 @@ impl OptimiseSettings {
             stagnation: 30,
             time_limit_s: 60.0,
             max_evaluations: None,
+            window_disks: WINDOW_DISKS,
             max_psd_ks: 0.05,
         }
     }

@@ -232,8 +232,18 @@ impl Outcome {
                 } else {
                     format!("; target {}", summary.verdict)
                 };
+                let window = summary.window.as_ref().map_or(String::new(), |w| {
+                    format!(
+                        "; searched on a {:.0} × {:.0} mm window ({:.1}% of the domain{}), the whole packed {} times",
+                        w.size[0],
+                        w.size[1],
+                        100.0 * w.share,
+                        if w.settled { "" } else { ", not settled" },
+                        w.whole_packs
+                    )
+                });
                 lines.push(format!(
-                    "{at}: porosity {:.4} (target {}, error {:.4}), psd_ks {:.3}, {} disks, {} evaluations in {} generations, {} ({}{verdict}){layering}{}",
+                    "{at}: porosity {:.4} (target {}, error {:.4}), psd_ks {:.3}, {} disks, {} evaluations in {} generations, {} ({}{verdict}{window}){layering}{}",
                     metrics.porosity,
                     summary.target_porosity,
                     summary.error,

@@ -17,15 +17,15 @@ use crate::config::Config;
 use crate::fracture::{Extent, MM_PER_M, Well, Window, WindowError, WindowStep, settle};
 use crate::ga::{
     CONCLUSIVE_POPULATION, Checkpoint, Evolution, Generation, Layered, Limits, OptimiseSettings,
-    PorosityProblem, Search, StopReason, Verdict, lay_out,
+    PorosityProblem, Search, StopReason, Verdict, lay_out, window,
 };
 use crate::layering::LayeringSettings;
 use crate::metrics::{Metrics, measure, measure_cancellable};
 use crate::names::ConfigName;
 use crate::output::{
     FILE_NAMES, FractureSummary, LayeringDetails, LayeringReport, LayeringSummary, OptimiseSummary,
-    OutputError, RunInfo, WELLS_CSV, WellRow, WindowSummary, render_compare, render_outputs,
-    render_stability, variant_label, wells_csv,
+    OutputError, RunInfo, SearchWindow, WELLS_CSV, WellRow, WindowSummary, render_compare,
+    render_outputs, render_stability, variant_label, wells_csv,
 };
 use crate::packer::{PackError, Packing, pack_observed};
 use crate::stability::{self, StabilityRun};
@@ -498,11 +498,37 @@ impl Running<'_> {
         let plan = self.plan;
         let config = &plan.config;
         let scene = &config.scene;
-        let problem = PorosityProblem::new(scene, *settings);
-        let limits = Limits::from(settings);
+        let started = Instant::now();
         // The job's own token: a failed checkpoint stops the search without
         // raising the front end's.
         let stop = cancel.child();
+        // A large scene is searched on a window of it, aiming at the target
+        // plus the window's extra wall effect (ga::window).
+        let window = if window::windowed(scene, settings.window_disks) {
+            match window::settle(scene, settings.tolerance, &stop) {
+                Ok(w) => Some(w),
+                Err(PackError::Cancelled(_)) => return Err(JobError::Cancelled),
+                Err(source) => {
+                    return Err(JobError::Pack {
+                        what: "the scene and its windows".to_owned(),
+                        source,
+                    });
+                }
+            }
+        } else {
+            None
+        };
+        let offset = window.as_ref().map_or(0.0, |w| w.offset);
+        let problem = PorosityProblem::new(
+            window.as_ref().map_or(scene, |w| &w.scene),
+            OptimiseSettings {
+                target_porosity: settings.target_porosity + offset,
+                ..*settings
+            },
+        );
+        // The window's porosities as the whole's.
+        let whole_range = |r: Option<[f64; 2]>| r.map(|[lo, hi]| [lo - offset, hi - offset]);
+        let limits = Limits::from(settings);
         let search = if resume {
             let checkpoint = self.read_checkpoint()?;
             Search::resume(&problem, limits, &checkpoint)
@@ -510,14 +536,15 @@ impl Running<'_> {
         } else {
             Search::start(&problem, limits, plan.seed(), &stop).map_err(|_| JobError::Cancelled)?
         };
-        let initial_range = span(PorosityProblem::range(search.initial()));
+        let searched_range = span(PorosityProblem::range(search.initial()));
+        let initial_range = whole_range(searched_range);
         // A target below every porosity the advancing front packed in
         // generation 0, beyond its tolerance: the densify method packs the
         // drawn sizes at it directly (docs/densify.md), no search needed.
         let dense_route = !resume
             && initial_range
                 .is_some_and(|[lo, _]| settings.target_porosity < lo - settings.tolerance);
-        if !resume && initial_range.is_none_or(|r| !problem.feasible(r)) {
+        if !resume && searched_range.is_none_or(|r| !problem.feasible(r)) {
             self.event(Event::Warning(Warning {
                 kind: WarningKind::TargetOutsideInitialRange,
                 message: match initial_range {
@@ -583,19 +610,99 @@ impl Running<'_> {
                 },
             )
         };
-        let (verdict, range, warning, packs, best) = match dense {
-            Some(Dense {
-                verdict,
-                range,
-                warning,
-                packs,
-                best,
-            }) => (verdict, range, warning, packs, best),
-            None => {
+        let mut whole_packs = 0;
+        let (verdict, range, warning, packs, best) = match (dense, &window) {
+            (
+                Some(Dense {
+                    verdict,
+                    range,
+                    warning,
+                    packs,
+                    best,
+                }),
+                _,
+            ) => (verdict, range, warning, packs, best),
+            (None, None) => {
                 let verdict = problem.verdict(&evolution);
                 let range = span(evolution.explored);
                 let warning = verdict_warning(settings, &evolution, verdict, range);
                 (verdict, range, warning, 0, None)
+            }
+            (None, Some(w)) => {
+                let searched = problem.verdict(&evolution);
+                let range = whole_range(span(evolution.explored));
+                let fitted = if searched == Verdict::Interrupted {
+                    Err(PackError::Cancelled(Cancelled::Flag))
+                } else {
+                    window::fit_whole(
+                        scene,
+                        problem.rules_of(&evolution.genes),
+                        w.whole.clone(),
+                        [
+                            settings.target_porosity,
+                            settings.tolerance,
+                            settings.max_psd_ks,
+                        ],
+                        &stop,
+                    )
+                };
+                let whole = match fitted {
+                    Ok(whole) => whole,
+                    // Interrupted: the whole packed with the scene's own rules is written.
+                    Err(PackError::Cancelled(_)) => window::Whole {
+                        packing: w.whole.0.clone(),
+                        scene: scene.clone(),
+                        porosity: w.whole.1,
+                        packs: 0,
+                    },
+                    Err(source) => {
+                        return Err(JobError::Pack {
+                            what: "the scene with the rules found on its window".to_owned(),
+                            source,
+                        });
+                    }
+                };
+                whole_packs = whole.packs;
+                let ks = crate::metrics::psd_ks(&whole.packing, &whole.scene);
+                let hit = (whole.porosity - settings.target_porosity).abs() <= settings.tolerance
+                    && ks <= settings.max_psd_ks;
+                let verdict = match searched {
+                    Verdict::Interrupted => Verdict::Interrupted,
+                    _ if hit => Verdict::Reached,
+                    Verdict::OutOfReach => Verdict::OutOfReach,
+                    _ => Verdict::NotReached,
+                };
+                let warning = (!matches!(verdict, Verdict::Reached | Verdict::Interrupted)).then(|| Warning {
+                    kind: if verdict == Verdict::OutOfReach {
+                        WarningKind::TargetOutOfReach
+                    } else {
+                        WarningKind::TargetNotReached
+                    },
+                    message: format!(
+                        "optimise.target_porosity = {}: searched on a window of {:.0} × {:.0} mm, the whole packed with the rules found there (tuned over {} packs of it) reached porosity {:.4}, psd_ks {:.3} (optimise.tolerance {}, optimise.max_psd_ks {}){}",
+                        settings.target_porosity,
+                        w.scene.domain.bounds().1.x - w.scene.domain.bounds().0.x,
+                        w.scene.domain.bounds().1.y - w.scene.domain.bounds().0.y,
+                        whole.packs,
+                        whole.porosity,
+                        ks,
+                        settings.tolerance,
+                        settings.max_psd_ks,
+                        if verdict == Verdict::OutOfReach {
+                            denser_than(settings.target_porosity, range)
+                        } else {
+                            ""
+                        }
+                    ),
+                });
+                let range = range.map(|[lo, hi]| [lo.min(whole.porosity), hi.max(whole.porosity)]);
+                (
+                    verdict,
+                    range,
+                    warning,
+                    0,
+                    Some((whole.packing, whole.scene)),
+                )
             }
         };
         let interrupted = verdict == Verdict::Interrupted;
@@ -626,7 +733,7 @@ impl Running<'_> {
             best_porosity: metrics.porosity,
             error: (metrics.porosity - settings.target_porosity).abs(),
             max_psd_ks: settings.max_psd_ks,
-            evaluations: evolution.evaluations + packs,
+            evaluations: evolution.evaluations + packs + u64::from(whole_packs),
             generations: evolution.history.len().saturating_sub(1),
             population: settings.population,
             feasible: verdict.feasible(),
@@ -640,6 +747,24 @@ impl Running<'_> {
                 evolution.stop.describe()
             },
             reproducible: !interrupted && evolution.stop.reproducible(),
+            window: window.as_ref().map(|w| SearchWindow {
+                size: w.steps.last().map_or([0.0; 2], |s| s.size),
+                share: w.share(scene),
+                disks: w.steps.last().map_or(0, |s| s.disks),
+                settled: w.settled,
+                steps: w
+                    .steps
+                    .iter()
+                    .map(|s| [s.size[0], s.size[1], s.porosity, s.core])
+                    .collect(),
+                offset: w.offset,
+                whole_packs: 1 + whole_packs,
+            }),
+        };
+        let seconds = if window.is_some() {
+            started.elapsed().as_secs_f64()
+        } else {
+            evolution.seconds
         };
         let run = RunInfo {
             materials: &config.materials,
@@ -650,7 +775,7 @@ impl Running<'_> {
                 .zip(layered.as_ref())
                 .map(|(settings, layered)| layering_report(settings, layered)),
             fracture: whole_fracture(config),
-            ..RunInfo::new(&best_scene, &plan.origin, evolution.seconds, &config.output)
+            ..RunInfo::new(&best_scene, &plan.origin, seconds, &config.output)
         };
         self.write_packing("", &packing, &metrics, &run)?;
         if let Some(e) = save_failed {

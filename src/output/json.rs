@@ -179,6 +179,33 @@ pub struct OptimiseSummary {
     /// false when the search was stopped by its time limit (or interrupted),
     /// which depends on the machine's speed and load.
     pub reproducible: bool,
+    /// The window the search ran on, for a large scene (`None`: the whole).
+    pub window: Option<SearchWindow>,
+}
+
+/// The window a large scene's search ran on (`ga::window`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SearchWindow {
+    /// Width and height of the window searched (mm).
+    pub size: [f64; 2],
+    /// Its area as a share of the domain's.
+    pub share: f64,
+    /// Disks in it, packed with the scene's own rules.
+    pub disks: usize,
+    /// Whether the last two windows agreed within the tolerance (else the
+    /// window is the largest allowed, a quarter of the domain).
+    pub settled: bool,
+    /// Every window packed with the scene's own rules: width, height (mm),
+    /// porosity, and the porosity of its core (less three largest
+    /// diameters along each edge), which must settle.
+    pub steps: Vec<[f64; 4]>,
+    /// The window's porosity less the whole's, both with the scene's own
+    /// rules (the difference of wall effect): the search aimed at the
+    /// target plus this, and its ranges are given less it.
+    pub offset: f64,
+    /// Packs of the whole: one with the scene's own rules, then those
+    /// tuning the window's rules on the whole.
+    pub whole_packs: u32,
 }
 
 #[derive(Serialize)]

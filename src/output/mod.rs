@@ -33,7 +33,7 @@ pub use export::{
 pub use format::{ExportOptions, Format, LengthUnit, OutputSettings};
 pub(crate) use format::{FORMATS, UNITS};
 pub use json::{
-    FractureSummary, LayeringDetails, LayeringSummary, OptimiseSummary, SUMMARY_JSON,
+    FractureSummary, LayeringDetails, LayeringSummary, OptimiseSummary, SUMMARY_JSON, SearchWindow,
     WindowSummary, summary_json,
 };
 pub use plot::{
