@@ -524,7 +524,12 @@ fn a_large_scene_is_searched_on_a_window_and_verified_on_the_whole() {
         // No overlap, every disk inside: gapack verify on the file.
         let verify = gapack(
             &dir,
-            &["verify", &format!("{out}/packing.csv"), "--config", "w.toml"],
+            &[
+                "verify",
+                &format!("{out}/packing.csv"),
+                "--config",
+                "w.toml",
+            ],
         );
         assert!(
             verify.status.success(),

@@ -747,18 +747,20 @@ impl Running<'_> {
                 evolution.stop.describe()
             },
             reproducible: !interrupted && evolution.stop.reproducible(),
-            window: window.as_ref().map(|w| SearchWindow {
-                size: w.steps.last().map_or([0.0; 2], |s| s.size),
-                share: w.share(scene),
-                disks: w.steps.last().map_or(0, |s| s.disks),
-                settled: w.settled,
-                steps: w
-                    .steps
-                    .iter()
-                    .map(|s| [s.size[0], s.size[1], s.porosity, s.core])
-                    .collect(),
-                offset: w.offset,
-                whole_packs: 1 + whole_packs,
+            window: window.as_ref().map(|w| {
+                Box::new(SearchWindow {
+                    size: w.steps.last().map_or([0.0; 2], |s| s.size),
+                    share: w.share(scene),
+                    disks: w.steps.last().map_or(0, |s| s.disks),
+                    settled: w.settled,
+                    steps: w
+                        .steps
+                        .iter()
+                        .map(|s| [s.size[0], s.size[1], s.porosity, s.core])
+                        .collect(),
+                    offset: w.offset,
+                    whole_packs: 1 + whole_packs,
+                })
             }),
         };
         let seconds = if window.is_some() {

@@ -180,7 +180,7 @@ pub struct OptimiseSummary {
     /// which depends on the machine's speed and load.
     pub reproducible: bool,
     /// The window the search ran on, for a large scene (`None`: the whole).
-    pub window: Option<SearchWindow>,
+    pub window: Option<Box<SearchWindow>>,
 }
 
 /// The window a large scene's search ran on (`ga::window`).
