@@ -234,12 +234,15 @@ impl Outcome {
                 };
                 let window = summary.window.as_ref().map_or(String::new(), |w| {
                     format!(
-                        "; searched on a {:.0} × {:.0} mm window ({:.1}% of the domain{}), the whole packed {} times",
+                        "; searched on a {:.0} × {:.0} mm window ({:.1}% of the domain{}), the whole packed {}",
                         w.size[0],
                         w.size[1],
                         100.0 * w.share,
                         if w.settled { "" } else { ", not settled" },
-                        w.whole_packs
+                        match w.whole_packs {
+                            1 => "once".to_owned(),
+                            n => format!("{n} times"),
+                        }
                     )
                 });
                 lines.push(format!(
@@ -336,7 +339,7 @@ impl Outcome {
     pub fn seconds(&self) -> f64 {
         match &self.report {
             Report::Pack { seconds, .. } | Report::Layer { seconds, .. } => *seconds,
-            Report::Optimise { history, .. } => history.last().map_or(0.0, |g| g.seconds),
+            Report::Optimise { seconds, .. } => *seconds,
             Report::Wells { wells, .. } => wells.iter().map(|w| w.row.seconds).sum(),
             Report::Compare { runs, .. } => runs.iter().map(|r| r.seconds).sum(),
             Report::Stability { runs, .. } => runs.iter().map(|r| r.seconds).sum(),

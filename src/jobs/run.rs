@@ -88,6 +88,9 @@ pub enum Report {
         layered: Option<Layered>,
         /// Whether a checkpoint was kept to resume from.
         resumable: bool,
+        /// Wall-clock time of the search (s), with the windows and the
+        /// densify route's packs where they ran.
+        seconds: f64,
     },
     /// One packing with its materials laid out.
     Layer {
@@ -763,7 +766,9 @@ impl Running<'_> {
                 })
             }),
         };
-        let seconds = if window.is_some() {
+        // The search's own time (summed over resumed runs), or all of this
+        // run's where windows or densify packed beside it.
+        let seconds = if window.is_some() || evolution.stop == StopReason::Densified {
             started.elapsed().as_secs_f64()
         } else {
             evolution.seconds
@@ -797,6 +802,7 @@ impl Running<'_> {
                 history: evolution.history,
                 layered,
                 resumable,
+                seconds,
             },
             interrupted,
         ))
@@ -855,15 +861,31 @@ impl Running<'_> {
             Err(PackError::Cancelled(_)) => return Ok(interrupted()),
             Err(source) => return Err(dense_failure(source)),
         };
-        // Step up from where the disks jammed until the true sizes pack.
+        // Step up from where the disks jammed until the true sizes pack,
+        // then halve the last step twice towards the jamming point.
+        let step = settings.tolerance.max(DENSE_STEP_MIN);
         for k in 1..=DENSE_STEPS {
-            let porosity = jammed + k as f64 * settings.tolerance.max(DENSE_STEP_MIN);
+            let porosity = jammed + k as f64 * step;
             if porosity >= front[0] {
                 break;
             }
             let scene = at(porosity);
             match pack_observed(&scene, &mut |_| {}, stop) {
                 Ok(packing) => {
+                    let (mut packing, mut scene, mut packs) = (packing, scene, 1 + k as u64);
+                    let mut failed = porosity - step;
+                    let mut packed = porosity;
+                    for _ in 0..DENSE_REFINE {
+                        let mid = 0.5 * (failed + packed);
+                        let trial = at(mid);
+                        packs += 1;
+                        match pack_observed(&trial, &mut |_| {}, stop) {
+                            Ok(p) => (packing, scene, packed) = (p, trial, mid),
+                            Err(PackError::DensityUnreached { .. }) => failed = mid,
+                            Err(PackError::Cancelled(_)) => break,
+                            Err(source) => return Err(dense_failure(source)),
+                        }
+                    }
                     let m = measure(&packing, &scene);
                     return Ok(Dense {
                         verdict: Verdict::OutOfReach,
@@ -875,7 +897,7 @@ impl Running<'_> {
                                 m.porosity
                             ),
                         }),
-                        packs: 1 + k as u64,
+                        packs,
                         best: Some((packing, scene)),
                     });
                 }
@@ -1125,6 +1147,8 @@ fn dense_failure(source: PackError) -> JobError {
 const DENSE_STEPS: usize = 8;
 /// Smallest step of porosity between those tries.
 const DENSE_STEP_MIN: f64 = 0.001;
+/// Halvings of the last step once the true sizes pack.
+const DENSE_REFINE: usize = 2;
 
 /// What the densify route of an optimise found: the verdict on the
 /// target, the range measured (its dense end the densest packing of the

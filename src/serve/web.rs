@@ -26,6 +26,7 @@ pub const EXAMPLES: &[(&str, &str)] = &[
         "compare_fracture",
         include_str!("../../configs/compare_fracture.toml"),
     ),
+    ("dense_100k", include_str!("../../configs/dense_100k.toml")),
     (
         "dense_circle",
         include_str!("../../configs/dense_circle.toml"),
@@ -35,16 +36,32 @@ pub const EXAMPLES: &[(&str, &str)] = &[
         include_str!("../../configs/dense_l_shape.toml"),
     ),
     (
-        "dense_pfc_genesis",
-        include_str!("../../configs/dense_pfc_genesis.toml"),
+        "dense_limit_pfc",
+        include_str!("../../configs/dense_limit_pfc.toml"),
+    ),
+    (
+        "dense_limit_table31",
+        include_str!("../../configs/dense_limit_table31.toml"),
+    ),
+    (
+        "dense_optimise_table31",
+        include_str!("../../configs/dense_optimise_table31.toml"),
     ),
     (
         "dense_periodic_pfc",
         include_str!("../../configs/dense_periodic_pfc.toml"),
     ),
     (
+        "dense_pfc_genesis",
+        include_str!("../../configs/dense_pfc_genesis.toml"),
+    ),
+    (
         "dense_table31",
         include_str!("../../configs/dense_table31.toml"),
+    ),
+    (
+        "dense_table34",
+        include_str!("../../configs/dense_table34.toml"),
     ),
     (
         "dense_target",
@@ -93,6 +110,14 @@ pub const EXAMPLES: &[(&str, &str)] = &[
     (
         "wide_uniform",
         include_str!("../../configs/wide_uniform.toml"),
+    ),
+    (
+        "window_table31_019",
+        include_str!("../../configs/window_table31_019.toml"),
+    ),
+    (
+        "window_table31_030",
+        include_str!("../../configs/window_table31_030.toml"),
     ),
 ];
 
