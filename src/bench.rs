@@ -179,9 +179,158 @@ pub struct BenchArgs {
     /// Runs per configuration; the fastest is kept.
     #[arg(long, default_value_t = 3, value_name = "N")]
     repeats: usize,
-    /// Output directory for bench.csv.
+    /// Output directory for bench.csv (with --densify: densify.csv, densify.svg, densify.png).
     #[arg(long, value_name = "DIR", default_value = "out/bench")]
     out: std::path::PathBuf,
+    /// Instead: the densest porosity densify reaches for four gradings in
+    /// periodic cells of about 3,000 disks, beside the published jamming
+    /// figures, and its convergence (porosity against minimisation steps).
+    #[arg(long)]
+    densify: bool,
+}
+
+/// One grading of `gapack bench --densify`: its name, the curve, the
+/// published densest porosity beside it, and where that figure is from.
+struct Densest {
+    name: &'static str,
+    grading: Grading,
+    published: f64,
+    source: &'static str,
+}
+
+/// The densify chart starts at each grading's first point under this porosity.
+const CHART_TOP: f64 = 0.45;
+
+/// The gradings of `gapack bench --densify`.
+fn densest_gradings() -> anyhow::Result<Vec<Densest>> {
+    use gapack::{Basis, Interpolation};
+    let table =
+        |points: &[(f64, f64)]| Grading::from_table(points, Interpolation::Log, Basis::Number);
+    Ok(vec![
+        Densest {
+            name: "bidisperse 1:1.4, half each by number",
+            grading: table(&[(1.0, 0.0), (1.0, 50.0), (1.4, 50.0), (1.4, 100.0)])?,
+            published: 1.0 - 0.842,
+            source: "O'Hern et al. 2003, this mixture: phi_J = 0.842",
+        },
+        Densest {
+            name: "PFC genesis, uniform 1-1.66 mm",
+            grading: Grading::uniform(1.0, 1.66, Basis::Number)?,
+            published: 1.0 - 0.84,
+            source: "polydisperse disks: phi_J about 0.84",
+        },
+        Densest {
+            name: "thesis Table 3.1, 1.275-3.54 mm",
+            grading: table(&[(1.275, 0.0), (1.8, 35.0), (2.55, 95.0), (3.54, 100.0)])?,
+            published: 1.0 - 0.84,
+            source: "polydisperse disks: phi_J about 0.84",
+        },
+        Densest {
+            name: "thesis Table 3.4, 1.2-1.295 mm",
+            grading: Grading::from_table(
+                gapack::THESIS_TABLE_3_4,
+                Interpolation::Log,
+                Basis::Number,
+            )?,
+            published: 1.0 - std::f64::consts::PI / 12f64.sqrt(),
+            source: "nearly one size: hexagonal order, phi = 0.9069",
+        },
+    ])
+}
+
+/// `gapack bench --densify`: see [`BenchArgs::densify`]. Each grading is
+/// packed in a periodic cell at porosity 0.05, which no disks reach: the
+/// run ends with the densest porosity reached, and its trace is the
+/// convergence.
+fn run_densest(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
+    use crate::cli::{Failure, print_line};
+    use anyhow::Context;
+    use gapack::jobs::{DirStore, Store};
+    use gapack::output::{Drawable, LineChart, Mark, Series};
+    use gapack::{Cancel, Method, PackError, WallMode, densify_traced};
+    let run = || -> anyhow::Result<(Vec<u8>, LineChart)> {
+        let mut csv = csv::Writer::from_writer(Vec::new());
+        csv.write_record(["grading", "steps", "porosity"])?;
+        let mut series = Vec::new();
+        print_line(format_args!(
+            "{:<40} {:>6} {:>9} {:>10} {:>8} {:>8}  published",
+            "grading", "disks", "densest", "published", "steps", "seconds"
+        ));
+        for (k, g) in densest_gradings()?.into_iter().enumerate() {
+            let side = (3000.0 * g.grading.mean_disk_area() / 0.84).sqrt();
+            let mut scene = Scene::new(Domain::rectangle(side, side)?, g.grading)
+                .with_walls(WallMode::Periodic)
+                .with_method(Method::Densify)
+                .with_seed(1);
+            scene.packer.densify.porosity = 0.05;
+            let start = Instant::now();
+            let (result, trace) = densify_traced(&scene, &Cancel::new());
+            let seconds = start.elapsed().as_secs_f64();
+            let disks = trace.disks;
+            let trace = trace.points;
+            let (densest, steps) = match result {
+                Err(PackError::DensityUnreached { reached, steps, .. }) => (reached, steps),
+                Ok(_) => anyhow::bail!("{}: packed at 0.05, below any jamming", g.name),
+                Err(e) => return Err(e.into()),
+            };
+            print_line(format_args!(
+                "{:<40} {:>6} {:>9.4} {:>10.4} {:>8} {:>8.2}  {}",
+                g.name, disks, densest, g.published, steps, seconds, g.source
+            ));
+            for [s, p] in &trace {
+                csv.write_record([g.name.to_owned(), s.to_string(), format!("{p:.6}")])?;
+            }
+            let last = trace.last().map_or(1.0, |t| t[0]);
+            series.push(Series {
+                name: format!("{} (densest {densest:.4})", g.name),
+                // From the first point under CHART_TOP: the first steps
+                // start from random, overlapping centres (porosity near 1).
+                points: trace
+                    .iter()
+                    .skip_while(|t| t[1] > CHART_TOP)
+                    .map(|&[s, p]| (s, p))
+                    .collect(),
+                mark: Mark::Line,
+                colour: k,
+            });
+            series.push(Series {
+                name: format!("published {:.3}", g.published),
+                points: vec![(0.0, g.published), (last, g.published)],
+                mark: Mark::Dashed,
+                colour: k,
+            });
+        }
+        let chart = LineChart {
+            title: "Densify in periodic cells: porosity free of overlap against steps".to_owned(),
+            x_label: "minimisation steps".to_owned(),
+            y_label: "porosity".to_owned(),
+            series,
+        };
+        Ok((csv.into_inner()?, chart))
+    };
+    let (csv, chart) = run()
+        .context("cannot run the densify benchmark")
+        .map_err(Failure::Run)?;
+    let files = vec![
+        ("densify.csv".to_owned(), csv),
+        (
+            "densify.svg".to_owned(),
+            chart
+                .to_svg()
+                .map_err(|e| Failure::Run(e.into()))?
+                .into_bytes(),
+        ),
+        (
+            "densify.png".to_owned(),
+            chart.to_png().map_err(|e| Failure::Run(e.into()))?,
+        ),
+    ];
+    DirStore::new(&args.out)
+        .write(&files)
+        .context("cannot write the densify benchmark")
+        .map_err(Failure::Run)?;
+    print_line(args.out.join("densify.csv").display());
+    Ok(())
 }
 
 /// `gapack bench`: print one table row per measured configuration, then write bench.csv.
@@ -189,6 +338,9 @@ pub fn run_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
     use crate::cli::{Failure, print_line};
     use anyhow::Context;
     use gapack::jobs::{DirStore, Store};
+    if args.densify {
+        return run_densest(args);
+    }
     let targets: Vec<u64> = [10_000, 100_000, 1_000_000]
         .into_iter()
         .filter(|&n| n <= args.max)

@@ -48,8 +48,8 @@ pub use grading::{Basis, Grading, GradingError, Interpolation, THESIS_TABLE_3_4}
 pub use metrics::{Metrics, PorosityMap, measure, porosity, porosity_map, psd_ks, solid_area};
 pub use packer::index::{Grid, MxQuadtree, SpatialIndex};
 pub use packer::{
-    PEAK_BYTES_PER_DISK, PackError, PackStats, Packing, WORK_PER_DISK, estimated_peak_bytes, pack,
-    pack_observed, size_count, work_budget,
+    DensifyTrace, PEAK_BYTES_PER_DISK, PackError, PackStats, Packing, WORK_PER_DISK,
+    densify_traced, estimated_peak_bytes, pack, pack_observed, size_count, work_budget,
 };
 pub use scene::{
     Axis, Densify, Fill, FrontRules, IndexKind, Limits, MAX_DEFERRED, MAX_GAP, Method,

@@ -16,7 +16,7 @@ pub use crate::scene::{
     PackerSettings, Relaxation,
 };
 pub use advancing_front::{WORK_PER_DISK, pack_genes_watched, size_count, work_budget};
-pub use densify::pack_densify;
+pub use densify::{DensifyTrace, densify_traced, pack_densify};
 pub use deposition::pack_deposition;
 pub use packing::{PackError, PackStats, Packing};
 pub use relaxation::pack_relaxation;

@@ -77,6 +77,41 @@ const SEARCH_STEPS: u32 = 10;
 /// [`PackError::DensityUnreached`] when the target porosity is not reached
 /// without overlap within `packer.densify.iterations` steps.
 pub fn pack_densify(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackError> {
+    densify(scene, cancel, None)
+}
+
+/// The convergence of a densify run ([`densify_traced`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct DensifyTrace {
+    /// Disks packed (the sizes drawn for the target).
+    pub disks: usize,
+    /// Every 100 minimisation steps: (steps, the porosity at which the
+    /// disks would be free of overlap at the centres they have then, their
+    /// radii scaled by the largest factor those centres allow), on the
+    /// target's area.
+    pub points: Vec<[f64; 2]>,
+}
+
+/// [`pack_densify`], and its convergence.
+///
+/// # Errors
+/// As [`pack_densify`]; the trace is returned either way (without points
+/// if the run stopped before its first step).
+pub fn densify_traced(
+    scene: &Scene,
+    cancel: &Cancel,
+) -> (Result<Packing, PackError>, DensifyTrace) {
+    let mut trace = DensifyTrace::default();
+    let result = densify(scene, cancel, Some(&mut trace));
+    (result, trace)
+}
+
+/// [`pack_densify`], its trace into `trace` when given.
+fn densify(
+    scene: &Scene,
+    cancel: &Cancel,
+    mut trace: Option<&mut DensifyTrace>,
+) -> Result<Packing, PackError> {
     check_fits(scene)?;
     let settings = scene.packer.densify;
     let domain = &scene.domain;
@@ -84,6 +119,7 @@ pub fn pack_densify(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackError
     let free = (domain.area() - domain.perimeter() * placed.wall_r).max(0.0);
     let r = sizes(scene, free * (1.0 - settings.porosity), cancel)?;
     let n = r.len();
+    let solid: f64 = r.iter().map(|x| std::f64::consts::PI * x * x).sum();
     let centres = start(domain, &r, scene.seed);
     let mut sys = System::new(
         domain,
@@ -92,6 +128,18 @@ pub fn pack_densify(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackError
         (&placed.disks, &placed.grid, placed.wall_r),
     );
     drop(centres);
+    if trace.is_some() {
+        sys.start_trace();
+    }
+    let mut record = |sys: &System<'_>| {
+        if let Some(t) = trace.as_deref_mut() {
+            t.disks = n;
+            t.points.extend(sys.trace().iter().map(|&(k, c)| {
+                let c = c.clamp(0.0, 1.0);
+                [k as f64, 1.0 - c * c * solid / free]
+            }));
+        }
+    };
     let mut steps = 0u64;
     let budget = settings.iterations as u64;
     let outcome = squeeze(
@@ -103,6 +151,7 @@ pub fn pack_densify(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackError
     )?;
     // The exact recount: converged means every gap is at least MARGIN / 2.
     if outcome == Outcome::Converged && sys.clearance() > 1.0 {
+        record(&sys);
         let disks = sys.disks();
         drop(sys);
         let mut stats = placed.stats;
@@ -115,7 +164,7 @@ pub fn pack_densify(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackError
     }
     let jammed = outcome == Outcome::Jammed;
     let scale = densest_scale(&mut sys, budget, &mut steps, cancel)?;
-    let solid: f64 = sys.disks().iter().map(|d| d.area()).sum();
+    record(&sys);
     Err(PackError::DensityUnreached {
         target: settings.porosity,
         // Of the same area as the target, so that asking for it packs as many disks.

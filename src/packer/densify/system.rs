@@ -52,6 +52,9 @@ const STALL_FALL: f64 = 0.75;
 /// Steps between two looks at the cancel token.
 const CANCEL_STEP: u64 = 32;
 
+/// Steps between two points of a trace ([`System::trace`]).
+const TRACE_STEP: u64 = 100;
+
 /// How a minimisation ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum Outcome {
@@ -119,6 +122,8 @@ pub(super) struct System<'a> {
     /// Disks near wall disks: (slot, range in `fixed_nbr`).
     near_fixed: Vec<(u32, u32, u32)>,
     fixed_nbr: Vec<u32>,
+    /// When traced: (steps, [`System::clearance`]) every [`TRACE_STEP`] steps.
+    trace: Option<Vec<(u64, f64)>>,
 }
 
 impl<'a> System<'a> {
@@ -169,7 +174,18 @@ impl<'a> System<'a> {
             fixed_r: fixed.2,
             near_fixed: Vec::new(),
             fixed_nbr: Vec::new(),
+            trace: None,
         }
+    }
+
+    /// Record the clearance every [`TRACE_STEP`] steps from now on.
+    pub fn start_trace(&mut self) {
+        self.trace = Some(Vec::new());
+    }
+
+    /// The (steps, clearance) recorded since [`System::start_trace`].
+    pub fn trace(&self) -> &[(u64, f64)] {
+        self.trace.as_deref().unwrap_or_default()
     }
 
     /// Radius factor of the energy: the scale widened by the margin.
@@ -430,6 +446,12 @@ impl<'a> System<'a> {
             }
             if steps.is_multiple_of(CANCEL_STEP) {
                 cancel.check()?;
+            }
+            if self.trace.is_some() && steps.is_multiple_of(TRACE_STEP) {
+                let c = self.clearance();
+                if let Some(t) = self.trace.as_mut() {
+                    t.push((*steps, c));
+                }
             }
             *steps += 1;
             let back = power <= 0.0;
