@@ -441,6 +441,30 @@ mod tests {
     }
 
     #[test]
+    fn the_trace_ends_at_the_densest_porosity_reached() {
+        let mut s = scene(12.0, 12.0, 0.05).with_walls(WallMode::Periodic);
+        s.domain = s.domain.with_periodic(true);
+        let (result, trace) = densify_traced(&s, &Cancel::new());
+        let Err(PackError::DensityUnreached { reached, steps, .. }) = result else {
+            panic!("{result:?}");
+        };
+        assert!(trace.disks > 10, "{}", trace.disks);
+        assert!(trace.points.len() as u64 >= u64::from(steps) / 100 - 1);
+        assert!(trace.points.windows(2).all(|w| w[0][0] < w[1][0]));
+        assert!(trace.points.iter().all(|p| (0.0..=1.0).contains(&p[1])));
+        // The densest seen is no denser than what the search confirmed
+        // (it may have been seen between the points).
+        let seen = trace.points.iter().map(|p| p[1]).fold(1.0, f64::min);
+        assert!(seen >= reached - 1e-9, "{seen} {reached}");
+        assert!(seen - reached < 0.02, "{seen} {reached}");
+        // Tracing changes nothing: the same error untraced.
+        assert_eq!(
+            pack(&s).unwrap_err(),
+            densify_traced(&s, &Cancel::new()).0.unwrap_err()
+        );
+    }
+
+    #[test]
     fn a_domain_that_holds_one_disk_packs_it() {
         let mut s = scene(1.1, 1.1, 0.17);
         s.grading = Grading::constant(1.0).unwrap();
