@@ -81,7 +81,7 @@ fn verify_passes_gapack_s_own_packing_and_fails_a_broken_one() {
     let csv = fs::read_to_string(dir.join("out/sq/packing.csv")).unwrap();
     let mut lines: Vec<String> = csv.lines().map(str::to_owned).collect();
     let second: Vec<String> = lines[2].split(',').map(str::to_owned).collect();
-    let first: Vec<&str> = lines[1].split(',').collect();
+    let first: Vec<String> = lines[1].split(',').map(str::to_owned).collect();
     lines[2] = format!("{},{},{},{}", second[0], first[1], first[2], second[3]);
     fs::write(dir.join("broken.csv"), lines.join("\n")).unwrap();
     let bad = gapack(&dir, &["verify", "broken.csv", "--config", "sq.toml"]);
@@ -89,6 +89,15 @@ fn verify_passes_gapack_s_own_packing_and_fails_a_broken_one() {
     assert!(stdout(&bad).contains("FAILED"));
     assert!(
         stdout(&bad).contains("overlaps: 1 pair"),
+        "{}",
+        stdout(&bad)
+    );
+    // Named by their ids and file lines (the header is line 1).
+    assert!(
+        stdout(&bad).contains(&format!(
+            "disk id {} (line 2) and disk id {} (line 3)",
+            first[0], second[0]
+        )),
         "{}",
         stdout(&bad)
     );
@@ -103,10 +112,37 @@ fn verify_passes_gapack_s_own_packing_and_fails_a_broken_one() {
     let out = gapack(&dir, &["verify", "out.csv", "--config", "sq.toml"]);
     assert_eq!(out.status.code(), Some(1));
     assert!(
-        stdout(&out)
-            .contains("containment: 1 disk reaches outside; the farthest by 5.000e-1 mm (row 1)"),
+        stdout(&out).contains(
+            "containment: 1 disk reaches outside; the farthest by 5.000e-1 mm (the disk on line 2)"
+        ),
         "{}",
         stdout(&out)
+    );
+
+    // The same packing with semicolons: read alike, valid.
+    fs::write(dir.join("semi.csv"), csv.replace(',', ";")).unwrap();
+    let semi = gapack(&dir, &["verify", "semi.csv", "--config", "sq.toml"]);
+    assert!(semi.status.success(), "{}", stdout(&semi));
+
+    // Against another scene's config: the disks do not fit, said so
+    // rather than as a negative porosity.
+    fs::write(
+        dir.join("small.toml"),
+        SQUARE
+            .replace("width = 20", "width = 8")
+            .replace("height = 20", "height = 8"),
+    )
+    .unwrap();
+    let wrong = gapack(
+        &dir,
+        &["verify", "out/sq/packing.csv", "--config", "small.toml"],
+    );
+    assert_eq!(wrong.status.code(), Some(1));
+    assert!(
+        stdout(&wrong).contains("the disks do not fit in this config's domain")
+            && !stdout(&wrong).contains("porosity -"),
+        "{}",
+        stdout(&wrong)
     );
 }
 
@@ -338,7 +374,7 @@ fn plot_draws_a_table_from_any_tool_and_refuses_a_bad_one() {
     assert!(out.status.success(), "{}", stderr(&out));
     assert_eq!(
         stdout(&out),
-        ".: packing, psd and porosity_map (.svg, .png) of foreign.csv (2 disks of 2 materials)\n"
+        ".: packing, psd and porosity_map (.svg, .png) of foreign.csv (2 disks of 2 materials); without --config the domain drawn is the disks' bounding box, and the porosities shown are of that box\n"
     );
     for name in ["packing", "psd", "porosity_map"] {
         png_size(&fs::read(dir.join(format!("{name}.png"))).unwrap());

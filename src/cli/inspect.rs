@@ -166,9 +166,14 @@ pub fn run_plot(args: &PlotArgs) -> Result<(), Failure> {
         .map_err(Failure::Run)?;
     report(args.quiet, || {
         format!(
-            "{}: packing, psd and porosity_map (.svg, .png) of {} ({table})",
+            "{}: packing, psd and porosity_map (.svg, .png) of {} ({table}){}",
             dir.display(),
-            args.packing.display()
+            args.packing.display(),
+            if scene.is_none() {
+                "; without --config the domain drawn is the disks' bounding box, and the porosities shown are of that box"
+            } else {
+                ""
+            }
         )
     });
     Ok(())
@@ -364,11 +369,20 @@ fn packing_of(table: &PackingTable, scene: &Scene, config: &Config) -> Packing {
 
 /// The lines `gapack verify` prints under its verdict.
 fn findings(c: &Check, table: &PackingTable, periodic: bool) -> Vec<String> {
-    let row = |i: usize| format!("row {}", i + 1);
-    let mut lines = vec![format!(
-        "{table}, porosity {:.4} (solid {:.4} of {:.4} mm²)",
-        c.porosity, c.solid_area, c.domain_area
-    )];
+    let row = |i: usize| table.disk_name(i);
+    // Disks that fill more than the domain's area lie (mostly) outside it:
+    // a porosity below 0 would only say the config is another scene's.
+    let mut lines = vec![if c.porosity < 0.0 {
+        format!(
+            "{table}, solid {:.4} mm² against a domain of {:.4} mm²: the disks do not fit in this config's domain (is it the packing's config?); porosity not measured",
+            c.solid_area, c.domain_area
+        )
+    } else {
+        format!(
+            "{table}, porosity {:.4} (solid {:.4} of {:.4} mm²)",
+            c.porosity, c.solid_area, c.domain_area
+        )
+    }];
     if c.malformed > 0 {
         lines.push(format!(
             "malformed: {} with a non-finite position or a radius that is not positive",

@@ -28,6 +28,41 @@ pub struct PackingTable {
     pub materials: Vec<u16>,
     /// Material names in order of first appearance.
     pub material_names: Vec<String>,
+    /// Per disk, the file line of its row (from 1).
+    pub lines: Vec<u64>,
+    /// Per disk, its `id` column; empty when the table has none, or one
+    /// that is not a whole number on every row.
+    pub ids: Vec<u64>,
+}
+
+impl PackingTable {
+    /// Disk `i` (in file order) as a person finds it in the file: `disk id
+    /// 2494 (line 2496)`, or `the disk on line 2496` without ids.
+    pub fn disk_name(&self, i: usize) -> String {
+        let line = self.lines.get(i).copied().unwrap_or(0);
+        match self.ids.get(i) {
+            Some(id) => format!("disk id {id} (line {line})"),
+            None => format!("the disk on line {line}"),
+        }
+    }
+}
+
+/// How a table separates its fields: one character, or runs of blanks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Separator {
+    Char(u8),
+    Blanks,
+}
+
+impl Separator {
+    /// The separator of a table whose header line is `header`: a comma if
+    /// it has one, else a semicolon, else a tab, else runs of spaces.
+    fn of(header: &str) -> Self {
+        [b',', b';', b'\t']
+            .into_iter()
+            .find(|&c| header.as_bytes().contains(&c))
+            .map_or(Separator::Blanks, Separator::Char)
+    }
 }
 
 /// Why a table cannot be read as a packing: where (origin, line, column) and what.
@@ -82,26 +117,68 @@ pub fn read_packing_csv(text: &str, origin: &str) -> Result<PackingTable, ReadEr
         column,
         message,
     };
+    // Where each line starts, to locate a field from its line.
+    let starts: Vec<usize> = std::iter::once(0)
+        .chain(text.match_indices('\n').map(|(i, _)| i + 1))
+        .collect();
+    // The header is the first line that is neither blank nor a comment.
+    let header_line = text
+        .lines()
+        .position(|l| !l.trim().is_empty() && !l.starts_with('#'))
+        .map_or(1, |i| i as u64 + 1);
+    let header_text = text.lines().nth(header_line as usize - 1).unwrap_or("");
+    let sep = Separator::of(header_text);
+    // Fields separated by runs of blanks are read as one comma each, line
+    // for line (the lines, and so the positions reported, stay the same).
+    let commas: String;
+    let read = match sep {
+        Separator::Char(_) => text,
+        Separator::Blanks => {
+            commas = text
+                .split_inclusive('\n')
+                .map(|l| {
+                    if l.starts_with('#') {
+                        return l.to_owned();
+                    }
+                    let end = if l.ends_with('\n') { "\n" } else { "" };
+                    let mut joined = l.split_whitespace().collect::<Vec<_>>().join(",");
+                    joined.push_str(end);
+                    joined
+                })
+                .collect();
+            &commas
+        }
+    };
+    let column_of = |line: u64, field: usize| column_at(text, &starts, line, field, sep);
+    // The line (from 1) of a record of the text read, the same line in
+    // `text`: the reader's own line count does not count blank lines, and
+    // its position may be that of the blank or comment lines before it.
+    let read_starts: Vec<usize> = std::iter::once(0)
+        .chain(read.match_indices('\n').map(|(i, _)| i + 1))
+        .collect();
+    let line_of = |p: &::csv::Position| {
+        let mut line = read_starts.partition_point(|&s| s as u64 <= p.byte());
+        while let Some(&next) = read_starts.get(line) {
+            let this = &read[read_starts[line - 1]..next];
+            if !(this.trim().is_empty() || this.starts_with('#')) {
+                break;
+            }
+            line += 1;
+        }
+        line as u64
+    };
     let mut reader = ::csv::ReaderBuilder::new()
         .comment(Some(b'#'))
         .trim(::csv::Trim::All)
-        .from_reader(text.as_bytes());
+        .delimiter(match sep {
+            Separator::Char(c) => c,
+            Separator::Blanks => b',',
+        })
+        .from_reader(read.as_bytes());
     let header = reader
         .headers()
-        .map_err(|e| csv_fault(origin, text, &e))?
+        .map_err(|e| csv_fault(origin, &line_of, &column_of, &e))?
         .clone();
-    // The header is the first line that is neither blank nor a comment
-    // (the reader's own position counts the comments before it as its start).
-    let (header_line, header_start) = text
-        .split_inclusive('\n')
-        .scan(0, |start, l| {
-            let at = *start;
-            *start += l.len();
-            Some((at, l))
-        })
-        .enumerate()
-        .find(|(_, (_, l))| !l.trim().is_empty() && !l.starts_with('#'))
-        .map_or((1, 0), |(i, (at, _))| (i as u64 + 1, at));
     let name_of = |field: usize| header.get(field).unwrap_or("?").to_owned();
     // The one column playing a part (`what`), found under any of `names`:
     // two of them leave the part ambiguous, and the table is refused.
@@ -131,11 +208,7 @@ pub fn read_packing_csv(text: &str, origin: &str) -> Result<PackingTable, ReadEr
                         second + 1
                     )
                 };
-                Err(fail(
-                    header_line,
-                    column_of(text, header_start, second),
-                    message,
-                ))
+                Err(fail(header_line, column_of(header_line, second), message))
             }
         }
     };
@@ -144,8 +217,13 @@ pub fn read_packing_csv(text: &str, origin: &str) -> Result<PackingTable, ReadEr
             header_line,
             1,
             format!(
-                "missing column {what}; the header has: {}",
-                header.iter().collect::<Vec<_>>().join(", ")
+                "missing column {what}; the header has: {}{}",
+                header.iter().collect::<Vec<_>>().join(", "),
+                if header.len() == 1 {
+                    " (one field: fields are separated by commas, semicolons, tabs or spaces)"
+                } else {
+                    ""
+                }
             ),
         )
     };
@@ -157,32 +235,34 @@ pub fn read_packing_csv(text: &str, origin: &str) -> Result<PackingTable, ReadEr
         .iter()
         .any(|n| header.get(size).is_some_and(|h| h.eq_ignore_ascii_case(n)));
     let material = find(&["material", "material_id", "mat"], "the material")?;
+    let id = find(&["id"], "the id")?;
+    let mut ids_whole = id.is_some();
     // Halving is exact: the bounds on the diameter are bounds on twice the radius.
     let (size_min, size_max, size_word) = if halve {
         (MIN_DIAMETER, MAX_DIAMETER, "diameter")
     } else {
         (MIN_DIAMETER / 2.0, MAX_DIAMETER / 2.0, "radius")
     };
-    // The smallest and largest size so far: (size, line, column).
-    let mut smallest = (f64::INFINITY, 0, 0);
-    let mut largest = (0.0f64, 0, 0);
+    // The smallest and largest size so far: (size, line).
+    let mut smallest = (f64::INFINITY, 0);
+    let mut largest = (0.0f64, 0);
 
     let mut table = PackingTable {
         disks: Vec::new(),
         materials: Vec::new(),
         material_names: Vec::new(),
+        lines: Vec::new(),
+        ids: Vec::new(),
     };
     let mut record = ::csv::StringRecord::new();
     loop {
         match reader.read_record(&mut record) {
             Ok(true) => {}
             Ok(false) => break,
-            Err(e) => return Err(csv_fault(origin, text, &e)),
+            Err(e) => return Err(csv_fault(origin, &line_of, &column_of, &e)),
         }
-        let (line, start) = record
-            .position()
-            .map_or((0, 0), |p| (p.line(), p.byte() as usize));
-        let at = |field: usize| column_of(text, start, field);
+        let line = record.position().map_or(0, line_of);
+        let at = |field: usize| column_of(line, field);
         let number = |field: usize| -> Result<f64, ReadError> {
             let raw = record.get(field).unwrap_or("");
             let name = header.get(field).unwrap_or("?");
@@ -234,13 +314,20 @@ pub fn read_packing_csv(text: &str, origin: &str) -> Result<PackingTable, ReadEr
             ));
         }
         if s < smallest.0 {
-            smallest = (s, line, at(size));
+            smallest = (s, line);
         }
         if s > largest.0 {
-            largest = (s, line, at(size));
+            largest = (s, line);
         }
         let r = if halve { s / 2.0 } else { s };
         table.disks.push(Disk::new(cx, cy, r));
+        table.lines.push(line);
+        if let Some(field) = id.filter(|_| ids_whole) {
+            match record.get(field).and_then(|v| v.parse::<u64>().ok()) {
+                Some(v) => table.ids.push(v),
+                None => ids_whole = false,
+            }
+        }
         if let Some(m) = material {
             let name = record.get(m).unwrap_or("");
             let index = match table.material_names.iter().position(|n| n == name) {
@@ -267,11 +354,14 @@ pub fn read_packing_csv(text: &str, origin: &str) -> Result<PackingTable, ReadEr
             "no disks: the table has no rows".to_owned(),
         ));
     }
+    if !ids_whole {
+        table.ids = Vec::new();
+    }
     if largest.0 > MAX_SIZE_RATIO * smallest.0 {
-        let (s, line, column) = smallest;
+        let (s, line) = smallest;
         return Err(fail(
             line,
-            column,
+            column_of(line, size),
             format!(
                 "column {}: {s:e} is more than {MAX_SIZE_RATIO:e} times smaller than the largest {size_word}, {:e} (line {}); the sizes of one packing may differ by that factor at most",
                 name_of(size),
@@ -283,10 +373,18 @@ pub fn read_packing_csv(text: &str, origin: &str) -> Result<PackingTable, ReadEr
     Ok(table)
 }
 
-/// A fault of the CSV reader itself (bad UTF-8, a row of the wrong length), located.
-fn csv_fault(origin: &str, text: &str, e: &::csv::Error) -> ReadError {
+/// A fault of the CSV reader itself (bad UTF-8, a row of the wrong
+/// length), located with `line_of` (position → line) and `column_of`
+/// (line, field → column).
+fn csv_fault(
+    origin: &str,
+    line_of: &dyn Fn(&::csv::Position) -> u64,
+    column_of: &dyn Fn(u64, usize) -> usize,
+    e: &::csv::Error,
+) -> ReadError {
     let (line, column) = e.position().map_or((1, 1), |p| {
-        (p.line(), column_of(text, p.byte() as usize, 0))
+        let line = line_of(p);
+        (line, column_of(line, 0))
     });
     let message = match e.kind() {
         ::csv::ErrorKind::UnequalLengths {
@@ -302,34 +400,43 @@ fn csv_fault(origin: &str, text: &str, e: &::csv::Error) -> ReadError {
     }
 }
 
-/// Character column (from 1) of field `field` of the record starting at byte `start`.
-fn column_of(text: &str, start: usize, field: usize) -> usize {
+/// Character column (from 1) of field `field` on line `line` (from 1) of
+/// `text`, whose lines start at `starts`, its fields separated by `sep`.
+fn column_at(text: &str, starts: &[usize], line: u64, field: usize, sep: Separator) -> usize {
+    let start = usize::try_from(line.max(1) - 1)
+        .ok()
+        .and_then(|i| starts.get(i))
+        .copied()
+        .unwrap_or(0);
     let Some(rest) = text.get(start..) else {
         return 1;
     };
-    // Where the record starts on its line (a record may follow a comment on the same read).
-    let line_start = text[..start].rfind('\n').map_or(0, |i| i + 1);
-    let lead = text[line_start..start].chars().count();
-    let mut commas = 0;
+    let blank = |c: char| c == ' ' || c == '\t';
+    let mut seen = 0;
     let mut quoted = false;
-    for (i, ch) in rest.chars().enumerate() {
-        if commas == field {
+    let mut chars = rest.chars().enumerate().peekable();
+    if sep == Separator::Blanks {
+        // Leading blanks are no field.
+        while chars.next_if(|&(_, c)| blank(c)).is_some() {}
+    }
+    while let Some((i, ch)) = chars.next() {
+        if seen == field {
             // Skip the blanks that trimming ignored.
-            let blanks = rest
-                .chars()
-                .skip(i)
-                .take_while(|c| *c == ' ' || *c == '\t')
-                .count();
-            return lead + i + blanks + 1;
+            let blanks = rest.chars().skip(i).take_while(|&c| blank(c)).count();
+            return i + blanks + 1;
         }
-        match ch {
-            '"' => quoted = !quoted,
-            ',' if !quoted => commas += 1,
-            '\n' if !quoted => break,
+        match (ch, sep) {
+            ('"', Separator::Char(_)) => quoted = !quoted,
+            ('\n', _) if !quoted => break,
+            (c, Separator::Char(d)) if !quoted && c == char::from(d) => seen += 1,
+            (c, Separator::Blanks) if blank(c) => {
+                while chars.next_if(|&(_, c)| blank(c)).is_some() {}
+                seen += 1;
+            }
             _ => {}
         }
     }
-    lead + 1
+    1
 }
 
 impl fmt::Display for PackingTable {
@@ -406,6 +513,52 @@ mod tests {
             "p.csv:2:1: no disks: the table has no rows"
         );
         assert_eq!(fault(""), "p.csv:1:1: missing column x; the header has: ");
+    }
+
+    #[test]
+    fn semicolons_tabs_and_spaces_separate_fields_too() {
+        let comma = read_packing_csv("id,x,y,r\n0,1.5,2,0.5\n7,3,4,0.25\n", "p.csv").unwrap();
+        for text in [
+            "id;x;y;r\n0;1.5;2;0.5\n7;3;4;0.25\n",
+            "id\tx\ty\tr\n0\t1.5\t2\t0.5\n7\t3\t4\t0.25\n",
+            "id x y r\n0 1.5 2 0.5\n  7   3 4   0.25  \n",
+            "# a comment, with a comma\nid x y r\n0 1.5 2 0.5\n7 3 4 0.25",
+        ] {
+            let t = read_packing_csv(text, "p.csv").unwrap();
+            assert_eq!(t.disks, comma.disks, "{text:?}");
+            assert_eq!(t.ids, [0, 7], "{text:?}");
+        }
+        // Faults name the column of the original text.
+        assert_eq!(
+            fault("id x  y r\n0 1  2 0.5\n1 3  z 0.5\n"),
+            "p.csv:3:6: column y: expected a number, got \"z\""
+        );
+        assert_eq!(
+            fault("id;x;y;r\n0;1;2;0.5\n1;3;2;-1\n"),
+            "p.csv:3:7: column r: a disk's size must be positive, got -1"
+        );
+        // One field: the header names what separates fields.
+        assert_eq!(
+            fault("id|x|y|r\n0|1|2|0.5\n"),
+            "p.csv:1:1: missing column x; the header has: id|x|y|r (one field: fields are separated by commas, semicolons, tabs or spaces)"
+        );
+    }
+
+    #[test]
+    fn disks_are_named_by_id_and_file_line() {
+        let t = read_packing_csv(
+            "# made by hand\nid,x,y,r\n2494,1,2,0.5\n\n17,3,4,0.5\n",
+            "p.csv",
+        )
+        .unwrap();
+        assert_eq!(t.lines, [3, 5]);
+        assert_eq!(t.disk_name(1), "disk id 17 (line 5)");
+        // Without whole-number ids, by line alone.
+        let t = read_packing_csv("x,y,r\n1,2,0.5\n3,4,0.5\n", "p.csv").unwrap();
+        assert!(t.ids.is_empty());
+        assert_eq!(t.disk_name(0), "the disk on line 2");
+        let t = read_packing_csv("id,x,y,r\na,1,2,0.5\n3,3,4,0.5\n", "p.csv").unwrap();
+        assert!(t.ids.is_empty());
     }
 
     #[test]
