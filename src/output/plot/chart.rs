@@ -7,12 +7,13 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::axis::{Axis, Pad};
+use super::text::Glyphs;
 use crate::output::OutputError;
 use crate::output::palette::colour;
 
 /// The font every chart uses, bundled (DejaVu Sans, `assets/`): the system's
 /// fonts are not needed, so charts render the same on a bare machine.
-static FONT: &[u8] = include_bytes!("../../../assets/DejaVuSans.ttf");
+pub(super) static FONT: &[u8] = include_bytes!("../../../assets/DejaVuSans.ttf");
 static REGISTER: Once = Once::new();
 
 /// Family name the bundled font is registered under.
@@ -102,7 +103,7 @@ pub trait Drawable {
         let (w, h) = self.size();
         let mut rgb = vec![0u8; w as usize * h as usize * 3];
         {
-            let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+            let root = Glyphs(BitMapBackend::with_buffer(&mut rgb, (w, h))).into_drawing_area();
             self.draw(root)
                 .map_err(|e| OutputError::Plot(e.to_string()))?;
         }

@@ -11,6 +11,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::chart::{FAMILY, encode_png, register_font, tidy};
+use super::text::Glyphs;
 use crate::geometry::{Disk, Point};
 use crate::layering::Material;
 use crate::metrics::{porosity, solid_area};
@@ -151,7 +152,7 @@ pub fn packing_png(
         }
     }
     {
-        let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+        let root = Glyphs(BitMapBackend::with_buffer(&mut rgb, (w, h))).into_drawing_area();
         let plot = |e: DrawingAreaErrorKind<_>| OutputError::Plot(e.to_string());
         let mut ring: Vec<(i32, i32)> = outline
             .iter()
