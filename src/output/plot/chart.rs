@@ -236,6 +236,19 @@ pub(super) fn tidy(v: &f64) -> String {
     format!("{}", rounded + 0.0)
 }
 
+/// A tick label of a logarithmic axis: three significant digits in
+/// scientific notation, trailing zeros dropped (`1e-3`, `1.5e-2`).
+pub(super) fn sci(v: &f64) -> String {
+    let s = format!("{v:.2e}");
+    match s.split_once('e') {
+        Some((mantissa, exponent)) => format!(
+            "{}e{exponent}",
+            mantissa.trim_end_matches('0').trim_end_matches('.')
+        ),
+        None => s,
+    }
+}
+
 /// Register the bundled font once per process.
 pub(super) fn register_font() {
     REGISTER.call_once(|| {
@@ -297,6 +310,9 @@ mod tests {
         assert_eq!(tidy(&2.0), "2");
         assert_eq!(tidy(&0.30000000000000004), "0.3");
         assert_eq!(tidy(&-0.0), "0");
+        assert_eq!(sci(&0.015), "1.5e-2");
+        assert_eq!(sci(&1e-7), "1e-7");
+        assert_eq!(sci(&200.0), "2e2");
     }
 
     #[test]
