@@ -124,7 +124,8 @@ impl Drawable for LineChart {
 
 impl LineChart {
     /// The axes: the data's ranges (points with a coordinate that is not
-    /// finite left out), padded by 5 %, never empty.
+    /// finite left out), padded by 5 %, never empty; the x axis ticks whole
+    /// numbers only when every x is one (generations).
     fn axes(&self) -> (Axis, Axis) {
         let pad = Pad {
             share: 0.05,
@@ -136,8 +137,13 @@ impl LineChart {
                 .flat_map(|s| &s.points)
                 .filter(|(x, y)| x.is_finite() && y.is_finite())
         };
+        let x = Axis::linear(points().map(|p| p.0), pad);
         (
-            Axis::linear(points().map(|p| p.0), pad),
+            if points().all(|p| p.0.fract() == 0.0) {
+                x.whole()
+            } else {
+                x
+            },
             Axis::linear(points().map(|p| p.1), pad),
         )
     }
@@ -188,7 +194,15 @@ impl LineChart {
             let colour = RGBColor(r, g, b);
             let style = colour.stroke_width(2);
             let points = s.points.iter().copied();
+            let finite = s
+                .points
+                .iter()
+                .filter(|(x, y)| x.is_finite() && y.is_finite());
             let drawn = match s.mark {
+                // A line through a single point draws nothing: a dot shows it.
+                Mark::Line if finite.count() == 1 => {
+                    chart.draw_series(points.map(|p| Circle::new(p, 4, colour.filled())))?
+                }
                 Mark::Line => chart.draw_series(LineSeries::new(points, style))?,
                 Mark::Dashed => chart.draw_series(DashedLineSeries::new(points, 10, 6, style))?,
                 Mark::Dots => {
