@@ -1,4 +1,5 @@
-//! Helpers of the picture tests: image sizes read back from the bytes.
+//! Helpers of the picture tests: image sizes, pixels and texts read back
+//! from the bytes.
 
 /// Width and height of an SVG document's root element, after checking it is whole.
 pub(super) fn svg_size(svg: &str) -> (u32, u32) {
@@ -19,6 +20,16 @@ pub(super) fn png_size(png: &[u8]) -> (u32, u32) {
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
     let reader = png::Decoder::new(png).read_info().expect("a PNG header");
     (reader.info().width, reader.info().height)
+}
+
+/// The pixels of an 8-bit RGB PNG, row by row from the top, and its size.
+pub(super) fn png_rgb(png: &[u8]) -> (Vec<u8>, (u32, u32)) {
+    let mut reader = png::Decoder::new(png).read_info().expect("a PNG header");
+    let mut rgb = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut rgb).expect("a frame");
+    assert_eq!(info.color_type, png::ColorType::Rgb);
+    rgb.truncate(info.buffer_size());
+    (rgb, (info.width, info.height))
 }
 
 /// A text of an SVG chart: where it is anchored (x), how (`text-anchor`), its
