@@ -10,7 +10,10 @@
 //! give a logarithmic axis at most [`MAX_DECADES`] decades of positive
 //! values (otherwise the axis is linear). Every chart drawn from data
 //! builds its coordinates from two of them, so no data reaches plotters'
-//! tick code as an unchecked range.
+//! tick code as an unchecked range. Its ticks are its own: a logarithmic
+//! axis is labelled 1-2-5 (`Axis::log_ticks`; plotters labelled powers of
+//! ten only, none at all over 1.2–4.8), a linear axis of counts at whole
+//! numbers ([`Axis::whole`]).
 
 use std::ops::Range;
 

@@ -194,13 +194,15 @@ impl LineChart {
             let colour = RGBColor(r, g, b);
             let style = colour.stroke_width(2);
             let points = s.points.iter().copied();
-            let finite = s
+            let single = s
                 .points
                 .iter()
-                .filter(|(x, y)| x.is_finite() && y.is_finite());
+                .filter(|(x, y)| x.is_finite() && y.is_finite())
+                .count()
+                == 1;
             let drawn = match s.mark {
                 // A line through a single point draws nothing: a dot shows it.
-                Mark::Line if finite.count() == 1 => {
+                Mark::Line if single => {
                     chart.draw_series(points.map(|p| Circle::new(p, 4, colour.filled())))?
                 }
                 Mark::Line => chart.draw_series(LineSeries::new(points, style))?,
