@@ -10,7 +10,10 @@
 //! give a logarithmic axis at most [`MAX_DECADES`] decades of positive
 //! values (otherwise the axis is linear). Every chart drawn from data
 //! builds its coordinates from two of them, so no data reaches plotters'
-//! tick code as an unchecked range.
+//! tick code as an unchecked range. Its ticks are its own: a logarithmic
+//! axis is labelled 1-2-5 (`Axis::log_ticks`; plotters labelled powers of
+//! ten only, none at all over 1.2–4.8), a linear axis of counts at whole
+//! numbers ([`Axis::whole`]).
 
 use std::ops::Range;
 
@@ -55,6 +58,8 @@ pub(super) struct Axis {
     lo: f64,
     hi: f64,
     log: bool,
+    /// Ticks at whole numbers only (a linear axis of counts).
+    whole: bool,
 }
 
 impl Axis {
@@ -67,6 +72,7 @@ impl Axis {
                 lo: 0.0,
                 hi: 1.0,
                 log: false,
+                whole: false,
             },
         }
     }
@@ -81,6 +87,7 @@ impl Axis {
                 lo: 1.0,
                 hi: 10.0,
                 log: true,
+                whole: false,
             };
         };
         if lo > 0.0 {
@@ -93,6 +100,7 @@ impl Axis {
                     lo: a,
                     hi: b,
                     log: true,
+                    whole: false,
                 };
             }
         }
@@ -116,6 +124,15 @@ impl Axis {
                 least: 0.0,
             },
         )
+    }
+
+    /// The axis with ticks at whole numbers only (generations, counts),
+    /// when it is linear.
+    pub(super) fn whole(self) -> Self {
+        Axis {
+            whole: !self.log,
+            ..self
+        }
     }
 
     /// Whether the axis is logarithmic.
@@ -142,6 +159,7 @@ impl Axis {
                 lo: a,
                 hi: b,
                 log: false,
+                whole: false,
             }
         } else {
             let mid = 0.5 * (a + b);
@@ -149,6 +167,7 @@ impl Axis {
                 lo: mid - least_half,
                 hi: mid + least_half,
                 log: false,
+                whole: false,
             }
         }
     }
@@ -160,6 +179,62 @@ impl Axis {
     fn coord_log(&self) -> LogCoord<f64> {
         (self.lo..self.hi).log_scale().into()
     }
+
+    /// The labelled ticks of a logarithmic axis, at most `max`: 1-2-5 ×
+    /// 10^k; powers of ten (every one, or every second, third …) when
+    /// those crowd; denser round values (1.5, 3, 4 …, then plain decimal
+    /// steps) when they give fewer than three. Ticks crowd when two lie
+    /// closer than 1/`max` of the axis: each label then has that share of
+    /// the axis' length to itself, and none overlaps the next.
+    fn log_ticks(&self, max: usize) -> Vec<f64> {
+        let (lo, hi) = (self.lo, self.hi);
+        let least_gap = (hi / lo).log10() / max.max(1) as f64;
+        let fits = |ticks: &[f64]| {
+            ticks.len() <= max && ticks.windows(2).all(|w| (w[1] / w[0]).log10() >= least_gap)
+        };
+        let one_two_five = decimal_ticks(lo, hi, &[1.0, 2.0, 5.0], 1);
+        if !fits(&one_two_five) {
+            return (1..=MAX_DECADES as i32 + 1)
+                .map(|step| decimal_ticks(lo, hi, &[1.0], step))
+                .find(|ticks| fits(ticks))
+                .unwrap_or_default();
+        }
+        let mut best = one_two_five;
+        let denser = DENSER
+            .iter()
+            .map(|mantissas| decimal_ticks(lo, hi, mantissas, 1))
+            .chain([self.coord_linear().key_points(max)]);
+        for ticks in denser {
+            if best.len() >= 3 {
+                break;
+            }
+            if fits(&ticks) && ticks.len() > best.len() {
+                best = ticks;
+            }
+        }
+        best
+    }
+}
+
+/// Mantissas of a logarithmic axis' ticks denser than 1-2-5, per decade.
+const DENSER: [&[f64]; 2] = [
+    &[1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 6.0, 8.0],
+    &[1.0, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0],
+];
+
+/// The values m·10^k in `lo..=hi`, m in `mantissas` and k a multiple of
+/// `step`, in order, each the double nearest its decimal (labels print it exactly).
+fn decimal_ticks(lo: f64, hi: f64, mantissas: &[f64], step: i32) -> Vec<f64> {
+    let (k0, k1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    (k0..=k1)
+        .filter(|k| k.rem_euclid(step) == 0)
+        .flat_map(|k| {
+            mantissas
+                .iter()
+                .filter_map(move |m| format!("{m}e{k}").parse::<f64>().ok())
+        })
+        .filter(|v| (lo..=hi).contains(v))
+        .collect()
 }
 
 /// The smallest and largest finite value, if any.
@@ -187,7 +262,25 @@ impl Ranged for Axis {
 
     fn key_points<Hint: KeyPointHint>(&self, hint: Hint) -> Vec<f64> {
         if self.log {
-            self.coord_log().key_points(hint)
+            // Light grid lines at 1…9 × 10^k, when not too many.
+            let light = decimal_ticks(
+                self.lo,
+                self.hi,
+                &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0],
+                1,
+            );
+            if hint.weight().allow_light_points() && light.len() <= hint.max_num_points() {
+                light
+            } else {
+                self.log_ticks(hint.bold_points())
+            }
+        } else if self.whole {
+            self.coord_linear()
+                .key_points(hint)
+                .into_iter()
+                .filter(|v| (v - v.round()).abs() <= 1e-9 * v.abs().max(1.0))
+                .map(f64::round)
+                .collect()
         } else {
             self.coord_linear().key_points(hint)
         }
@@ -200,6 +293,8 @@ impl Ranged for Axis {
 
 #[cfg(test)]
 mod tests {
+    use plotters::coord::ranged1d::BoldPoints;
+
     use super::*;
 
     const PAD: Pad = Pad {
@@ -264,5 +359,66 @@ mod tests {
         let (lo, hi) = axis.ends();
         assert!(axis.is_log() && (lo - 0.1).abs() < 1e-12 && (hi - 1000.0).abs() < 1e-9);
         assert_eq!(Axis::exact(2.0, 7.0).ends(), (2.0, 7.0));
+    }
+
+    /// Labelled ticks of a log axis over `values` (padded as the grading chart pads).
+    fn log_labels(values: &[f64]) -> Vec<f64> {
+        let axis = Axis::log(
+            values.iter().copied(),
+            Pad {
+                share: 0.04,
+                least: 0.0,
+            },
+        );
+        assert!(axis.is_log());
+        axis.key_points(BoldPoints(11))
+    }
+
+    #[test]
+    fn log_axes_are_labelled_1_2_5_with_at_least_three_ticks() {
+        // Under a decade: intermediate round values.
+        assert_eq!(log_labels(&[1.2, 4.8]), [1.5, 2.0, 3.0, 4.0, 5.0]);
+        assert_eq!(log_labels(&[0.5, 2.0]), [0.5, 1.0, 2.0]);
+        assert_eq!(log_labels(&[1.275, 3.54]), [1.5, 2.0, 3.0]);
+        // Two decades: 1-2-5.
+        assert_eq!(log_labels(&[0.3, 30.0]), [0.5, 1.0, 2.0, 5.0, 10.0, 20.0]);
+        // Too many for 1-2-5: powers of ten, every one or every few.
+        assert_eq!(log_labels(&[0.1, 1000.0]), [0.1, 1.0, 10.0, 100.0, 1000.0]);
+        let wide = log_labels(&[1e-12, 1e12]);
+        assert!(wide.len() >= 3 && wide.len() <= 11, "{wide:?}");
+        // A few percent wide: plain decimal steps.
+        let narrow = log_labels(&[3.0, 3.1]);
+        assert!(narrow.len() >= 3, "{narrow:?}");
+        // Never closer than 1/11 of the axis (each label has that room).
+        for values in [
+            [1.2, 4.8],
+            [0.5, 2.0],
+            [0.3, 30.0],
+            [1e-12, 1e12],
+            [3.0, 3.1],
+        ] {
+            let axis = Axis::log(values, PAD);
+            let ticks = axis.key_points(BoldPoints(11));
+            let span = (axis.hi / axis.lo).log10();
+            assert!(
+                ticks
+                    .windows(2)
+                    .all(|w| (w[1] / w[0]).log10() >= span / 11.0 - 1e-12),
+                "{values:?}: {ticks:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_whole_axis_ticks_whole_numbers_only() {
+        let axis = Axis::linear([0.0, 1.0], PAD).whole();
+        assert_eq!(axis.key_points(BoldPoints(11)), [0.0, 1.0]);
+        assert_eq!(axis.key_points(12usize), [0.0, 1.0]);
+        let axis = Axis::linear([0.0, 30.0], PAD).whole();
+        assert!(
+            axis.key_points(BoldPoints(11))
+                .iter()
+                .all(|v| v.fract() == 0.0)
+        );
     }
 }

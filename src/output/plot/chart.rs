@@ -7,12 +7,13 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::axis::{Axis, Pad};
+use super::text::Glyphs;
 use crate::output::OutputError;
 use crate::output::palette::colour;
 
 /// The font every chart uses, bundled (DejaVu Sans, `assets/`): the system's
 /// fonts are not needed, so charts render the same on a bare machine.
-static FONT: &[u8] = include_bytes!("../../../assets/DejaVuSans.ttf");
+pub(super) static FONT: &[u8] = include_bytes!("../../../assets/DejaVuSans.ttf");
 static REGISTER: Once = Once::new();
 
 /// Family name the bundled font is registered under.
@@ -102,7 +103,7 @@ pub trait Drawable {
         let (w, h) = self.size();
         let mut rgb = vec![0u8; w as usize * h as usize * 3];
         {
-            let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+            let root = Glyphs(BitMapBackend::with_buffer(&mut rgb, (w, h))).into_drawing_area();
             self.draw(root)
                 .map_err(|e| OutputError::Plot(e.to_string()))?;
         }
@@ -123,7 +124,8 @@ impl Drawable for LineChart {
 
 impl LineChart {
     /// The axes: the data's ranges (points with a coordinate that is not
-    /// finite left out), padded by 5 %, never empty.
+    /// finite left out), padded by 5 %, never empty; the x axis ticks whole
+    /// numbers only when every x is one (generations).
     fn axes(&self) -> (Axis, Axis) {
         let pad = Pad {
             share: 0.05,
@@ -135,8 +137,13 @@ impl LineChart {
                 .flat_map(|s| &s.points)
                 .filter(|(x, y)| x.is_finite() && y.is_finite())
         };
+        let x = Axis::linear(points().map(|p| p.0), pad);
         (
-            Axis::linear(points().map(|p| p.0), pad),
+            if points().all(|p| p.0.fract() == 0.0) {
+                x.whole()
+            } else {
+                x
+            },
             Axis::linear(points().map(|p| p.1), pad),
         )
     }
@@ -187,7 +194,17 @@ impl LineChart {
             let colour = RGBColor(r, g, b);
             let style = colour.stroke_width(2);
             let points = s.points.iter().copied();
+            let single = s
+                .points
+                .iter()
+                .filter(|(x, y)| x.is_finite() && y.is_finite())
+                .count()
+                == 1;
             let drawn = match s.mark {
+                // A line through a single point draws nothing: a dot shows it.
+                Mark::Line if single => {
+                    chart.draw_series(points.map(|p| Circle::new(p, 4, colour.filled())))?
+                }
                 Mark::Line => chart.draw_series(LineSeries::new(points, style))?,
                 Mark::Dashed => chart.draw_series(DashedLineSeries::new(points, 10, 6, style))?,
                 Mark::Dots => {
@@ -233,6 +250,19 @@ pub(super) fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>, Outp
 pub(super) fn tidy(v: &f64) -> String {
     let rounded = (v * 1e6).round() / 1e6;
     format!("{}", rounded + 0.0)
+}
+
+/// A tick label of a logarithmic axis: three significant digits in
+/// scientific notation, trailing zeros dropped (`1e-3`, `1.5e-2`).
+pub(super) fn sci(v: &f64) -> String {
+    let s = format!("{v:.2e}");
+    match s.split_once('e') {
+        Some((mantissa, exponent)) => format!(
+            "{}e{exponent}",
+            mantissa.trim_end_matches('0').trim_end_matches('.')
+        ),
+        None => s,
+    }
 }
 
 /// Register the bundled font once per process.
@@ -296,6 +326,9 @@ mod tests {
         assert_eq!(tidy(&2.0), "2");
         assert_eq!(tidy(&0.30000000000000004), "0.3");
         assert_eq!(tidy(&-0.0), "0");
+        assert_eq!(sci(&0.015), "1.5e-2");
+        assert_eq!(sci(&1e-7), "1e-7");
+        assert_eq!(sci(&200.0), "2e2");
     }
 
     #[test]

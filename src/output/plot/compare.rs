@@ -5,7 +5,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::axis::{Axis, Pad};
-use super::chart::{Drawable, FAMILY, tidy};
+use super::chart::{Drawable, FAMILY, sci, tidy};
 use crate::compare::{CompareRun, Variant, distinct, pareto};
 use crate::output::palette::colour;
 
@@ -146,13 +146,9 @@ impl CompareChart {
             } else {
                 "seconds"
             })
-            .x_label_formatter(&|v: &f64| format!("{v:.0e}"))
+            .x_label_formatter(&sci)
             .y_label_formatter(&|v: &f64| {
-                if y_axis.is_log() {
-                    format!("{v:.0e}")
-                } else {
-                    tidy(v)
-                }
+                if y_axis.is_log() { sci(v) } else { tidy(v) }
             })
             .label_style((FAMILY, 13))
             .axis_desc_style((FAMILY, 15))

@@ -12,6 +12,7 @@ mod psd;
 mod stability;
 #[cfg(test)]
 mod testing;
+mod text;
 mod window;
 
 pub use chart::{Drawable, LineChart, Mark, Series};

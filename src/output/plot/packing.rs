@@ -4,13 +4,15 @@
 //! anti-aliased edges: a million disks take a fraction of a second this way,
 //! where plotters' circles cost far more and have jagged edges. Plotters then
 //! draws the domain outline and the legend (text needs its font) on the
-//! same buffer.
+//! same buffer. The legend strip under the drawing carries a scale bar, so
+//! it covers no disk.
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::chart::{FAMILY, encode_png, register_font, tidy};
+use super::text::Glyphs;
 use crate::geometry::{Disk, Point};
 use crate::layering::Material;
 use crate::metrics::{porosity, solid_area};
@@ -38,6 +40,11 @@ const SWATCH: i32 = 24;
 const BAR: i32 = 320;
 /// Space between legend items and at the strip's ends.
 const GAP: i32 = 20;
+/// Share of the image's width a scale bar is at most (a round length).
+const SCALE_SHARE: f64 = 0.2;
+/// Offset of the legend's right-hand rows (scale bar above, counts below)
+/// from the strip's middle.
+const ROW: i32 = 16;
 /// Width of the disks' edge line (pixels), thinner on disks under 4 px across.
 const EDGE_PX: f64 = 1.0;
 
@@ -105,7 +112,7 @@ fn px(v: f64) -> u32 {
 /// draws (the domain outline in black, wall disks light grey, packed disks
 /// by material or light to dark over `diameters`, in mm), 1600 px on the
 /// longer side, with a legend strip below: the diameter colour bar or the
-/// materials, the disk count and the porosity.
+/// materials, a scale bar in mm, the disk count and the porosity.
 ///
 /// # Errors
 /// [`OutputError::Plot`] if plotters fails to draw or the PNG cannot be encoded.
@@ -151,7 +158,7 @@ pub fn packing_png(
         }
     }
     {
-        let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+        let root = Glyphs(BitMapBackend::with_buffer(&mut rgb, (w, h))).into_drawing_area();
         let plot = |e: DrawingAreaErrorKind<_>| OutputError::Plot(e.to_string());
         let mut ring: Vec<(i32, i32)> = outline
             .iter()
@@ -178,7 +185,7 @@ pub fn packing_png(
             } else {
                 Legend::Diameters(diameters)
             };
-            draw_legend(&strip, packing, &legend).map_err(plot)?;
+            draw_legend(&strip, packing, &legend, layout.scale).map_err(plot)?;
         }
         root.present().map_err(plot)?;
     }
@@ -330,13 +337,27 @@ enum Legend<'a> {
     Materials(&'a [Material]),
 }
 
+/// The length (mm) of the scale bar of an image `width` px wide drawn at
+/// `scale` px per mm: the largest 1-2-5 × 10^k mm at most a fifth of the width.
+fn scale_bar_mm(width: f64, scale: f64) -> f64 {
+    let most = SCALE_SHARE * width / scale;
+    let k = most.log10().floor();
+    [5, 2, 1]
+        .into_iter()
+        .filter_map(|m| format!("{m}e{k}").parse::<f64>().ok())
+        .find(|&length| length <= most)
+        .unwrap_or(most)
+}
+
 /// The legend strip: a colour bar or material swatches on the left, wall
-/// disks if any, the disk count and porosity on the right. An item that
-/// would run into the count is left out.
+/// disks if any; on the right a scale bar (`scale` px per mm) above the
+/// disk count and porosity. An item that would run into the right-hand
+/// ones is left out.
 fn draw_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     packing: &Packing,
     legend: &Legend<'_>,
+    scale: f64,
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
     let (width, height) = area.dim_in_pixel();
     let (width, mid) = (width as i32, height as i32 / 2);
@@ -350,12 +371,23 @@ fn draw_legend<DB: DrawingBackend>(
         packing.disks.len(),
         porosity(solid_area(&packing.disks), packing.domain.area())
     );
-    let right = width - GAP - text_width(&counts)?;
-    area.draw(&Text::new(
-        counts,
-        (width - GAP, mid),
-        font.color(&BLACK).pos(Pos::new(HPos::Right, VPos::Center)),
-    ))?;
+    let end = font.color(&BLACK).pos(Pos::new(HPos::Right, VPos::Center));
+    let bar_mm = scale_bar_mm(f64::from(width), scale);
+    let bar_px = (bar_mm * scale).round() as i32;
+    let bar_label = format!("{} mm", tidy(&bar_mm));
+    let bar_width = text_width(&bar_label)? + 8 + bar_px;
+    let right = width - GAP - text_width(&counts)?.max(bar_width);
+    area.draw(&Text::new(counts, (width - GAP, mid + ROW), end.clone()))?;
+    // The scale bar: a line with end ticks, its length on its left.
+    let (x0, x1, y) = (width - GAP - bar_px, width - GAP, mid - ROW);
+    for line in [
+        vec![(x0, y), (x1, y)],
+        vec![(x0, y - 6), (x0, y + 6)],
+        vec![(x1, y - 6), (x1, y + 6)],
+    ] {
+        area.draw(&PathElement::new(line, BLACK.stroke_width(2)))?;
+    }
+    area.draw(&Text::new(bar_label, (x0 - 8, y), end))?;
     let room = right - GAP;
     let half = SWATCH / 2;
     let swatch = |x: i32, [r, g, b]: [u8; 3]| {
@@ -474,7 +506,7 @@ mod tests {
     use super::*;
     use crate::geometry::Domain;
     use crate::output::diameter_range;
-    use crate::output::plot::testing::png_size;
+    use crate::output::plot::testing::{png_rgb, png_size};
 
     #[test]
     fn a_tall_domain_is_1600_px_high_and_centred_in_a_legend_wide_image() {
@@ -559,5 +591,46 @@ mod tests {
         assert_eq!(ticks(1.0, 1.1), ["1.000", "1.050", "1.100"]);
         assert_eq!(ticks(1.275, 3.525), ["1.275", "2.400", "3.525"]);
         assert_eq!(ticks(100.0, 300.0), ["100", "200", "300"]);
+    }
+
+    #[test]
+    fn scale_bars_are_round_lengths_of_at_most_a_fifth_of_the_width() {
+        assert_eq!(scale_bar_mm(1600.0, 25.0), 10.0); // 12.8 mm at most
+        assert_eq!(scale_bar_mm(900.0, 2.0), 50.0); // 90 mm
+        assert_eq!(scale_bar_mm(1600.0, 1600.0 / 25_000.0), 5000.0); // a 25 m well
+        assert_eq!(scale_bar_mm(1600.0, 1600.0), 0.2); // a 1 mm cell
+        assert_eq!(scale_bar_mm(1000.0, 100.0), 2.0); // exactly a fifth
+    }
+
+    /// `packing.png` had no scale: a bar of a round length in mm lies in
+    /// the legend strip under the drawing (so over no disk), as long as
+    /// that length at the drawing's scale, ending GAP px from the right.
+    #[test]
+    fn packing_png_has_a_scale_bar_under_the_drawing() {
+        for (w, h) in [(40.0, 10.0), (15.0, 20.0), (62.5, 8.6)] {
+            let p = Packing::of_disks(
+                Domain::rectangle(w, h).expect("rectangle"),
+                vec![Disk::new(2.0, 2.0, 1.0), Disk::new(6.0, 5.0, 1.5)],
+            );
+            let layout = Layout::new(&p, &p.domain.outline(CIRCLE_SEGMENTS));
+            let (rgb, (width, height)) = png_rgb(&packing_png(&p, &[], (2.0, 3.0)).expect("png"));
+            let black = |x: u32, y: u32| rgb[3 * (y * width + x) as usize] < 80;
+            // The longest black run ending at the bar's right end, per row of the strip.
+            let end = width - GAP as u32 - 1;
+            let (row, run) = (height - LEGEND_PX..height)
+                .map(|y| {
+                    let run = (0..=end).rev().take_while(|&x| black(x, y)).count();
+                    (y, run)
+                })
+                .max_by_key(|&(_, run)| run)
+                .expect("a strip");
+            let bar_mm = scale_bar_mm(f64::from(width), layout.scale);
+            let expected = bar_mm * layout.scale;
+            assert!(
+                (run as f64 - expected).abs() <= 2.0,
+                "{w} × {h} mm: a run of {run} px in row {row}, {bar_mm} mm is {expected} px"
+            );
+            assert!(expected >= 0.08 * f64::from(width) && expected <= 0.2 * f64::from(width));
+        }
     }
 }

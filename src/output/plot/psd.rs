@@ -273,7 +273,7 @@ mod tests {
     use super::*;
     use crate::geometry::{Disk, Domain};
     use crate::grading::Interpolation;
-    use crate::output::plot::testing::{png_size, svg_size};
+    use crate::output::plot::testing::{png_size, svg_size, svg_texts};
 
     fn packing(diameters: &[f64]) -> Packing {
         Packing::of_disks(
@@ -382,5 +382,42 @@ mod tests {
                 && svg.contains("packed, 6 disks")
                 && svg.contains("KS = ")
         );
+    }
+
+    /// The diameter axis' tick labels of `chart`'s SVG, left to right, with
+    /// their extents (px).
+    fn x_tick_labels(chart: &PsdChart) -> Vec<(f64, (f64, f64))> {
+        let mut labels: Vec<_> = svg_texts(&chart.to_svg().expect("svg"))
+            .into_iter()
+            .filter(|t| t.anchor == "middle")
+            .filter_map(|t| Some((t.text.parse::<f64>().ok()?, t.extent())))
+            .collect();
+        labels.sort_by(|a, b| a.1.0.total_cmp(&b.1.0));
+        labels
+    }
+
+    /// A log diameter axis had no number at all over 1.2–4.8 mm and only
+    /// "1" and "2" over 0.5–2 mm: now at least three 1-2-5 (or finer round)
+    /// labels, none overlapping the next.
+    #[test]
+    fn log_diameter_axis_labels_are_present_and_do_not_collide() {
+        for (lo, hi, expected) in [
+            (1.2, 4.8, &[1.5, 2.0, 3.0, 4.0, 5.0][..]),
+            (0.5, 2.0, &[0.5, 1.0, 2.0]),
+            (0.1, 10.0, &[0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0]),
+            (0.075, 38.0, &[0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0]),
+            (0.01, 100.0, &[0.01, 0.1, 1.0, 10.0, 100.0]),
+        ] {
+            let g = Grading::uniform(lo, hi, Basis::Number).expect("grading");
+            let chart = psd_chart(&packing(&[lo, hi]), Some(&g));
+            assert!(chart.x.is_log());
+            let labels = x_tick_labels(&chart);
+            let values: Vec<f64> = labels.iter().map(|l| l.0).collect();
+            assert_eq!(values, expected, "{lo}–{hi} mm");
+            for pair in labels.windows(2) {
+                let ((a, (_, a_end)), (b, (b_start, _))) = (pair[0], pair[1]);
+                assert!(a_end + 4.0 <= b_start, "{lo}–{hi} mm: {a} and {b} collide");
+            }
+        }
     }
 }
