@@ -36,6 +36,11 @@ const POLL_EVERY: usize = 1024;
 /// Side of the local-porosity windows, in largest diameters.
 const WINDOW_DIAMETERS: f64 = 5.0;
 
+/// Least share of a window's area inside the domain for it to count in
+/// `local_porosity_std` (a quarter: a slot a little over a diameter wide
+/// is measured; a corner cut thin by a wall is not).
+const MIN_WINDOW_INSIDE: f64 = 0.25;
+
 /// What a packing achieved.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 #[non_exhaustive]
@@ -62,12 +67,17 @@ pub struct Metrics {
     /// Packed disks that float: touching no other disk (packed or wall disk)
     /// and no wall, within the contact gap.
     pub isolated: usize,
-    /// Standard deviation of local porosity over square windows of about 5·d_max
-    /// that lie wholly inside the domain (in a periodic cell, with the
-    /// images of the disks across its edges); NaN when fewer than two fit.
+    /// Standard deviation of local porosity over square windows of about
+    /// 5·d_max that lie wholly inside the domain (in a periodic cell, with
+    /// the images of the disks across its edges), or, where fewer than two
+    /// fit, over windows clipped to the domain (`local_windows_clipped`);
+    /// NaN when even those are fewer than two.
     pub local_porosity_std: f64,
     /// Number of local-porosity windows.
     pub local_windows: usize,
+    /// Whether the windows were clipped to the domain (fewer than two fit
+    /// wholly inside): they then measure the walls' effect too.
+    pub local_windows_clipped: bool,
     /// Diameter of the largest empty circle left in the domain (mm), found on a
     /// grid of spacing d_min/2 (coarser where that would give more than 256
     /// points per packed disk) and refined locally.
@@ -202,7 +212,8 @@ pub fn measure_cancellable(
     }
     let n = disks.len();
     let isolated = touched[nb..].iter().filter(|&&t| !t).count();
-    let (local_porosity_std, local_windows) = local_porosity(packing, &grid, &all, r_max);
+    let (local_porosity_std, local_windows, local_windows_clipped) =
+        local_porosity(packing, &grid, &all, r_max);
     let largest_hole = largest_hole(packing, &near, &all, r_max, scene.d_min(), cancel)?;
     Ok(Metrics {
         particles: n,
@@ -221,22 +232,60 @@ pub fn measure_cancellable(
         isolated,
         local_porosity_std,
         local_windows,
+        local_windows_clipped,
         largest_hole,
     })
 }
 
-/// Standard deviation of porosity over tiled square windows wholly inside the domain.
-fn local_porosity(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64) -> (f64, usize) {
+/// Standard deviation of porosity over square windows of side
+/// [`WINDOW_DIAMETERS`] largest diameters, how many, and whether they were
+/// clipped: windows tiling the domain wholly inside it, the interior's
+/// scatter, when at least two fit; otherwise (a small circle, a slot
+/// narrower than a window) windows tiling the bounds clipped to the domain,
+/// each its porosity over its exact area inside, those with at least
+/// [`MIN_WINDOW_INSIDE`] of it inside counted, so every domain is measured.
+fn local_porosity(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64) -> (f64, usize, bool) {
+    let w = WINDOW_DIAMETERS * 2.0 * r_max;
+    if w <= 0.0 {
+        return (f64::NAN, 0, false);
+    }
+    let inside = window_porosities(packing, grid, all, r_max, w, false);
+    let (values, clipped) = if inside.len() >= 2 {
+        (inside, false)
+    } else {
+        (window_porosities(packing, grid, all, r_max, w, true), true)
+    };
+    if values.len() < 2 {
+        return (f64::NAN, values.len(), clipped);
+    }
+    let mean = values.iter().sum::<f64>() / values.len() as f64;
+    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (values.len() - 1) as f64;
+    (var.sqrt(), values.len(), clipped)
+}
+
+/// The porosities of the windows of side `w` centred on the domain's
+/// bounds: wholly inside it (`clipped` false), or covering the bounds and
+/// clipped to the domain (`clipped` true; see [`local_porosity`]).
+fn window_porosities(
+    packing: &Packing,
+    grid: &Grid,
+    all: &[Disk],
+    r_max: f64,
+    w: f64,
+    clipped: bool,
+) -> Vec<f64> {
     let domain = &packing.domain;
     let nb = packing.boundary.len();
     let (lo, hi) = domain.bounds();
-    let w = WINDOW_DIAMETERS * 2.0 * r_max;
-    if w <= 0.0 {
-        return (f64::NAN, 0);
-    }
-    let nx = ((hi.x - lo.x) / w).floor() as usize;
-    let ny = ((hi.y - lo.y) / w).floor() as usize;
-    // Centre the tiling in the bounds.
+    let count = |extent: f64| {
+        let k = extent / w;
+        (if clipped {
+            k.ceil().max(1.0)
+        } else {
+            k.floor()
+        }) as usize
+    };
+    let (nx, ny) = (count(hi.x - lo.x), count(hi.y - lo.y));
     let x_start = lo.x + 0.5 * ((hi.x - lo.x) - nx as f64 * w);
     let y_start = lo.y + 0.5 * ((hi.y - lo.y) - ny as f64 * w);
     let mut values = Vec::new();
@@ -244,17 +293,26 @@ fn local_porosity(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64) -> (
         for ix in 0..nx {
             let (x0, y0) = (x_start + ix as f64 * w, y_start + iy as f64 * w);
             let (x1, y1) = (x0 + w, y0 + w);
-            let corners = [(x0, y0), (x1, y0), (x0, y1), (x1, y1)];
-            let inside = corners
-                .iter()
-                .all(|&(x, y)| domain.signed_distance(Point::new(x, y)) >= 0.0)
-                && !domain
-                    .reflex_vertices()
+            let area = if clipped {
+                let inside = domain.area_in_box(x0, x1, y0, y1);
+                if inside < MIN_WINDOW_INSIDE * w * w {
+                    continue;
+                }
+                inside
+            } else {
+                let corners = [(x0, y0), (x1, y0), (x0, y1), (x1, y1)];
+                let wholly = corners
                     .iter()
-                    .any(|v| v.x > x0 && v.x < x1 && v.y > y0 && v.y < y1);
-            if !inside {
-                continue;
-            }
+                    .all(|&(x, y)| domain.signed_distance(Point::new(x, y)) >= 0.0)
+                    && !domain
+                        .reflex_vertices()
+                        .iter()
+                        .any(|v| v.x > x0 && v.x < x1 && v.y > y0 && v.y < y1);
+                if !wholly {
+                    continue;
+                }
+                w * w
+            };
             let mut solid = 0.0;
             let (qlo, qhi) = (
                 Point::new(x0 - r_max, y0 - r_max),
@@ -269,15 +327,10 @@ fn local_porosity(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64) -> (
                     }
                 });
             }
-            values.push(porosity(solid, w * w));
+            values.push(porosity(solid, area));
         }
     }
-    if values.len() < 2 {
-        return (f64::NAN, values.len());
-    }
-    let mean = values.iter().sum::<f64>() / values.len() as f64;
-    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (values.len() - 1) as f64;
-    (var.sqrt(), values.len())
+    values
 }
 
 /// Clearance at `p`: distance to the nearest disk edge or wall (negative
@@ -492,6 +545,35 @@ mod tests {
         // About 2.8, against 128 when every sample ran a full query.
         assert!(per_sample < 10.0, "{per_sample} disks visited per sample");
         assert!(m.largest_hole > 0.0 && m.largest_hole < scene.d_max());
+    }
+
+    #[test]
+    fn local_porosity_is_measured_on_every_domain() {
+        let measured = |domain: &str| {
+            let text = format!("[domain]\n{domain}\n[grading]\nuniform = [1.0, 1.5]\n");
+            let scene = crate::config::parse_with(&text, "t", Default::default())
+                .unwrap()
+                .scene;
+            measure(&crate::pack(&scene).unwrap(), &scene)
+        };
+        // A square holds windows wholly inside: the interior's scatter.
+        let m = measured("shape = \"rectangle\"\nwidth = 40\nheight = 40");
+        assert!(!m.local_windows_clipped && m.local_windows == 25, "{m:?}");
+        assert!(m.local_porosity_std > 0.0 && m.local_porosity_std < 0.05);
+        // A slot narrower than a window (7.5 mm), and a small circle: the
+        // windows are clipped to the domain, measured on their exact area.
+        for domain in [
+            "shape = \"rectangle\"\nwidth = 200\nheight = 3",
+            "shape = \"circle\"\nradius = 8",
+        ] {
+            let m = measured(domain);
+            assert!(m.local_windows_clipped, "{domain}: {m:?}");
+            assert!(m.local_windows >= 2, "{domain}: {m:?}");
+            assert!(
+                m.local_porosity_std.is_finite() && m.local_porosity_std < 0.2,
+                "{domain}: {m:?}"
+            );
+        }
     }
 
     #[test]
