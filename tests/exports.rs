@@ -545,6 +545,88 @@ fn pfc_creates_one_ball_per_disk_inside_the_domain_extent() {
     }
 }
 
+/// The PFC wall of a packing with wall disks stands where the balls touch
+/// them: the nearest ball touches it, none crosses it, on a rectangle, an L
+/// (a reflex corner) and a circle.
+#[test]
+fn pfc_walls_of_wall_disks_touch_the_nearest_ball() {
+    let shapes = [
+        "shape = \"rectangle\"\nwidth = 20\nheight = 12",
+        "shape = \"polygon\"\nvertices = [[0, 0], [20, 0], [20, 8], [8, 8], [8, 20], [0, 20]]",
+        "shape = \"circle\"\nradius = 10",
+    ];
+    for shape in shapes {
+        let (config, packing) = packed(&format!(
+            "seed = 2\n[domain]\n{shape}\nwalls = \"disks\"\n[grading]\nuniform = [1.0, 1.6]\n"
+        ));
+        let raw = text(pfc_commands(
+            &packing,
+            &config.materials,
+            &opts(LengthUnit::Millimetre),
+        ));
+        assert!(
+            raw.contains("; walls = \"disks\": the wall disks are not exported"),
+            "{shape}"
+        );
+        let point = |s: &str| {
+            let (x, y) = s
+                .trim_matches(|c| c == '(' || c == ')')
+                .split_once(',')
+                .unwrap();
+            [num(x), num(y)]
+        };
+        // The clearance of a ball from the wall: its gap to the nearest facet
+        // (or inside the circle).
+        let mut gap: Box<dyn Fn(&gapack::Disk) -> f64> = Box::new(|_| f64::INFINITY);
+        let mut facets = Vec::new();
+        for line in raw.lines().filter(|l| l.starts_with("wall ")) {
+            let w: Vec<&str> = line.split(' ').collect();
+            match w[2] {
+                "name" if w[4] == "circle" => {
+                    let (c, radius) = (point(w[6]), num(w[8]));
+                    gap = Box::new(move |d| radius - ((d.c.x - c[0]).hypot(d.c.y - c[1])) - d.r);
+                }
+                _ => {
+                    let at: Vec<[f64; 2]> = w
+                        .iter()
+                        .filter(|s| s.starts_with('('))
+                        .map(|s| point(s))
+                        .collect();
+                    facets.push((at[0], at[1]));
+                }
+            }
+        }
+        if !facets.is_empty() {
+            gap = Box::new(move |d| {
+                facets
+                    .iter()
+                    .map(|&(a, b)| {
+                        let (ab, ap) = ([b[0] - a[0], b[1] - a[1]], [d.c.x - a[0], d.c.y - a[1]]);
+                        let t = ((ap[0] * ab[0] + ap[1] * ab[1]) / (ab[0] * ab[0] + ab[1] * ab[1]))
+                            .clamp(0.0, 1.0);
+                        (ap[0] - t * ab[0]).hypot(ap[1] - t * ab[1]) - d.r
+                    })
+                    .fold(f64::INFINITY, f64::min)
+            });
+        }
+        let nearest = packing
+            .disks
+            .iter()
+            .map(&gap)
+            .fold(f64::INFINITY, f64::min);
+        // Touching within the file's rounding, never crossing.
+        assert!(
+            nearest.abs() < 1e-9,
+            "{shape}: nearest ball {nearest} mm from the wall"
+        );
+        // The wall disks' own clearance (about their radius) is what was taken out.
+        assert!(
+            raw.contains(" mm, where the balls touch the wall disks"),
+            "{shape}"
+        );
+    }
+}
+
 // ---------------------------------------------------------------- MercuryDPM
 
 #[test]

@@ -1,7 +1,9 @@
 //! `packing.p2dat`: a PFC2D command file (PFC 6 / 7 syntax).
 
 use super::common::{Num, Text, VERSION, density, disk_materials, extent, labels, r_max};
-use crate::geometry::Shape;
+use nalgebra::Vector2;
+
+use crate::geometry::{Point, Shape};
 use crate::layering::Material;
 use crate::names::ConfigName;
 use crate::output::OutputError;
@@ -36,6 +38,11 @@ const DEFAULT_GROUP: &str = "gapack";
 /// Last, one wall named `domain` on the domain outline: `wall generate
 /// circle` for a circle, else `wall create vertices` with the first edge and
 /// one `wall addfacet` per further edge (PFC walls are active on both sides).
+/// With `walls = "disks"` the wall disks are not exported; the wall is the
+/// outline moved inwards to where the packed balls touch the wall disks
+/// (by the smallest clearance of a ball from the outline, each edge moved
+/// parallel to itself, so the nearest ball touches it and none crosses it),
+/// said in a comment line.
 ///
 /// A periodic cell is PFC's periodic domain instead: `model domain extent
 /// xmin xmax ymin ymax condition periodic periodic` on the cell itself (no
@@ -120,14 +127,25 @@ pub fn pfc_commands(
         ));
         return Ok(t.into_bytes());
     }
+    let inset = if packing.boundary.is_empty() {
+        0.0
+    } else {
+        let inset = wall_inset(packing);
+        t.line(format_args!(
+            "; walls = \"disks\": the wall disks are not exported; the wall is the domain outline moved in by {} {u}, where the balls touch the wall disks",
+            Num(inset * s),
+            u = opts.units.config_name()
+        ));
+        inset
+    };
     match *packing.domain.shape() {
         Shape::Circle { center, radius } => t.line(format_args!(
             "wall generate name 'domain' circle position {} radius {}",
             point(center.x, center.y),
-            Num(radius * s)
+            Num((radius - inset) * s)
         )),
         _ => {
-            let outline = packing.domain.outline(0);
+            let outline = inset_outline(&packing.domain.outline(0), inset);
             let next = outline.iter().cycle().skip(1);
             for (i, (a, b)) in outline.iter().zip(next).enumerate() {
                 let (a, b) = (point(a.x, a.y), point(b.x, b.y));
@@ -142,4 +160,43 @@ pub fn pfc_commands(
         }
     }
     Ok(t.into_bytes())
+}
+
+/// The smallest clearance of a packed disk from the domain's outline (mm,
+/// at least 0): how far in the packed disks stop, against the wall disks.
+fn wall_inset(packing: &Packing) -> f64 {
+    packing
+        .disks
+        .iter()
+        .map(|d| packing.domain.signed_distance(d.c) - d.r)
+        .fold(f64::INFINITY, f64::min)
+        .clamp(0.0, f64::MAX)
+}
+
+/// The counter-clockwise polygon `outline` with each edge moved `by` inwards
+/// (to its left) parallel to itself, each vertex where its two moved edges
+/// meet (the vertex moved along its edge's normal where they are parallel).
+fn inset_outline(outline: &[Point], by: f64) -> Vec<Point> {
+    if by == 0.0 {
+        return outline.to_vec();
+    }
+    let n = outline.len();
+    let normal = |i: usize| {
+        let d = outline[(i + 1) % n] - outline[i];
+        Vector2::new(-d.y, d.x) / d.norm()
+    };
+    (0..n)
+        .map(|i| {
+            let (prev, next) = (normal((i + n - 1) % n), normal(i));
+            // The point at distance `by` from both edges' lines: along the
+            // bisector of the normals, 1 / cos(half the turn) longer.
+            let sum = prev + next;
+            let cos = sum.norm() / 2.0;
+            if cos < 1e-9 {
+                outline[i] + next * by
+            } else {
+                outline[i] + sum.normalize() * (by / cos)
+            }
+        })
+        .collect()
 }
