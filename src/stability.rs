@@ -167,6 +167,8 @@ pub struct StabilityRun {
     pub case: Case,
     /// The method variant.
     pub variant: Variant,
+    /// The seed it ran with.
+    pub seed: u64,
     /// How it ended.
     pub status: Status,
     /// Time (s), up to the cap.
@@ -183,10 +185,11 @@ pub struct StabilityRun {
 
 impl StabilityRun {
     /// A run that placed nothing (timed out until told otherwise).
-    fn empty(case: Case, variant: Variant) -> Self {
+    fn empty(case: Case, variant: Variant, seed: u64) -> Self {
         StabilityRun {
             case,
             variant,
+            seed,
             status: Status::TimedOut,
             seconds: 0.0,
             particles: 0,
@@ -211,14 +214,15 @@ impl StabilityRun {
     }
 }
 
-/// Run `variants` on `cases` (all of them: [`Case::all`]), each run on
-/// the calling thread and stopped at `cap` (a deadline the generators
-/// honour), calling `done` after each. Once `cancel` is raised the runs
-/// finished so far are returned.
+/// Run `variants` on `cases` (all of them: [`Case::all`]) with each of
+/// `seeds`, each run on the calling thread and stopped at `cap` (a deadline
+/// the generators honour), calling `done` after each. Once `cancel` is
+/// raised the runs finished so far are returned.
 pub fn sweep(
     base: &Scene,
     cases: &[Case],
     variants: &[Variant],
+    seeds: &[u64],
     cap: Duration,
     cancel: &Cancel,
     mut done: impl FnMut(&StabilityRun),
@@ -226,23 +230,25 @@ pub fn sweep(
     let mut runs = Vec::new();
     for &case in cases {
         let scene = case.scene(base);
-        for &variant in variants {
-            let run = match &scene {
-                Ok(scene) => {
-                    let scene = variant.apply(scene, scene.seed);
-                    match run_one(case, variant, &scene, &cancel.with_deadline(cap)) {
-                        Some(run) => run,
-                        None => return runs,
+        for &seed in seeds {
+            for &variant in variants {
+                let run = match &scene {
+                    Ok(scene) => {
+                        let scene = variant.apply(scene, seed);
+                        match run_one(case, variant, &scene, &cancel.with_deadline(cap)) {
+                            Some(run) => run,
+                            None => return runs,
+                        }
                     }
-                }
-                Err(_) => StabilityRun {
-                    status: Status::Refused,
-                    seconds: 0.0,
-                    ..StabilityRun::empty(case, variant)
-                },
-            };
-            done(&run);
-            runs.push(run);
+                    Err(_) => StabilityRun {
+                        status: Status::Refused,
+                        seconds: 0.0,
+                        ..StabilityRun::empty(case, variant, seed)
+                    },
+                };
+                done(&run);
+                runs.push(run);
+            }
         }
     }
     runs
@@ -253,7 +259,7 @@ fn run_one(case: Case, variant: Variant, scene: &Scene, capped: &Cancel) -> Opti
     let start = Instant::now();
     let mut run = StabilityRun {
         seconds: start.elapsed().as_secs_f64(),
-        ..StabilityRun::empty(case, variant)
+        ..StabilityRun::empty(case, variant, scene.seed)
     };
     match pack_observed(scene, &mut |_| {}, capped) {
         Ok(packing) => {
@@ -378,20 +384,29 @@ mod tests {
             &base(),
             &[case],
             &variants,
+            &[1, 2],
             Duration::from_secs(60),
             &Cancel::new(),
             |_| {},
         );
-        assert_eq!(runs.len(), 5);
-        for r in &runs[..4] {
-            assert!(r.passed(), "{r:?}");
+        // Each seed runs every variant.
+        assert_eq!(runs.len(), 10);
+        for (k, seed) in [1, 2].into_iter().enumerate() {
+            let mine = &runs[5 * k..5 * k + 5];
+            assert!(mine.iter().all(|r| r.seed == seed));
+            for r in &mine[..4] {
+                assert!(r.passed(), "{r:?}");
+            }
+            let relax = mine[4];
+            assert_eq!(relax.status, Status::Finished);
+            assert!(
+                relax.max_overlap > OVERLAP_REL && !relax.passed(),
+                "{relax:?}"
+            );
         }
-        let relax = runs[4];
-        assert_eq!(relax.status, Status::Finished);
-        assert!(
-            relax.max_overlap > OVERLAP_REL && !relax.passed(),
-            "{relax:?}"
-        );
+        // Another seed packs other disks.
+        assert_ne!(runs[0].particles + runs[1].particles, 0);
+        assert!(runs[0].psd_ks != runs[5].psd_ks || runs[0].particles != runs[5].particles);
     }
 
     #[test]
@@ -406,6 +421,7 @@ mod tests {
             &base(),
             &[case],
             &variants,
+            &[1],
             Duration::from_nanos(1),
             &Cancel::new(),
             |_| {},

@@ -609,11 +609,7 @@ fn pfc_walls_of_wall_disks_touch_the_nearest_ball() {
                     .fold(f64::INFINITY, f64::min)
             });
         }
-        let nearest = packing
-            .disks
-            .iter()
-            .map(&gap)
-            .fold(f64::INFINITY, f64::min);
+        let nearest = packing.disks.iter().map(&gap).fold(f64::INFINITY, f64::min);
         // Touching within the file's rounding, never crossing.
         assert!(
             nearest.abs() < 1e-9,

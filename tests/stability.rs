@@ -10,7 +10,7 @@ use common::{gapack, scratch};
 fn the_sweep_finishes_within_its_caps_and_writes_its_table_and_map() {
     let dir = scratch("stability");
     let text = "seed = 1\n[domain]\nshape = \"rectangle\"\nwidth = 10\nheight = 10\n\
-        [grading]\nconstant = 1.0\n[packer]\nattempts = 200\n[compare]\nmethods = [\"rsa\"]\n";
+        [grading]\nconstant = 1.0\n[packer]\nattempts = 200\n[compare]\nmethods = [\"rsa\"]\nrepeats = 2\n";
     fs::write(dir.join("s.toml"), text).unwrap();
     let out = gapack(
         &dir,
@@ -27,19 +27,27 @@ fn the_sweep_finishes_within_its_caps_and_writes_its_table_and_map() {
     let mut lines = table.lines();
     assert_eq!(
         lines.next(),
-        Some("shape,ratio,width,method,status,seconds,particles,empty,max_overlap,psd_ks,pass")
+        Some(
+            "shape,ratio,width,method,seed,status,seconds,particles,empty,max_overlap,psd_ks,pass"
+        )
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    // 4 shapes × 6 gradings × 6 widths.
-    assert_eq!(rows.len(), 144);
+    // 4 shapes × 6 gradings × 6 widths, each with seeds 1 and 2 (repeats = 2).
+    assert_eq!(rows.len(), 288);
+    for seed in ["1", "2"] {
+        assert_eq!(rows.iter().filter(|r| r[4] == seed).count(), 144, "{seed}");
+    }
     for row in &rows {
-        assert_eq!(row[4], "finished", "{row:?}");
-        let seconds: f64 = row[5].parse().unwrap();
+        assert_eq!(row[5], "finished", "{row:?}");
+        let seconds: f64 = row[6].parse().unwrap();
         assert!(seconds < 20.0, "{row:?}");
-        let overlap: f64 = row[8].parse().unwrap();
+        let overlap: f64 = row[9].parse().unwrap();
         assert!(overlap <= 1e-9, "{row:?}");
     }
-    assert!(rows.iter().any(|r| r[10] == "true"));
+    assert!(rows.iter().any(|r| r[11] == "true"));
+    // The pass rates with their spread over the seeds, per method and width.
+    assert!(stdout.contains("per seed"), "{stdout}");
+    assert!(stdout.contains("by width"), "{stdout}");
     let svg = fs::read_to_string(dir.join("out/stability.svg")).unwrap();
     assert!(svg.starts_with("<svg") && svg.contains("triangle-20deg"));
     let png = fs::read(dir.join("out/stability.png")).unwrap();

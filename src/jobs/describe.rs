@@ -325,6 +325,7 @@ impl Outcome {
                         count(&|r| r.status == Status::Refused),
                         count(&|r| r.status == Status::TimedOut),
                     ));
+                    lines.extend(seed_spread(&mine));
                 }
                 lines.push(format!(
                     "{at}: stability.csv, stability.svg, stability.png{}",
@@ -485,4 +486,58 @@ fn by_variant<'r, R>(
         let mine: Vec<&R> = runs.iter().filter(|r| variant_of(r) == variant).collect();
         (!mine.is_empty()).then_some((variant, mine))
     })
+}
+
+/// The pass rates of one method's stability runs over their seeds: per
+/// seed (lowest–highest), and by domain width, each with its spread over
+/// the seeds — the lines under the method's counts.
+fn seed_spread(runs: &[&stability::StabilityRun]) -> Vec<String> {
+    let mut seeds: Vec<u64> = runs.iter().map(|r| r.seed).collect();
+    seeds.sort_unstable();
+    seeds.dedup();
+    // Passes and runs among `runs` that `keep` selects, per seed.
+    let rates = |keep: &dyn Fn(&stability::StabilityRun) -> bool| -> Vec<(usize, usize)> {
+        seeds
+            .iter()
+            .map(|&seed| {
+                let mine = runs.iter().filter(|r| r.seed == seed && keep(r));
+                mine.fold((0, 0), |(p, n), r| (p + usize::from(r.passed()), n + 1))
+            })
+            .collect()
+    };
+    let spread = |per_seed: &[(usize, usize)]| {
+        let share = |(p, n): (usize, usize)| if n == 0 { 0.0 } else { p as f64 / n as f64 };
+        let (lo, hi) = per_seed
+            .iter()
+            .map(|&c| share(c))
+            .fold((1.0f64, 0.0f64), |(lo, hi), v| (lo.min(v), hi.max(v)));
+        let (p, n) = per_seed
+            .iter()
+            .fold((0, 0), |(p, n), &(a, b)| (p + a, n + b));
+        format!(
+            "{:.0}% ({:.0}–{:.0}%)",
+            100.0 * share((p, n)),
+            100.0 * lo,
+            100.0 * hi
+        )
+    };
+    let all = rates(&|_| true);
+    let per_seed = all.iter().map(|(p, _)| *p);
+    let (lo, hi) = per_seed.fold((usize::MAX, 0), |(lo, hi), p| (lo.min(p), hi.max(p)));
+    let cases = all.first().map_or(0, |c| c.1);
+    let mut widths: Vec<f64> = runs.iter().map(|r| r.case.width).collect();
+    widths.sort_by(f64::total_cmp);
+    widths.dedup();
+    let by_width: Vec<String> = widths
+        .iter()
+        .map(|&w| format!("{w} {}", spread(&rates(&|r| r.case.width == w))))
+        .collect();
+    vec![
+        format!(
+            "    {} seeds: pass {} of all runs, per seed {lo}–{hi} of {cases}",
+            seeds.len(),
+            spread(&all)
+        ),
+        format!("    by width (d_max): {}", by_width.join(", ")),
+    ]
 }

@@ -1051,21 +1051,38 @@ impl Running<'_> {
         let config = &self.plan.config;
         let variants = stability::variants(&config.compare.methods);
         let cases = stability::Case::all();
-        let total = cases.len() * variants.len();
+        // Each case over `compare.repeats` seeds from the config's, as compare does.
+        let seeds: Vec<u64> = (0..config.compare.repeats as u64)
+            .map(|k| config.scene.seed.wrapping_add(k))
+            .collect();
+        let total = cases.len() * variants.len() * seeds.len();
         self.event(Event::Stage {
             stage: Stage::Stability,
             total: Some(total as u64),
         });
         let observer = &mut *self.observer;
         let mut index = 0;
-        let runs = stability::sweep(&config.scene, &cases, &variants, cap, cancel, |r| {
-            observer.event(&Event::Run {
-                stage: Stage::Stability,
-                index,
-                label: format!("{} {}", variant_label(&r.variant), r.case.shape.name()),
-            });
-            index += 1;
-        });
+        let runs = stability::sweep(
+            &config.scene,
+            &cases,
+            &variants,
+            &seeds,
+            cap,
+            cancel,
+            |r: &StabilityRun| {
+                observer.event(&Event::Run {
+                    stage: Stage::Stability,
+                    index,
+                    label: format!(
+                        "{} {} seed {}",
+                        variant_label(&r.variant),
+                        r.case.shape.name(),
+                        r.seed
+                    ),
+                });
+                index += 1;
+            },
+        );
         let interrupted = runs.len() < total;
         if runs.is_empty() && interrupted {
             return Err(JobError::Cancelled);

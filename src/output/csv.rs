@@ -164,7 +164,7 @@ pub fn compare_csv(runs: &[CompareRun]) -> Result<Vec<u8>, OutputError> {
 /// File name of a stability sweep's table.
 pub const STABILITY_CSV: &str = "stability.csv";
 
-/// One row per run of `gapack stability`: `shape,ratio,width,method,status,seconds,particles,empty,max_overlap,psd_ks,pass`
+/// One row per run of `gapack stability`: `shape,ratio,width,method,seed,status,seconds,particles,empty,max_overlap,psd_ks,pass`
 /// (`ratio` d_max/d_min, `width` in d_max, `status` finished | refused |
 /// timed-out, `empty` the share farther than d_max from every disk).
 ///
@@ -177,6 +177,7 @@ pub fn stability_csv(runs: &[StabilityRun]) -> Result<Vec<u8>, OutputError> {
         "ratio",
         "width",
         "method",
+        "seed",
         "status",
         "seconds",
         "particles",
@@ -196,6 +197,7 @@ pub fn stability_csv(runs: &[StabilityRun]) -> Result<Vec<u8>, OutputError> {
             r.case.ratio.to_string(),
             r.case.width.to_string(),
             variant_label(&r.variant),
+            r.seed.to_string(),
             status.to_owned(),
             r.seconds.to_string(),
             r.particles.to_string(),
