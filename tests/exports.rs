@@ -370,6 +370,13 @@ fn lammps_header_counts_box_and_atoms_match_the_packing() {
                 LengthUnit::Millimetre => "lengths in mm",
             };
             assert!(first.contains(unit_note), "{name}: {first}");
+            // LIGGGHTS with dimension 2 makes a disc's mass of the density,
+            // LAMMPS a sphere's: the file says which.
+            assert!(
+                raw.lines().any(|l| l.starts_with("# mass from density:")
+                    && l.contains("LIGGGHTS with dimension 2, a disc of unit thickness")),
+                "{name}"
+            );
             let data = parse_lammps(&raw);
             let n = packing.disks.len();
             assert_eq!(data.header["atoms"], [n as f64], "{name}");
@@ -421,6 +428,15 @@ fn yade_lines_follow_the_format_line() {
                 4
             } else {
                 assert_eq!(format, "#format x_y_z_r_matId", "{name}");
+                // Loading it without the materials fails in YADE ("Material
+                // id out of range"): the file says what to do first.
+                assert!(
+                    raw.contains(&format!(
+                        "# append {} materials to O.materials in that order before ymport.text",
+                        config.materials.len()
+                    )),
+                    "{name}"
+                );
                 5
             };
             let rows: Vec<Vec<f64>> = lines
@@ -901,7 +917,7 @@ fn an_empty_packing_gives_valid_empty_files() {
     assert!(lammps.atoms.is_empty());
     let (zlo, zhi) = (lammps.header["zlo zhi"][0], lammps.header["zlo zhi"][1]);
     assert!(zlo < 0.0 && 0.0 < zhi);
-    assert_eq!(text(yade_text(&packing, m, &o)).lines().count(), 2);
+    assert_eq!(text(yade_text(&packing, m, &o)).lines().count(), 3);
     let pfc = text(pfc_commands(&packing, m, &o));
     assert!(!pfc.contains("ball create"));
     assert!(pfc.contains("model domain extent"));

@@ -23,7 +23,9 @@ pub const LAMMPS_DATA: &str = "packing.lammps";
 /// bounds, which its disks cross) and `zlo zhi` (± the largest radius: a 2d
 /// box must straddle z = 0); for a periodic cell the comment line `#
 /// periodic cell: boundary p p p` (a data file has no boundary keyword:
-/// the input script sets it); comment lines naming each type;
+/// the input script sets it); a comment line saying how LAMMPS and
+/// LIGGGHTS each turn the density into a mass; comment lines naming each
+/// type;
 /// then `Atoms # sphere` (the comment lets LAMMPS check the atom style), a
 /// blank line and one line per disk: `id type diameter density x y z`, with
 /// `id` from 1 in placement order (`packing.csv`'s id + 1), `type` the
@@ -85,6 +87,9 @@ pub fn lammps_data(
             "# periodic cell: boundary p p p (x and y periodic: the cell is the box; z periodic as for any 2d run)"
         ));
     }
+    t.line(format_args!(
+        "# mass from density: LAMMPS read_data, a sphere (rho*4/3*pi*r^3); LIGGGHTS with dimension 2, a disc of unit thickness (rho*pi*r^2)"
+    ));
     for (i, label) in labels(materials).iter().enumerate() {
         t.line(format_args!("# type {} = {label}", i + 1));
     }

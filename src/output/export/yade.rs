@@ -20,7 +20,8 @@ pub const YADE_TEXT: &str = "packing.yade.txt";
 /// `x y z r matId` where `matId` is the material's index (from 0) — YADE
 /// takes it as the id of a material in `O.materials`. A `#` comment line
 /// follows with the version, count, unit and, with materials, which id is
-/// which. z = 0; disks in placement order; no blank line (the reader fails
+/// which, then one saying to append the materials first. z = 0; disks in
+/// placement order; no blank line (the reader fails
 /// on one). Densities are not in the file: they belong to YADE's
 /// materials. A periodic cell adds a comment line declaring it in YADE's
 /// terms: `# periodic cell: O.periodic = True; O.cell.setBox(w, h, t)`,
@@ -49,7 +50,7 @@ pub fn yade_text(
     let kinds = disk_materials(packing, materials)?;
     let s = opts.units.per_mm();
     let n = packing.disks.len();
-    let mut t = Text::with_lines(n + 2);
+    let mut t = Text::with_lines(n + 3);
     let ids: Vec<String> = labels(materials)
         .iter()
         .enumerate()
@@ -67,6 +68,10 @@ pub fn yade_text(
             "# gapack {VERSION}: {n} disks, lengths in {}, matId = O.materials id: {}",
             opts.units.config_name(),
             ids.join(", ")
+        ));
+        t.line(format_args!(
+            "# append {} materials to O.materials in that order before ymport.text(...), or YADE stops with 'Material id out of range'",
+            materials.len()
         ));
     }
     if let Some(cell) = packing.domain.period() {
