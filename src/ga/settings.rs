@@ -40,10 +40,21 @@ impl OptimiseSettings {
     /// A generation holds about four copies of the population's genomes
     /// (population, offspring, selection, parents) and one packing per child
     /// evaluated at once, beside the packer's own peak.
+    ///
+    /// A scene searched on a window ([`super::window`]) holds the search on
+    /// at most [`MAX_SHARE`](super::window::MAX_SHARE) of its area (genes
+    /// and disks scale with the area), beside the packer's peak on the whole
+    /// and two packings of the whole (its own rules', and the best tuned).
     pub fn peak_bytes(&self, scene: &Scene) -> f64 {
         let genes = size_count(&scene.domain, scene.d_min()) as f64 + RULE_GENES as f64;
         let disks = scene.max_disks();
         let population = self.population as f64;
+        if super::window::windowed(scene, self.window_disks) {
+            let share = super::window::MAX_SHARE;
+            return population * share * (4.0 * genes * 8.0 + disks * 24.0)
+                + (1.0 + share) * estimated_peak_bytes(scene)
+                + 2.0 * disks * 24.0;
+        }
         population * (4.0 * genes * 8.0 + disks * 24.0) + estimated_peak_bytes(scene)
     }
 
