@@ -201,16 +201,97 @@ impl StabilityRun {
 
     /// Whether the run passes: finished, no overlap, filled, grading kept.
     pub fn passed(&self) -> bool {
-        self.status == Status::Finished
-            && self.max_overlap <= OVERLAP_REL
-            && self.empty <= MAX_EMPTY
-            && !self.grading_bent()
+        self.status == Status::Finished && self.reasons().is_empty()
+    }
+
+    /// Why a finished run fails, in [`Reason::ALL`] order: none for a pass
+    /// (or a run that did not finish), two or three when several checks fail.
+    pub fn reasons(&self) -> Vec<Reason> {
+        if self.status != Status::Finished {
+            return Vec::new();
+        }
+        Reason::ALL
+            .into_iter()
+            .filter(|reason| match reason {
+                Reason::Overlap => self.max_overlap > OVERLAP_REL,
+                Reason::Empty => self.empty > MAX_EMPTY,
+                Reason::Grading => self.grading_bent(),
+            })
+            .collect()
     }
 
     /// Whether the sizes lie farther from the grading than the sampling
     /// noise of their number explains (plus [`crate::check::KS_MARGIN`]).
     pub fn grading_bent(&self) -> bool {
         self.psd_ks > crate::check::ks_limit(self.particles)
+    }
+}
+
+/// Why a finished run fails.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Reason {
+    /// Two disks overlap by more than 1e-9 of their radii sum.
+    Overlap,
+    /// More than [`MAX_EMPTY`] of the domain is left empty.
+    Empty,
+    /// The sizes are farther from the grading than sampling noise explains.
+    Grading,
+}
+
+impl Reason {
+    /// Every reason, in the order reports list them.
+    pub const ALL: [Reason; 3] = [Reason::Overlap, Reason::Empty, Reason::Grading];
+
+    /// Its name in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Reason::Overlap => "overlap",
+            Reason::Empty => "empty",
+            Reason::Grading => "KS",
+        }
+    }
+}
+
+/// How a set of runs ended, each run counted once: every failing run
+/// under the one set of reasons it fails for.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Tally {
+    /// Runs that passed.
+    pub pass: usize,
+    /// Runs that finished and failed.
+    pub fail: usize,
+    /// The failing runs by their reasons (one, two or three), in
+    /// [`Reason::ALL`] order, single reasons first; the counts sum to `fail`.
+    pub by_reasons: Vec<(Vec<Reason>, usize)>,
+    /// Runs refused (no disk fits).
+    pub refused: usize,
+    /// Runs still going at the time cap.
+    pub timed_out: usize,
+}
+
+impl Tally {
+    /// The tally of `runs`.
+    pub fn of<'a>(runs: impl IntoIterator<Item = &'a StabilityRun>) -> Tally {
+        let mut tally = Tally::default();
+        for run in runs {
+            match run.status {
+                Status::Refused => tally.refused += 1,
+                Status::TimedOut => tally.timed_out += 1,
+                Status::Finished if run.passed() => tally.pass += 1,
+                Status::Finished => {
+                    tally.fail += 1;
+                    let reasons = run.reasons();
+                    match tally.by_reasons.iter_mut().find(|(r, _)| *r == reasons) {
+                        Some((_, n)) => *n += 1,
+                        None => tally.by_reasons.push((reasons, 1)),
+                    }
+                }
+            }
+        }
+        tally
+            .by_reasons
+            .sort_by(|a, b| (a.0.len(), &a.0).cmp(&(b.0.len(), &b.0)));
+        tally
     }
 }
 
@@ -428,6 +509,51 @@ mod tests {
         );
         assert_eq!(runs[0].status, Status::TimedOut);
         assert!(!runs[0].passed());
+    }
+
+    /// A run of `case` that ended as `status` with these checks' values.
+    fn ended(status: Status, empty: f64, max_overlap: f64, psd_ks: f64) -> StabilityRun {
+        StabilityRun {
+            status,
+            particles: 100,
+            empty,
+            max_overlap,
+            psd_ks,
+            ..StabilityRun::empty(Case::all()[0], Variant::expand(&[Method::Rsa])[0], 1)
+        }
+    }
+
+    /// Each failing run counted once, under all its reasons: the printed
+    /// counts of each reason added up to more than the failures when a run
+    /// failed two checks.
+    #[test]
+    fn a_tally_counts_each_run_once_and_its_parts_add_up() {
+        let runs = [
+            ended(Status::Finished, 0.0, 0.0, 0.0),
+            ended(Status::Finished, 0.5, 0.0, 0.0),
+            ended(Status::Finished, 0.0, 0.0, 0.9),
+            ended(Status::Finished, 0.5, 0.0, 0.9),
+            ended(Status::Finished, 0.5, 0.1, 0.9),
+            ended(Status::Finished, 0.0, 0.1, 0.0),
+            ended(Status::Refused, 1.0, 0.0, 1.0),
+            ended(Status::TimedOut, 1.0, 0.0, 1.0),
+        ];
+        assert_eq!(runs[3].reasons(), [Reason::Empty, Reason::Grading]);
+        assert!(runs[6].reasons().is_empty() && !runs[6].passed());
+        let t = Tally::of(&runs);
+        assert_eq!((t.pass, t.fail, t.refused, t.timed_out), (1, 5, 1, 1));
+        assert_eq!(t.pass + t.fail + t.refused + t.timed_out, runs.len());
+        assert_eq!(t.by_reasons.iter().map(|(_, n)| n).sum::<usize>(), t.fail);
+        assert_eq!(
+            t.by_reasons,
+            [
+                (vec![Reason::Overlap], 1),
+                (vec![Reason::Empty], 1),
+                (vec![Reason::Grading], 1),
+                (vec![Reason::Empty, Reason::Grading], 1),
+                (vec![Reason::Overlap, Reason::Empty, Reason::Grading], 1),
+            ]
+        );
     }
 
     #[test]

@@ -23,6 +23,30 @@ fn the_sweep_finishes_within_its_caps_and_writes_its_table_and_map() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(stdout.starts_with("rsa"), "{stdout}");
+    // "pass P, fail F (overlap a, empty b, KS c[, empty + KS d]), refused R, timed out T":
+    // each case counted once, so the parts add up.
+    let line = stdout.lines().next().unwrap();
+    let number = |after: &str| -> usize {
+        let rest = &line[line.find(after).unwrap() + after.len()..];
+        rest.trim_start()
+            .split(|c: char| !c.is_ascii_digit())
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let fail = number("fail");
+    let inside = &line[line.find('(').unwrap() + 1..line.find(')').unwrap()];
+    let parts: usize = inside
+        .split(", ")
+        .map(|part| part.rsplit(' ').next().unwrap().parse::<usize>().unwrap())
+        .sum();
+    assert_eq!(parts, fail, "{line}");
+    assert_eq!(
+        number("pass") + fail + number("refused") + number("timed out"),
+        288,
+        "{line}"
+    );
     let table = fs::read_to_string(dir.join("out/stability.csv")).unwrap();
     let mut lines = table.lines();
     assert_eq!(

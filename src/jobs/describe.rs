@@ -8,10 +8,9 @@ use crate::compare::Variant;
 use crate::config::ConfigName;
 use crate::fracture::{Extent, MM_PER_M};
 use crate::ga::{Layered, StopReason, Verdict};
-use crate::geometry::predicates::OVERLAP_REL;
 use crate::metrics::Metrics;
 use crate::packer::{PEAK_BYTES_PER_DISK, estimated_peak_bytes};
-use crate::stability::{self, Status};
+use crate::stability;
 use crate::{Scene, Shape};
 
 impl Plan {
@@ -310,20 +309,15 @@ impl Outcome {
                 total,
             } => {
                 for (variant, mine) in by_variant(runs, variants, |r| &r.variant) {
-                    let count = |f: &dyn Fn(&stability::StabilityRun) -> bool| {
-                        mine.iter().filter(|r| f(r)).count()
-                    };
-                    let finished = |r: &stability::StabilityRun| r.status == Status::Finished;
+                    let tally = stability::Tally::of(mine.iter().copied());
                     lines.push(format!(
-                        "{:<40} pass {:>3}, fail {:>3} (overlap {}, empty {}, KS {}), refused {:>3}, timed out {:>3}",
+                        "{:<40} pass {:>3}, fail {:>3} ({}), refused {:>3}, timed out {:>3}",
                         crate::output::variant_label(variant),
-                        count(&|r| r.passed()),
-                        count(&|r| finished(r) && !r.passed()),
-                        count(&|r| finished(r) && r.max_overlap > OVERLAP_REL),
-                        count(&|r| finished(r) && r.empty > stability::MAX_EMPTY),
-                        count(&|r| finished(r) && r.grading_bent()),
-                        count(&|r| r.status == Status::Refused),
-                        count(&|r| r.status == Status::TimedOut),
+                        tally.pass,
+                        tally.fail,
+                        fail_reasons(&tally),
+                        tally.refused,
+                        tally.timed_out,
                     ));
                     lines.extend(seed_spread(&mine));
                 }
@@ -346,6 +340,32 @@ impl Outcome {
             Report::Stability { runs, .. } => runs.iter().map(|r| r.seconds).sum(),
         }
     }
+}
+
+/// The failing runs of `tally`, each counted once: `overlap 0, empty 2, KS 43, empty + KS 1`
+/// (every single reason, then each pair or triple that occurs).
+fn fail_reasons(tally: &stability::Tally) -> String {
+    let single = stability::Reason::ALL.map(|reason| {
+        let n = tally
+            .by_reasons
+            .iter()
+            .find(|(r, _)| r[..] == [reason])
+            .map_or(0, |(_, n)| *n);
+        format!("{} {n}", reason.name())
+    });
+    let several = tally
+        .by_reasons
+        .iter()
+        .filter(|(r, _)| r.len() > 1)
+        .map(|(r, n)| {
+            let names: Vec<&str> = r.iter().map(|x| x.name()).collect();
+            format!("{} {n}", names.join(" + "))
+        });
+    single
+        .into_iter()
+        .chain(several)
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// ` (interrupted: 12 of 144 runs)` when cut short.

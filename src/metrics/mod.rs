@@ -11,11 +11,13 @@
 //! area counts once.
 
 mod contacts;
+mod grading;
 pub(crate) mod near;
 mod porosity_map;
 
 pub use contacts::coordination;
 pub(crate) use contacts::visit_near;
+pub use grading::{Blend, curve_diameters, psd_ks, psd_ks_blend, psd_ks_by_curve};
 pub use porosity_map::{PorosityMap, porosity_map};
 
 use std::ops::ControlFlow;
@@ -93,35 +95,6 @@ pub fn porosity(solid: f64, area: f64) -> f64 {
 /// Total area of `disks` (mm²), summed in their order.
 pub fn solid_area<'a>(disks: impl IntoIterator<Item = &'a Disk>) -> f64 {
     disks.into_iter().map(Disk::area).sum()
-}
-
-/// Kolmogorov–Smirnov distance of a packing's sizes to `scene`'s grading; in
-/// size-graded mode, the larger of each material's distance to its own curve.
-pub fn psd_ks(packing: &Packing, scene: &Scene) -> f64 {
-    // Only size-graded scenes tie a material to a curve; materials laid
-    // out on a finished packing all share the one grading.
-    let graded = scene.gradient.is_some();
-    let diameters = |material: u16| -> Vec<f64> {
-        packing
-            .disks
-            .iter()
-            .zip(packing.materials.iter().chain(std::iter::repeat(&0)))
-            .filter(|&(_, &m)| !graded || m == material)
-            .map(|(d, _)| 2.0 * d.r)
-            .collect()
-    };
-    scene
-        .curves()
-        .zip(0u16..)
-        .map(|(curve, m)| {
-            let own = diameters(m);
-            if own.is_empty() && graded {
-                0.0
-            } else {
-                curve.ks_distance(&own)
-            }
-        })
-        .fold(0.0, f64::max)
 }
 
 /// Measure a packing of `scene` against the scene's grading.

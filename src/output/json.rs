@@ -7,7 +7,7 @@ use serde::Serialize;
 use super::error::OutputError;
 use super::run::RunInfo;
 use crate::fracture::WindowStep;
-use crate::metrics::Metrics;
+use crate::metrics::{Metrics, psd_ks_blend, psd_ks_by_curve};
 use crate::names::ConfigName;
 use crate::packer::{PackStats, Packing};
 
@@ -35,6 +35,13 @@ pub(super) struct Summary<'a> {
     metrics: &'a Metrics,
     /// Whether `psd_ks` lies within the sampling noise `gapack verify` allows.
     grading_kept: bool,
+    /// Size-graded: each material's KS distance to its own curve (`psd_ks`
+    /// is the largest), as `psd.png` shows them.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    psd_ks_by_material: Vec<MaterialKs>,
+    /// Size-graded: the KS distance of all disks to the blend of the curves.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    psd_ks_blend: Option<f64>,
     seconds: f64,
     stats: StatsSummary,
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
@@ -86,6 +93,13 @@ pub struct WindowSummary<'a> {
     pub seconds: f64,
     /// Every window tried.
     pub steps: &'a [WindowStep],
+}
+
+/// A material's KS distance to its own grading curve.
+#[derive(Serialize)]
+struct MaterialKs {
+    name: String,
+    ks: f64,
 }
 
 /// A material as `summary.json` lists it.
@@ -283,6 +297,22 @@ pub(super) fn summary<'a>(
         },
         metrics,
         grading_kept: crate::check::grading_kept(metrics.particles, metrics.psd_ks),
+        psd_ks_by_material: if scene.gradient.is_some() {
+            psd_ks_by_curve(packing, scene)
+                .into_iter()
+                .enumerate()
+                .map(|(m, ks)| MaterialKs {
+                    name: run
+                        .materials
+                        .get(m)
+                        .map_or_else(|| format!("material {}", m + 1), |x| x.name.clone()),
+                    ks,
+                })
+                .collect()
+        } else {
+            Vec::new()
+        },
+        psd_ks_blend: psd_ks_blend(packing, scene),
         seconds: run.seconds,
         stats: packing.stats.into(),
         optimise: run.optimise.map(|(summary, _)| summary),

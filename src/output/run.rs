@@ -19,8 +19,8 @@ use super::format::{Format, OutputSettings};
 use super::json::{FractureSummary, LayeringSummary, OptimiseSummary, SUMMARY_JSON, summary_json};
 use super::plot::{
     CompareChart, Drawable, PACKING_PNG, POROSITY_MAP_PNG, POROSITY_MAP_SVG, PSD_PNG, PSD_SVG,
-    StabilityChart, convergence_chart, packing_png, porosity_map_chart, profile_chart, psd_chart,
-    window_chart,
+    PsdChart, StabilityChart, convergence_chart, packing_png, porosity_map_chart, profile_chart,
+    psd_chart, psd_chart_of_scene, window_chart,
 };
 use super::svg::{PACKING_SVG, packing_svg};
 use crate::Scene;
@@ -207,8 +207,9 @@ pub fn render_outputs(
         tasks.add(ESYS_GEOMETRY, || esys_geometry(packing, materials, opts));
     }
     let diameters = (run.scene.d_min(), run.scene.d_max());
-    let grading = Some(&run.scene.grading);
-    tasks.packing(packing, materials, diameters, grading);
+    tasks.packing(packing, materials, diameters, || {
+        psd_chart_of_scene(packing, run.scene, materials)
+    });
     if let Some((summary, history)) = run.optimise {
         if out.wants(Format::Csv) {
             tasks.add(CONVERGENCE_CSV, || convergence_csv(history));
@@ -322,13 +323,13 @@ impl<'a> Tasks<'a> {
 
     /// The pictures of a packing, each in the formats asked for: the
     /// packing coloured by diameter (over `diameters`) or material, its
-    /// grading against `grading`, its porosity map.
+    /// grading chart (`psd`), its porosity map.
     fn packing(
         &mut self,
         packing: &'a Packing,
         materials: &'a [Material],
         diameters: (f64, f64),
-        grading: Option<&'a Grading>,
+        psd: impl FnOnce() -> PsdChart,
     ) {
         if self.out.wants(Format::Svg) {
             self.add(PACKING_SVG, move || {
@@ -340,7 +341,7 @@ impl<'a> Tasks<'a> {
                 packing_png(packing, materials, diameters)
             });
         }
-        self.chart((PSD_SVG, PSD_PNG), move || psd_chart(packing, grading));
+        self.chart((PSD_SVG, PSD_PNG), psd);
         self.chart((POROSITY_MAP_SVG, POROSITY_MAP_PNG), move || {
             porosity_map_chart(packing)
         });
@@ -394,7 +395,9 @@ pub fn render_pictures(
         ..OutputSettings::default()
     };
     let mut tasks = Tasks::new(&out);
-    tasks.packing(packing, materials, diameters, grading);
+    tasks.packing(packing, materials, diameters, || {
+        psd_chart(packing, grading)
+    });
     tasks.make()
 }
 

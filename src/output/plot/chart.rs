@@ -5,6 +5,7 @@ use std::sync::Once;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::axis::{Axis, Pad};
 use super::text::Glyphs;
@@ -148,23 +149,20 @@ impl LineChart {
         )
     }
 
-    /// Where the legend hides the fewest data: the upper or the lower right
-    /// corner, whichever holds fewer points.
-    fn legend_corner(&self, xs: &Axis, ys: &Axis) -> SeriesLabelPosition {
-        let ((x0, x1), (y0, y1)) = (xs.ends(), ys.ends());
-        let right = x0 + 0.6 * (x1 - x0);
-        let (low, high) = (y0 + 0.35 * (y1 - y0), y0 + 0.65 * (y1 - y0));
-        let points = self.series.iter().flat_map(|s| &s.points);
-        let (mut upper, mut lower) = (0, 0);
-        for &(_, y) in points.filter(|(x, _)| *x >= right) {
-            upper += usize::from(y >= high);
-            lower += usize::from(y <= low);
-        }
-        if lower < upper {
-            SeriesLabelPosition::LowerRight
-        } else {
-            SeriesLabelPosition::UpperRight
-        }
+    /// The legend: each named series, in order (a band's unnamed second line left out).
+    fn legend(&self) -> Vec<Entry> {
+        self.series
+            .iter()
+            .filter(|s| !s.name.is_empty())
+            .map(|s| {
+                let [r, g, b] = colour(s.colour);
+                Entry {
+                    text: s.name.clone(),
+                    colour: RGBColor(r, g, b),
+                    mark: s.mark,
+                }
+            })
+            .collect()
     }
 
     fn draw_on<DB: DrawingBackend>(
@@ -173,8 +171,9 @@ impl LineChart {
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
         root.fill(&WHITE)?;
         let (xs, ys) = self.axes();
-        let corner = self.legend_corner(&xs, &ys);
-        let mut chart = ChartBuilder::on(&root)
+        let entries = self.legend();
+        let (plot, legend) = beside(&root, &entries);
+        let mut chart = ChartBuilder::on(&plot)
             .caption(&self.title, (FAMILY, 22))
             .margin(14)
             .x_label_area_size(48)
@@ -200,7 +199,7 @@ impl LineChart {
                 .filter(|(x, y)| x.is_finite() && y.is_finite())
                 .count()
                 == 1;
-            let drawn = match s.mark {
+            match s.mark {
                 // A line through a single point draws nothing: a dot shows it.
                 Mark::Line if single => {
                     chart.draw_series(points.map(|p| Circle::new(p, 4, colour.filled())))?
@@ -211,22 +210,106 @@ impl LineChart {
                     chart.draw_series(points.map(|p| Circle::new(p, 4, colour.filled())))?
                 }
             };
-            // A series without a name (the second line of a band) stays out of the legend.
-            if !s.name.is_empty() {
-                drawn.label(s.name.as_str()).legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
-                });
-            }
         }
-        chart
-            .configure_series_labels()
-            .label_font((FAMILY, 14))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .position(corner)
-            .draw()?;
+        draw_legend(&legend, &entries, 1, LEGEND_TOP)?;
         root.present()
     }
+}
+
+/// One line of a legend: a swatch in the series' colour and its text.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Entry {
+    /// The text.
+    pub text: String,
+    /// The series' colour.
+    pub colour: RGBColor,
+    /// How the series is drawn, which the swatch echoes.
+    pub mark: Mark,
+}
+
+/// Legend text size.
+const LEGEND_FONT: u32 = 14;
+/// Height of a legend line (px).
+const LEGEND_LINE: i32 = 22;
+/// Swatch width plus the gap before the text (px).
+const SWATCH: i32 = 32;
+/// Space around a legend (px).
+const LEGEND_PAD: i32 = 10;
+/// Where a legend beside a plot starts: level with the plot's top.
+pub(super) const LEGEND_TOP: i32 = 44;
+
+/// Width (px) of the widest legend entry, swatch and padding included.
+fn entry_width<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, entries: &[Entry]) -> i32 {
+    entries
+        .iter()
+        .map(|e| {
+            area.estimate_text_size(&e.text, &(FAMILY, LEGEND_FONT).into_text_style(area))
+                .map_or(0, |(w, _)| w as i32)
+        })
+        .max()
+        .map_or(0, |w| w + SWATCH + 2 * LEGEND_PAD)
+}
+
+/// `root` cut into the plot's area and a strip at its right for the legend
+/// of `entries` (empty without entries): the legend then covers no data.
+pub(super) fn beside<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    entries: &[Entry],
+) -> (DrawingArea<DB, Shift>, DrawingArea<DB, Shift>) {
+    let width = root.dim_in_pixel().0 as i32;
+    let strip = entry_width(root, entries).min(width / 2);
+    root.split_horizontally(width - strip)
+}
+
+/// `root` cut into the plot's area and a strip below it for the legend of
+/// `entries`, laid out in as many columns as fit, and that number of columns.
+pub(super) fn below<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    entries: &[Entry],
+) -> (DrawingArea<DB, Shift>, DrawingArea<DB, Shift>, usize) {
+    let (width, height) = root.dim_in_pixel();
+    let columns = (width as i32 / entry_width(root, entries).max(1)).max(1) as usize;
+    let rows = entries.len().div_ceil(columns) as i32;
+    let strip = if rows == 0 {
+        0
+    } else {
+        rows * LEGEND_LINE + 2 * LEGEND_PAD
+    };
+    let (plot, legend) = root.split_vertically(height as i32 - strip.min(height as i32 / 2));
+    (plot, legend, columns)
+}
+
+/// Draw `entries` on `area` in `columns` columns from `top` down, each a
+/// swatch and its text. Swatches are rectangles (a square for dots, a bar
+/// for a line, two bars for a dashed line), so none reads as a data point.
+pub(super) fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    entries: &[Entry],
+    columns: usize,
+    top: i32,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let column = entry_width(area, entries);
+    let style = (FAMILY, LEGEND_FONT)
+        .into_text_style(area)
+        .pos(Pos::new(HPos::Left, VPos::Center));
+    for (i, e) in entries.iter().enumerate() {
+        let (c, r) = ((i % columns.max(1)) as i32, (i / columns.max(1)) as i32);
+        let (x, y) = (
+            LEGEND_PAD + c * column,
+            top + r * LEGEND_LINE + LEGEND_LINE / 2,
+        );
+        let fill = e.colour.filled();
+        match e.mark {
+            Mark::Dots => area.draw(&Rectangle::new([(x + 6, y - 5), (x + 16, y + 5)], fill))?,
+            Mark::Line => area.draw(&Rectangle::new([(x, y - 1), (x + 24, y + 1)], fill))?,
+            Mark::Dashed => {
+                area.draw(&Rectangle::new([(x, y - 1), (x + 9, y + 1)], fill))?;
+                area.draw(&Rectangle::new([(x + 15, y - 1), (x + 24, y + 1)], fill))?;
+            }
+        }
+        area.draw(&Text::new(e.text.as_str(), (x + SWATCH, y), style.clone()))?;
+    }
+    Ok(())
 }
 
 /// An RGB buffer of `size` pixels, row by row from the top, as PNG bytes.
@@ -275,6 +358,7 @@ pub(super) fn register_font() {
 
 #[cfg(test)]
 mod tests {
+    use super::super::testing;
     use super::*;
 
     fn chart() -> LineChart {
@@ -329,6 +413,22 @@ mod tests {
         assert_eq!(sci(&0.015), "1.5e-2");
         assert_eq!(sci(&1e-7), "1e-7");
         assert_eq!(sci(&200.0), "2e2");
+    }
+
+    /// The legend of a line chart lies beside the plot: no point or line
+    /// under it, wherever the data lie (here in every corner).
+    #[test]
+    fn the_legend_hides_no_data() {
+        let mut c = chart();
+        c.series.push(Series {
+            name: "corners".to_owned(),
+            points: vec![(0.0, 0.1), (2.0, 0.1), (2.0, 0.3), (0.0, 0.3)],
+            mark: Mark::Dots,
+            colour: 2,
+        });
+        let labels: Vec<String> = c.legend().into_iter().map(|e| e.text).collect();
+        assert_eq!(labels, ["line", "target", "dots", "corners"]);
+        testing::assert_legend_hides_nothing(&c.to_svg().unwrap(), &labels);
     }
 
     #[test]

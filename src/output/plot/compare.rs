@@ -5,12 +5,12 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::axis::{Axis, Pad};
-use super::chart::{Drawable, FAMILY, sci, tidy};
+use super::chart::{Drawable, Entry, FAMILY, Mark, below, draw_legend, sci, tidy};
 use crate::compare::{CompareRun, Variant, distinct, pareto};
 use crate::output::palette::colour;
 
 /// Pixel size of the comparison chart (three panels side by side).
-const SIZE: (u32, u32) = (1500, 560);
+const SIZE: (u32, u32) = (1500, 620);
 
 /// Smallest value drawn on a log axis: zeros (no overlap) sit on it.
 const LOG_FLOOR: f64 = 1e-16;
@@ -91,7 +91,6 @@ impl CompareChart {
         &self,
         area: &DrawingArea<DB, Shift>,
         panel: &Panel,
-        legend: bool,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
         let points = || {
             self.runs
@@ -163,35 +162,38 @@ impl CompareChart {
                 .map(|run| (run.seconds.max(1e-7), (panel.value)(run)))
                 .filter(|&(_, y)| y.is_finite())
                 .collect();
-            let drawn =
-                chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 5, c.filled())))?;
-            if legend {
-                drawn
-                    .label(variant_label(v))
-                    .legend(move |(x, y)| Circle::new((x + 8, y), 5, c.filled()));
-            }
+            chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 5, c.filled())))?;
         }
         let line: Vec<(f64, f64)> = front
             .iter()
             .map(|run| (run.seconds.max(1e-7), (panel.value)(run)))
             .filter(|&(_, y)| y.is_finite())
             .collect();
-        let pareto_line = chart.draw_series(LineSeries::new(line, BLACK.stroke_width(1)))?;
-        if legend && panel.error {
-            pareto_line.label("Pareto front").legend(|(x, y)| {
-                PathElement::new(vec![(x, y), (x + 16, y)], BLACK.stroke_width(1))
-            });
-        }
-        if legend {
-            chart
-                .configure_series_labels()
-                .label_font((FAMILY, 12))
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .position(SeriesLabelPosition::UpperRight)
-                .draw()?;
-        }
+        chart.draw_series(LineSeries::new(line, BLACK.stroke_width(1)))?;
         Ok(())
+    }
+
+    /// The legend: a dot per variant, then the Pareto front.
+    fn legend(&self) -> Vec<Entry> {
+        let mut entries: Vec<Entry> = self
+            .variants()
+            .iter()
+            .enumerate()
+            .map(|(i, v)| {
+                let [r, g, b] = colour(i);
+                Entry {
+                    text: variant_label(v),
+                    colour: RGBColor(r, g, b),
+                    mark: Mark::Dots,
+                }
+            })
+            .collect();
+        entries.push(Entry {
+            text: "Pareto front (error panels)".to_owned(),
+            colour: BLACK,
+            mark: Mark::Line,
+        });
+        entries
     }
 }
 
@@ -204,10 +206,75 @@ impl Drawable for CompareChart {
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
         root.fill(&WHITE)?;
         let panels = self.panels();
-        let areas = root.split_evenly((1, panels.len()));
-        for (i, (area, panel)) in areas.iter().zip(&panels).enumerate() {
-            self.draw_panel(area, panel, i == 0)?;
+        // The legend in a strip below the panels: it covers no run.
+        let entries = self.legend();
+        let (plots, legend, columns) = below(&root, &entries);
+        let areas = plots.split_evenly((1, panels.len()));
+        for (area, panel) in areas.iter().zip(&panels) {
+            self.draw_panel(area, panel)?;
         }
+        draw_legend(&legend, &entries, columns, 8)?;
         root.present()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::output::plot::testing::assert_legend_hides_nothing;
+    use crate::packer::Method;
+
+    /// Five runs of each variant as `compare configs/compare_fracture.toml`
+    /// spreads them: the rsa runs slow and loose, in the panels' upper
+    /// right corner, where the legend used to hide four of them.
+    fn runs() -> Vec<CompareRun> {
+        let variants = Variant::expand(&[Method::AdvancingFront, Method::Rsa, Method::Relaxation]);
+        let mut runs = Vec::new();
+        for (i, &variant) in variants.iter().enumerate() {
+            for seed in 0..5 {
+                let f = i as f64 + 0.1 * seed as f64;
+                let rsa = variant.method == Method::Rsa;
+                runs.push(CompareRun {
+                    variant,
+                    seed,
+                    seconds: if rsa {
+                        2e-3 + 2e-3 * seed as f64
+                    } else {
+                        1e-4 * (1.0 + f)
+                    },
+                    particles: 300,
+                    porosity: if rsa {
+                        0.48 + 0.006 * seed as f64
+                    } else {
+                        0.2 + 0.01 * f
+                    },
+                    target_error: None,
+                    psd_ks: 0.04 + 0.008 * f,
+                    max_overlap: if variant.method == Method::Relaxation {
+                        1e-2
+                    } else {
+                        0.0
+                    },
+                    coordination: 3.0,
+                    local_porosity_std: 0.01,
+                });
+            }
+        }
+        runs
+    }
+
+    #[test]
+    fn the_legend_hides_no_run() {
+        let chart = CompareChart {
+            runs: runs(),
+            has_target: false,
+        };
+        let labels: Vec<String> = chart.legend().into_iter().map(|e| e.text).collect();
+        assert_eq!(
+            labels.len(),
+            7,
+            "six variants and the Pareto front: {labels:?}"
+        );
+        assert_legend_hides_nothing(&chart.to_svg().expect("svg"), &labels);
     }
 }

@@ -21,6 +21,6 @@ pub use convergence::convergence_chart;
 pub use packing::{PACKING_PNG, packing_png};
 pub use porosity_map::{POROSITY_MAP_PNG, POROSITY_MAP_SVG, PorosityMapChart, porosity_map_chart};
 pub use profile::profile_chart;
-pub use psd::{PSD_PNG, PSD_SVG, PsdChart, psd_chart};
+pub use psd::{PSD_PNG, PSD_SVG, PsdChart, psd_chart, psd_chart_of_scene};
 pub use stability::StabilityChart;
 pub use window::window_chart;

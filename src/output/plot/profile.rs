@@ -58,3 +58,42 @@ pub fn profile_chart(
         series,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::output::plot::Drawable;
+    use crate::output::plot::testing::assert_legend_hides_nothing;
+
+    /// A linear profile's curves end at 0 and 1 at s = 1, in the corners a
+    /// legend inside the plot covered.
+    #[test]
+    fn the_legend_hides_no_curve_end() {
+        let materials: Vec<Material> = ["coarse", "fine"]
+            .map(|name| Material {
+                name: name.to_owned(),
+                properties: Vec::new(),
+            })
+            .to_vec();
+        let rows: Vec<ProfileRow> = (0..10)
+            .map(|bin| {
+                let s = (bin as f64 + 0.5) / 10.0;
+                ProfileRow {
+                    bin,
+                    s,
+                    target: vec![1.0 - s, s],
+                    achieved: vec![1.0 - s, s],
+                }
+            })
+            .collect();
+        let chart = profile_chart(&rows, &materials, &Profile::Linear, Axis::Y);
+        let labels: Vec<String> = chart
+            .series
+            .iter()
+            .map(|s| s.name.clone())
+            .filter(|n| !n.is_empty())
+            .collect();
+        assert_eq!(labels.len(), 4);
+        assert_legend_hides_nothing(&chart.to_svg().expect("svg"), &labels);
+    }
+}

@@ -5,8 +5,11 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::axis::{Axis, Pad};
-use super::chart::{Drawable, FAMILY, tidy};
+use super::chart::{Drawable, Entry, FAMILY, LEGEND_TOP, Mark, beside, draw_legend, tidy};
+use crate::Scene;
 use crate::grading::{Basis, Grading};
+use crate::layering::Material;
+use crate::metrics::{Blend, curve_diameters, psd_ks_blend, psd_ks_by_curve};
 use crate::output::palette::colour;
 use crate::packer::Packing;
 
@@ -43,6 +46,24 @@ pub struct PsdChart {
     /// The diameter axis (mm), logarithmic when the sizes span more than
     /// [`LOG_RATIO`] and not too many decades.
     x: Axis,
+    /// Size-graded: each material against its own curve (then `target` is
+    /// the blend of the curves and `ks` the distance to it).
+    parts: Vec<Part>,
+}
+
+/// One material of a size-graded packing: its own curve and its own disks.
+#[derive(Debug, Clone, PartialEq)]
+struct Part {
+    /// The material's name.
+    name: String,
+    /// Its grading curve as (diameter, % passing).
+    target: Vec<(f64, f64)>,
+    /// Its disks' step curve as (diameter, % passing).
+    packed: Vec<(f64, f64)>,
+    /// Its disks.
+    disks: usize,
+    /// KS distance of its disks to its curve ([`psd_ks_by_curve`]).
+    ks: f64,
 }
 
 /// The grading chart of `packing` against `grading`, or of the packing
@@ -55,33 +76,103 @@ pub struct PsdChart {
 /// grading), exactly as [`Grading::ks_distance`] counts, and that distance
 /// is shown in the title. Above 2000 distinct diameters the packed curve is
 /// evaluated on 2000 points spread over its range instead, which moves a
-/// step by less than a pixel. A size-graded packing (each material with its
-/// own curve) is drawn against the one `grading` given, usually the
-/// scene's: its KS here is to that curve, not the per-material one of
-/// [`crate::measure`].
+/// step by less than a pixel. A size-graded packing is drawn against its
+/// own curves by [`psd_chart_of_scene`].
 pub fn psd_chart(packing: &Packing, grading: Option<&Grading>) -> PsdChart {
-    let mut diameters: Vec<f64> = packing
-        .disks
+    let diameters = sorted_diameters(packing.disks.iter().map(|d| 2.0 * d.r));
+    let basis = grading.map_or(Basis::Number, Grading::basis);
+    let limits: Vec<f64> = grading
         .iter()
-        .map(|d| 2.0 * d.r)
+        .flat_map(|g| [g.d_min(), g.d_max()])
+        .collect();
+    let x = diameter_axis(&diameters, &limits);
+    PsdChart {
+        target: grading.map_or_else(Vec::new, |g| curve(|d| g.cdf(d), &[g], &x)),
+        packed: staircase(&diameters, basis.exponent(), x.ends(), x.is_log()),
+        disks: packing.disks.len(),
+        ks: grading
+            .filter(|_| !diameters.is_empty())
+            .map(|g| g.ks_distance(&diameters)),
+        basis,
+        x,
+        parts: Vec::new(),
+    }
+}
+
+/// The grading chart of a packing of `scene`: as [`psd_chart`] against the
+/// scene's grading, except for a size-graded scene, where each material
+/// (named by `materials`) is drawn against its own curve and the whole
+/// packing against their [`Blend`]; the KS distances shown are those
+/// `summary.json` records ([`psd_ks_by_curve`], [`psd_ks_blend`]).
+pub fn psd_chart_of_scene(packing: &Packing, scene: &Scene, materials: &[Material]) -> PsdChart {
+    if scene.gradient.is_none() {
+        return psd_chart(packing, Some(&scene.grading));
+    }
+    let diameters = sorted_diameters(packing.disks.iter().map(|d| 2.0 * d.r));
+    let basis = scene.grading.basis();
+    let limits: Vec<f64> = scene
+        .curves()
+        .flat_map(|g| [g.d_min(), g.d_max()])
+        .collect();
+    let x = diameter_axis(&diameters, &limits);
+    let blend = Blend::of(packing, scene);
+    let parts = scene
+        .curves()
+        .zip(psd_ks_by_curve(packing, scene))
+        .enumerate()
+        .map(|(m, (g, ks))| {
+            let own = sorted_diameters(curve_diameters(packing, scene, m));
+            Part {
+                name: materials
+                    .get(m)
+                    .map_or_else(|| format!("material {}", m + 1), |x| x.name.clone()),
+                target: curve(|d| g.cdf(d), &[g], &x),
+                packed: staircase(&own, g.basis().exponent(), x.ends(), x.is_log()),
+                disks: own.len(),
+                ks,
+            }
+        })
+        .collect();
+    PsdChart {
+        target: blend.as_ref().map_or_else(Vec::new, |b| {
+            curve(|d| b.cdf(d), &scene.curves().collect::<Vec<_>>(), &x)
+        }),
+        packed: staircase(&diameters, basis.exponent(), x.ends(), x.is_log()),
+        disks: packing.disks.len(),
+        ks: psd_ks_blend(packing, scene),
+        basis,
+        x,
+        parts,
+    }
+}
+
+/// The finite positive diameters of `diameters`, sorted.
+fn sorted_diameters(diameters: impl IntoIterator<Item = f64>) -> Vec<f64> {
+    let mut sorted: Vec<f64> = diameters
+        .into_iter()
         .filter(|d| d.is_finite() && *d > 0.0)
         .collect();
-    diameters.sort_unstable_by(f64::total_cmp);
-    let basis = grading.map_or(Basis::Number, Grading::basis);
+    sorted.sort_unstable_by(f64::total_cmp);
+    sorted
+}
+
+/// The diameter axis (mm) over the packed `sorted` diameters and the
+/// curves' `limits`: logarithmic when they span more than [`LOG_RATIO`]
+/// (or are none; [`Axis::log`] itself falls back to linear when they span
+/// too many decades).
+fn diameter_axis(sorted: &[f64], limits: &[f64]) -> Axis {
     let sizes = || {
-        diameters
+        sorted
             .first()
             .into_iter()
-            .chain(diameters.last())
+            .chain(sorted.last())
+            .chain(limits)
             .copied()
-            .chain(grading.into_iter().flat_map(|g| [g.d_min(), g.d_max()]))
     };
     let (lo, hi) = sizes().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), d| {
         (lo.min(d), hi.max(d))
     });
-    // Log when the sizes span more than LOG_RATIO (or are none): Axis::log
-    // itself falls back to linear when they span too many decades.
-    let x = if lo > hi || hi > LOG_RATIO * lo {
+    if lo > hi || hi > LOG_RATIO * lo {
         Axis::log(
             sizes(),
             Pad {
@@ -97,24 +188,17 @@ pub fn psd_chart(packing: &Packing, grading: Option<&Grading>) -> PsdChart {
                 least: 0.02,
             },
         )
-    };
-    let (log_x, ends) = (x.is_log(), x.ends());
-    let target = grading.map_or_else(Vec::new, |g| {
-        let mut xs = spaced(ends.0, ends.1, CURVE_POINTS, log_x);
-        xs.extend([g.d_min(), g.d_max()]);
-        xs.sort_unstable_by(f64::total_cmp);
-        xs.into_iter().map(|d| (d, 100.0 * g.cdf(d))).collect()
-    });
-    PsdChart {
-        target,
-        packed: staircase(&diameters, basis.exponent(), ends, log_x),
-        disks: packing.disks.len(),
-        ks: grading
-            .filter(|_| !diameters.is_empty())
-            .map(|g| g.ks_distance(&diameters)),
-        basis,
-        x,
     }
+}
+
+/// A target curve (diameter, % passing) of `cdf` over axis `x`, with
+/// the smallest and largest diameters of the `limits` curves as exact points.
+fn curve(cdf: impl Fn(f64) -> f64, limits: &[&Grading], x: &Axis) -> Vec<(f64, f64)> {
+    let (a, b) = x.ends();
+    let mut xs = spaced(a, b, CURVE_POINTS, x.is_log());
+    xs.extend(limits.iter().flat_map(|g| [g.d_min(), g.d_max()]));
+    xs.sort_unstable_by(f64::total_cmp);
+    xs.into_iter().map(|d| (d, 100.0 * cdf(d))).collect()
 }
 
 /// `n + 1` points from `a` to `b` (both exact), evenly in ln d or in d.
@@ -185,6 +269,10 @@ impl PsdChart {
             Basis::Mass => "area",
             Basis::Mass3d => "mass",
         };
+        if !self.parts.is_empty() {
+            let worst = self.parts.iter().map(|p| p.ks).fold(0.0, f64::max);
+            return format!("Grading by {by}, per material: KS = {worst:.4}");
+        }
         match (self.target.is_empty(), self.ks) {
             (false, Some(ks)) => format!("Grading by {by}: target and packed, KS = {ks:.4}"),
             (false, None) => format!("Grading by {by}: target (no disk packed)"),
@@ -201,6 +289,60 @@ impl PsdChart {
     }
 }
 
+impl PsdChart {
+    /// Every curve drawn, legend text first: the target (or the blend) in
+    /// black, the packing, then each material's curve (dashed) and disks.
+    fn curves(&self) -> Vec<(Entry, &[(f64, f64)])> {
+        let entry = |text: String, colour: RGBColor, mark: Mark| Entry { text, colour, mark };
+        let disks = |n: usize| format!("{n} disk{}", if n == 1 { "" } else { "s" });
+        let graded = !self.parts.is_empty();
+        let mut curves = Vec::new();
+        if !self.target.is_empty() {
+            let text = if graded {
+                "blend of the curves"
+            } else {
+                "target grading"
+            };
+            curves.push((entry(text.to_owned(), BLACK, Mark::Line), &self.target[..]));
+        }
+        if !self.packed.is_empty() {
+            let (text, colour) = match (graded, self.ks) {
+                (true, Some(ks)) => (
+                    format!("packed, {}, KS {ks:.4}", disks(self.disks)),
+                    RGBColor(120, 120, 120),
+                ),
+                (true, None) => (
+                    format!("packed, {}", disks(self.disks)),
+                    RGBColor(120, 120, 120),
+                ),
+                (false, _) => {
+                    let [r, g, b] = colour(0);
+                    (format!("packed, {}", disks(self.disks)), RGBColor(r, g, b))
+                }
+            };
+            curves.push((entry(text, colour, Mark::Line), &self.packed[..]));
+        }
+        for (m, part) in self.parts.iter().enumerate() {
+            let [r, g, b] = colour(m);
+            let c = RGBColor(r, g, b);
+            curves.push((
+                entry(format!("{} curve", part.name), c, Mark::Dashed),
+                &part.target[..],
+            ));
+            if !part.packed.is_empty() {
+                let text = format!(
+                    "{} packed, {}, KS {:.4}",
+                    part.name,
+                    disks(part.disks),
+                    part.ks
+                );
+                curves.push((entry(text, c, Mark::Line), &part.packed[..]));
+            }
+        }
+        curves
+    }
+}
+
 impl Drawable for PsdChart {
     const SIZE: (u32, u32) = (900, 560);
 
@@ -209,14 +351,16 @@ impl Drawable for PsdChart {
         root: DrawingArea<DB, Shift>,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
         root.fill(&WHITE)?;
-        let mut builder = ChartBuilder::on(&root);
+        let curves = self.curves();
+        let entries: Vec<Entry> = curves.iter().map(|(e, _)| e.clone()).collect();
+        // The legend in a strip beside the plot: it covers no curve.
+        let (plot, legend) = beside(&root, &entries);
+        let mut builder = ChartBuilder::on(&plot);
         builder
             .caption(self.title(), (FAMILY, 22))
             .margin(14)
             .x_label_area_size(48)
             .y_label_area_size(70);
-        let [r, g, b] = colour(0);
-        let packed_colour = RGBColor(r, g, b);
         let mut chart = builder.build_cartesian_2d(self.x, Axis::exact(0.0, 100.0))?;
         chart
             .configure_mesh()
@@ -231,39 +375,15 @@ impl Drawable for PsdChart {
             .label_style((FAMILY, 14))
             .axis_desc_style((FAMILY, 16))
             .draw()?;
-        if !self.target.is_empty() {
-            chart
-                .draw_series(LineSeries::new(
-                    self.target.iter().copied(),
-                    BLACK.stroke_width(2),
-                ))?
-                .label("target grading")
-                .legend(|(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 24, y)], BLACK.stroke_width(3))
-                });
+        for (e, points) in &curves {
+            let style = e.colour.stroke_width(2);
+            let points = points.iter().copied();
+            match e.mark {
+                Mark::Dashed => chart.draw_series(DashedLineSeries::new(points, 8, 5, style))?,
+                _ => chart.draw_series(LineSeries::new(points, style))?,
+            };
         }
-        if !self.packed.is_empty() {
-            chart
-                .draw_series(LineSeries::new(
-                    self.packed.iter().copied(),
-                    packed_colour.stroke_width(2),
-                ))?
-                .label(format!(
-                    "packed, {} disk{}",
-                    self.disks,
-                    if self.disks == 1 { "" } else { "s" }
-                ))
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 24, y)], packed_colour.stroke_width(3))
-                });
-        }
-        chart
-            .configure_series_labels()
-            .label_font((FAMILY, 14))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::LowerRight)
-            .draw()?;
+        draw_legend(&legend, &entries, 1, LEGEND_TOP)?;
         root.present()
     }
 }

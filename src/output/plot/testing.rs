@@ -32,11 +32,13 @@ pub(super) fn png_rgb(png: &[u8]) -> (Vec<u8>, (u32, u32)) {
     (rgb, (info.width, info.height))
 }
 
-/// A text of an SVG chart: where it is anchored (x), how (`text-anchor`), its
-/// font size (px) and its content.
+/// A text of an SVG chart: where it is anchored (x, y), how (`text-anchor`,
+/// and `dy`: top, centre or bottom), its font size (px) and its content.
 #[derive(Debug)]
 pub(super) struct SvgText {
     pub x: f64,
+    pub y: f64,
+    pub dy: String,
     pub anchor: String,
     pub size: f64,
     pub text: String,
@@ -52,6 +54,16 @@ impl SvgText {
             _ => self.x,
         };
         (left, left + width)
+    }
+
+    /// Its vertical extent (px): a font size from its anchor, on the side
+    /// `dy` says (plotters' 0.76em top, 0.5ex centre, −0.5ex bottom).
+    pub(super) fn vertical(&self) -> (f64, f64) {
+        match self.dy.as_str() {
+            "0.76em" => (self.y, self.y + self.size),
+            "0.5ex" => (self.y - 0.5 * self.size, self.y + 0.5 * self.size),
+            _ => (self.y - self.size, self.y),
+        }
     }
 }
 
@@ -71,10 +83,99 @@ pub(super) fn svg_texts(svg: &str) -> Vec<SvgText> {
             let close = element.find("</text>").expect("closing tag");
             SvgText {
                 x: number("x"),
+                y: number("y"),
+                dy: if element.contains(" dy=\"") {
+                    attribute("dy")
+                } else {
+                    String::new()
+                },
                 anchor: attribute("text-anchor"),
                 size: number("font-size"),
                 text: element[open..close].trim().to_owned(),
             }
         })
         .collect()
+}
+
+/// Where an SVG chart draws data: every circle's centre, and a point every
+/// pixel along every polyline at least 2 px wide (data lines; axes and
+/// the mesh are 1 px).
+pub(super) fn svg_marks(svg: &str) -> Vec<(f64, f64)> {
+    let attribute = |element: &str, name: &str| -> Option<String> {
+        let key = format!(" {name}=\"");
+        let start = element.find(&key)? + key.len();
+        let end = start + element[start..].find('"')?;
+        Some(element[start..end].to_owned())
+    };
+    let number = |element: &str, name: &str| -> f64 {
+        attribute(element, name)
+            .and_then(|v| v.parse().ok())
+            .expect("a number")
+    };
+    let mut marks: Vec<(f64, f64)> = svg
+        .split("<circle")
+        .skip(1)
+        .map(|e| (number(e, "cx"), number(e, "cy")))
+        .collect();
+    for e in svg.split("<polyline").skip(1) {
+        let e = &e[..e.find("/>").expect("element end")];
+        if attribute(e, "stroke-width").is_none_or(|w| w.parse::<f64>().unwrap_or(0.0) < 2.0) {
+            continue;
+        }
+        let points: Vec<(f64, f64)> = attribute(e, "points")
+            .expect("points")
+            .split_whitespace()
+            .map(|p| {
+                let (x, y) = p.split_once(',').expect("x,y");
+                (x.parse().expect("x"), y.parse().expect("y"))
+            })
+            .collect();
+        marks.extend(points.first());
+        for pair in points.windows(2) {
+            let ((x0, y0), (x1, y1)) = (pair[0], pair[1]);
+            let steps = (x1 - x0).abs().max((y1 - y0).abs()).ceil().max(1.0);
+            marks.extend((1..=steps as usize).map(|k| {
+                let t = k as f64 / steps;
+                (x0 + t * (x1 - x0), y0 + t * (y1 - y0))
+            }));
+        }
+    }
+    marks
+}
+
+/// The box (left, top, right, bottom; px) the legend of an SVG chart
+/// takes: the extents of the texts `labels`, and 40 px left of them for
+/// their swatches.
+pub(super) fn legend_box(svg: &str, labels: &[String]) -> (f64, f64, f64, f64) {
+    let texts: Vec<SvgText> = svg_texts(svg)
+        .into_iter()
+        .filter(|t| labels.contains(&t.text))
+        .collect();
+    assert_eq!(texts.len(), labels.len(), "every legend text is drawn once");
+    texts.iter().fold(
+        (
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ),
+        |(l, t, r, b), text| {
+            let ((x0, x1), (y0, y1)) = (text.extent(), text.vertical());
+            (l.min(x0 - 40.0), t.min(y0), r.max(x1), b.max(y1))
+        },
+    )
+}
+
+/// Panics naming the first data mark of `svg` under the box its legend of
+/// `labels` takes.
+pub(super) fn assert_legend_hides_nothing(svg: &str, labels: &[String]) {
+    let (l, t, r, b) = legend_box(svg, labels);
+    let marks = svg_marks(svg);
+    assert!(!marks.is_empty(), "data are drawn");
+    for (x, y) in marks {
+        assert!(
+            !(l..=r).contains(&x) || !(t..=b).contains(&y),
+            "a mark at ({x}, {y}) lies under the legend ({l}, {t})–({r}, {b})"
+        );
+    }
 }

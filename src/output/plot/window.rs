@@ -43,3 +43,36 @@ pub fn window_chart(steps: &[WindowStep], tolerance: f64, name: &str) -> LineCha
         ],
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::output::plot::Drawable;
+    use crate::output::plot::testing::assert_legend_hides_nothing;
+
+    /// The band's upper line runs the chart's whole width near its top,
+    /// where a legend inside the plot covered it.
+    #[test]
+    fn the_legend_hides_neither_the_curve_nor_the_band() {
+        let steps: Vec<WindowStep> = [(40.0, 0.262), (80.0, 0.251), (160.0, 0.2495)]
+            .into_iter()
+            .map(|(length, porosity)| WindowStep {
+                length,
+                particles: 100,
+                porosity,
+                coordination: 3.0,
+                spread: 0.002,
+                seconds: 0.01,
+            })
+            .collect();
+        let chart = window_chart(&steps, 0.005, "well");
+        let labels: Vec<String> = chart
+            .series
+            .iter()
+            .map(|s| s.name.clone())
+            .filter(|n| !n.is_empty())
+            .collect();
+        assert_eq!(labels, ["window core", "estimate ± 0.005"]);
+        assert_legend_hides_nothing(&chart.to_svg().expect("svg"), &labels);
+    }
+}

@@ -1,0 +1,135 @@
+//! How closely a packing's sizes follow the grading asked: one KS distance
+//! per grading curve (in size-graded mode, each material against its own
+//! curve) and, for a size-graded packing, against the blend of the curves.
+
+use crate::Scene;
+use crate::grading::{Basis, Grading};
+use crate::packer::Packing;
+
+/// The diameters of the disks grading curve `curve` of `scene` sized: in
+/// size-graded mode those of material `curve`, otherwise every disk.
+pub fn curve_diameters(packing: &Packing, scene: &Scene, curve: usize) -> Vec<f64> {
+    // Only size-graded scenes tie a material to a curve; materials laid
+    // out on a finished packing all share the one grading.
+    let graded = scene.gradient.is_some();
+    packing
+        .disks
+        .iter()
+        .zip(packing.materials.iter().chain(std::iter::repeat(&0)))
+        .filter(|&(_, &m)| !graded || usize::from(m) == curve)
+        .map(|(d, _)| 2.0 * d.r)
+        .collect()
+}
+
+/// Kolmogorov–Smirnov distance of each of `scene`'s grading curves to the
+/// disks it sized, in curve order (one curve unless size-graded; a
+/// material without disks counts 0).
+pub fn psd_ks_by_curve(packing: &Packing, scene: &Scene) -> Vec<f64> {
+    let graded = scene.gradient.is_some();
+    scene
+        .curves()
+        .enumerate()
+        .map(|(m, curve)| {
+            let own = curve_diameters(packing, scene, m);
+            if own.is_empty() && graded {
+                0.0
+            } else {
+                curve.ks_distance(&own)
+            }
+        })
+        .collect()
+}
+
+/// Kolmogorov–Smirnov distance of a packing's sizes to `scene`'s grading; in
+/// size-graded mode, the larger of each material's distance to its own curve.
+pub fn psd_ks(packing: &Packing, scene: &Scene) -> f64 {
+    psd_ks_by_curve(packing, scene)
+        .into_iter()
+        .fold(0.0, f64::max)
+}
+
+/// The grading of a size-graded packing as a whole: each material's curve
+/// weighted by that material's share of the packed disks, counted in the
+/// curves' basis (the profile decides the shares; this blend asks whether
+/// the sizes within them follow the curves).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Blend {
+    /// Each curve and its weight (the weights sum to 1).
+    parts: Vec<(Grading, f64)>,
+    /// The basis the curves share.
+    basis: Basis,
+}
+
+impl Blend {
+    /// The blend of `scene`'s curves over `packing`; `None` unless the
+    /// scene is size-graded, its curves share one basis and a disk is packed.
+    pub fn of(packing: &Packing, scene: &Scene) -> Option<Blend> {
+        scene.gradient.as_ref()?;
+        let basis = scene.grading.basis();
+        if scene.curves().any(|c| c.basis() != basis) {
+            return None;
+        }
+        let k = basis.exponent();
+        let weights: Vec<f64> = (0..scene.curves().count())
+            .map(|m| {
+                curve_diameters(packing, scene, m)
+                    .iter()
+                    .map(|d| d.powi(k))
+                    .sum()
+            })
+            .collect();
+        let total: f64 = weights.iter().sum();
+        (total > 0.0 && total.is_finite()).then(|| Blend {
+            parts: scene
+                .curves()
+                .cloned()
+                .zip(weights.iter().map(|w| w / total))
+                .collect(),
+            basis,
+        })
+    }
+
+    /// Share of the blend (in its basis) passing diameter `d`.
+    pub fn cdf(&self, d: f64) -> f64 {
+        self.parts.iter().map(|(g, w)| w * g.cdf(d)).sum()
+    }
+
+    /// Kolmogorov–Smirnov distance of `diameters` (weighted in the blend's
+    /// basis) to the blend, as [`Grading::ks_distance`] counts it: 1 for
+    /// no diameter or one that is not positive and finite.
+    pub fn ks_distance(&self, diameters: &[f64]) -> f64 {
+        if diameters.is_empty() || diameters.iter().any(|d| !(d.is_finite() && *d > 0.0)) {
+            return 1.0;
+        }
+        let mut sorted = diameters.to_vec();
+        sorted.sort_unstable_by(f64::total_cmp);
+        let k = self.basis.exponent();
+        let largest = sorted.last().copied().unwrap_or(1.0);
+        let weight = |d: f64| (d / largest).powi(k);
+        let total: f64 = sorted.iter().map(|&d| weight(d)).sum();
+        let (mut below, mut seen, mut distance) = (0.0, 0, 0.0f64);
+        for group in sorted.chunk_by(|a, b| a == b) {
+            let d = group[0];
+            let through = below + group.iter().map(|&x| weight(x)).sum::<f64>();
+            seen += group.len();
+            let after = if seen == sorted.len() {
+                1.0
+            } else {
+                through / total
+            };
+            // Just below d, a step of a curve at d has not happened yet.
+            distance = distance
+                .max((below / total - self.cdf(d.next_down())).abs())
+                .max((after - self.cdf(d)).abs());
+            below = through;
+        }
+        distance.min(1.0)
+    }
+}
+
+/// Kolmogorov–Smirnov distance of all of a size-graded packing's disks to
+/// the [`Blend`] of its curves; `None` where [`Blend::of`] is.
+pub fn psd_ks_blend(packing: &Packing, scene: &Scene) -> Option<f64> {
+    let diameters: Vec<f64> = packing.disks.iter().map(|d| 2.0 * d.r).collect();
+    Blend::of(packing, scene).map(|b| b.ks_distance(&diameters))
+}
