@@ -429,9 +429,12 @@ pub fn packing_svg_note(packing: &Packing, max_bytes: usize) -> Option<String> {
     let bytes = svg_bytes(packing);
     (bytes > max_bytes).then(|| {
         format!(
-            "packing.svg holds packing.png as an image: {} disks and {} wall disks drawn one by one would make about {:.0} MB, over the {:.0} MB a viewer opens",
+            "packing.svg holds packing.png as an image: {} disks{} drawn one by one would make about {:.0} MB, over the {:.0} MB a viewer opens",
             packing.disks.len(),
-            packing.boundary.len(),
+            match packing.boundary.len() {
+                0 => String::new(),
+                n => format!(" and {n} wall disks"),
+            },
             bytes as f64 / 1e6,
             max_bytes as f64 / 1e6
         )
@@ -808,7 +811,7 @@ mod tests {
         // 2 disks × 70 bytes: over a limit of 100 bytes.
         let note = packing_svg_note(&p, 100).expect("over the limit");
         assert!(
-            note.starts_with("packing.svg holds packing.png as an image: 2 disks and 0 wall disks"),
+            note.starts_with("packing.svg holds packing.png as an image: 2 disks drawn"),
             "{note}"
         );
         let light = packing_svg_within(&p, &[], (2.0, 4.0), 100).expect("svg");
