@@ -681,16 +681,33 @@ fn builds_optimise_settings_with_defaults_and_refuses_absurd_runs() {
         ),
         "t.toml:9:14: optimise.population: must be a whole number ≥ 2, got 1",
     );
-    // A million genes per genome times 200 genomes: refused with the estimate.
+    // A million genes per genome times 200 genomes, searched on the whole
+    // (window_disks = 0): refused with the estimate.
     let e = err(&rect(
         "width = 1000\nheight = 1000",
-        "[optimise]\ntarget_porosity = 0.3\npopulation = 200\n",
+        "[optimise]\ntarget_porosity = 0.3\npopulation = 200\nwindow_disks = 0\n",
     ));
     assert!(matches!(e, ConfigError::Memory { .. }), "{e}");
     assert_eq!(e.key(), Some("optimise.population"));
     let message = e.to_string();
     assert!(message.contains("needs an estimated"), "{message}");
     assert!(message.contains("over the limit of 4096 MB"), "{message}");
+    // Searched on a window of at most a quarter of it (the default for
+    // 700,000 disks), the same run fits.
+    let windowed = parse(
+        &rect(
+            "width = 1000\nheight = 1000",
+            "[optimise]\ntarget_porosity = 0.3\npopulation = 200\n",
+        ),
+        "t.toml",
+    )
+    .unwrap();
+    let whole = crate::ga::OptimiseSettings {
+        window_disks: 0,
+        ..windowed.optimise.unwrap()
+    };
+    let scene = &windowed.scene;
+    assert!(windowed.optimise.unwrap().peak_bytes(scene) < 0.5 * whole.peak_bytes(scene));
 }
 
 // ---- [output] ----------------------------------------------------------------

@@ -327,6 +327,9 @@ impl Outcome {
                 ));
             }
         }
+        for note in &self.notes {
+            lines.push(format!("  {at}/{note}"));
+        }
         lines
     }
 
@@ -560,4 +563,46 @@ fn seed_spread(runs: &[&stability::StabilityRun]) -> Vec<String> {
         ),
         format!("    by width (d_max): {}", by_width.join(", ")),
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Disk, Domain};
+    use crate::jobs::JobKind;
+    use crate::packer::Packing;
+
+    /// A run whose `packing.svg` holds an image says so under its line.
+    #[test]
+    fn a_run_s_notes_follow_its_line() {
+        let packing = Packing::of_disks(
+            Domain::rectangle(10.0, 10.0).expect("square"),
+            vec![Disk::new(2.0, 2.0, 1.0)],
+        );
+        let config = crate::config::parse(
+            "[domain]\nshape = \"rectangle\"\nwidth = 10\nheight = 10\n[grading]\nconstant = 2.0\n",
+            "t.toml",
+        )
+        .expect("config");
+        let metrics = crate::metrics::measure(&packing, &config.scene);
+        let outcome = Outcome {
+            kind: JobKind::Pack,
+            location: "out/x".to_owned(),
+            interrupted: false,
+            files: Vec::new(),
+            notes: vec!["packing.svg holds packing.png as an image: why".to_owned()],
+            report: Report::Pack {
+                packing,
+                metrics,
+                seconds: 0.1,
+            },
+        };
+        let lines = outcome.lines();
+        assert_eq!(lines.len(), 2, "{lines:?}");
+        assert!(lines[0].starts_with("out/x: 1 disks"), "{lines:?}");
+        assert_eq!(
+            lines[1],
+            "  out/x/packing.svg holds packing.png as an image: why"
+        );
+    }
 }

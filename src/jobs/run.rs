@@ -23,9 +23,10 @@ use crate::layering::LayeringSettings;
 use crate::metrics::{Metrics, measure, measure_cancellable};
 use crate::names::ConfigName;
 use crate::output::{
-    FILE_NAMES, FractureSummary, LayeringDetails, LayeringReport, LayeringSummary, OptimiseSummary,
-    OutputError, RunInfo, SearchWindow, WELLS_CSV, WellRow, WindowSummary, render_compare,
-    render_outputs, render_stability, variant_label, wells_csv,
+    FILE_NAMES, Format, FractureSummary, LayeringDetails, LayeringReport, LayeringSummary,
+    OptimiseSummary, OutputError, OutputSettings, RunInfo, SVG_MAX_BYTES, SearchWindow, WELLS_CSV,
+    WellRow, WindowSummary, packing_svg_note, render_compare, render_outputs, render_stability,
+    variant_label, wells_csv,
 };
 use crate::packer::{PackError, Packing, pack_observed};
 use crate::stability::{self, StabilityRun};
@@ -48,6 +49,9 @@ pub struct Outcome {
     pub interrupted: bool,
     /// Every file of the run (as listed in `manifest.json`, which is one of them).
     pub files: Vec<String>,
+    /// What its files do not show as usual (`packing.svg` holding an image
+    /// of a huge packing), a sentence each, as `manifest.json` lists them.
+    pub notes: Vec<String>,
     /// The job's own results.
     pub report: Report,
 }
@@ -173,6 +177,7 @@ pub fn run(
         store,
         files: Vec::new(),
         pending: Vec::new(),
+        notes: Vec::new(),
     };
     let done = match &plan.job {
         Job::Pack => job.pack(cancel),
@@ -203,8 +208,27 @@ pub fn run(
         location: job.store.location(),
         interrupted,
         files,
+        notes: job.notes,
         report,
     })
+}
+
+/// The notes on the pictures of a packing written under `folder`:
+/// `packing.svg` holding an image when drawing every disk would exceed
+/// `max_bytes` ([`packing_svg_note`]).
+fn picture_notes(
+    folder: &str,
+    packing: &Packing,
+    output: &OutputSettings,
+    max_bytes: usize,
+) -> Vec<String> {
+    if !output.wants(Format::Svg) {
+        return Vec::new();
+    }
+    packing_svg_note(packing, max_bytes)
+        .map(|note| format!("{folder}{note}"))
+        .into_iter()
+        .collect()
 }
 
 /// `manifest.json`: the files of the run in a folder, and what run it was.
@@ -217,6 +241,9 @@ struct Manifest {
     seed: u64,
     interrupted: bool,
     files: Vec<String>,
+    /// What the files do not show as usual, a sentence each.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    notes: Vec<String>,
 }
 
 /// `checkpoint.json`: the search's state and what run it belongs to. The
@@ -248,6 +275,8 @@ struct Running<'p> {
     /// The files made, held until [`Running::finish`] commits them with
     /// the manifest in one step: a run that fails leaves none of them.
     pending: Vec<(String, Vec<u8>)>,
+    /// What the files do not show as usual, for the manifest and the result lines.
+    notes: Vec<String>,
 }
 
 impl Running<'_> {
@@ -280,6 +309,8 @@ impl Running<'_> {
     ) -> Result<(), JobError> {
         let files = render_outputs(packing, metrics, run).map_err(|e| relaxation_hint(e, run))?;
         self.write(folder, files)?;
+        self.notes
+            .extend(picture_notes(folder, packing, run.output, SVG_MAX_BYTES));
         if !grading_kept(metrics.particles, metrics.psd_ks) {
             let advice = match self.plan.job {
                 Job::Optimise { .. } => {
@@ -1123,6 +1154,7 @@ impl Running<'_> {
             seed: self.plan.seed(),
             interrupted,
             files: files.clone(),
+            notes: self.notes.clone(),
         };
         let bytes =
             serde_json::to_vec_pretty(&manifest).map_err(|e| StoreError::Write(e.into()))?;
@@ -1360,5 +1392,48 @@ fn relaxation_hint(err: OutputError, run: &RunInfo<'_>) -> OutputError {
 impl From<Cancelled> for JobError {
     fn from(_: Cancelled) -> Self {
         JobError::Cancelled
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Disk, Domain};
+
+    /// A huge packing's `packing.svg` is said to hold an image, with its
+    /// folder, when the SVG is asked for; the real limit is far above a
+    /// small packing.
+    #[test]
+    fn a_lightened_svg_is_noted_for_the_manifest() {
+        let p = Packing::of_disks(
+            Domain::rectangle(10.0, 10.0).expect("square"),
+            vec![Disk::new(2.0, 2.0, 1.0), Disk::new(5.0, 5.0, 1.0)],
+        );
+        let all = OutputSettings::default();
+        let notes = picture_notes("w/", &p, &all, 100);
+        assert_eq!(notes.len(), 1);
+        assert!(notes[0].starts_with("w/packing.svg holds packing.png as an image"));
+        assert!(picture_notes("w/", &p, &all, SVG_MAX_BYTES).is_empty());
+        let png_only = OutputSettings {
+            formats: vec![Format::Png],
+            ..OutputSettings::default()
+        };
+        assert!(picture_notes("w/", &p, &png_only, 100).is_empty());
+        // The manifest lists the notes, and reads one without any.
+        let manifest = Manifest {
+            gapack_version: "0".to_owned(),
+            job: JobKind::Pack,
+            config: "c.toml".to_owned(),
+            identity: "i".to_owned(),
+            seed: 0,
+            interrupted: false,
+            files: vec!["packing.svg".to_owned()],
+            notes,
+        };
+        let text = serde_json::to_string(&manifest).expect("json");
+        assert!(text.contains(r#""notes":["w/packing.svg holds"#), "{text}");
+        let plain = text.replace(r#","notes":["#, r#","x":["#);
+        let read: Manifest = serde_json::from_str(&plain).expect("reads");
+        assert!(read.notes.is_empty());
     }
 }

@@ -1,5 +1,6 @@
-//! The local porosity of a packing on a regular grid of square cells, for a
-//! heat map that shows where a packing is loose or dense.
+//! The local porosity of a packing on a regular grid of cells, for a heat
+//! map that shows where a packing is loose or dense, or on a slender domain
+//! (a fracture) a profile along its length.
 
 use super::{WINDOW_DIAMETERS, porosity};
 use crate::geometry::Point;
@@ -10,29 +11,45 @@ use crate::packer::Packing;
 const MAX_CELLS: f64 = 200.0;
 /// Fewest cells along the longer side of the domain's bounds.
 const MIN_CELLS: f64 = 4.0;
+/// A side of the bounds over this many times the other makes a domain
+/// slender: its map is a profile along the longer side.
+pub const SLENDER: f64 = 8.0;
+/// Most cells of a profile.
+const MAX_PROFILE_CELLS: f64 = 20_000.0;
+/// A profile's cell with less than this share of its area in the domain is
+/// not mapped (the tip of a wedge keeps its cells).
+const PROFILE_MASK: f64 = 0.05;
 
-/// Local porosity on a regular grid of square cells covering the domain's bounds.
+/// Local porosity on a regular grid of cells covering the domain's bounds.
 ///
 /// Cell `(col, row)` spans `[origin.x + col·cell, origin.x + (col + 1)·cell]`
-/// × `[origin.y + row·cell, origin.y + (row + 1)·cell]`; the values are
-/// stored row by row from the bottom: index `row · cols + col`.
+/// × `[origin.y + row·cell_height, origin.y + (row + 1)·cell_height]`; the
+/// values are stored row by row from the bottom: index `row · cols + col`.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct PorosityMap {
     /// Lower-left corner of the grid (mm).
     pub origin: Point,
-    /// Side of a cell (mm).
+    /// Width of a cell (mm, along x).
     pub cell: f64,
+    /// Height of a cell (mm, along y): `cell` (square cells) unless the
+    /// map is a profile.
+    pub cell_height: f64,
+    /// Whether the map is a profile along a slender domain: one cell
+    /// across its whole width, cells along its length.
+    pub profile: bool,
     /// Cells along x.
     pub cols: usize,
     /// Cells along y.
     pub rows: usize,
     /// Porosity of each cell, 1 − solid / in-domain area, clamped to [0, 1];
-    /// NaN for a cell with less than half its area in the domain.
+    /// NaN for a cell with less than half its area in the domain (a
+    /// profile's: less than 5 %).
     pub values: Vec<f64>,
 }
 
-/// The local porosity of `packing` on a grid of square cells.
+/// The local porosity of `packing` on a grid of square cells, or along a
+/// slender domain a profile.
 ///
 /// # Behavior
 /// The cells tile a box centred on the domain's bounds. Their side is
@@ -40,6 +57,14 @@ pub struct PorosityMap {
 /// porosity), but at least 1/200 of the bounds' longer side (at most 200
 /// cells along it) and at most 1/4 of it (at least 4 cells along it); with
 /// no disk it is the 1/200.
+///
+/// A slender domain (bounds' longer side over [`SLENDER`] times the
+/// shorter, a fracture) gets a profile instead: square cells there would be
+/// far wider than the aperture (125 mm across a 2.3 mm slot) and mostly
+/// outside it. One cell spans the whole width; along the length a cell is
+/// as long as the width or 5 largest diameters, whichever is longer (at
+/// most 20,000 cells). A cell is masked only below 5 % of its area in the
+/// domain, so a wedge's narrow tip is mapped too.
 ///
 /// Each cell's solid area is exact: the area of every packed disk inside
 /// the cell, in closed form
@@ -82,22 +107,35 @@ fn map_with_areas(packing: &Packing) -> (PorosityMap, Vec<f64>, Vec<f64>) {
     let domain = &packing.domain;
     let (lo, hi) = domain.bounds();
     let (width, height) = (hi.x - lo.x, hi.y - lo.y);
-    let longer = width.max(height);
+    let (longer, shorter) = (width.max(height), width.min(height));
     let d_max = packing.disks.iter().fold(0.0f64, |m, d| m.max(2.0 * d.r));
-    let cell = (WINDOW_DIAMETERS * d_max).clamp(longer / MAX_CELLS, longer / MIN_CELLS);
-    let cols = (width / cell).ceil().max(1.0) as usize;
-    let rows = (height / cell).ceil().max(1.0) as usize;
+    let profile = longer > SLENDER * shorter;
+    let (cw, ch) = if profile {
+        let along = (WINDOW_DIAMETERS * d_max)
+            .max(shorter)
+            .max(longer / MAX_PROFILE_CELLS);
+        if width > height {
+            (along, height)
+        } else {
+            (width, along)
+        }
+    } else {
+        let cell = (WINDOW_DIAMETERS * d_max).clamp(longer / MAX_CELLS, longer / MIN_CELLS);
+        (cell, cell)
+    };
+    let cols = (width / cw).ceil().max(1.0) as usize;
+    let rows = (height / ch).ceil().max(1.0) as usize;
     let origin = Point::new(
-        lo.x - 0.5 * (cols as f64 * cell - width),
-        lo.y - 0.5 * (rows as f64 * cell - height),
+        lo.x - 0.5 * (cols as f64 * cw - width),
+        lo.y - 0.5 * (rows as f64 * ch - height),
     );
-    let corner =
-        |col: usize, row: usize| (origin.x + col as f64 * cell, origin.y + row as f64 * cell);
+    let corner = |col: usize, row: usize| (origin.x + col as f64 * cw, origin.y + row as f64 * ch);
 
     let mut solid = vec![0.0; cols * rows];
     // Index of the cell column (row) holding `v` along x (y), clamped to the grid.
-    let index =
-        |v: f64, o: f64, n: usize| ((v - o) / cell).floor().clamp(0.0, (n - 1) as f64) as usize;
+    let index = |v: f64, o: f64, side: f64, n: usize| {
+        ((v - o) / side).floor().clamp(0.0, (n - 1) as f64) as usize
+    };
     let periodic = domain.is_periodic();
     for d in &packing.disks {
         // A periodic cell: each image of the disk that crosses into the
@@ -109,17 +147,17 @@ fn map_with_areas(packing: &Packing) -> (PorosityMap, Vec<f64>, Vec<f64>) {
         for v in domain.image_shifts(dlo, dhi) {
             let c = if periodic { d.c - v } else { d.c };
             let (c0, c1) = (
-                index(c.x - d.r, origin.x, cols),
-                index(c.x + d.r, origin.x, cols),
+                index(c.x - d.r, origin.x, cw, cols),
+                index(c.x + d.r, origin.x, cw, cols),
             );
             let (r0, r1) = (
-                index(c.y - d.r, origin.y, rows),
-                index(c.y + d.r, origin.y, rows),
+                index(c.y - d.r, origin.y, ch, rows),
+                index(c.y + d.r, origin.y, ch, rows),
             );
             for row in r0..=r1 {
                 for col in c0..=c1 {
                     let (x0, y0) = corner(col, row);
-                    let (mut x1, mut y1) = (x0 + cell, y0 + cell);
+                    let (mut x1, mut y1) = (x0 + cw, y0 + ch);
                     let (mut x0, mut y0) = (x0, y0);
                     if periodic {
                         (x0, x1) = (x0.max(lo.x), x1.min(hi.x));
@@ -138,14 +176,15 @@ fn map_with_areas(packing: &Packing) -> (PorosityMap, Vec<f64>, Vec<f64>) {
     for row in 0..rows {
         for col in 0..cols {
             let (x0, y0) = corner(col, row);
-            inside.push(domain.area_in_box(x0, x0 + cell, y0, y0 + cell));
+            inside.push(domain.area_in_box(x0, x0 + cw, y0, y0 + ch));
         }
     }
+    let least = if profile { PROFILE_MASK } else { 0.5 } * cw * ch;
     let values = solid
         .iter()
         .zip(&inside)
         .map(|(&s, &a)| {
-            if a < 0.5 * cell * cell {
+            if a < least {
                 f64::NAN
             } else {
                 porosity(s, a).clamp(0.0, 1.0)
@@ -154,7 +193,9 @@ fn map_with_areas(packing: &Packing) -> (PorosityMap, Vec<f64>, Vec<f64>) {
         .collect();
     let map = PorosityMap {
         origin,
-        cell,
+        cell: cw,
+        cell_height: ch,
+        profile,
         cols,
         rows,
         values,
@@ -245,23 +286,66 @@ mod tests {
 
     #[test]
     fn the_cell_side_follows_the_disks_within_limits() {
-        let rect = || Domain::rectangle(1000.0, 10.0).expect("rectangle");
+        let rect = || Domain::rectangle(1000.0, 200.0).expect("rectangle");
         // 5 × 2 mm = 10 mm cells.
         let map = porosity_map(&packing(rect(), vec![Disk::new(5.0, 5.0, 1.0)]));
-        assert_eq!((map.cell, map.cols, map.rows), (10.0, 100, 1));
-        assert_eq!(map.values.len(), 100);
+        assert_eq!((map.cell, map.cols, map.rows), (10.0, 100, 20));
+        assert_eq!((map.cell_height, map.profile), (10.0, false));
+        assert_eq!(map.values.len(), 2000);
         // Tiny disks: at most 200 cells along the longer side.
         let map = porosity_map(&packing(rect(), vec![Disk::new(5.0, 5.0, 0.01)]));
-        assert_eq!((map.cell, map.cols, map.rows), (5.0, 200, 2));
+        assert_eq!((map.cell, map.cols, map.rows), (5.0, 200, 40));
         // No disk at all: the same, every cell empty.
         let map = porosity_map(&packing(rect(), Vec::new()));
-        assert_eq!((map.cols, map.rows), (200, 2));
+        assert_eq!((map.cols, map.rows), (200, 40));
         assert!(map.values.iter().all(|&v| v == 1.0));
         // Huge disks: at least 4 cells along the longer side, centred on the bounds.
         let square = Domain::rectangle(10.0, 10.0).expect("square");
         let map = porosity_map(&packing(square, vec![Disk::new(5.0, 5.0, 4.0)]));
         assert_eq!((map.cell, map.cols, map.rows), (2.5, 4, 4));
         assert_eq!(map.origin, Point::new(0.0, 0.0));
+    }
+
+    /// A slender domain had square cells 5 d_max or 1/200 of its length
+    /// wide: 125 mm across a 2.3 mm × 25 m slot, and on a wedge most cells
+    /// more outside than inside, "not mapped". Now one cell spans the
+    /// width, as long as the aperture or 5 d_max, and nearly all are mapped.
+    #[test]
+    fn a_slender_domain_gets_a_profile_with_cells_sized_to_its_aperture() {
+        // A 2.3 mm slot 2 m long (along y), disks of 1.2 mm in a file.
+        let slot = Domain::rectangle(2.3, 2000.0).expect("slot");
+        let disks = (0..1600)
+            .map(|i| Disk::new(1.15, 0.7 + 1.25 * f64::from(i), 0.6))
+            .collect();
+        let map = porosity_map(&packing(slot, disks));
+        assert!(map.profile);
+        assert_eq!((map.cols, map.cell), (1, 2.3));
+        // 5 × 1.2 mm along the slot: 6 mm, a few apertures, not 125 mm.
+        assert!((map.cell_height - 6.0).abs() < 1e-12, "{}", map.cell_height);
+        assert_eq!(map.rows, (2000.0f64 / 6.0).ceil() as usize);
+        assert!(map.values.iter().all(|v| v.is_finite()));
+        // A wedge 3 → 0.9 mm over 150 mm: at most a few % not mapped.
+        let wedge = Domain::polygon(&[
+            Point::new(0.0, 0.0),
+            Point::new(3.0, 0.0),
+            Point::new(1.95, 150.0),
+            Point::new(1.05, 150.0),
+        ])
+        .expect("wedge");
+        let p = packed(wedge);
+        let map = porosity_map(&p);
+        assert!(map.profile && map.cols == 1);
+        assert!(map.cell_height <= 5.0 * 3.0 + 1e-9, "{}", map.cell_height);
+        let masked = map.values.iter().filter(|v| v.is_nan()).count();
+        assert!(
+            masked * 100 <= 3 * map.values.len(),
+            "{masked} of {} not mapped",
+            map.values.len()
+        );
+        // The cells' solid still adds up to the packing's.
+        let (_, solid, _) = map_with_areas(&p);
+        let total: f64 = p.disks.iter().map(Disk::area).sum();
+        assert!((solid.iter().sum::<f64>() / total - 1.0).abs() < 1e-9);
     }
 
     #[test]

@@ -47,7 +47,9 @@ pub use run::{
     PROFILE_SVG, RunInfo, STABILITY_PNG, STABILITY_SVG, WINDOW_PNG, WINDOW_SVG, render_compare,
     render_outputs, render_pictures, render_stability,
 };
-pub use svg::{PACKING_SVG, diameter_range, packing_svg};
+pub use svg::{
+    PACKING_SVG, SVG_MAX_BYTES, diameter_range, packing_svg, packing_svg_note, packing_svg_within,
+};
 
 /// Every file name a run may write at the top of its folder.
 pub const FILE_NAMES: &[&str] = &[

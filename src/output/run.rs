@@ -22,7 +22,7 @@ use super::plot::{
     PsdChart, StabilityChart, convergence_chart, packing_png, porosity_map_chart, profile_chart,
     psd_chart, psd_chart_of_scene, window_chart,
 };
-use super::svg::{PACKING_SVG, packing_svg};
+use super::svg::{PACKING_SVG, SVG_MAX_BYTES, packing_svg_within};
 use crate::Scene;
 use crate::check::check;
 use crate::compare::CompareRun;
@@ -322,7 +322,8 @@ impl<'a> Tasks<'a> {
     }
 
     /// The pictures of a packing, each in the formats asked for: the
-    /// packing coloured by diameter (over `diameters`) or material, its
+    /// packing coloured by diameter (over `diameters`) or material (over
+    /// [`SVG_MAX_BYTES`] the SVG holds the PNG as an image), its
     /// grading chart (`psd`), its porosity map.
     fn packing(
         &mut self,
@@ -333,7 +334,8 @@ impl<'a> Tasks<'a> {
     ) {
         if self.out.wants(Format::Svg) {
             self.add(PACKING_SVG, move || {
-                Ok(packing_svg(packing, materials, diameters).into_bytes())
+                packing_svg_within(packing, materials, diameters, SVG_MAX_BYTES)
+                    .map(String::into_bytes)
             });
         }
         if self.out.wants(Format::Png) {

@@ -19,7 +19,8 @@ use crate::metrics::{porosity, solid_area};
 use crate::output::OutputError;
 use crate::output::palette::{colour, ramp};
 use crate::output::svg::{
-    CIRCLE_SEGMENTS, DISK_EDGE, WALL_EDGE, WALL_FILL, by_material, disk_fill, drawn_images, frame,
+    CIRCLE_SEGMENTS, DISK_EDGE, Panels, WALL_EDGE, WALL_FILL, by_material, disk_fill, drawn_images,
+    frame, scale_bar_mm,
 };
 use crate::packer::Packing;
 
@@ -40,36 +41,42 @@ const SWATCH: i32 = 24;
 const BAR: i32 = 320;
 /// Space between legend items and at the strip's ends.
 const GAP: i32 = 20;
-/// Share of the image's width a scale bar is at most (a round length).
-const SCALE_SHARE: f64 = 0.2;
+/// Height of the line above the legend saying how a slender domain is cut into panels.
+const NOTE_PX: u32 = 36;
 /// Offset of the legend's right-hand rows (scale bar above, counts below)
 /// from the strip's middle.
 const ROW: i32 = 16;
 /// Width of the disks' edge line (pixels), thinner on disks under 4 px across.
 const EDGE_PX: f64 = 1.0;
 
-/// Where the drawing goes in the image: `px = (x − x0)·scale + left`, `py = (y1 − y)·scale`.
+/// Where the drawing goes in the image: the framed box whole, or cut into
+/// panels ([`Panels`], as in `packing.svg`), drawn `scale` px per mm.
 #[derive(Debug, Clone, Copy)]
 struct Layout {
     /// Image size (pixels).
     size: (u32, u32),
     /// Pixels per mm.
     scale: f64,
-    /// Left and top edges of the drawn box (mm).
-    x0: f64,
-    y1: f64,
+    /// The panels.
+    panels: Panels,
     /// Pixels left of the drawing (it is centred in a wider image).
     left: f64,
     /// Whether the legend strip is drawn.
     legend: bool,
+    /// Height of the strip under the drawing: the legend, and above it the
+    /// line on the panels if any (pixels).
+    strip: u32,
 }
 
 impl Layout {
     fn new(packing: &Packing, outline: &[Point]) -> Self {
         let (lo, hi) = frame(outline, packing);
-        let (w, h) = ((hi.x - lo.x).max(1e-12), (hi.y - lo.y).max(1e-12));
+        let panels = Panels::new(lo, hi);
+        let (w, h) = panels.size();
+        let (w, h) = (w.max(1e-12), h.max(1e-12));
         let legend = !packing.disks.is_empty();
-        let strip = if legend { LEGEND_PX } else { 0 };
+        let note = if panels.count > 1 { NOTE_PX } else { 0 };
+        let strip = if legend { LEGEND_PX } else { 0 } + note;
         let long = f64::from(LONG_SIDE);
         let by_width = long / w;
         let by_height = f64::from(LONG_SIDE - strip) / h;
@@ -87,19 +94,30 @@ impl Layout {
         Layout {
             size: (width, draw_h + strip),
             scale,
-            x0: lo.x,
-            y1: hi.y,
+            panels,
             left: 0.5 * f64::from(width - draw_w),
             legend,
+            strip,
         }
     }
 
-    /// A point in pixels.
-    fn map(&self, p: Point) -> (f64, f64) {
+    /// A point of panel `k` in pixels.
+    fn map(&self, k: usize, p: Point) -> (f64, f64) {
+        let (lo, hi) = self.panels.source(k);
+        let (dx, dy) = self.panels.at(k);
         (
-            (p.x - self.x0) * self.scale + self.left,
-            (self.y1 - p.y) * self.scale,
+            (p.x - lo.x + dx) * self.scale + self.left,
+            (hi.y - p.y + dy) * self.scale,
         )
+    }
+
+    /// The pixel columns and rows of the box `lo`–`hi` in panel `k`,
+    /// within the image.
+    fn pixels(&self, k: usize, lo: Point, hi: Point) -> (usize, usize, usize, usize) {
+        let ((x0, y1), (x1, y0)) = (self.map(k, lo), self.map(k, hi));
+        let at = |v: f64, n: u32| v.round().clamp(0.0, f64::from(n)) as usize;
+        let (w, h) = self.size;
+        (at(x0, w), at(x1, w), at(y0, h), at(y1, h))
     }
 }
 
@@ -132,51 +150,68 @@ pub fn packing_png(
     let (w, h) = layout.size;
     let mut rgb = vec![255u8; w as usize * h as usize * 3];
     let periodic = packing.domain.is_periodic();
-    // A periodic cell's disks are clipped to it (pixel columns and rows).
-    let clip = if periodic {
-        let (lo, hi) = packing.domain.bounds();
-        let ((x0, y1), (x1, y0)) = (layout.map(lo), layout.map(hi));
-        let at = |v: f64, n: u32| v.round().clamp(0.0, f64::from(n)) as usize;
-        (at(x0, w), at(x1, w), at(y0, h), at(y1, h))
-    } else {
-        (0, w as usize, 0, h as usize)
-    };
-    let mut canvas = Canvas {
-        rgb: &mut rgb,
-        width: w as usize,
-        height: h as usize,
-        clip,
-    };
-    for disk in &packing.boundary {
-        canvas.disk(&layout, disk, WALL_FILL, WALL_EDGE);
-    }
+    let panels = layout.panels;
+    let (walls, disks) = (panels.sort(&packing.boundary), panels.sort(&packing.disks));
     let by_material = by_material(packing, materials);
-    for (i, disk) in packing.disks.iter().enumerate() {
-        let fill = disk_fill(packing, i, by_material, diameters);
-        for at in drawn_images(packing, disk) {
-            canvas.disk(&layout, &at, fill, DISK_EDGE);
+    for k in 0..panels.count {
+        // Each panel's disks are clipped to it, a periodic cell's to the cell too.
+        let (lo, hi) = panels.source(k);
+        let mut clip = if panels.count > 1 {
+            layout.pixels(k, lo, hi)
+        } else {
+            (0, w as usize, 0, h as usize)
+        };
+        if periodic {
+            let (lo, hi) = packing.domain.bounds();
+            let cell = layout.pixels(k, lo, hi);
+            clip = (
+                clip.0.max(cell.0),
+                clip.1.min(cell.1),
+                clip.2.max(cell.2),
+                clip.3.min(cell.3),
+            );
+        }
+        let mut canvas = Canvas {
+            rgb: &mut rgb,
+            width: w as usize,
+            height: h as usize,
+            clip,
+            panel: k,
+        };
+        for &i in walls.get(k).into_iter().flatten() {
+            canvas.disk(&layout, &packing.boundary[i], WALL_FILL, WALL_EDGE);
+        }
+        for &i in disks.get(k).into_iter().flatten() {
+            let fill = disk_fill(packing, i, by_material, diameters);
+            for at in drawn_images(packing, &packing.disks[i]) {
+                canvas.disk(&layout, &at, fill, DISK_EDGE);
+            }
         }
     }
     {
         let root = Glyphs(BitMapBackend::with_buffer(&mut rgb, (w, h))).into_drawing_area();
         let plot = |e: DrawingAreaErrorKind<_>| OutputError::Plot(e.to_string());
-        let mut ring: Vec<(i32, i32)> = outline
-            .iter()
-            .map(|&p| {
-                let (x, y) = layout.map(p);
-                (x.round() as i32, y.round() as i32)
-            })
-            .collect();
-        ring.extend(ring.first().copied());
-        if periodic {
-            // Dashed: the cell's edges are not walls.
-            for dash in dashes(&ring, DASH_PX) {
-                root.draw(&PathElement::new(dash, BLACK.stroke_width(2)))
+        for line in outline_lines(&layout, &outline) {
+            if periodic {
+                // Dashed: the cell's edges are not walls.
+                for dash in dashes(&line, DASH_PX) {
+                    root.draw(&PathElement::new(dash, BLACK.stroke_width(2)))
+                        .map_err(plot)?;
+                }
+            } else {
+                root.draw(&PathElement::new(line, BLACK.stroke_width(2)))
                     .map_err(plot)?;
             }
-        } else {
-            root.draw(&PathElement::new(ring, BLACK.stroke_width(2)))
-                .map_err(plot)?;
+        }
+        if panels.count > 1 {
+            let font = (FAMILY, FONT_PX).into_font();
+            let y = (h - layout.strip) as i32 + NOTE_PX as i32 / 2;
+            root.draw(&Text::new(
+                panels.note(),
+                (GAP, y),
+                font.color(&BLACK).pos(Pos::new(HPos::Left, VPos::Center)),
+            ))
+            .map_err(plot)?;
         }
         if layout.legend {
             let strip = root.margin(h - LEGEND_PX, 0, 0, 0);
@@ -190,6 +225,54 @@ pub fn packing_png(
         root.present().map_err(plot)?;
     }
     encode_png(&rgb, (w, h))
+}
+
+/// The domain's outline in pixels: the closed ring, or cut into panels its
+/// parts in each panel.
+fn outline_lines(layout: &Layout, outline: &[Point]) -> Vec<Vec<(i32, i32)>> {
+    let pixel = |k: usize, p: Point| {
+        let (x, y) = layout.map(k, p);
+        (x.round() as i32, y.round() as i32)
+    };
+    let ring = outline.iter().chain(outline.first());
+    let panels = layout.panels;
+    if panels.count == 1 {
+        return vec![ring.map(|&p| pixel(0, p)).collect()];
+    }
+    let ring: Vec<Point> = ring.copied().collect();
+    let mut lines = Vec::new();
+    for k in 0..panels.count {
+        let (lo, hi) = panels.source(k);
+        for pair in ring.windows(2) {
+            if let Some((a, b)) = clip_segment(pair[0], pair[1], lo, hi) {
+                lines.push(vec![pixel(k, a), pixel(k, b)]);
+            }
+        }
+    }
+    lines
+}
+
+/// The part of the segment `p`–`q` inside the box `lo`–`hi` (Liang–Barsky).
+fn clip_segment(p: Point, q: Point, lo: Point, hi: Point) -> Option<(Point, Point)> {
+    let d = q - p;
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (den, room) in [
+        (-d.x, p.x - lo.x),
+        (d.x, hi.x - p.x),
+        (-d.y, p.y - lo.y),
+        (d.y, hi.y - p.y),
+    ] {
+        if den == 0.0 {
+            if room < 0.0 {
+                return None;
+            }
+        } else if den < 0.0 {
+            t0 = t0.max(room / den);
+        } else {
+            t1 = t1.min(room / den);
+        }
+    }
+    (t0 < t1).then(|| (p + t0 * d, p + t1 * d))
 }
 
 /// Length of the dashes (and of the gaps between them) of a periodic cell's outline (pixels).
@@ -248,15 +331,17 @@ struct Canvas<'a> {
     width: usize,
     height: usize,
     /// Pixel columns `.0..1` and rows `.2..3` drawn into (the whole image,
-    /// or a periodic cell).
+    /// a panel, a periodic cell).
     clip: (usize, usize, usize, usize),
+    /// The panel drawn.
+    panel: usize,
 }
 
 impl Canvas<'_> {
     /// Draw `disk` filled with `fill`, with an edge line of `edge`,
     /// anti-aliased by the distance of each pixel's centre to the rim.
     fn disk(&mut self, layout: &Layout, disk: &Disk, fill: [u8; 3], edge: [u8; 3]) {
-        let (cx, cy) = layout.map(disk.c);
+        let (cx, cy) = layout.map(self.panel, disk.c);
         let r = disk.r * layout.scale;
         if !(cx.is_finite() && cy.is_finite() && r.is_finite() && r > 0.0) {
             return;
@@ -335,18 +420,6 @@ enum Legend<'a> {
     Diameters((f64, f64)),
     /// One swatch per material.
     Materials(&'a [Material]),
-}
-
-/// The length (mm) of the scale bar of an image `width` px wide drawn at
-/// `scale` px per mm: the largest 1-2-5 × 10^k mm at most a fifth of the width.
-fn scale_bar_mm(width: f64, scale: f64) -> f64 {
-    let most = SCALE_SHARE * width / scale;
-    let k = most.log10().floor();
-    [5, 2, 1]
-        .into_iter()
-        .filter_map(|m| format!("{m}e{k}").parse::<f64>().ok())
-        .find(|&length| length <= most)
-        .unwrap_or(most)
 }
 
 /// The legend strip: a colour bar or material swatches on the left, wall
@@ -562,12 +635,13 @@ mod tests {
             width: layout.size.0 as usize,
             height: layout.size.1 as usize,
             clip: (0, layout.size.0 as usize, 0, layout.size.1 as usize),
+            panel: 0,
         };
         for (i, d) in p.disks.iter().enumerate() {
             canvas.disk(&layout, d, disk_fill(&p, i, false, (4.0, 6.0)), DISK_EDGE);
         }
         let pixel = |q: Point| {
-            let (x, y) = layout.map(q);
+            let (x, y) = layout.map(0, q);
             let at = 3 * (y as usize * layout.size.0 as usize + x as usize);
             [rgb[at], rgb[at + 1], rgb[at + 2]]
         };
@@ -577,12 +651,78 @@ mod tests {
         assert_eq!(pixel(Point::new(0.5, 0.0)), [255, 255, 255]);
         // The light disk has a dark rim: along its radius, some pixel is at
         // least half edge colour (26) and the rest fill (198) or white.
-        let (x, y) = layout.map(Point::new(4.0, 0.0));
+        let (x, y) = layout.map(0, Point::new(4.0, 0.0));
         let row = y as usize * layout.size.0 as usize;
         let darkest = (x as usize..(x + 2.0 * layout.scale + 2.0) as usize)
             .map(|i| rgb[3 * (row + i)])
             .min();
         assert!(darkest < Some(150), "{darkest:?}");
+    }
+
+    /// `packing.png` of a 2.3 mm × 25 m well was a line one pixel wide: cut
+    /// into panels, each is several pixels across and most of the image
+    /// high, the panels apart, the image within 1600 px a side.
+    #[test]
+    fn a_slender_domain_is_drawn_in_readable_panels() {
+        for (w, h) in [(2.3f64, 25_000.0f64), (25_000.0, 2.3), (3.0, 150.0)] {
+            let tall = h > w;
+            let disks = (0..500)
+                .map(|i| {
+                    let along = 1.0 + f64::from(i) * (w.max(h) - 2.0) / 499.0;
+                    if tall {
+                        Disk::new(w / 2.0, along, 0.6)
+                    } else {
+                        Disk::new(along, h / 2.0, 0.6)
+                    }
+                })
+                .collect();
+            let p = Packing::of_disks(Domain::rectangle(w, h).expect("rectangle"), disks);
+            let layout = Layout::new(&p, &p.domain.outline(CIRCLE_SEGMENTS));
+            let panels = layout.panels;
+            assert!(panels.count > 1, "{w} × {h}");
+            let (width, height) = layout.size;
+            assert!(
+                (900..=1600).contains(&width) && (900..=1600).contains(&height),
+                "{w} × {h}: {width} × {height}"
+            );
+            let mut previous: Option<(usize, usize, usize, usize)> = None;
+            for k in 0..panels.count {
+                let (lo, hi) = panels.source(k);
+                let (x0, x1, y0, y1) = layout.pixels(k, lo, hi);
+                let (across, along) = if tall {
+                    (x1 - x0, y1 - y0)
+                } else {
+                    (y1 - y0, x1 - x0)
+                };
+                assert!(
+                    across >= 8 && along >= 700,
+                    "{w} × {h}, panel {k}: {across} × {along}"
+                );
+                if let Some(p) = previous {
+                    assert!(if tall { x0 > p.1 } else { y0 > p.3 }, "panel {k} apart");
+                }
+                previous = Some((x0, x1, y0, y1));
+            }
+            let png = packing_png(&p, &[], (1.2, 1.2)).expect("png");
+            assert_eq!(png_size(&png), layout.size);
+        }
+    }
+
+    #[test]
+    fn segments_are_clipped_to_a_box() {
+        let (lo, hi) = (Point::new(0.0, 0.0), Point::new(1.0, 2.0));
+        let clip = |a: (f64, f64), b: (f64, f64)| {
+            clip_segment(Point::new(a.0, a.1), Point::new(b.0, b.1), lo, hi)
+        };
+        assert_eq!(
+            clip((0.5, -1.0), (0.5, 3.0)),
+            Some((Point::new(0.5, 0.0), Point::new(0.5, 2.0)))
+        );
+        assert_eq!(clip((2.0, 0.0), (2.0, 1.0)), None);
+        assert_eq!(
+            clip((-1.0, 1.0), (0.5, 1.0)),
+            Some((Point::new(0.0, 1.0), Point::new(0.5, 1.0)))
+        );
     }
 
     #[test]
