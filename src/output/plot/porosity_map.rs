@@ -161,6 +161,9 @@ pub fn porosity_map_chart(packing: &Packing) -> PorosityMapChart {
     }
 }
 
+/// The axes a map or a profile draws in.
+type Axes<'a, DB> = ChartContext<'a, DB, Cartesian2d<Axis, Axis>>;
+
 impl PorosityMapChart {
     /// The map's colour of porosity `v`.
     fn colour(&self, v: f64) -> RGBColor {
@@ -199,6 +202,38 @@ impl PorosityMapChart {
         }
     }
 
+    /// The axes of the map or the profile on `area` (`right` more pixels
+    /// of margin on the right), their labels spaced to the plot's pixels.
+    fn axes<'a, DB: DrawingBackend>(
+        &self,
+        area: &'a DrawingArea<DB, Shift>,
+        right: u32,
+        (x_desc, y_desc): (&str, &str),
+    ) -> Result<Axes<'a, DB>, DrawingAreaErrorKind<DB::ErrorType>> {
+        let mut chart = ChartBuilder::on(area)
+            .margin(MARGIN_PX)
+            .margin_right(MARGIN_PX + right)
+            .x_label_area_size(X_LABELS_PX)
+            .y_label_area_size(Y_LABELS_PX)
+            .build_cartesian_2d(
+                Axis::exact(self.x.0, self.x.1),
+                Axis::exact(self.y.0, self.y.1),
+            )?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_labels(label_count(self.plot.0, self.x))
+            .y_labels((self.plot.1 / ROW_PX) as usize)
+            .x_desc(x_desc)
+            .y_desc(y_desc)
+            .x_label_formatter(&tidy)
+            .y_label_formatter(&tidy)
+            .label_style((FAMILY, 14))
+            .axis_desc_style((FAMILY, 16))
+            .draw()?;
+        Ok(chart)
+    }
+
     /// The profile: each cell's porosity as a step over its length, broken
     /// where a cell is not mapped.
     fn draw_profile<DB: DrawingBackend>(
@@ -211,27 +246,11 @@ impl PorosityMapChart {
         } else {
             (self.map.origin.x, self.map.cell)
         };
-        let mut chart = ChartBuilder::on(area)
-            .margin(MARGIN_PX)
-            .margin_right(MARGIN_PX + PROFILE_RIGHT_PX)
-            .x_label_area_size(X_LABELS_PX)
-            .y_label_area_size(Y_LABELS_PX)
-            .build_cartesian_2d(
-                Axis::exact(self.x.0, self.x.1),
-                Axis::exact(self.y.0, self.y.1),
-            )?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_labels(label_count(self.plot.0, self.x))
-            .y_labels((self.plot.1 / ROW_PX) as usize)
-            .x_desc(format!("{along} (mm)"))
-            .y_desc("porosity")
-            .x_label_formatter(&tidy)
-            .y_label_formatter(&tidy)
-            .label_style((FAMILY, 14))
-            .axis_desc_style((FAMILY, 16))
-            .draw()?;
+        let mut chart = self.axes(
+            area,
+            PROFILE_RIGHT_PX,
+            (&format!("{along} (mm)"), "porosity"),
+        )?;
         let (x0, x1) = self.x;
         let mut run: Vec<(f64, f64)> = Vec::new();
         for (i, &v) in self.map.values.iter().enumerate() {
@@ -396,26 +415,7 @@ impl Drawable for PorosityMapChart {
         }
         let (body_w, _) = body.dim_in_pixel();
         let (plot_area, bar_area) = body.split_horizontally(body_w - BAR_STRIP_PX);
-        let mut chart = ChartBuilder::on(&plot_area)
-            .margin(MARGIN_PX)
-            .x_label_area_size(X_LABELS_PX)
-            .y_label_area_size(Y_LABELS_PX)
-            .build_cartesian_2d(
-                Axis::exact(self.x.0, self.x.1),
-                Axis::exact(self.y.0, self.y.1),
-            )?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_labels(label_count(self.plot.0, self.x))
-            .y_labels((self.plot.1 / ROW_PX) as usize)
-            .x_desc("x (mm)")
-            .y_desc("y (mm)")
-            .x_label_formatter(&tidy)
-            .y_label_formatter(&tidy)
-            .label_style((FAMILY, 14))
-            .axis_desc_style((FAMILY, 16))
-            .draw()?;
+        let mut chart = self.axes(&plot_area, 0, ("x (mm)", "y (mm)"))?;
         chart.draw_series(self.cells.iter().map(|(part, v)| {
             let fill = if v.is_finite() {
                 self.colour(*v)

@@ -63,7 +63,7 @@ pub fn profile_chart(
 mod tests {
     use super::*;
     use crate::output::plot::Drawable;
-    use crate::output::plot::testing::assert_legend_hides_nothing;
+    use crate::output::plot::testing::{assert_legend_hides_nothing, legend_labels};
 
     /// A linear profile's curves end at 0 and 1 at s = 1, in the corners a
     /// legend inside the plot covered.
@@ -87,12 +87,7 @@ mod tests {
             })
             .collect();
         let chart = profile_chart(&rows, &materials, &Profile::Linear, Axis::Y);
-        let labels: Vec<String> = chart
-            .series
-            .iter()
-            .map(|s| s.name.clone())
-            .filter(|n| !n.is_empty())
-            .collect();
+        let labels = legend_labels(&chart);
         assert_eq!(labels.len(), 4);
         assert_legend_hides_nothing(&chart.to_svg().expect("svg"), &labels);
     }

@@ -179,3 +179,13 @@ pub(super) fn assert_legend_hides_nothing(svg: &str, labels: &[String]) {
         );
     }
 }
+
+/// The legend's labels of a line chart: its series that have a name.
+pub(super) fn legend_labels(chart: &super::chart::LineChart) -> Vec<String> {
+    chart
+        .series
+        .iter()
+        .map(|s| s.name.clone())
+        .filter(|n| !n.is_empty())
+        .collect()
+}

@@ -48,7 +48,7 @@ pub fn window_chart(steps: &[WindowStep], tolerance: f64, name: &str) -> LineCha
 mod tests {
     use super::*;
     use crate::output::plot::Drawable;
-    use crate::output::plot::testing::assert_legend_hides_nothing;
+    use crate::output::plot::testing::{assert_legend_hides_nothing, legend_labels};
 
     /// The band's upper line runs the chart's whole width near its top,
     /// where a legend inside the plot covered it.
@@ -66,12 +66,7 @@ mod tests {
             })
             .collect();
         let chart = window_chart(&steps, 0.005, "well");
-        let labels: Vec<String> = chart
-            .series
-            .iter()
-            .map(|s| s.name.clone())
-            .filter(|n| !n.is_empty())
-            .collect();
+        let labels = legend_labels(&chart);
         assert_eq!(labels, ["window core", "estimate ± 0.005"]);
         assert_legend_hides_nothing(&chart.to_svg().expect("svg"), &labels);
     }
