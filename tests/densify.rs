@@ -12,6 +12,7 @@ use std::f64::consts::PI;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
+use common::frac;
 use gapack::{
     Basis, Cancel, Cancelled, Domain, Grading, Method, OVERLAP_REL, PackError, Packing, Point,
     Scene, WallMode, check, measure, pack, pack_observed,
@@ -82,12 +83,6 @@ fn domain_strategy() -> impl Strategy<Value = Domain> {
             Domain::polygon(&v).unwrap()
         }),
     ]
-}
-
-/// A deterministic number in [0, 1) from a seed and an index.
-fn frac(s: u64, i: usize) -> f64 {
-    let x = s.wrapping_add(i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    ((x ^ (x >> 29)).wrapping_mul(0xBF58_476D_1CE4_E5B9) >> 11) as f64 / (1u64 << 53) as f64
 }
 
 fn grading_strategy() -> impl Strategy<Value = Grading> {

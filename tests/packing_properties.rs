@@ -3,6 +3,7 @@
 
 mod common;
 
+use common::frac;
 use gapack::OVERLAP_REL;
 use gapack::{
     Domain, Fill, FrontRules, Grading, IndexKind, PackerSettings, Point, Scene, WallMode, measure,
@@ -39,12 +40,6 @@ fn domain_strategy() -> impl Strategy<Value = Domain> {
             Domain::polygon(&v).unwrap()
         }),
     ]
-}
-
-/// A deterministic number in [0, 1) from a seed and an index.
-fn frac(s: u64, i: usize) -> f64 {
-    let x = s.wrapping_add(i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    ((x ^ (x >> 29)).wrapping_mul(0xBF58_476D_1CE4_E5B9) >> 11) as f64 / (1u64 << 53) as f64
 }
 
 fn grading_strategy() -> impl Strategy<Value = Grading> {

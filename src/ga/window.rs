@@ -198,9 +198,8 @@ pub fn fit_whole(
         s.packer.max_deferred = ((1.0 - rules[2]) * MAX_DEFERRED as f64).round() as usize;
         s
     };
-    let ks_of = |p: &Packing, s: &Scene| psd_ks(p, s);
     let mut best = {
-        let ks = ks_of(&dense.0, scene);
+        let ks = psd_ks(&dense.0, scene);
         (dense.1, ks, dense.0, scene.clone())
     };
     let better = |a: (f64, f64), b: (f64, f64)| {
@@ -238,7 +237,7 @@ pub fn fit_whole(
         let packing = pack_observed(&s, &mut |_| {}, cancel)?;
         packs += 1;
         let p = porosity(solid_area(&packing.disks), packing.domain.area());
-        let ks = ks_of(&packing, &s);
+        let ks = psd_ks(&packing, &s);
         if better((p, ks), (best.0, best.1)) {
             best = (p, ks, packing, s);
         }

@@ -715,8 +715,8 @@ impl Running<'_> {
                     message: format!(
                         "optimise.target_porosity = {}: searched on a window of {:.0} × {:.0} mm, the whole packed with the rules found there (tuned over {} packs of it) reached porosity {:.4}, psd_ks {:.3} (optimise.tolerance {}, optimise.max_psd_ks {}){}",
                         settings.target_porosity,
-                        w.scene.domain.bounds().1.x - w.scene.domain.bounds().0.x,
-                        w.scene.domain.bounds().1.y - w.scene.domain.bounds().0.y,
+                        w.steps.last().map_or(0.0, |s| s.size[0]),
+                        w.steps.last().map_or(0.0, |s| s.size[1]),
                         whole.packs,
                         whole.porosity,
                         ks,

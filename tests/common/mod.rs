@@ -86,3 +86,9 @@ pub fn refuses(name: &str, config: &str, key: &str, line_col: &str) {
     );
     let _ = fs::remove_dir_all(&dir);
 }
+
+/// A deterministic number in [0, 1) from a seed and an index.
+pub fn frac(s: u64, i: usize) -> f64 {
+    let x = s.wrapping_add(i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    ((x ^ (x >> 29)).wrapping_mul(0xBF58_476D_1CE4_E5B9) >> 11) as f64 / (1u64 << 53) as f64
+}

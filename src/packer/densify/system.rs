@@ -8,6 +8,8 @@
 //! rebuild of the lists), so each one's neighbours lie near it in memory;
 //! `ids` remembers where each came from.
 
+use std::borrow::Cow;
+
 use nalgebra::Vector2;
 
 use super::cells::{Cells, permute};
@@ -200,7 +202,8 @@ impl<'a> System<'a> {
         let skin = self.skin;
         let (lo, hi) = self.domain.bounds();
         let side = 2.0 * self.r_max * k + skin;
-        if self.domain.is_periodic() {
+        let periodic = self.domain.is_periodic();
+        if periodic {
             for p in &mut self.pos {
                 *p = self.domain.wrap(Point::from(*p)).coords;
             }
@@ -234,47 +237,19 @@ impl<'a> System<'a> {
                         let reach = ri + r[j] * k + skin;
                         if (pos[j] + s - p).norm_squared() < reach * reach {
                             nbr.push(j as u32);
-                            image.push(code);
+                            if periodic {
+                                image.push(code);
+                            }
                         }
                     }
                 });
             }
         }
         self.start.push(self.nbr.len() as u32);
-        if !self.domain.is_periodic() {
-            self.nbr_image.clear();
-        }
         self.near_walls.clear();
         self.feats.clear();
-        let outside_rule = self.boundary.needs_outside_rule();
-        // A polygon of many edges costs a look at each per disk: the cells
-        // deep inside are found once (the signed distance is 1-Lipschitz).
-        if self.deep.0 != cells.side() {
-            let reach = self.r_max * k + skin;
-            let half_diagonal = std::f64::consts::FRAC_1_SQRT_2 * cells.side();
-            self.deep = (
-                cells.side(),
-                (0..cells.count())
-                    .map(|c| {
-                        let centre = Point::from(cells.centre(c));
-                        self.domain.signed_distance(centre) - half_diagonal > reach
-                    })
-                    .collect(),
-            );
-        }
-        for (i, &p) in self.pos.iter().enumerate() {
-            if self.deep.1[cells.index(cells.clamp(p))] || self.domain.is_periodic() {
-                continue;
-            }
-            let first = self.feats.len() as u32;
-            self.boundary.near(p, self.r[i] * k + skin, &mut self.feats);
-            // A centre within a skin of the boundary may cross it before
-            // the next build: its side is looked up at every step.
-            let risky = outside_rule && self.domain.signed_distance(Point::from(p)) <= skin;
-            let last = self.feats.len() as u32;
-            if last > first || risky {
-                self.near_walls.push((i as u32, first, last, risky));
-            }
+        if !periodic {
+            self.wall_lists(&cells);
         }
         self.near_fixed.clear();
         self.fixed_nbr.clear();
@@ -304,6 +279,42 @@ impl<'a> System<'a> {
         for (a, p) in self.anchor.iter_mut().zip(&self.pos) {
             let d = p - self.origin;
             *a = [d.x as f32, d.y as f32];
+        }
+    }
+
+    /// The walls each disk near them may press on (`near_walls`, `feats`),
+    /// at the current centres sorted into `cells`: a domain with walls.
+    fn wall_lists(&mut self, cells: &Cells) {
+        let (k, skin) = (self.widen(), self.skin);
+        let outside_rule = self.boundary.needs_outside_rule();
+        // A polygon of many edges costs a look at each per disk: the cells
+        // deep inside are found once (the signed distance is 1-Lipschitz).
+        if self.deep.0 != cells.side() {
+            let reach = self.r_max * k + skin;
+            let half_diagonal = std::f64::consts::FRAC_1_SQRT_2 * cells.side();
+            self.deep = (
+                cells.side(),
+                (0..cells.count())
+                    .map(|c| {
+                        let centre = Point::from(cells.centre(c));
+                        self.domain.signed_distance(centre) - half_diagonal > reach
+                    })
+                    .collect(),
+            );
+        }
+        for (i, &p) in self.pos.iter().enumerate() {
+            if self.deep.1[cells.index(cells.clamp(p))] {
+                continue;
+            }
+            let first = self.feats.len() as u32;
+            self.boundary.near(p, self.r[i] * k + skin, &mut self.feats);
+            // A centre within a skin of the boundary may cross it before
+            // the next build: its side is looked up at every step.
+            let risky = outside_rule && self.domain.signed_distance(Point::from(p)) <= skin;
+            let last = self.feats.len() as u32;
+            if last > first || risky {
+                self.near_walls.push((i as u32, first, last, risky));
+            }
         }
     }
 
@@ -533,11 +544,17 @@ impl<'a> System<'a> {
     pub fn clearance(&self) -> f64 {
         let (lo, hi) = self.domain.bounds();
         let side = 2.0 * self.r_max;
-        let pos: Vec<V2> = self
-            .pos
-            .iter()
-            .map(|&p| self.domain.wrap(Point::from(p)).coords)
-            .collect();
+        // In a periodic cell, the centres put back in the cell first.
+        let pos: Cow<'_, [V2]> = if self.domain.is_periodic() {
+            Cow::Owned(
+                self.pos
+                    .iter()
+                    .map(|&p| self.domain.wrap(Point::from(p)).coords)
+                    .collect(),
+            )
+        } else {
+            Cow::Borrowed(&self.pos)
+        };
         let (cells, order) = Cells::sort(&pos, lo.coords, hi.coords, side);
         let at = |slot: usize| order[slot] as usize;
         let around = V2::new(side, side);
