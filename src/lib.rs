@@ -27,6 +27,7 @@ mod cancel;
 mod check;
 pub mod compare;
 pub mod config;
+pub mod farm;
 pub mod fracture;
 pub mod ga;
 mod geometry;

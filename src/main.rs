@@ -204,6 +204,10 @@ fn run_job(kind: JobKind, args: &JobArgs) -> Result<(), Failure> {
     let request = request(kind, args)?;
     let (text, origin) = load_text(args.config.as_deref())?;
     let plan = Plan::load(&text, &origin, &request).map_err(cli::failure)?;
+    #[cfg(feature = "mpi")]
+    if let Some(ranks) = cli::ranks::Ranks::start() {
+        return run_ranks(&plan, args, &ranks);
+    }
     let out = jobs::output_dir(args.out.as_deref(), &plan.config, args.config.as_deref());
     let mut store = DirStore::new(&out);
     let cancel = Cancel::new();
@@ -219,6 +223,11 @@ fn run_job(kind: JobKind, args: &JobArgs) -> Result<(), Failure> {
     let mut observer = ProgressObserver::new(args.quiet);
     let outcome = jobs::run(&plan, &mut observer, &cancel, &mut store);
     observer.finish();
+    tell(outcome, args)
+}
+
+/// The result lines of a job's outcome, or its failure.
+fn tell(outcome: Result<Outcome, JobError>, args: &JobArgs) -> Result<(), Failure> {
     let outcome = outcome.map_err(|e| match e {
         JobError::Cancelled => Failure::Stopped(e.into()),
         e => cli::failure(e),
@@ -230,6 +239,39 @@ fn run_job(kind: JobKind, args: &JobArgs) -> Result<(), Failure> {
         hint(&outcome, args);
     }
     Ok(())
+}
+
+/// Run one job on the ranks of an MPI launch: every rank runs the plan,
+/// the work is shared out, rank 0 alone shows progress, catches Ctrl-C and
+/// writes; the others keep their files in memory and drop them.
+#[cfg(feature = "mpi")]
+fn run_ranks(plan: &Plan, args: &JobArgs, ranks: &cli::ranks::Ranks) -> Result<(), Failure> {
+    use gapack::farm::Farm;
+    let cancel = Cancel::new();
+    let handler = cancel.clone();
+    let leads = ranks.leads();
+    // Rank 0 decides when to stop; the others only keep the signal from
+    // ending them before rank 0 has written.
+    let raise = move || {
+        if leads {
+            handler.cancel();
+        }
+    };
+    if let Err(e) = ctrlc::set_handler(raise) {
+        eprintln!("warning: cannot catch Ctrl-C and SIGTERM ({e}); they will end gapack at once");
+    }
+    if !leads {
+        let mut store = jobs::MemoryStore::default();
+        let _ = jobs::run_on(plan, &mut jobs::Silent, &cancel, &mut store, ranks);
+        ranks.wait_done();
+    }
+    let out = jobs::output_dir(args.out.as_deref(), &plan.config, args.config.as_deref());
+    let mut store = DirStore::new(&out);
+    let mut observer = ProgressObserver::new(args.quiet);
+    let outcome = jobs::run_on(plan, &mut observer, &cancel, &mut store, ranks);
+    observer.finish();
+    ranks.done();
+    tell(outcome, args)
 }
 
 /// After a stop: how to go on (a search) or what was kept (the others).

@@ -78,6 +78,7 @@ fn ga_is_never_worse_than_its_baseline_and_meets_the_goal() {
             cfg.materials.len(),
             cfg.scene.seed,
             &Cancel::new(),
+            &gapack::farm::Local,
             |_| {},
         );
         println!(
@@ -113,7 +114,15 @@ fn size_graded_packing_follows_its_profile() {
         scene.seed = seed;
         let packing = pack(&scene).unwrap();
         assert_eq!(packing.materials.len(), packing.disks.len());
-        let l = lay_out(&packing, &settings, 2, seed, &Cancel::new(), |_| {});
+        let l = lay_out(
+            &packing,
+            &settings,
+            2,
+            seed,
+            &Cancel::new(),
+            &gapack::farm::Local,
+            |_| {},
+        );
         let m = measure(&packing, &scene);
         println!(
             "seed {seed}: {} disks, RMS {:.4}, KS {:.3}",

@@ -2,6 +2,8 @@
 //! mapping, the result line, and the progress bars drawn from job events.
 
 pub mod inspect;
+#[cfg(feature = "mpi")]
+pub mod ranks;
 
 use std::fmt::Display;
 use std::io::{ErrorKind, IsTerminal, Write};

@@ -20,6 +20,12 @@
 //! Every random choice is made on one thread from one seeded stream, and an
 //! evaluation depends on its genome alone; rayon returns results in input
 //! order. So the same seed gives the same result with any number of threads.
+//! On a [`Farm`] of several processes every process follows the same search:
+//! the new genomes of a generation are shared out, their scores gathered
+//! on every process, and the stop rules that rest on the clock or a signal
+//! are decided by the leading process; the best genome's packing is made
+//! again at the end (evaluations are pure). So the number of processes does
+//! not change the result either.
 //!
 //! # Performance
 //! A genome is never evaluated twice, nor is any genome whose evaluation is
@@ -52,6 +58,7 @@ use super::operators::{Crossover, Mutation};
 use super::score::{Fit, Score};
 use super::settings::OptimiseSettings;
 use crate::cancel::{Cancel, Cancelled};
+use crate::farm::{self, Farm, Local};
 
 /// One immigrant per this many genomes of the population, each generation.
 const IMMIGRANT_SHARE: usize = 8;
@@ -255,6 +262,7 @@ struct Member {
 /// that the caller can look at it ([`Search::initial`]) before [`Search::run`].
 pub struct Search<'a, P: Problem> {
     problem: &'a P,
+    farm: &'a dyn Farm,
     limits: Limits,
     rng: Xoshiro256PlusPlus,
     start: Instant,
@@ -274,6 +282,9 @@ pub struct Search<'a, P: Problem> {
     /// Value range of the feasible genomes evaluated.
     explored: [f64; 2],
     best: (Vec<f64>, Score, P::Outcome),
+    /// The best genome was evaluated on another process: its outcome is
+    /// made again when the search ends.
+    remake: bool,
     history: Vec<Generation>,
     stagnant: usize,
 }
@@ -289,7 +300,26 @@ impl<'a, P: Problem> Search<'a, P> {
         seed: u64,
         cancel: &Cancel,
     ) -> Result<Self, Cancelled> {
-        let mut search = Search::fresh(problem, limits, Xoshiro256PlusPlus::seed_from_u64(seed));
+        Search::start_on(problem, limits, seed, cancel, &Local)
+    }
+
+    /// [`Search::start`] with the evaluations spread over `farm`.
+    ///
+    /// # Errors
+    /// [`Cancelled`] when `cancel` is raised before generation 0 is evaluated.
+    pub fn start_on(
+        problem: &'a P,
+        limits: Limits,
+        seed: u64,
+        cancel: &Cancel,
+        farm: &'a dyn Farm,
+    ) -> Result<Self, Cancelled> {
+        let mut search = Search::fresh(
+            problem,
+            limits,
+            Xoshiro256PlusPlus::seed_from_u64(seed),
+            farm,
+        );
         let population = search.limits.population.max(2);
         let genomes: Vec<Vec<f64>> = (0..population)
             .map(|i| problem.initial(i, population, &mut search.rng))
@@ -302,11 +332,12 @@ impl<'a, P: Problem> Search<'a, P> {
     }
 
     /// A search with its operators and no genomes yet.
-    fn fresh(problem: &'a P, limits: Limits, rng: Xoshiro256PlusPlus) -> Self {
+    fn fresh(problem: &'a P, limits: Limits, rng: Xoshiro256PlusPlus, farm: &'a dyn Farm) -> Self {
         let n = problem.sequence();
         let variation = problem.variation();
         Search {
             problem,
+            farm,
             limits,
             rng,
             start: Instant::now(),
@@ -331,6 +362,7 @@ impl<'a, P: Problem> Search<'a, P> {
             evaluations: 0,
             explored: [f64::INFINITY, f64::NEG_INFINITY],
             best: (Vec::new(), Score::WORST, P::Outcome::default()),
+            remake: false,
             history: Vec::new(),
             stagnant: 0,
         }
@@ -366,7 +398,7 @@ impl<'a, P: Problem> Search<'a, P> {
             if self.problem.reached(&self.best.1) {
                 break StopReason::Reached;
             }
-            if stop.is_cancelled() {
+            if farm::agree(self.farm, stop.is_cancelled()) {
                 save(&self.checkpoint());
                 break StopReason::Interrupted;
             }
@@ -383,7 +415,7 @@ impl<'a, P: Problem> Search<'a, P> {
             {
                 break StopReason::Evaluations;
             }
-            if self.start.elapsed() >= self.limits.time_limit {
+            if farm::agree(self.farm, self.start.elapsed() >= self.limits.time_limit) {
                 break StopReason::TimeLimit;
             }
             if self.step(stop).is_err() {
@@ -407,7 +439,10 @@ impl<'a, P: Problem> Search<'a, P> {
     /// (a job that reaches its target by other means keeps the record of
     /// what the search measured).
     pub fn ended(self, reason: StopReason) -> Evolution<P::Outcome> {
-        let (genes, best, outcome) = self.best;
+        let (genes, best, mut outcome) = self.best;
+        if self.remake {
+            outcome = self.problem.evaluate(&genes).outcome;
+        }
         Evolution {
             genes,
             best,
@@ -460,12 +495,25 @@ impl<'a, P: Problem> Search<'a, P> {
         limits: Limits,
         checkpoint: &Checkpoint,
     ) -> Result<Self, ResumeError> {
+        Search::resume_on(problem, limits, checkpoint, &Local)
+    }
+
+    /// [`Search::resume`] with the evaluations spread over `farm`.
+    ///
+    /// # Errors
+    /// As [`Search::resume`].
+    pub fn resume_on(
+        problem: &'a P,
+        limits: Limits,
+        checkpoint: &Checkpoint,
+        farm: &'a dyn Farm,
+    ) -> Result<Self, ResumeError> {
         checkpoint.validate(
             problem.genes(),
             problem.sequence(),
             limits.population.max(2),
         )?;
-        let mut search = Search::fresh(problem, limits, checkpoint.rng.clone());
+        let mut search = Search::fresh(problem, limits, checkpoint.rng.clone(), farm);
         let spent = Duration::try_from_secs_f64(f64::from_bits(checkpoint.seconds))
             .unwrap_or(Duration::ZERO);
         search.start = Instant::now()
@@ -518,10 +566,13 @@ impl<'a, P: Problem> Search<'a, P> {
                 .collect();
             let sequence = self.problem.sequence();
             let mut offspring = Vec::with_capacity(parents.len() * 2);
+            // Several processes must breed alike: they look at the flag
+            // between generations only.
+            let alone = self.farm.processes() == 1;
             for pair in parents {
                 // Breeding draws from the stream alone: bounded, but a
                 // cancel is honoured here too, the stream put back.
-                if let Err(why) = cancel.check() {
+                if alone && let Err(why) = cancel.check() {
                     self.rng = rng;
                     return Err(why);
                 }
@@ -577,10 +628,29 @@ impl<'a, P: Problem> Search<'a, P> {
             .filter(|&i| known[i].is_none() && fresh.insert(fingerprint(&genomes[i])))
             .collect();
         let problem = self.problem;
-        let results: Vec<Evaluation<P::Outcome>> = todo
-            .par_iter()
-            .map(|&i| problem.evaluate_until(&genomes[i], cancel))
-            .collect::<Result<_, _>>()?;
+        let results: Vec<Evaluation<P::Outcome>> = if self.farm.processes() == 1 {
+            todo.par_iter()
+                .map(|&i| problem.evaluate_until(&genomes[i], cancel))
+                .collect::<Result<_, _>>()?
+        } else {
+            // Scores travel, packings do not: the best one is made again at the end.
+            let scores = farm::map(self.farm, todo.len(), |k| {
+                problem
+                    .evaluate_until(&genomes[todo[k]], cancel)
+                    .map(|e| (e.score, e.read))
+            });
+            scores
+                .into_iter()
+                .map(|r| {
+                    r.map(|(score, read)| Evaluation {
+                        score,
+                        outcome: P::Outcome::default(),
+                        read,
+                    })
+                })
+                .collect::<Result<_, _>>()?
+        };
+        let remote = self.farm.processes() > 1;
         self.evaluations += results.len() as u64;
         let mut keys = known;
         for (&i, e) in todo.iter().zip(results) {
@@ -594,6 +664,7 @@ impl<'a, P: Problem> Search<'a, P> {
             keys[i] = Some(key);
             if e.score.cmp_quality(&self.best.1).is_lt() || self.best.0.is_empty() {
                 self.best = (genomes[i].clone(), e.score, e.outcome);
+                self.remake = remote;
             }
         }
         Ok(genomes

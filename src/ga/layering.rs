@@ -22,6 +22,7 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use super::engine::{Evaluation, Evolution, Generation, Limits, Problem, Search, StopReason};
 use super::score::Score;
 use crate::cancel::Cancel;
+use crate::farm::Farm;
 use crate::layering::{
     BinAreas, Frame, LayeringMode, LayeringSettings, ProfileRow, baseline, profile_rows, rms_error,
 };
@@ -149,13 +150,15 @@ pub struct Layered {
 /// Lay `materials` materials out on `packing` following `settings`: the
 /// baseline, then the GA started from it (seeded by `seed`, stopped by
 /// `stop` between generations, `progress` told of each generation); in
-/// size-graded mode the packing's own materials are only measured.
+/// size-graded mode the packing's own materials are only measured. The
+/// GA's evaluations are spread over `farm`.
 pub fn lay_out(
     packing: &Packing,
     settings: &LayeringSettings,
     materials: usize,
     seed: u64,
     stop: &Cancel,
+    farm: &dyn Farm,
     progress: impl FnMut(&Generation),
 ) -> Layered {
     let materials = materials.max(1);
@@ -225,7 +228,7 @@ pub fn lay_out(
         max_evaluations: settings.max_evaluations,
     };
     let (tags, seconds, evaluations, generations, stopped) =
-        match Search::start(&problem, limits, seed, stop) {
+        match Search::start_on(&problem, limits, seed, stop, farm) {
             Ok(search) => {
                 let evolution = search.run(stop, progress);
                 let tags = problem

@@ -10,7 +10,7 @@ use genevo::genetic::Fitness;
 /// A feasible genome (no violation) beats every infeasible one, whatever
 /// their errors (Deb's rule): the GA first honours the constraints, then
 /// hits the target.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Score {
     /// How far the genome breaks the constraints, ≥ 0 (0 = feasible), in the
     /// constraint's units (KS distance beyond `max_psd_ks` for the porosity target).

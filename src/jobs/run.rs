@@ -14,6 +14,7 @@ use crate::cancel::{Cancel, Cancelled};
 use crate::check::{KS_MARGIN, grading_kept, ks_limit};
 use crate::compare::{CompareRun, Variant, compare};
 use crate::config::Config;
+use crate::farm::{self, Farm, Local};
 use crate::fracture::{Extent, MM_PER_M, Well, Window, WindowError, WindowStep, settle};
 use crate::ga::{
     CONCLUSIVE_POPULATION, Checkpoint, Evolution, Generation, Layered, Limits, OptimiseSettings,
@@ -167,6 +168,24 @@ pub fn run(
     cancel: &Cancel,
     store: &mut dyn Store,
 ) -> Result<Outcome, JobError> {
+    run_on(plan, observer, cancel, store, &Local)
+}
+
+/// [`run`] on one process of `farm`: every process of the farm runs the
+/// same plan, the work of each search and batch is shared out among them
+/// ([`crate::farm`]), and the files are the same as [`run`]'s. The
+/// processes that do not lead should be given a store that keeps nothing
+/// (a [`super::MemoryStore`]) and an observer that shows nothing.
+///
+/// # Errors
+/// As [`run`].
+pub fn run_on(
+    plan: &Plan,
+    observer: &mut dyn Observer,
+    cancel: &Cancel,
+    store: &mut dyn Store,
+    farm: &dyn Farm,
+) -> Result<Outcome, JobError> {
     observer.event(&Event::Started { job: plan.kind });
     for warning in &plan.warnings {
         observer.event(&Event::Warning(warning.clone()));
@@ -175,6 +194,7 @@ pub fn run(
         plan,
         observer,
         store,
+        farm,
         files: Vec::new(),
         pending: Vec::new(),
         notes: Vec::new(),
@@ -269,6 +289,8 @@ struct Running<'p> {
     plan: &'p Plan,
     observer: &'p mut dyn Observer,
     store: &'p mut dyn Store,
+    /// The processes the work is shared out to.
+    farm: &'p dyn Farm,
     /// Every file of the run, for the manifest (a checkpoint the search
     /// wrote itself included).
     files: Vec<String>,
@@ -565,10 +587,11 @@ impl Running<'_> {
         let limits = Limits::from(settings);
         let search = if resume {
             let checkpoint = self.read_checkpoint()?;
-            Search::resume(&problem, limits, &checkpoint)
+            Search::resume_on(&problem, limits, &checkpoint, self.farm)
                 .map_err(|e| JobError::Input(format!("{CHECKPOINT_JSON}: {e}")))?
         } else {
-            Search::start(&problem, limits, plan.seed(), &stop).map_err(|_| JobError::Cancelled)?
+            Search::start_on(&problem, limits, plan.seed(), &stop, self.farm)
+                .map_err(|_| JobError::Cancelled)?
         };
         let searched_range = span(PorosityProblem::range(search.initial()));
         let initial_range = whole_range(searched_range);
@@ -957,7 +980,18 @@ impl Running<'_> {
     /// The store's checkpoint, if it belongs to this plan.
     fn read_checkpoint(&self) -> Result<Checkpoint, JobError> {
         let place = format!("{} in {}", CHECKPOINT_JSON, self.store.location());
-        let Some(bytes) = self.store.read(CHECKPOINT_JSON)? else {
+        // Every process resumes from the leading one's checkpoint.
+        let read = self.store.read(CHECKPOINT_JSON);
+        let shared = farm::share(
+            self.farm,
+            read.as_ref().map(Clone::clone).map_err(ToString::to_string),
+        );
+        let bytes = match (read, shared) {
+            (Err(e), _) => return Err(e.into()),
+            (Ok(_), Err(e)) => return Err(JobError::Input(format!("{place}: {e}"))),
+            (Ok(_), Ok(bytes)) => bytes,
+        };
+        let Some(bytes) = bytes else {
             return Err(JobError::Input(format!(
                 "there is no {place} to resume from"
             )));
@@ -996,6 +1030,7 @@ impl Running<'_> {
             self.plan.config.materials.len(),
             self.plan.seed(),
             stop,
+            self.farm,
             |g| observer.event(&generation(Stage::Layering, g)),
         )
     }
