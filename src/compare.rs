@@ -8,7 +8,10 @@
 use std::time::Instant;
 
 use crate::Scene;
+use serde::{Deserialize, Serialize};
+
 use crate::cancel::Cancel;
+use crate::farm::{self, Farm};
 use crate::metrics::measure;
 use crate::packer::{IndexKind, Method, PackError, pack_observed};
 
@@ -113,8 +116,9 @@ pub struct CompareRun {
 }
 
 /// Run every variant of `settings` on `scene`, `repeats` seeds each from
-/// the scene's seed, calling `done` after each run (for progress). Once
-/// `cancel` is raised the runs finished so far are returned.
+/// the scene's seed, spread over `farm`, calling `done` after each run in
+/// order (for progress). Once `cancel` is raised the runs finished so far
+/// are returned.
 ///
 /// # Errors
 /// The packer's, for a scene no disk of the grading fits in.
@@ -123,38 +127,100 @@ pub fn compare(
     settings: &CompareSettings,
     target: Option<f64>,
     cancel: &Cancel,
+    farm: &dyn Farm,
     mut done: impl FnMut(&CompareRun),
 ) -> Result<Vec<CompareRun>, PackError> {
+    let plan: Vec<(Variant, u64)> = Variant::expand(&settings.methods)
+        .into_iter()
+        .flat_map(|v| (0..settings.repeats as u64).map(move |k| (v, scene.seed.wrapping_add(k))))
+        .collect();
     let mut runs = Vec::new();
-    for variant in Variant::expand(&settings.methods) {
-        for k in 0..settings.repeats as u64 {
-            let seed = scene.seed.wrapping_add(k);
-            let s = variant.apply(scene, seed);
-            let start = Instant::now();
-            let packing = match pack_observed(&s, &mut |_| {}, cancel) {
-                Ok(packing) => packing,
-                Err(PackError::Cancelled(_)) => return Ok(runs),
-                Err(e) => return Err(e),
-            };
-            let seconds = start.elapsed().as_secs_f64();
-            let m = measure(&packing, &s);
-            let run = CompareRun {
-                variant,
-                seed,
-                seconds,
-                particles: m.particles,
-                porosity: m.porosity,
-                target_error: target.map(|t| (m.porosity - t).abs()),
-                psd_ks: m.psd_ks,
-                max_overlap: m.max_overlap,
-                coordination: m.coordination,
-                local_porosity_std: m.local_porosity_std,
-            };
-            done(&run);
-            runs.push(run);
+    let mut failed = None;
+    farm::waves(
+        farm,
+        plan.len(),
+        || cancel.is_cancelled(),
+        |i| {
+            let (variant, seed) = plan[i];
+            measured(&variant.apply(scene, seed), cancel)
+        },
+        |i, result| {
+            let (variant, seed) = plan[i];
+            match result {
+                Ok(m) => {
+                    let run = CompareRun {
+                        variant,
+                        seed,
+                        seconds: m.seconds,
+                        particles: m.particles,
+                        porosity: m.porosity,
+                        target_error: target.map(|t| (m.porosity - t).abs()),
+                        psd_ks: m.psd_ks,
+                        max_overlap: m.max_overlap,
+                        coordination: m.coordination,
+                        local_porosity_std: m.local_porosity_std,
+                    };
+                    done(&run);
+                    runs.push(run);
+                    true
+                }
+                Err(Halt::Cancelled) => false,
+                Err(Halt::Failed) => {
+                    failed = Some(variant.apply(scene, seed));
+                    false
+                }
+            }
+        },
+    );
+    if let Some(s) = failed {
+        // The packer's own error, from the same (pure) run on this process.
+        if let Err(e) = pack_observed(&s, &mut |_| {}, &Cancel::new()) {
+            return Err(e);
         }
     }
     Ok(runs)
+}
+
+/// What one run measured: what travels between processes.
+#[derive(Serialize, Deserialize)]
+struct Measured {
+    seconds: f64,
+    particles: usize,
+    porosity: f64,
+    psd_ks: f64,
+    max_overlap: f64,
+    coordination: f64,
+    local_porosity_std: f64,
+}
+
+/// Why a run of a batch gave nothing.
+#[derive(Serialize, Deserialize)]
+enum Halt {
+    /// The flag was raised.
+    Cancelled,
+    /// The packer failed (the error is made again where it is reported).
+    Failed,
+}
+
+/// Pack and measure one scene, timed.
+fn measured(s: &Scene, cancel: &Cancel) -> Result<Measured, Halt> {
+    let start = Instant::now();
+    let packing = match pack_observed(s, &mut |_| {}, cancel) {
+        Ok(packing) => packing,
+        Err(PackError::Cancelled(_)) => return Err(Halt::Cancelled),
+        Err(_) => return Err(Halt::Failed),
+    };
+    let seconds = start.elapsed().as_secs_f64();
+    let m = measure(&packing, s);
+    Ok(Measured {
+        seconds,
+        particles: m.particles,
+        porosity: m.porosity,
+        psd_ks: m.psd_ks,
+        max_overlap: m.max_overlap,
+        coordination: m.coordination,
+        local_porosity_std: m.local_porosity_std,
+    })
 }
 
 /// The variants in `variants`, each once, in first-seen order (a chart's rows and colours).
@@ -213,7 +279,7 @@ mod tests {
             methods: vec![Method::AdvancingFront, Method::Rsa],
             repeats: 2,
         };
-        let runs = compare(&scene, &settings, Some(0.3), &Cancel::new(), |_| {}).unwrap();
+        let runs = compare(&scene, &settings, Some(0.3), &Cancel::new(), &crate::farm::Local, |_| {}).unwrap();
         assert_eq!(runs.len(), 10);
         let err = |r: &CompareRun| r.target_error.unwrap();
         let front = pareto(&runs, err);

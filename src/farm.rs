@@ -86,6 +86,41 @@ where
     encoded.iter().map(|bytes| decode(farm, bytes)).collect()
 }
 
+/// Pieces of work per process and thread in one wave of [`waves`].
+const WAVE_PER_WORKER: usize = 4;
+
+/// [`map`] over `0..count` in waves, so that a long batch reports as it
+/// goes: after each wave `done(i, result)` is called for its pieces in
+/// index order, and returns `false` to stop there; before each wave the
+/// leading process's `stop()` is asked. The results do not depend on the
+/// size of the waves.
+pub fn waves<R, F>(
+    farm: &dyn Farm,
+    count: usize,
+    stop: impl Fn() -> bool,
+    task: F,
+    mut done: impl FnMut(usize, R) -> bool,
+) where
+    R: Serialize + DeserializeOwned + Send,
+    F: Fn(usize) -> R + Sync,
+{
+    let wave = (farm.processes() * rayon::current_num_threads() * WAVE_PER_WORKER).max(1);
+    let mut first = 0;
+    while first < count {
+        if agree(farm, stop()) {
+            return;
+        }
+        let n = wave.min(count - first);
+        let results = map(farm, n, |k| task(first + k));
+        for (k, r) in results.into_iter().enumerate() {
+            if !done(first + k, r) {
+                return;
+            }
+        }
+        first += n;
+    }
+}
+
 /// The leading process's `value`, on every process.
 pub fn share<T: Serialize + DeserializeOwned>(farm: &dyn Farm, value: T) -> T {
     if farm.processes() == 1 {

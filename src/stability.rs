@@ -16,9 +16,12 @@
 
 use std::time::{Duration, Instant};
 
+use serde::{Deserialize, Serialize};
+
 use crate::Scene;
 use crate::cancel::{Cancel, Cancelled};
 use crate::compare::Variant;
+use crate::farm::{self, Farm};
 use crate::geometry::predicates::OVERLAP_REL;
 use crate::geometry::{Domain, GeometryError, Point, WallMode};
 use crate::grading::Grading;
@@ -149,7 +152,7 @@ impl Case {
 }
 
 /// How a run ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Status {
     /// It finished; see the checks.
     Finished,
@@ -296,8 +299,8 @@ impl Tally {
 }
 
 /// Run `variants` on `cases` (all of them: [`Case::all`]) with each of
-/// `seeds`, each run on the calling thread and stopped at `cap` (a deadline
-/// the generators honour), calling `done` after each. Once `cancel` is
+/// `seeds`, spread over `farm`, each run stopped at `cap` (a deadline the
+/// generators honour), calling `done` after each in order. Once `cancel` is
 /// raised the runs finished so far are returned.
 pub fn sweep(
     base: &Scene,
@@ -306,42 +309,82 @@ pub fn sweep(
     seeds: &[u64],
     cap: Duration,
     cancel: &Cancel,
+    farm: &dyn Farm,
     mut done: impl FnMut(&StabilityRun),
 ) -> Vec<StabilityRun> {
-    let mut runs = Vec::new();
-    for &case in cases {
-        let scene = case.scene(base);
+    let scenes: Vec<_> = cases.iter().map(|case| case.scene(base)).collect();
+    let mut plan = Vec::new();
+    for c in 0..cases.len() {
         for &seed in seeds {
             for &variant in variants {
-                let run = match &scene {
-                    Ok(scene) => {
-                        let scene = variant.apply(scene, seed);
-                        match run_one(case, variant, &scene, &cancel.with_deadline(cap)) {
-                            Some(run) => run,
-                            None => return runs,
-                        }
-                    }
-                    Err(_) => StabilityRun {
-                        status: Status::Refused,
-                        seconds: 0.0,
-                        ..StabilityRun::empty(case, variant, seed)
-                    },
-                };
-                done(&run);
-                runs.push(run);
+                plan.push((c, seed, variant));
             }
         }
     }
+    let mut runs = Vec::new();
+    farm::waves(
+        farm,
+        plan.len(),
+        || cancel.is_raised(),
+        |i| {
+            let (c, seed, variant) = plan[i];
+            match &scenes[c] {
+                Ok(scene) => run_one(&variant.apply(scene, seed), &cancel.with_deadline(cap)),
+                Err(_) => Some(Checked {
+                    status: Status::Refused,
+                    ..Checked::NONE
+                }),
+            }
+        },
+        |i, checked| {
+            let (c, seed, variant) = plan[i];
+            let Some(found) = checked else {
+                return false;
+            };
+            let run = StabilityRun {
+                status: found.status,
+                seconds: found.seconds,
+                particles: found.particles,
+                empty: found.empty,
+                max_overlap: found.max_overlap,
+                psd_ks: found.psd_ks,
+                ..StabilityRun::empty(cases[c], variant, seed)
+            };
+            done(&run);
+            runs.push(run);
+            true
+        },
+    );
     runs
 }
 
-/// One run, stopped at `capped`'s deadline (timed out); `None` when its flag is raised.
-fn run_one(case: Case, variant: Variant, scene: &Scene, capped: &Cancel) -> Option<StabilityRun> {
-    let start = Instant::now();
-    let mut run = StabilityRun {
-        seconds: start.elapsed().as_secs_f64(),
-        ..StabilityRun::empty(case, variant, scene.seed)
+/// What one run found: what travels between processes.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+struct Checked {
+    status: Status,
+    seconds: f64,
+    particles: usize,
+    empty: f64,
+    max_overlap: f64,
+    psd_ks: f64,
+}
+
+impl Checked {
+    /// A run that placed nothing in no time (timed out until told otherwise).
+    const NONE: Checked = Checked {
+        status: Status::TimedOut,
+        seconds: 0.0,
+        particles: 0,
+        empty: 1.0,
+        max_overlap: 0.0,
+        psd_ks: 1.0,
     };
+}
+
+/// One run, stopped at `capped`'s deadline (timed out); `None` when its flag is raised.
+fn run_one(scene: &Scene, capped: &Cancel) -> Option<Checked> {
+    let start = Instant::now();
+    let mut run = Checked::NONE;
     match pack_observed(scene, &mut |_| {}, capped) {
         Ok(packing) => {
             run.seconds = start.elapsed().as_secs_f64();
@@ -468,6 +511,7 @@ mod tests {
             &[1, 2],
             Duration::from_secs(60),
             &Cancel::new(),
+            &crate::farm::Local,
             |_| {},
         );
         // Each seed runs every variant.
@@ -505,6 +549,7 @@ mod tests {
             &[1],
             Duration::from_nanos(1),
             &Cancel::new(),
+            &crate::farm::Local,
             |_| {},
         );
         assert_eq!(runs[0].status, Status::TimedOut);

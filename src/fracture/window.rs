@@ -51,7 +51,7 @@ pub enum WindowError {
 }
 
 /// One window packed and measured.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[non_exhaustive]
 pub struct WindowStep {
     /// Window length along the fracture (mm).

@@ -26,7 +26,7 @@ pub enum Stage {
 }
 
 /// Why a job warns: something the user asked for that it cannot or will not do.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 #[non_exhaustive]
 pub enum WarningKind {
@@ -55,7 +55,7 @@ pub enum WarningKind {
 
 /// A warning: its kind and a message naming config keys (never a front
 /// end's flags).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct Warning {
     /// What kind of warning.
     pub kind: WarningKind,

@@ -129,7 +129,7 @@ pub enum Report {
 }
 
 /// One fracture of a `[fracture]` run.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 #[non_exhaustive]
 pub struct WellOutcome {
     /// Its folder in the store (`""` for the only fracture of a run, else `name/`).
@@ -230,6 +230,68 @@ pub fn run_on(
         files,
         notes: job.notes,
         report,
+    })
+}
+
+/// One well of a batch packed and drawn on its own: what travels between processes.
+#[derive(Serialize, Deserialize)]
+struct WellPiece {
+    outcome: WellOutcome,
+    files: Vec<(String, Vec<u8>)>,
+    notes: Vec<String>,
+    warnings: Vec<Warning>,
+}
+
+/// Why a piece of a batch gave nothing.
+#[derive(Serialize, Deserialize)]
+enum Halt {
+    /// The flag was raised.
+    Cancelled,
+    /// It failed; the error is made again where it is reported.
+    Failed,
+}
+
+/// Keeps the warnings a piece of work raises.
+#[derive(Default)]
+struct Warnings(Vec<Warning>);
+
+impl Observer for Warnings {
+    fn event(&mut self, event: &Event) {
+        if let Event::Warning(w) = event {
+            self.0.push(w.clone());
+        }
+    }
+}
+
+/// Pack and draw one well of a batch, in its folder, away from the job.
+fn well_alone(
+    plan: &Plan,
+    well: &Well,
+    extent: Extent,
+    cancel: &Cancel,
+) -> Result<WellPiece, Halt> {
+    let mut warnings = Warnings::default();
+    let mut unused = super::MemoryStore::default();
+    let mut alone = Running {
+        plan,
+        observer: &mut warnings,
+        store: &mut unused,
+        farm: &Local,
+        files: Vec::new(),
+        pending: Vec::new(),
+        notes: Vec::new(),
+    };
+    let outcome = match alone.well(well, extent, format!("{}/", well.name), cancel) {
+        Ok(outcome) => outcome,
+        Err(JobError::Cancelled) => return Err(Halt::Cancelled),
+        Err(_) => return Err(Halt::Failed),
+    };
+    let (files, notes) = (alone.pending, alone.notes);
+    Ok(WellPiece {
+        outcome,
+        files,
+        notes,
+        warnings: warnings.0,
     })
 }
 
@@ -427,28 +489,58 @@ impl Running<'_> {
         }
         let mut wells = Vec::with_capacity(run.wells.len());
         let mut interrupted = false;
-        for (index, well) in run.wells.iter().enumerate() {
-            let folder = if batch {
-                format!("{}/", well.name)
-            } else {
-                String::new()
-            };
-            match self.well(well, run.extent, folder, cancel) {
-                Ok(done) => {
-                    self.event(Event::Well {
-                        index,
-                        name: well.name.clone(),
-                        particles: done.row.particles,
-                        porosity: done.row.porosity,
-                        seconds: done.row.seconds,
-                    });
-                    wells.push(done);
+        if batch {
+            // The wells are shared out: each packed and drawn on its own,
+            // their files gathered here in order.
+            let farm = self.farm;
+            let mut failed = None;
+            farm::waves(
+                farm,
+                run.wells.len(),
+                || cancel.is_raised(),
+                |i| well_alone(plan, &run.wells[i], run.extent, cancel),
+                |i, piece| match piece {
+                    Ok(piece) => {
+                        for warning in piece.warnings {
+                            self.event(Event::Warning(warning));
+                        }
+                        self.notes.extend(piece.notes);
+                        for (name, bytes) in piece.files {
+                            self.files.push(name.clone());
+                            self.pending.push((name, bytes));
+                        }
+                        self.told(i, &piece.outcome);
+                        wells.push(piece.outcome);
+                        true
+                    }
+                    Err(Halt::Cancelled) => {
+                        interrupted = true;
+                        false
+                    }
+                    Err(Halt::Failed) => {
+                        failed = Some(i);
+                        false
+                    }
+                },
+            );
+            if let Some(i) = failed {
+                // The well's own error, from the same (pure) run here.
+                let well = &run.wells[i];
+                self.well(well, run.extent, format!("{}/", well.name), &Cancel::new())?;
+            }
+        } else {
+            for (index, well) in run.wells.iter().enumerate() {
+                match self.well(well, run.extent, String::new(), cancel) {
+                    Ok(done) => {
+                        self.told(index, &done);
+                        wells.push(done);
+                    }
+                    Err(JobError::Cancelled) => {
+                        interrupted = true;
+                        break;
+                    }
+                    Err(e) => return Err(e),
                 }
-                Err(JobError::Cancelled) => {
-                    interrupted = true;
-                    break;
-                }
-                Err(e) => return Err(e),
             }
         }
         if wells.is_empty() && interrupted {
@@ -467,6 +559,17 @@ impl Running<'_> {
             },
             interrupted,
         ))
+    }
+
+    /// Tell the front end a well is done.
+    fn told(&mut self, index: usize, done: &WellOutcome) {
+        self.event(Event::Well {
+            index,
+            name: done.row.well.clone(),
+            particles: done.row.particles,
+            porosity: done.row.porosity,
+            seconds: done.row.seconds,
+        });
     }
 
     /// Pack one fracture, whole or as a window, and write its outputs under `folder`.
@@ -1081,7 +1184,7 @@ impl Running<'_> {
         });
         let observer = &mut *self.observer;
         let mut index = 0;
-        let runs = compare(&config.scene, settings, target, cancel, |r| {
+        let runs = compare(&config.scene, settings, target, cancel, self.farm, |r| {
             observer.event(&Event::Run {
                 stage: Stage::Compare,
                 index,
@@ -1135,6 +1238,7 @@ impl Running<'_> {
             &seeds,
             cap,
             cancel,
+            self.farm,
             |r: &StabilityRun| {
                 observer.event(&Event::Run {
                     stage: Stage::Stability,

@@ -44,7 +44,7 @@ const WINDOW_DIAMETERS: f64 = 5.0;
 const MIN_WINDOW_INSIDE: f64 = 0.25;
 
 /// What a packing achieved.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[non_exhaustive]
 pub struct Metrics {
     /// Number of packed disks (wall disks excluded).

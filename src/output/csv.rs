@@ -26,7 +26,7 @@ pub const WINDOW_CSV: &str = "window.csv";
 pub const WELLS_CSV: &str = "wells.csv";
 
 /// One well of a batch as `wells.csv` lists it.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WellRow {
     /// The well's name.
     pub well: String,
