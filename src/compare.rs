@@ -279,7 +279,15 @@ mod tests {
             methods: vec![Method::AdvancingFront, Method::Rsa],
             repeats: 2,
         };
-        let runs = compare(&scene, &settings, Some(0.3), &Cancel::new(), &crate::farm::Local, |_| {}).unwrap();
+        let runs = compare(
+            &scene,
+            &settings,
+            Some(0.3),
+            &Cancel::new(),
+            &crate::farm::Local,
+            |_| {},
+        )
+        .unwrap();
         assert_eq!(runs.len(), 10);
         let err = |r: &CompareRun| r.target_error.unwrap();
         let front = pareto(&runs, err);

@@ -17,6 +17,8 @@ use clap::{Args, Parser, Subcommand};
 use gapack::jobs::{self, Cancel, DirStore, JobError, JobKind, Outcome, Plan, Report, Request};
 
 use cli::{Failure, ProgressObserver, load_text, report};
+#[cfg(feature = "mpi")]
+use gapack::farm::Farm;
 
 /// Counts heap bytes so that `gapack bench` can report peak memory per disk;
 /// only in a binary built for it (`--features count-alloc`).
@@ -154,14 +156,21 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(failure) => {
-            let (err, code) = match failure {
-                Failure::Input(err) => (err, 2),
-                Failure::Run(err) => (err, 1),
-                Failure::Stopped(err) => (err, 130),
-            };
+            let code = exit_code(&failure);
+            let (Failure::Input(err) | Failure::Run(err) | Failure::Stopped(err)) = failure;
             eprintln!("error: {err:#}");
             ExitCode::from(code)
         }
+    }
+}
+
+/// 2 for bad input, 1 for a failed run, 130 for a run stopped before
+/// anything was finished.
+fn exit_code(failure: &Failure) -> u8 {
+    match failure {
+        Failure::Input(_) => 2,
+        Failure::Run(_) => 1,
+        Failure::Stopped(_) => 130,
     }
 }
 
@@ -201,13 +210,17 @@ fn run_job(kind: JobKind, args: &JobArgs) -> Result<(), Failure> {
             kind.name()
         )));
     }
-    let request = request(kind, args)?;
-    let (text, origin) = load_text(args.config.as_deref())?;
-    let plan = Plan::load(&text, &origin, &request).map_err(cli::failure)?;
     #[cfg(feature = "mpi")]
     if let Some(ranks) = cli::ranks::Ranks::start() {
-        return run_ranks(&plan, args, &ranks);
+        // Every rank plans (alike); rank 0 alone tells what is wrong.
+        return match plan_job(kind, args) {
+            Ok(plan) => run_ranks(&plan, args, &ranks),
+            Err(failure) if ranks.leads() => Err(failure),
+            // The others end quietly: rank 0's exit code is the job's.
+            Err(_) => Ok(()),
+        };
     }
+    let plan = plan_job(kind, args)?;
     let out = jobs::output_dir(args.out.as_deref(), &plan.config, args.config.as_deref());
     let mut store = DirStore::new(&out);
     let cancel = Cancel::new();
@@ -241,12 +254,18 @@ fn tell(outcome: Result<Outcome, JobError>, args: &JobArgs) -> Result<(), Failur
     Ok(())
 }
 
+/// The plan of the job `args` ask for.
+fn plan_job(kind: JobKind, args: &JobArgs) -> Result<Plan, Failure> {
+    let request = request(kind, args)?;
+    let (text, origin) = load_text(args.config.as_deref())?;
+    Plan::load(&text, &origin, &request).map_err(cli::failure)
+}
+
 /// Run one job on the ranks of an MPI launch: every rank runs the plan,
 /// the work is shared out, rank 0 alone shows progress, catches Ctrl-C and
 /// writes; the others keep their files in memory and drop them.
 #[cfg(feature = "mpi")]
 fn run_ranks(plan: &Plan, args: &JobArgs, ranks: &cli::ranks::Ranks) -> Result<(), Failure> {
-    use gapack::farm::Farm;
     let cancel = Cancel::new();
     let handler = cancel.clone();
     let leads = ranks.leads();
