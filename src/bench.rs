@@ -187,6 +187,78 @@ pub struct BenchArgs {
     /// figures, and its convergence (porosity against minimisation steps).
     #[arg(long)]
     densify: bool,
+    /// Instead: evaluations per second of a GA whose packings take about
+    /// 50 ms, on this process's threads or, under `mpirun` (a build with
+    /// `--features mpi`), on every rank, and the bytes the ranks send per
+    /// generation.
+    #[arg(long, conflicts_with = "densify")]
+    ranks: bool,
+    /// With --ranks: the side of the square packed (mm); 110 gives packings
+    /// of about 50 ms on the reference machine, smaller sides show what the
+    /// sharing out costs.
+    #[arg(long, default_value_t = 110.0, value_name = "MM", requires = "ranks")]
+    side: f64,
+}
+
+/// The search of `gapack bench --ranks` on a square of side `SIDE` mm: a
+/// target no packing reaches, so that every generation runs: 16 genomes and
+/// 6 generations.
+const RANKS_SEARCH: &str = "seed = 1\n[domain]\nshape = \"rectangle\"\nwidth = SIDE\nheight = SIDE\n[grading]\nuniform = [1.0, 1.6]\n[optimise]\ntarget_porosity = 0.95\npopulation = 16\ngenerations = 6\nstagnation = 1000\ntime_limit_s = 3600\n[output]\nformats = [\"csv\"]\n";
+
+/// `gapack bench --ranks`: one search on every rank (or this process),
+/// its evaluations per second and the bytes sent per generation, told by rank 0.
+fn run_ranks(side: f64) -> Result<(), crate::cli::Failure> {
+    use crate::cli::{Failure, print_line};
+    use gapack::farm::{Farm, Local};
+    use gapack::jobs::{self, JobKind, MemoryStore, Plan, Report, Request, Silent};
+    #[cfg(feature = "mpi")]
+    let ranks = crate::cli::ranks::Ranks::start();
+    #[cfg(feature = "mpi")]
+    let farm: &dyn Farm = match &ranks {
+        Some(r) => r,
+        None => &Local,
+    };
+    #[cfg(not(feature = "mpi"))]
+    let farm: &dyn Farm = &Local;
+    let text = RANKS_SEARCH.replace("SIDE", &side.to_string());
+    let plan = Plan::load(&text, "bench --ranks", &Request::new(JobKind::Optimise))
+        .map_err(|e| Failure::Run(e.into()))?;
+    let outcome = jobs::run_on(
+        &plan,
+        &mut Silent,
+        &gapack::Cancel::new(),
+        &mut MemoryStore::default(),
+        farm,
+    )
+    .map_err(|e| Failure::Run(e.into()))?;
+    #[cfg(feature = "mpi")]
+    let bytes = ranks.as_ref().map_or(0, |r| r.bytes_sent_by_all());
+    #[cfg(not(feature = "mpi"))]
+    let bytes = 0;
+    let Report::Optimise { history, .. } = outcome.report else {
+        return Err(Failure::Run(anyhow::anyhow!(
+            "the bench search gave no history"
+        )));
+    };
+    let Some(last) = history.last() else {
+        return Err(Failure::Run(anyhow::anyhow!(
+            "the bench search gave no history"
+        )));
+    };
+    if farm.leads() {
+        let spreads = history.len();
+        print_line(format_args!(
+            "side {side} mm, ranks {}, threads per rank {}: {} evaluations in {} generations (and generation 0) in {:.2} s: {:.1} evaluations/s; {:.0} bytes sent per generation",
+            farm.processes(),
+            rayon::current_num_threads(),
+            last.evaluations,
+            spreads - 1,
+            last.seconds,
+            last.evaluations as f64 / last.seconds,
+            bytes as f64 / spreads as f64,
+        ));
+    }
+    Ok(())
 }
 
 /// One grading of `gapack bench --densify`: its name, the curve, the
@@ -340,6 +412,9 @@ pub fn run_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
     use gapack::jobs::{DirStore, Store};
     if args.densify {
         return run_densest(args);
+    }
+    if args.ranks {
+        return run_ranks(args.side);
     }
     let targets: Vec<u64> = [10_000, 100_000, 1_000_000]
         .into_iter()

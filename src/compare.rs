@@ -174,9 +174,7 @@ pub fn compare(
     );
     if let Some(s) = failed {
         // The packer's own error, from the same (pure) run on this process.
-        if let Err(e) = pack_observed(&s, &mut |_| {}, &Cancel::new()) {
-            return Err(e);
-        }
+        pack_observed(&s, &mut |_| {}, &Cancel::new())?;
     }
     Ok(runs)
 }

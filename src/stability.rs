@@ -299,14 +299,12 @@ impl Tally {
 }
 
 /// Run `variants` on `cases` (all of them: [`Case::all`]) with each of
-/// `seeds`, spread over `farm`, each run stopped at `cap` (a deadline the
+/// `seeds` (the three given together), spread over `farm`, each run stopped at `cap` (a deadline the
 /// generators honour), calling `done` after each in order. Once `cancel` is
 /// raised the runs finished so far are returned.
 pub fn sweep(
     base: &Scene,
-    cases: &[Case],
-    variants: &[Variant],
-    seeds: &[u64],
+    (cases, variants, seeds): (&[Case], &[Variant], &[u64]),
     cap: Duration,
     cancel: &Cancel,
     farm: &dyn Farm,
@@ -506,9 +504,7 @@ mod tests {
         let variants = Variant::expand(&[Method::AdvancingFront, Method::Relaxation]);
         let runs = sweep(
             &base(),
-            &[case],
-            &variants,
-            &[1, 2],
+            (&[case], &variants, &[1, 2]),
             Duration::from_secs(60),
             &Cancel::new(),
             &crate::farm::Local,
@@ -544,9 +540,7 @@ mod tests {
         let variants = Variant::expand(&[Method::Relaxation]);
         let runs = sweep(
             &base(),
-            &[case],
-            &variants,
-            &[1],
+            (&[case], &variants, &[1]),
             Duration::from_nanos(1),
             &Cancel::new(),
             &crate::farm::Local,

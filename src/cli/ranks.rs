@@ -18,6 +18,7 @@ use std::time::Duration;
 
 use gapack::farm::{Farm, Task};
 use mpi::Threading;
+use mpi::collective::{CommunicatorCollectives, SystemOperation};
 use mpi::environment::Universe;
 use mpi::point_to_point::{Destination, MatchedReceiveVec, Source};
 use mpi::topology::{Communicator, SimpleCommunicator};
@@ -70,10 +71,13 @@ impl Ranks {
         usize::try_from(self.world.rank()).unwrap_or(0)
     }
 
-    /// Bytes this rank has sent so far.
-    #[allow(dead_code)]
-    pub fn bytes_sent(&self) -> usize {
-        self.sent.load(Ordering::Relaxed)
+    /// Bytes every rank has sent so far, summed (every rank calls it).
+    pub fn bytes_sent_by_all(&self) -> usize {
+        let mine = self.sent.load(Ordering::Relaxed) as u64;
+        let mut all = 0u64;
+        self.world
+            .all_reduce_into(&mine, &mut all, SystemOperation::sum());
+        usize::try_from(all).unwrap_or(usize::MAX)
     }
 
     /// End every rank's process with `code` (a rank that fails takes the job down).

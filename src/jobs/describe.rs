@@ -123,6 +123,20 @@ impl Plan {
             }
             None => lines.push(format!("domain: {}", scene_line(scene))),
         }
+        if let (Job::Wells { batch: true }, Some(run)) = (&self.job, &config.fracture) {
+            // The wells of a batch are packed a few at a time, one per thread.
+            let at_once = rayon::current_num_threads().min(run.wells.len());
+            let mut peaks: Vec<f64> = run
+                .wells
+                .iter()
+                .map(|w| estimated_peak_bytes(&w.scene))
+                .collect();
+            peaks.sort_by(|a, b| b.total_cmp(a));
+            lines.push(format!(
+                "batch memory: about {} ({at_once} wells at once, one per thread)",
+                memory(peaks.iter().take(at_once).sum())
+            ));
+        }
         if let Job::Optimise { settings: o, .. } = &self.job {
             lines.push(format!(
                 "search memory: about {} ({} genomes)",

@@ -1233,9 +1233,7 @@ impl Running<'_> {
         let mut index = 0;
         let runs = stability::sweep(
             &config.scene,
-            &cases,
-            &variants,
-            &seeds,
+            (&cases, &variants, &seeds),
             cap,
             cancel,
             self.farm,
