@@ -91,9 +91,11 @@ const WAVE_PER_WORKER: usize = 4;
 
 /// [`map`] over `0..count` in waves, so that a long batch reports as it
 /// goes: after each wave `done(i, result)` is called for its pieces in
-/// index order, and returns `false` to stop there; before each wave the
-/// leading process's `stop()` is asked. The results do not depend on the
-/// size of the waves.
+/// index order, and returns `false` to stop there. `stop()` is asked before
+/// each wave (the leading process's answer) and after each piece told (this
+/// process's: the leading process stops there, and the others, left waiting
+/// for work, are ended with it). The results do not depend on the size of
+/// the waves.
 pub fn waves<R, F>(
     farm: &dyn Farm,
     count: usize,
@@ -113,7 +115,7 @@ pub fn waves<R, F>(
         let n = wave.min(count - first);
         let results = map(farm, n, |k| task(first + k));
         for (k, r) in results.into_iter().enumerate() {
-            if !done(first + k, r) {
+            if !done(first + k, r) || stop() {
                 return;
             }
         }

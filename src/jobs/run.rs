@@ -513,10 +513,7 @@ impl Running<'_> {
                         wells.push(piece.outcome);
                         true
                     }
-                    Err(Halt::Cancelled) => {
-                        interrupted = true;
-                        false
-                    }
+                    Err(Halt::Cancelled) => false,
                     Err(Halt::Failed) => {
                         failed = Some(i);
                         false
@@ -528,6 +525,7 @@ impl Running<'_> {
                 let well = &run.wells[i];
                 self.well(well, run.extent, format!("{}/", well.name), &Cancel::new())?;
             }
+            interrupted = wells.len() < run.wells.len();
         } else {
             for (index, well) in run.wells.iter().enumerate() {
                 match self.well(well, run.extent, String::new(), cancel) {
