@@ -187,18 +187,18 @@ pub struct StabilityRun {
 }
 
 impl StabilityRun {
-    /// A run that placed nothing (timed out until told otherwise).
-    fn empty(case: Case, variant: Variant, seed: u64) -> Self {
+    /// The run of `variant` on `case` with `seed` that found `c`.
+    fn found(case: Case, variant: Variant, seed: u64, c: Checked) -> Self {
         StabilityRun {
             case,
             variant,
             seed,
-            status: Status::TimedOut,
-            seconds: 0.0,
-            particles: 0,
-            empty: 1.0,
-            max_overlap: 0.0,
-            psd_ks: 1.0,
+            status: c.status,
+            seconds: c.seconds,
+            particles: c.particles,
+            empty: c.empty,
+            max_overlap: c.max_overlap,
+            psd_ks: c.psd_ks,
         }
     }
 
@@ -339,15 +339,7 @@ pub fn sweep(
             let Some(found) = checked else {
                 return false;
             };
-            let run = StabilityRun {
-                status: found.status,
-                seconds: found.seconds,
-                particles: found.particles,
-                empty: found.empty,
-                max_overlap: found.max_overlap,
-                psd_ks: found.psd_ks,
-                ..StabilityRun::empty(cases[c], variant, seed)
-            };
+            let run = StabilityRun::found(cases[c], variant, seed, found);
             done(&run);
             runs.push(run);
             true
@@ -558,7 +550,12 @@ mod tests {
             empty,
             max_overlap,
             psd_ks,
-            ..StabilityRun::empty(Case::all()[0], Variant::expand(&[Method::Rsa])[0], 1)
+            ..StabilityRun::found(
+                Case::all()[0],
+                Variant::expand(&[Method::Rsa])[0],
+                1,
+                Checked::NONE,
+            )
         }
     }
 

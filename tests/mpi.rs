@@ -8,6 +8,9 @@
 #![cfg(feature = "mpi")]
 
 mod common;
+#[path = "common/stopped_search.rs"]
+#[allow(dead_code)]
+mod stopped_search;
 
 use std::collections::BTreeMap;
 use std::fs;
@@ -15,8 +18,7 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 use common::{gapack, scratch};
-use gapack::Cancel;
-use gapack::jobs::{self, Event, JobKind, MemoryStore, Plan, Request};
+use gapack::jobs;
 
 /// A search that runs its 6 generations (the target is out of reach).
 const OPTIMISE: &str = "seed = 3\n[domain]\nshape = \"rectangle\"\nwidth = 30\nheight = 30\n[grading]\nuniform = [1.0, 1.6]\n[optimise]\ntarget_porosity = 0.2412\ntolerance = 0.00001\npopulation = 16\ngenerations = 6\nstagnation = 100\ntime_limit_s = 600\n";
@@ -169,30 +171,6 @@ fn compare_is_the_same_on_any_number_of_ranks() {
     same_on_any_ranks("compare", "compare", COMPARE, 1);
 }
 
-/// The checkpoint of `OPTIMISE`'s search stopped after generation `after`.
-fn checkpoint_after(after: usize) -> Vec<u8> {
-    let request = Request {
-        checkpoint_every: 1,
-        ..Request::new(JobKind::Optimise)
-    };
-    let plan = Plan::load(OPTIMISE, "case.toml", &request).expect("valid config");
-    let cancel = Cancel::new();
-    let stop = cancel.clone();
-    let mut observer = |event: &Event| {
-        if let Event::Generation { index, .. } = event
-            && *index >= after
-        {
-            stop.cancel();
-        }
-    };
-    let mut store = MemoryStore::default();
-    let _ = jobs::run(&plan, &mut observer, &cancel, &mut store);
-    store
-        .files
-        .remove(jobs::CHECKPOINT_JSON)
-        .expect("a stopped search keeps its checkpoint")
-}
-
 #[test]
 fn a_search_stopped_on_one_process_resumes_on_two_and_three_ranks_to_the_same_result() {
     let dir = scratch("mpi-resume");
@@ -210,7 +188,7 @@ fn a_search_stopped_on_one_process_resumes_on_two_and_three_ranks_to_the_same_re
         fs::create_dir_all(dir.join(&out)).expect("out dir");
         fs::write(
             dir.join(&out).join(jobs::CHECKPOINT_JSON),
-            checkpoint_after(after),
+            stopped_search::checkpoint_of(OPTIMISE, "case.toml", after),
         )
         .expect("write checkpoint");
         let run = mpirun(

@@ -19,6 +19,14 @@ use common::{gapack, scratch};
 const ELSEWHERE: &[(&str, &str)] = &[
     ("cargo test", "the test command itself"),
     (
+        "cargo build --release --features mpi",
+        "the MPI build: CI builds the tests with the feature",
+    ),
+    (
+        "mpirun ",
+        "tests/mpi.rs runs jobs under mpirun against plain runs",
+    ),
+    (
         "apt-get install",
         "installs the browser the browser tests need",
     ),

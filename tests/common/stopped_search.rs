@@ -14,11 +14,17 @@ pub const ORIGIN: &str = "optimise.toml";
 
 /// The `checkpoint.json` of the search stopped after generation `after`.
 pub fn checkpoint_after(after: usize) -> Vec<u8> {
+    checkpoint_of(CONFIG, ORIGIN, after)
+}
+
+/// The `checkpoint.json` of the search of `config` (named `origin`)
+/// stopped after generation `after`.
+pub fn checkpoint_of(config: &str, origin: &str, after: usize) -> Vec<u8> {
     let request = Request {
         checkpoint_every: 1,
         ..Request::new(JobKind::Optimise)
     };
-    let plan = Plan::load(CONFIG, ORIGIN, &request).expect("valid fixture");
+    let plan = Plan::load(config, origin, &request).expect("valid fixture");
     let cancel = Cancel::new();
     let stop = cancel.clone();
     let mut observer = |event: &Event| {
