@@ -577,3 +577,60 @@ measure = \"error\"
     assert!(svg.contains("target error against optimise.target_porosity"));
     let _ = fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_batch_of_wells_is_one_row_its_disks_summed_and_its_porosity_averaged() {
+    let dir = scratch("sweep-wells");
+    let text = "seed = 1
+[fracture]
+extent = \"full\"
+[[fracture.wells]]
+name = \"a\"
+width_mm = 6
+height_m = 0.03
+[[fracture.wells]]
+name = \"b\"
+width_mm = 9
+height_m = 0.04
+[grading]
+uniform = [1.0, 1.5]
+[sweep]
+\"fracture.width_mm\" = [4.0, 5.0]
+keep = \"summary\"
+";
+    fs::write(dir.join("w.toml"), text).unwrap();
+    ok(&gapack(
+        &dir,
+        &["sweep", "w.toml", "--out", "out", "--quiet"],
+    ));
+    let rows = records(&dir.join("out/sweep.csv"));
+    assert_eq!(rows.len(), 3, "a row per run, not per well");
+    for row in &rows[1..] {
+        let run = dir.join("out/runs").join(&row[0]);
+        let summaries: Vec<serde_json::Value> = ["a", "b"]
+            .iter()
+            .map(|w| {
+                serde_json::from_slice(&fs::read(run.join(w).join("summary.json")).unwrap())
+                    .unwrap()
+            })
+            .collect();
+        // The swept width is every well's.
+        let width = row[1].parse::<f64>().unwrap();
+        for s in &summaries {
+            assert_eq!(s["fracture"]["width_mm"].as_f64(), Some(width), "{s}");
+        }
+        let disks: u64 = summaries
+            .iter()
+            .map(|s| s["particles"].as_u64().unwrap())
+            .sum();
+        assert_eq!(row[3], disks.to_string(), "{row:?}");
+        let mean = summaries
+            .iter()
+            .map(|s| s["porosity"].as_f64().unwrap())
+            .sum::<f64>()
+            / 2.0;
+        let porosity: f64 = row[4].parse().unwrap();
+        assert!((porosity - mean).abs() < 1e-12, "{porosity} against {mean}");
+    }
+    let _ = fs::remove_dir_all(&dir);
+}

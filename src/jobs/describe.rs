@@ -427,17 +427,15 @@ fn study_line(study: &Study) -> String {
 
 /// One line per point of a study: its disks (estimated, per run), or why it cannot run.
 fn point_lines(study: &Study) -> Vec<String> {
-    let seeds = study.settings.seeds.max(1);
     let mut lines: Vec<String> = study
-        .runs
+        .points
         .iter()
-        .step_by(seeds)
         .take(LISTED_POINTS)
-        .map(|run| {
-            let point = &study.points[run.point];
-            match &run.plan {
-                Ok(plan) => {
-                    let (disks, window) = match &plan.config.fracture {
+        .map(|point| {
+            let name = &point.name;
+            match &point.config {
+                Ok(config) => {
+                    let (disks, window) = match &config.fracture {
                         Some(f) => (
                             f.wells
                                 .iter()
@@ -445,10 +443,10 @@ fn point_lines(study: &Study) -> Vec<String> {
                                 .sum::<f64>(),
                             matches!(f.extent, Extent::Window { .. }),
                         ),
-                        None => (plan.config.scene.estimated_disks(), false),
+                        None => (config.scene.estimated_disks(), false),
                     };
                     format!(
-                        "point {point}: about {disks:.0} disks a run{}",
+                        "point {name}: about {disks:.0} disks a run{}",
                         if window {
                             " if packed whole (a window packs fewer)"
                         } else {
@@ -456,7 +454,7 @@ fn point_lines(study: &Study) -> Vec<String> {
                         }
                     )
                 }
-                Err(why) => format!("point {point}: its runs fail: {why}"),
+                Err(why) => format!("point {name}: its runs fail: {why}"),
             }
         })
         .collect();

@@ -39,7 +39,13 @@ const WAVE_PER_WORKER: usize = 2;
 /// Runs named in a warning that several runs gave, before `and N more`.
 const NAMED_RUNS: usize = 3;
 
-/// A parameter study, planned: what each run is.
+/// A parameter study, planned: its points (each a config) and its runs
+/// (each a point and a seed).
+///
+/// # Performance
+/// A study holds one config per point, not one plan per run: a run's plan
+/// is made when it runs ([`Study::run_plan`]), so a study of many seeds
+/// costs no more memory than one of a single seed.
 #[derive(Debug, Clone)]
 #[non_exhaustive]
 pub struct Study {
@@ -47,12 +53,32 @@ pub struct Study {
     pub settings: SweepSettings,
     /// The job every run is.
     pub kind: JobKind,
-    /// The name of every point, in product order.
-    pub points: Vec<String>,
+    /// Every point, in product order.
+    pub points: Vec<StudyPoint>,
     /// Every run, in product order (`seeds` to a point).
     pub runs: Vec<StudyRun>,
     /// Keep the finished rows of the store's `sweep.csv` and run the others.
     pub resume: bool,
+    /// The config's origin, which the runs' messages and files name.
+    origin: String,
+    /// Skip the `[limits]` refusals (`--force`).
+    force: bool,
+    /// The request's time cap, passed on to each run's.
+    time_cap: std::time::Duration,
+}
+
+/// One point of a study: a value of every swept key.
+#[derive(Debug, Clone)]
+#[non_exhaustive]
+pub struct StudyPoint {
+    /// Its name (`width_mm=2.5,preset=20-40`).
+    pub name: String,
+    /// The value of each swept key, as `sweep.csv` shows it.
+    pub values: Vec<String>,
+    /// Its config as TOML text (for the runs' identity).
+    pub text: String,
+    /// Its config, or why its scene cannot be packed (its runs fail with it).
+    pub config: Result<Config, String>,
 }
 
 /// One run of a study.
@@ -63,16 +89,41 @@ pub struct StudyRun {
     pub name: String,
     /// Its point, an index into [`Study::points`].
     pub point: usize,
-    /// The value of each swept key, as `sweep.csv` shows it.
-    pub values: Vec<String>,
     /// Its seed: the config's (or `--seed`) plus its place among the point's seeds.
     pub seed: u64,
-    /// Its plan, or why its point's scene cannot be packed.
-    pub plan: Result<Box<Plan>, String>,
 }
 
-/// Plan the study of `config` (of `text`, named `origin`): every run's
-/// plan, each run's warnings once in `warnings`.
+impl Study {
+    /// The plan of `run`: its point's config, its seed, the study's job;
+    /// without `keep = "all"` no file but `summary.json` is made.
+    ///
+    /// # Errors
+    /// Why the run cannot run: its point's scene cannot be packed, or the
+    /// job refuses its config, in one line.
+    pub fn run_plan(&self, run: &StudyRun) -> Result<Plan, String> {
+        let point = self.points.get(run.point).ok_or("no such point")?;
+        let config = point.config.as_ref().map_err(Clone::clone)?;
+        let request = Request {
+            kind: self.kind,
+            seed: Some(run.seed),
+            force: self.force,
+            resume: false,
+            checkpoint_every: 0,
+            time_cap: self.time_cap,
+        };
+        let mut plan = Plan::new(config.clone(), &point.text, &self.origin, &request)
+            .map_err(|e| one_line(&e))?;
+        // The runs' other files are not kept: not made either.
+        if self.settings.keep != Keep::All {
+            plan.config.output.formats.clear();
+        }
+        Ok(plan)
+    }
+}
+
+/// Plan the study of `config` (of `text`, named `origin`): every point's
+/// config, checked by planning its first run; each run's warnings once in
+/// `warnings`.
 ///
 /// # Errors
 /// [`JobError::Input`] without a `[sweep]` table; [`JobError::Config`]
@@ -111,59 +162,70 @@ pub(super) fn plan(
     let options = ParseOptions {
         force: request.force,
     };
-    let points = sweep_points(text, origin, options, &settings)?;
     let names = point_names(&settings.keys);
     let texts: Vec<Vec<String>> = settings.keys.iter().map(SweptKey::texts).collect();
-    let mut runs = Vec::with_capacity(settings.runs());
-    for (p, point) in points.iter().enumerate() {
-        let values: Vec<String> = point
-            .values
-            .iter()
-            .enumerate()
-            .map(|(k, &i)| texts[k][i].clone())
-            .collect();
-        for k in 0..settings.seeds as u64 {
+    let points: Vec<StudyPoint> = sweep_points(text, origin, options, &settings)?
+        .into_iter()
+        .zip(names)
+        .map(|(point, name)| StudyPoint {
+            name,
+            values: point
+                .values
+                .iter()
+                .enumerate()
+                .map(|(k, &i)| texts[k][i].clone())
+                .collect(),
+            text: point.text,
+            config: point.config,
+        })
+        .collect();
+    let mut study = Study {
+        kind,
+        points,
+        runs: Vec::with_capacity(settings.runs()),
+        resume: request.resume,
+        origin: origin.to_owned(),
+        force: request.force,
+        time_cap: request.time_cap,
+        settings,
+    };
+    for (p, point) in study.points.iter().enumerate() {
+        for k in 0..study.settings.seeds as u64 {
             let seed = config.scene.seed.wrapping_add(k);
-            let plan = match &point.config {
-                Ok(c) => {
-                    let one = Request {
-                        kind,
-                        seed: Some(seed),
-                        force: request.force,
-                        resume: false,
-                        checkpoint_every: 0,
-                        time_cap: request.time_cap,
-                    };
-                    let mut plan = Plan::new(c.clone(), &point.text, origin, &one)?;
-                    // The runs' other files are not kept: not made either.
-                    if settings.keep != Keep::All {
-                        plan.config.output.formats.clear();
-                    }
-                    for w in &plan.warnings {
-                        if !warnings.contains(w) {
-                            warnings.push(w.clone());
-                        }
-                    }
-                    Ok(Box::new(plan))
-                }
-                Err(why) => Err(why.clone()),
-            };
-            runs.push(StudyRun {
-                name: run_name(&names[p], seed),
+            study.runs.push(StudyRun {
+                name: run_name(&point.name, seed),
                 point: p,
-                values: values.clone(),
                 seed,
-                plan,
             });
         }
     }
-    Ok(Study {
-        settings,
-        kind,
-        points: names,
-        runs,
-        resume: request.resume,
-    })
+    // Each point's first run planned now: a job that refuses a point's
+    // config refuses the study, and each warning is said once, before it runs.
+    for run in study.runs.iter().step_by(study.settings.seeds.max(1)) {
+        let Ok(config) = &study.points[run.point].config else {
+            continue;
+        };
+        let request = Request {
+            kind,
+            seed: Some(run.seed),
+            force: request.force,
+            resume: false,
+            checkpoint_every: 0,
+            time_cap: request.time_cap,
+        };
+        let plan = Plan::new(
+            config.clone(),
+            &study.points[run.point].text,
+            origin,
+            &request,
+        )?;
+        for w in plan.warnings {
+            if !warnings.contains(&w) {
+                warnings.push(w);
+            }
+        }
+    }
+    Ok(study)
 }
 
 /// What one run gives back to every process: how it ended, the files the
@@ -211,7 +273,7 @@ pub(super) fn run(
             let Some(row) = earlier.rows.get(&run.name) else {
                 continue;
             };
-            if row.values == run.values
+            if row.values == study.points[run.point].values
                 && row.seed == run.seed
                 && matches!(row.status, Status::Finished(_))
             {
@@ -241,7 +303,7 @@ pub(super) fn run(
     let mut warned: Vec<(String, Warning)> = Vec::new();
     for chunk in pending.chunks(wave) {
         let ran: Vec<Ran> = farm::map(farm, chunk.len(), |j| {
-            execute(&study.runs[chunk[j]], keep, cancel)
+            execute(study, &study.runs[chunk[j]], keep, cancel)
         });
         for (&i, ran) in chunk.iter().zip(ran) {
             let run = &study.runs[i];
@@ -255,7 +317,7 @@ pub(super) fn run(
             });
             files.extend(ran.files);
             warned.extend(ran.warnings.into_iter().map(|w| (run.name.clone(), w)));
-            rows[i] = Some(row(run, ran.status));
+            rows[i] = Some(row(study, run, ran.status));
         }
         if farm::agree(farm, cancel.is_cancelled()) {
             break;
@@ -264,7 +326,7 @@ pub(super) fn run(
     let rows: Vec<Row> = rows
         .into_iter()
         .zip(&study.runs)
-        .map(|(r, run)| r.unwrap_or_else(|| row(run, Status::NotRun)))
+        .map(|(r, run)| r.unwrap_or_else(|| row(study, run, Status::NotRun)))
         .collect();
     let interrupted = rows.iter().any(|r| r.status == Status::NotRun);
     if interrupted && rows.iter().all(|r| r.status == Status::NotRun) {
@@ -289,10 +351,10 @@ pub(super) fn run(
     })
 }
 
-fn row(run: &StudyRun, status: Status) -> Row {
+fn row(study: &Study, run: &StudyRun, status: Status) -> Row {
     Row {
         run: run.name.clone(),
-        values: run.values.clone(),
+        values: study.points[run.point].values.clone(),
         seed: run.seed,
         status,
     }
@@ -300,15 +362,15 @@ fn row(run: &StudyRun, status: Status) -> Row {
 
 /// Run one run of a study alone: on this thread's farm, into a store of
 /// its own, its events recorded only for the warnings it gives.
-fn execute(run: &StudyRun, keep: Keep, cancel: &Cancel) -> Ran {
+fn execute(study: &Study, run: &StudyRun, keep: Keep, cancel: &Cancel) -> Ran {
     let ended = |status| Ran {
         status,
         files: Vec::new(),
         warnings: Vec::new(),
     };
-    let plan = match &run.plan {
+    let plan = match study.run_plan(run) {
         Ok(plan) => plan,
-        Err(why) => return ended(Status::Failed(why.clone())),
+        Err(why) => return ended(Status::Failed(why)),
     };
     if cancel.is_cancelled() {
         return ended(Status::NotRun);
@@ -322,10 +384,10 @@ fn execute(run: &StudyRun, keep: Keep, cancel: &Cancel) -> Ran {
             warnings.push(w.clone());
         }
     };
-    let outcome = run_on(plan, &mut observer, cancel, &mut store, &Local);
+    let outcome = run_on(&plan, &mut observer, cancel, &mut store, &Local);
     let status = match outcome {
         Ok(outcome) if outcome.interrupted => return ended(Status::NotRun),
-        Ok(outcome) => match measures(plan, &outcome.report, outcome.seconds()) {
+        Ok(outcome) => match measures(&plan, &outcome.report, outcome.seconds()) {
             Some(m) => Status::Finished(m),
             None => Status::Failed("the run gave no measures".to_owned()),
         },
@@ -506,4 +568,62 @@ fn earlier(
         rows,
         files: manifest.files,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn warning(kind: WarningKind, message: &str) -> Warning {
+        Warning {
+            kind,
+            message: message.to_owned(),
+        }
+    }
+
+    /// The runs' warnings are said once per kind, naming a few of the runs.
+    #[test]
+    fn the_runs_warnings_are_gathered_by_kind() {
+        let bent = |run: &str| {
+            (
+                run.to_owned(),
+                warning(WarningKind::GradingBent, &format!("{run} bends")),
+            )
+        };
+        let mut warned: Vec<(String, Warning)> = ["a", "b", "c", "d", "e"].map(bent).to_vec();
+        warned.insert(
+            1,
+            (
+                "b".to_owned(),
+                warning(WarningKind::TargetNotReached, "not reached"),
+            ),
+        );
+        let said = gathered(warned);
+        assert_eq!(said.len(), 2);
+        assert_eq!(said[0].kind, WarningKind::GradingBent);
+        assert_eq!(
+            said[0].message,
+            "run a: a bends (so did b, c, d and 1 more runs)"
+        );
+        assert_eq!(said[1].message, "run b: not reached");
+        assert!(gathered(Vec::new()).is_empty());
+    }
+
+    /// A failure's causes follow it on one line, none said twice.
+    #[test]
+    fn a_failure_is_one_line_with_its_causes() {
+        let e = JobError::Pack {
+            what: "the scene".to_owned(),
+            source: crate::PackError::DomainTooNarrow {
+                inscribed: 0.2,
+                d_min: 0.4,
+            },
+        };
+        let line = one_line(&e);
+        assert!(line.starts_with("cannot pack the scene: "), "{line}");
+        assert!(
+            line.contains("too narrow") && !line.contains('\n'),
+            "{line}"
+        );
+    }
 }
