@@ -4,7 +4,7 @@
 //! (domain, grading, packer settings, seed); [`pack`] turns the scene into a
 //! [`Packing`] with zero overlaps; [`measure`] reports porosity, grading
 //! fidelity and contact statistics; [`check`] verifies a packing; [`jobs`]
-//! runs any job (pack, optimise, layer, compare, stability) for every front
+//! runs any job (pack, optimise, layer, compare, stability, sweep) for every front
 //! end, and [`output`] renders its files as bytes.
 //!
 //! The core types live at the crate root; the jobs, the search ([`ga`]) and
@@ -40,6 +40,7 @@ pub mod output;
 mod packer;
 mod scene;
 pub mod stability;
+pub mod sweep;
 
 pub use cancel::{Cancel, Cancelled};
 pub use check::{Check, GradingCheck, KS_MARGIN, MIN_GRADING_DISKS, check, grading_kept, ks_limit};

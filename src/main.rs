@@ -62,6 +62,11 @@ enum Command {
     /// widths (1.2 to 20 d_max) and shapes; writes stability.csv and a map.
     /// Ctrl-C stops and writes the runs finished.
     Stability(JobArgs),
+    /// Run the config's [sweep] parameter study: its job (pack, optimise or
+    /// layer) at every combination of the swept values, over seeds; writes
+    /// sweep.csv (a row per run) and a chart of the chosen measure. Ctrl-C
+    /// stops and writes the runs finished; --resume runs the others.
+    Sweep(JobArgs),
     /// Check a config without running it and print the plan the run would
     /// execute: job, scenes, estimated disks and memory, outputs.
     Validate(ValidateArgs),
@@ -105,7 +110,8 @@ struct JobArgs {
     #[arg(long, default_value_t = 10, value_name = "N")]
     checkpoint_every: usize,
     /// optimise: go on from <out>/checkpoint.json (same config and seed), to
-    /// the same result as a run never stopped.
+    /// the same result as a run never stopped; sweep: keep the runs
+    /// <out>/sweep.csv finished and run the others.
     #[arg(long)]
     resume: bool,
     /// stability: seconds a run may take before it counts as not finished.
@@ -137,7 +143,10 @@ fn job_kind(name: &str) -> Result<JobKind, String> {
     JobKind::ALL
         .into_iter()
         .find(|k| k.name() == name)
-        .ok_or_else(|| format!("unknown job {name:?}: pack, optimise, layer, compare or stability"))
+        .ok_or_else(|| {
+            let names: Vec<&str> = JobKind::ALL.iter().map(|k| k.name()).collect();
+            format!("unknown job {name:?}: {}", names.join(", "))
+        })
 }
 
 fn main() -> ExitCode {
@@ -147,6 +156,7 @@ fn main() -> ExitCode {
         Command::Layer(args) => run_job(JobKind::Layer, &args),
         Command::Compare(args) => run_job(JobKind::Compare, &args),
         Command::Stability(args) => run_job(JobKind::Stability, &args),
+        Command::Sweep(args) => run_job(JobKind::Sweep, &args),
         Command::Validate(args) => run_validate(&args),
         Command::Verify(args) => cli::inspect::run_verify(&args),
         Command::Plot(args) => cli::inspect::run_plot(&args),
@@ -320,6 +330,25 @@ fn hint(outcome: &Outcome, args: &JobArgs) {
             summary.generations,
             outcome.location,
             jobs::CHECKPOINT_JSON
+        );
+    } else if let Report::Sweep { rows, .. } = &outcome.report {
+        let config = args
+            .config
+            .as_ref()
+            .map_or_else(String::new, |c| format!(" {}", c.display()));
+        let mut flags = args
+            .seed
+            .map_or_else(String::new, |s| format!(" --seed {s}"));
+        if args.force {
+            flags += " --force";
+        }
+        eprintln!(
+            "note: stopped; the runs finished are written to {}/sweep.csv, and `gapack sweep{config} --out {}{flags} --resume` runs the other {}",
+            outcome.location,
+            outcome.location,
+            rows.iter()
+                .filter(|r| r.status == gapack::sweep::Status::NotRun)
+                .count()
         );
     } else {
         eprintln!(

@@ -7,6 +7,7 @@ use crate::geometry::{Shape, WallMode};
 use crate::grading::{Basis, Interpolation};
 use crate::layering::LayeringMode;
 use crate::scene::{Axis, Fill, FrontRules, IndexKind, Method};
+use crate::sweep::{Keep, Measure, RunJob};
 
 /// The default packing method's name.
 pub const METHOD: &str = "advancing-front";
@@ -182,6 +183,38 @@ pub(crate) const CONTACTS: Names<f64> = Names {
     entries: &[("2", 0.0), ("1", 1.0)],
 };
 
+pub(crate) const KEEPS: Names<Keep> = Names {
+    what: "keep mode",
+    entries: &[
+        ("none", Keep::None),
+        ("summary", Keep::Summary),
+        ("all", Keep::All),
+    ],
+};
+
+pub(crate) const MEASURES: Names<Measure> = Names {
+    what: "measure",
+    entries: &[
+        ("porosity", Measure::Porosity),
+        ("particles", Measure::Particles),
+        ("psd_ks", Measure::PsdKs),
+        ("coordination", Measure::Coordination),
+        ("error", Measure::Error),
+        ("seconds", Measure::Seconds),
+    ],
+};
+
+/// The jobs a study's runs may be (`sweep.job`).
+pub(crate) const RUN_JOBS: Names<RunJob> = Names {
+    what: "job",
+    entries: &[
+        ("pack", RunJob::Pack),
+        ("optimise", RunJob::Optimise),
+        ("optimize", RunJob::Optimise),
+        ("layer", RunJob::Layer),
+    ],
+};
+
 /// The name a choice is written with in a config (`"mx-quadtree"`, `"exact"`, `"2"`).
 ///
 /// Reports use it so that they speak the user's language.
@@ -241,6 +274,24 @@ impl ConfigName for Axis {
 impl ConfigName for LayeringMode {
     fn config_name(&self) -> &'static str {
         MODES.name_of(*self)
+    }
+}
+
+impl ConfigName for Keep {
+    fn config_name(&self) -> &'static str {
+        KEEPS.name_of(*self)
+    }
+}
+
+impl ConfigName for Measure {
+    fn config_name(&self) -> &'static str {
+        MEASURES.name_of(*self)
+    }
+}
+
+impl ConfigName for RunJob {
+    fn config_name(&self) -> &'static str {
+        RUN_JOBS.name_of(*self)
     }
 }
 

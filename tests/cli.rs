@@ -655,7 +655,7 @@ fn help_tells_the_whole_story_and_verify_can_be_quiet() {
         assert!(pack.contains(what), "pack --help names {what}");
     }
     assert!(!pack.contains("of the search"), "{pack}");
-    for command in ["optimise", "layer", "compare", "stability"] {
+    for command in ["optimise", "layer", "compare", "stability", "sweep"] {
         assert!(help(&[command, "--help"]).contains("Ctrl-C"), "{command}");
     }
     fs::write(

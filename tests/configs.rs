@@ -22,7 +22,7 @@ fn shipped() -> Vec<PathBuf> {
     files
 }
 
-/// The command of a config's `# Run:` line (`pack`, `optimise`, `layer`, `compare`).
+/// The command of a config's `# Run:` line (`pack`, `optimise`, `layer`, `compare`, `sweep`).
 fn command_of(path: &Path) -> String {
     let name = path.file_name().unwrap().to_string_lossy().into_owned();
     let text = fs::read_to_string(path).unwrap();
@@ -85,6 +85,17 @@ fn every_shipped_config_runs_and_its_packings_verify() {
         );
         if command == "compare" {
             assert!(out.join("compare.csv").exists(), "{name}: no compare.csv");
+            continue;
+        }
+        if command == "sweep" {
+            // Every run of a shipped study finishes.
+            let table = fs::read_to_string(out.join("sweep.csv"))
+                .unwrap_or_else(|e| panic!("{name}: no sweep.csv: {e}"));
+            let rows: Vec<&str> = table.lines().skip(1).collect();
+            assert!(!rows.is_empty(), "{name}: an empty sweep.csv");
+            for row in rows {
+                assert!(row.ends_with(",finished"), "{name}: {row}");
+            }
             continue;
         }
         assert!(out.join("summary.json").exists() || out.join("wells.csv").exists());

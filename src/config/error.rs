@@ -246,6 +246,53 @@ impl ConfigError {
         }
     }
 
+    /// The fault without its place: `key: what is wrong`.
+    pub(crate) fn detail(&self) -> String {
+        let text = self.to_string();
+        let at = format!("{}: ", self.location());
+        text.strip_prefix(&at)
+            .map_or_else(|| text.clone(), str::to_owned)
+    }
+
+    /// What is wrong, without the place or the key.
+    pub(crate) fn message(&self) -> String {
+        let detail = self.detail();
+        match self.key() {
+            Some(key) => detail
+                .strip_prefix(&format!("{key}: "))
+                .map_or_else(|| detail.clone(), str::to_owned),
+            None => detail,
+        }
+    }
+
+    /// The same fault, placed at `place` and blamed on `name`: a value of
+    /// a `[sweep]` table found at fault in the config it makes.
+    pub(crate) fn relocated(mut self, place: Location, name: String) -> Self {
+        match &mut self {
+            ConfigError::Syntax { at, key, .. } => {
+                *at = place;
+                *key = Some(name);
+            }
+            ConfigError::Schema { at, key, .. }
+            | ConfigError::NotPositive { at, key, .. }
+            | ConfigError::NotFinite { at, key, .. }
+            | ConfigError::OutOfRange { at, key, .. }
+            | ConfigError::Area { at, key, .. }
+            | ConfigError::Memory { at, key, .. }
+            | ConfigError::UnknownName { at, key, .. }
+            | ConfigError::Missing { at, key, .. }
+            | ConfigError::NotApplicable { at, key, .. }
+            | ConfigError::Geometry { at, key, .. }
+            | ConfigError::Layering { at, key, .. }
+            | ConfigError::Grading { at, key, .. }
+            | ConfigError::Scene { at, key, .. } => {
+                *at = place;
+                *key = name;
+            }
+        }
+        self
+    }
+
     /// The key path at fault (`domain.width`), if known.
     pub fn key(&self) -> Option<&str> {
         match self {

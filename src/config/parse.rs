@@ -10,6 +10,7 @@ use crate::fracture::FractureRun;
 use crate::ga::OptimiseSettings;
 use crate::layering::{LayeringSettings, Material};
 use crate::output::OutputSettings;
+use crate::sweep::SweepSettings;
 
 /// A validated config: the scene, and what to do with it beyond packing it once.
 #[derive(Debug, Clone)]
@@ -29,6 +30,8 @@ pub struct Config {
     pub compare: CompareSettings,
     /// `[output]`: where runs write and what (its defaults without the table).
     pub output: OutputSettings,
+    /// `[sweep]`: the parameter study `gapack sweep` runs, if the config has one.
+    pub sweep: Option<SweepSettings>,
 }
 
 /// The embedded default scene: the thesis' proppant fracture (8.6 × 62.5 mm,

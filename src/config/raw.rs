@@ -177,6 +177,9 @@ pub(crate) struct RawConfig {
     pub limits: Option<Table<RawLimits>>,
     pub compare: Option<Spanned<Table<RawCompare>>>,
     pub output: Option<Spanned<Table<RawOutput>>>,
+    /// `[sweep]`: its keys are config paths, read with their places from
+    /// the text (`validate/sweep.rs`).
+    pub sweep: Option<Spanned<Table<toml::Table>>>,
 }
 
 /// `[output]`: where runs write and what.

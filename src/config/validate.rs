@@ -151,6 +151,7 @@ mod fracture;
 mod materials;
 mod output;
 mod periodic;
+mod sweep;
 
 use fracture::FracturePlan;
 use materials::MaterialPlan;
@@ -366,6 +367,7 @@ impl Validator<'_> {
             fracture,
             compare,
             output: self.output(raw.output.as_ref())?,
+            sweep: raw.sweep.as_ref().map(|s| self.sweep(s)).transpose()?,
         })
     }
 

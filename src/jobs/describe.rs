@@ -3,6 +3,7 @@
 
 use super::plan::{Job, Plan};
 use super::run::{Outcome, Report};
+use super::sweep::Study;
 use crate::check::{grading_kept, ks_limit};
 use crate::compare::Variant;
 use crate::config::ConfigName;
@@ -11,6 +12,7 @@ use crate::ga::{Layered, StopReason, Verdict};
 use crate::metrics::Metrics;
 use crate::packer::{PEAK_BYTES_PER_DISK, estimated_peak_bytes};
 use crate::stability;
+use crate::sweep::{Keep, Measure, Row, Status};
 use crate::{Scene, Shape};
 
 impl Plan {
@@ -72,8 +74,12 @@ impl Plan {
                 stability::variants(&config.compare.methods).len(),
                 time_cap.as_secs_f64()
             ),
+            Job::Sweep { study } => study_line(study),
         };
         lines.push(job);
+        if let Job::Sweep { study } = &self.job {
+            lines.extend(point_lines(study));
+        }
         if let Some(l) = &config.layering {
             lines.push(format!(
                 "layering: {} material(s), {} along {}, {} bins",
@@ -147,6 +153,11 @@ impl Plan {
         let formats: Vec<&str> = match &self.job {
             Job::Compare { .. } => vec!["compare.csv, .svg, .png"],
             Job::Stability { .. } => vec!["stability.csv, .svg, .png"],
+            Job::Sweep { study } => vec![match study.settings.keep {
+                Keep::None => "sweep.csv, .svg, .png",
+                Keep::Summary => "sweep.csv, .svg, .png, and runs/<run>/summary.json",
+                Keep::All => "sweep.csv, .svg, .png, and every file of each run in runs/<run>/",
+            }],
             _ => config
                 .output
                 .formats
@@ -154,8 +165,12 @@ impl Plan {
                 .map(|f| f.config_name())
                 .collect(),
         };
+        let always = match self.job {
+            Job::Sweep { .. } => "manifest.json",
+            _ => "summary.json and manifest.json",
+        };
         lines.push(format!(
-            "output: {location} ({}; summary.json and manifest.json always)",
+            "output: {location} ({}; {always} always)",
             if formats.is_empty() {
                 "no format".to_owned()
             } else {
@@ -340,6 +355,28 @@ impl Outcome {
                     interrupted_runs(runs.len(), *total)
                 ));
             }
+            Report::Sweep {
+                rows,
+                seeds,
+                resumed,
+                ..
+            } => {
+                lines.extend(study_result(rows, *seeds));
+                let count = |f: fn(&Status) -> bool| rows.iter().filter(|r| f(&r.status)).count();
+                let finished = count(|s| matches!(s, Status::Finished(_)));
+                let failed = count(|s| matches!(s, Status::Failed(_)));
+                let done = finished + failed;
+                lines.push(format!(
+                    "{at}: sweep.csv, sweep.svg, sweep.png: {} runs, {finished} finished, {failed} failed{}{}",
+                    rows.len(),
+                    if *resumed > 0 {
+                        format!(" ({resumed} kept from the earlier sweep.csv)")
+                    } else {
+                        String::new()
+                    },
+                    interrupted_runs(done, rows.len())
+                ));
+            }
         }
         for note in &self.notes {
             lines.push(format!("  {at}/{note}"));
@@ -355,8 +392,148 @@ impl Outcome {
             Report::Wells { wells, .. } => wells.iter().map(|w| w.row.seconds).sum(),
             Report::Compare { runs, .. } => runs.iter().map(|r| r.seconds).sum(),
             Report::Stability { runs, .. } => runs.iter().map(|r| r.seconds).sum(),
+            Report::Sweep { rows, .. } => rows
+                .iter()
+                .map(|r| match &r.status {
+                    Status::Finished(m) => m.seconds,
+                    _ => 0.0,
+                })
+                .sum(),
         }
     }
+}
+
+/// Points of a study listed by `gapack validate`, before `and N more`.
+const LISTED_POINTS: usize = 40;
+
+/// `job: sweep: 3 values of fracture.width_mm × 2 of grading.preset × 5 seeds = 30 pack runs, porosity charted`.
+fn study_line(study: &Study) -> String {
+    let s = &study.settings;
+    let keys: Vec<String> = s
+        .keys
+        .iter()
+        .enumerate()
+        .map(|(i, k)| {
+            let n = k.values.len();
+            if i == 0 {
+                format!("{n} value{} of {}", plural(n), k.path)
+            } else {
+                format!("{n} of {}", k.path)
+            }
+        })
+        .collect();
+    format!(
+        "job: sweep{}: {} × {} seed{} = {} {} runs, {} charted against {}",
+        if study.resume {
+            " (resumed: the finished rows of sweep.csv are kept)"
+        } else {
+            ""
+        },
+        keys.join(" × "),
+        s.seeds,
+        plural(s.seeds),
+        study.runs.len(),
+        study.kind.name(),
+        s.measure.config_name(),
+        s.keys.first().map_or("", |k| k.path.as_str()),
+    )
+}
+
+/// One line per point of a study: its disks (estimated, per run), or why it cannot run.
+fn point_lines(study: &Study) -> Vec<String> {
+    let mut lines: Vec<String> = study
+        .points
+        .iter()
+        .take(LISTED_POINTS)
+        .map(|point| {
+            let name = &point.name;
+            match &point.config {
+                Ok(config) => {
+                    let (disks, window) = match &config.fracture {
+                        Some(f) => (
+                            f.wells
+                                .iter()
+                                .map(|w| w.scene.estimated_disks())
+                                .sum::<f64>(),
+                            matches!(f.extent, Extent::Window { .. }),
+                        ),
+                        None => (config.scene.estimated_disks(), false),
+                    };
+                    format!(
+                        "point {name}: about {disks:.0} disks a run{}",
+                        if window {
+                            " if packed whole (a window packs fewer)"
+                        } else {
+                            ""
+                        }
+                    )
+                }
+                Err(why) => format!("point {name}: its runs fail: {why}"),
+            }
+        })
+        .collect();
+    let points = study.points.len();
+    if points > LISTED_POINTS {
+        lines.push(format!("… and {} more points", points - LISTED_POINTS));
+    }
+    lines
+}
+
+/// One line per point of a study's rows: its measures over the seeds
+/// that finished (porosity with its range), or why its runs failed.
+fn study_result(rows: &[Row], seeds: usize) -> Vec<String> {
+    let spreads = crate::sweep::spreads(rows, seeds, Measure::Porosity);
+    rows.chunks(seeds.max(1))
+        .zip(spreads)
+        .filter_map(|(point, porosity)| {
+            let first = point.first()?;
+            let name = first
+                .run
+                .rsplit_once(",seed=")
+                .map_or(first.run.as_str(), |(p, _)| p);
+            let done: Vec<&crate::sweep::Measures> = point
+                .iter()
+                .filter_map(|r| match &r.status {
+                    Status::Finished(m) => Some(m),
+                    _ => None,
+                })
+                .collect();
+            let Some(p) = porosity else {
+                let failed = point.iter().find_map(|r| match &r.status {
+                    Status::Failed(why) => Some(why.as_str()),
+                    _ => None,
+                });
+                return failed.map(|why| format!("{name:<40} failed: {why}"));
+            };
+            let n = done.len() as f64;
+            let mean = |f: fn(&crate::sweep::Measures) -> f64| done.iter().map(|m| f(m)).sum::<f64>() / n;
+            let errors: Vec<f64> = done.iter().filter_map(|m| m.target_error).collect();
+            Some(format!(
+                "{name:<40} porosity {:.4} ({:.4}–{:.4}), {:.0} disks, psd_ks {:.3}, coordination {:.2}{}, {} of {} runs, {} each",
+                p.mean,
+                p.min,
+                p.max,
+                mean(|m| m.particles as f64),
+                mean(|m| m.psd_ks),
+                mean(|m| m.coordination),
+                if errors.is_empty() {
+                    String::new()
+                } else {
+                    format!(
+                        ", target error {:.4}",
+                        errors.iter().sum::<f64>() / errors.len() as f64
+                    )
+                },
+                done.len(),
+                point.len(),
+                duration(mean(|m| m.seconds)),
+            ))
+        })
+        .collect()
+}
+
+fn plural(n: usize) -> &'static str {
+    if n == 1 { "" } else { "s" }
 }
 
 /// The failing runs of `tally`, each counted once: `overlap 0, empty 2, KS 43, empty + KS 1`

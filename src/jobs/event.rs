@@ -2,7 +2,7 @@
 //! [`Observer`]. The CLI draws progress bars from them, the service streams
 //! them, tests record them.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::plan::JobKind;
 
@@ -23,10 +23,12 @@ pub enum Stage {
     Compare,
     /// A stability sweep; counts runs.
     Stability,
+    /// A parameter study (`gapack sweep`); counts runs.
+    Sweep,
 }
 
 /// Why a job warns: something the user asked for that it cannot or will not do.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 #[non_exhaustive]
 pub enum WarningKind {
@@ -55,7 +57,7 @@ pub enum WarningKind {
 
 /// A warning: its kind and a message naming config keys (never a front
 /// end's flags).
-#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Warning {
     /// What kind of warning.
     pub kind: WarningKind,
@@ -120,13 +122,13 @@ pub enum Event {
         /// Time to pack it (s).
         seconds: f64,
     },
-    /// A run of a comparison or a stability sweep finished.
+    /// A run of a comparison, a stability sweep or a parameter study finished.
     Run {
-        /// [`Stage::Compare`] or [`Stage::Stability`].
+        /// [`Stage::Compare`], [`Stage::Stability`] or [`Stage::Sweep`].
         stage: Stage,
         /// Its position, from 0.
         index: usize,
-        /// The method variant, as the charts name it.
+        /// The method variant, as the charts name it; a study's run by its name.
         label: String,
     },
     /// Something the user should know.

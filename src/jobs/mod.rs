@@ -14,6 +14,7 @@ mod event;
 mod plan;
 mod run;
 mod store;
+mod sweep;
 
 pub use crate::cancel::{Cancel, Cancelled};
 pub use describe::duration;
@@ -22,3 +23,4 @@ pub use event::{Event, Observer, Silent, Stage, Warning, WarningKind};
 pub use plan::{Job, JobKind, Plan, Request, output_dir};
 pub use run::{CHECKPOINT_JSON, MANIFEST_JSON, Outcome, Report, WellOutcome, run, run_on};
 pub use store::{DirStore, MemoryStore, Store, StoreError};
+pub use sweep::{Study, StudyPoint, StudyRun};

@@ -8,6 +8,7 @@ use serde::Serialize;
 
 use super::error::JobError;
 use super::event::{Warning, WarningKind};
+use super::sweep::{self as study, Study};
 use crate::config::{self, Config, ParseOptions};
 use crate::fracture::{Extent, FIRST_DIAMETERS, FractureRun, MM_PER_M};
 use crate::ga::OptimiseSettings;
@@ -29,16 +30,20 @@ pub enum JobKind {
     Compare,
     /// Sweep the `[compare]` methods over gradings, widths and shapes.
     Stability,
+    /// Run the parameter study of `[sweep]`: the config's job at every
+    /// combination of the swept values, over seeds.
+    Sweep,
 }
 
 impl JobKind {
     /// Every job, in the order front ends list them.
-    pub const ALL: [JobKind; 5] = [
+    pub const ALL: [JobKind; 6] = [
         JobKind::Pack,
         JobKind::Optimise,
         JobKind::Layer,
         JobKind::Compare,
         JobKind::Stability,
+        JobKind::Sweep,
     ];
 
     /// The job's name (`pack`, `optimise`, …).
@@ -49,12 +54,24 @@ impl JobKind {
             JobKind::Layer => "layer",
             JobKind::Compare => "compare",
             JobKind::Stability => "stability",
+            JobKind::Sweep => "sweep",
         }
     }
 
-    /// The job a config is written for: `optimise` with an `[optimise]`
-    /// table, else `layer` with a `[layering]` one, else `pack`.
+    /// The job a config is written for: `sweep` with a `[sweep]` table,
+    /// else `optimise` with an `[optimise]` one, else `layer` with a
+    /// `[layering]` one, else `pack`.
     pub fn natural(config: &Config) -> JobKind {
+        if config.sweep.is_some() {
+            JobKind::Sweep
+        } else {
+            JobKind::single(config)
+        }
+    }
+
+    /// The job one run of the config is, `[sweep]` aside: `optimise` with
+    /// an `[optimise]` table, else `layer` with a `[layering]` one, else `pack`.
+    pub fn single(config: &Config) -> JobKind {
         if config.optimise.is_some() {
             JobKind::Optimise
         } else if config.layering.is_some() {
@@ -74,7 +91,8 @@ pub struct Request {
     pub seed: Option<u64>,
     /// Skip the `[limits]` refusals.
     pub force: bool,
-    /// `optimise`: go on from the store's checkpoint.
+    /// `optimise`: go on from the store's checkpoint; `sweep`: keep the
+    /// runs the store's `sweep.csv` has finished and run the others.
     pub resume: bool,
     /// `optimise`: save a checkpoint every this many generations (0: never;
     /// one is saved when the job is cancelled all the same).
@@ -133,6 +151,11 @@ pub enum Job {
     Stability {
         /// Time cap of one run.
         time_cap: Duration,
+    },
+    /// A parameter study: every run planned.
+    Sweep {
+        /// The study.
+        study: Box<Study>,
     },
 }
 
@@ -277,14 +300,33 @@ impl Plan {
                     time_cap: request.time_cap,
                 }
             }
+            JobKind::Sweep => Job::Sweep {
+                study: Box::new(study::plan(&config, text, origin, request, &mut warnings)?),
+            },
         };
+        if config.sweep.is_some() && request.kind != JobKind::Sweep {
+            warnings.push(Warning {
+                kind: WarningKind::IgnoredTable,
+                message: format!(
+                    "{origin}: [sweep] is not used by the {} job (gapack sweep runs the study)",
+                    request.kind.name()
+                ),
+            });
+        }
         if request.kind == JobKind::Compare
             && let Some(run) = &config.fracture
         {
             compare_fracture(run, origin, &mut warnings)?;
         }
-        warnings.extend(size_warning(&config, origin));
-        warnings.extend(density_warning(&config, origin));
+        // A study's runs are sized (and warned of) one by one when planned.
+        if request.kind != JobKind::Sweep {
+            warnings.extend(size_warning(&config, origin));
+        }
+        if let Some(w) = density_warning(&config, origin)
+            && !warnings.contains(&w)
+        {
+            warnings.push(w);
+        }
         let identity = identity(text, config.scene.seed);
         Ok(Plan {
             kind: request.kind,

@@ -9,6 +9,7 @@ use super::error::JobError;
 use super::event::{Event, Observer, Stage, Warning, WarningKind};
 use super::plan::{Job, JobKind, Plan};
 use super::store::{Store, StoreError};
+use super::sweep::{self, Study};
 use crate::Method;
 use crate::cancel::{Cancel, Cancelled};
 use crate::check::{KS_MARGIN, grading_kept, ks_limit};
@@ -31,6 +32,7 @@ use crate::output::{
 };
 use crate::packer::{PackError, Packing, pack_observed};
 use crate::stability::{self, StabilityRun};
+use crate::sweep::{Measure, Row};
 
 /// File name of the list of a run's files, in its folder.
 pub const MANIFEST_JSON: &str = "manifest.json";
@@ -126,6 +128,19 @@ pub enum Report {
         /// Runs planned.
         total: usize,
     },
+    /// A parameter study.
+    Sweep {
+        /// One row per run planned, in product order (those not run too).
+        rows: Vec<Row>,
+        /// The swept keys, in order.
+        keys: Vec<String>,
+        /// Runs per point.
+        seeds: usize,
+        /// The measure charted.
+        measure: Measure,
+        /// Rows kept from the earlier `sweep.csv` of a resumed study.
+        resumed: usize,
+    },
 }
 
 /// One fracture of a `[fracture]` run.
@@ -210,6 +225,7 @@ pub fn run_on(
         Job::Layer { settings } => job.layer(settings, cancel),
         Job::Compare { target } => job.compare(*target, cancel),
         Job::Stability { time_cap } => job.stability(*time_cap, cancel),
+        Job::Sweep { study } => job.sweep(study, cancel),
     };
     let (report, interrupted) = match done {
         Ok(done) => done,
@@ -1263,6 +1279,22 @@ impl Running<'_> {
             },
             interrupted,
         ))
+    }
+
+    /// Run a parameter study (`jobs::sweep`): its own files, each run's
+    /// that it keeps, and those of the runs it resumed (left in place).
+    fn sweep(&mut self, study: &Study, cancel: &Cancel) -> Result<(Report, bool), JobError> {
+        let done = sweep::run(
+            self.plan,
+            study,
+            self.observer,
+            cancel,
+            self.store,
+            self.farm,
+        )?;
+        self.files.extend(done.kept);
+        self.write("", done.files)?;
+        Ok((done.report, done.interrupted))
     }
 
     /// Commit the run: its files, its manifest and the removal of the

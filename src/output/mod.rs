@@ -17,6 +17,7 @@ mod plot;
 mod read;
 mod run;
 mod svg;
+mod sweep;
 
 pub use atomic::{commit_atomic, write_all_atomic, write_atomic};
 pub use csv::{
@@ -38,8 +39,9 @@ pub use json::{
 };
 pub use plot::{
     CompareChart, Drawable, LineChart, Mark, PACKING_PNG, POROSITY_MAP_PNG, POROSITY_MAP_SVG,
-    PSD_PNG, PSD_SVG, PorosityMapChart, PsdChart, Series, StabilityChart, convergence_chart,
-    packing_png, porosity_map_chart, profile_chart, psd_chart, variant_label, window_chart,
+    PSD_PNG, PSD_SVG, PorosityMapChart, PsdChart, Series, StabilityChart, SweepChart,
+    convergence_chart, packing_png, porosity_map_chart, profile_chart, psd_chart, variant_label,
+    window_chart,
 };
 pub use read::{PackingTable, ReadError, read_packing_csv};
 pub use run::{
@@ -50,6 +52,7 @@ pub use run::{
 pub use svg::{
     PACKING_SVG, SVG_MAX_BYTES, diameter_range, packing_svg, packing_svg_note, packing_svg_within,
 };
+pub use sweep::{SWEEP_CSV, SWEEP_PNG, SWEEP_SVG, read_sweep_csv, render_sweep, sweep_csv};
 
 /// Every file name a run may write at the top of its folder.
 pub const FILE_NAMES: &[&str] = &[
@@ -85,4 +88,7 @@ pub const FILE_NAMES: &[&str] = &[
     STABILITY_CSV,
     STABILITY_SVG,
     STABILITY_PNG,
+    SWEEP_CSV,
+    SWEEP_SVG,
+    SWEEP_PNG,
 ];

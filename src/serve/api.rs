@@ -274,8 +274,9 @@ async fn log(request: Request, next: Next) -> Response {
 #[derive(Debug, Deserialize, IntoParams)]
 #[into_params(parameter_in = Query)]
 pub struct SubmitQuery {
-    /// `pack`, `optimise`, `layer`, `compare` or `stability` [default:
-    /// optimise with an [optimise] table, else layer with a [layering] one, else pack].
+    /// `pack`, `optimise`, `layer`, `compare`, `stability` or `sweep`
+    /// [default: sweep with a [sweep] table, else optimise with an
+    /// [optimise] one, else layer with a [layering] one, else pack].
     kind: Option<String>,
     /// Overrides the config's seed.
     seed: Option<u64>,
@@ -310,8 +311,10 @@ fn job_kind(name: &str) -> Result<JobKind, ApiError> {
         .into_iter()
         .find(|k| k.name() == name)
         .ok_or_else(|| {
+            let names: Vec<&str> = JobKind::ALL.iter().map(|k| k.name()).collect();
             ApiError::bad_request(format!(
-                "unknown job kind {name:?}; valid: pack, optimise, layer, compare, stability"
+                "unknown job kind {name:?}; valid: {}",
+                names.join(", ")
             ))
         })
 }

@@ -96,6 +96,10 @@ pub const EXAMPLES: &[(&str, &str)] = &[
         include_str!("../../configs/proppant_20_40.toml"),
     ),
     ("square_100", include_str!("../../configs/square_100.toml")),
+    (
+        "sweep_wells",
+        include_str!("../../configs/sweep_wells.toml"),
+    ),
     ("tapered", include_str!("../../configs/tapered.toml")),
     (
         "thesis_fracture",

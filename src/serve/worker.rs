@@ -142,9 +142,14 @@ fn execute(shared: &Shared, job: &JobRow, cancel: &Cancel) -> Result<Outcome, Jo
         .find(|k| k.name() == job.kind)
         .ok_or_else(|| JobError::Input(format!("unknown job kind {:?}", job.kind)))?;
     let mut store = DirStore::new(job_dir(shared, &job.id));
-    let resume = kind == JobKind::Optimise
-        && job.resume
-        && matches!(store.read(jobs::CHECKPOINT_JSON), Ok(Some(_)));
+    // A restarted job goes on from what it left: a search from its
+    // checkpoint, a study from the rows of its sweep.csv.
+    let left = match kind {
+        JobKind::Optimise => Some(jobs::CHECKPOINT_JSON),
+        JobKind::Sweep => Some(gapack::output::SWEEP_CSV),
+        _ => None,
+    };
+    let resume = job.resume && left.is_some_and(|f| matches!(store.read(f), Ok(Some(_))));
     let request = jobs::Request {
         seed: job.seed,
         force: shared.limits.force,

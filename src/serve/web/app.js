@@ -562,9 +562,10 @@
       $('packing-png').hidden = false;
       $('packing-png').src = await fileUrl(id, 'packing.png');
     }
-    // The run's charts: every SVG but the packing's own drawing.
+    // The run's charts: every SVG but the packing's own drawing (a study's
+    // runs' charts stay in its list of files: there may be hundreds).
     for (const name of names) {
-      if (!name.endsWith('.svg') || name === 'packing.svg') continue;
+      if (!name.endsWith('.svg') || name === 'packing.svg' || name.startsWith('runs/')) continue;
       const fig = document.createElement('figure');
       const cap = document.createElement('figcaption');
       cap.textContent = name.replace(/\.svg$/, '').replace(/_/g, ' ');

@@ -1,0 +1,629 @@
+//! The sweep job: a parameter study planned from `[sweep]` — every run's
+//! own plan, the config's job at one point and seed — and run over the
+//! farm: the runs are shared out to the threads (and the ranks of an MPI
+//! launch) in waves, each run alone on its thread in a store of its own,
+//! and their rows and kept files come back to build the study's files.
+//!
+//! # Behavior
+//! A run's row is a pure function of its plan (its seconds aside): it
+//! runs on [`Local`] with no observer, and only what comes back from
+//! [`farm::map`] builds the study's files, so they are the same whatever
+//! the number of threads and processes. A cancel stops the runs under way
+//! (each reports it, and its row is `not run`) and the waves after; the
+//! leading process alone decides that ([`farm::agree`]). A resumed study
+//! keeps the finished rows of the store's `sweep.csv` when its
+//! `manifest.json` names the same plan, and runs the others.
+
+use std::collections::BTreeMap;
+use std::error::Error;
+
+use serde::{Deserialize, Serialize};
+
+use super::error::JobError;
+use super::event::{Event, Observer, Stage, Warning, WarningKind};
+use super::plan::{JobKind, Plan, Request};
+use super::run::{MANIFEST_JSON, Report, run_on};
+use super::store::{MemoryStore, Store, StoreError};
+use crate::cancel::Cancel;
+use crate::config::{Config, ConfigError, Location, ParseOptions, key_location, sweep_points};
+use crate::farm::{self, Farm, Local};
+use crate::output::{SUMMARY_JSON, SWEEP_CSV, read_sweep_csv, render_sweep};
+use crate::sweep::{
+    Keep, Measure, Measures, Row, RunJob, Status, SweepSettings, SweptKey, point_names, run_name,
+};
+
+/// Runs per worker (thread × process) in a wave: the runs of a wave are
+/// shared out together, and the progress events come after each wave.
+const WAVE_PER_WORKER: usize = 2;
+
+/// Runs named in a warning that several runs gave, before `and N more`.
+const NAMED_RUNS: usize = 3;
+
+/// A parameter study, planned: its points (each a config) and its runs
+/// (each a point and a seed).
+///
+/// # Performance
+/// A study holds one config per point, not one plan per run: a run's plan
+/// is made when it runs ([`Study::run_plan`]), so a study of many seeds
+/// costs no more memory than one of a single seed.
+#[derive(Debug, Clone)]
+#[non_exhaustive]
+pub struct Study {
+    /// `[sweep]`.
+    pub settings: SweepSettings,
+    /// The job every run is.
+    pub kind: JobKind,
+    /// Every point, in product order.
+    pub points: Vec<StudyPoint>,
+    /// Every run, in product order (`seeds` to a point).
+    pub runs: Vec<StudyRun>,
+    /// Keep the finished rows of the store's `sweep.csv` and run the others.
+    pub resume: bool,
+    /// The config's origin, which the runs' messages and files name.
+    origin: String,
+    /// Skip the `[limits]` refusals (`--force`).
+    force: bool,
+    /// The request's time cap, passed on to each run's.
+    time_cap: std::time::Duration,
+}
+
+/// One point of a study: a value of every swept key.
+#[derive(Debug, Clone)]
+#[non_exhaustive]
+pub struct StudyPoint {
+    /// Its name (`width_mm=2.5,preset=20-40`).
+    pub name: String,
+    /// The value of each swept key, as `sweep.csv` shows it.
+    pub values: Vec<String>,
+    /// Its config as TOML text (for the runs' identity).
+    pub text: String,
+    /// Its config, or why its scene cannot be packed (its runs fail with it).
+    pub config: Result<Config, String>,
+}
+
+/// One run of a study.
+#[derive(Debug, Clone)]
+#[non_exhaustive]
+pub struct StudyRun {
+    /// Its name: the point's, then its seed (`width_mm=2.5,preset=20-40,seed=3`).
+    pub name: String,
+    /// Its point, an index into [`Study::points`].
+    pub point: usize,
+    /// Its seed: the config's (or `--seed`) plus its place among the point's seeds.
+    pub seed: u64,
+}
+
+impl Study {
+    /// The plan of `run`: its point's config, its seed, the study's job;
+    /// without `keep = "all"` no file but `summary.json` is made.
+    ///
+    /// # Errors
+    /// Why the run cannot run: its point's scene cannot be packed, or the
+    /// job refuses its config, in one line.
+    pub fn run_plan(&self, run: &StudyRun) -> Result<Plan, String> {
+        let point = self.points.get(run.point).ok_or("no such point")?;
+        let config = point.config.as_ref().map_err(Clone::clone)?;
+        let request = Request {
+            kind: self.kind,
+            seed: Some(run.seed),
+            force: self.force,
+            resume: false,
+            checkpoint_every: 0,
+            time_cap: self.time_cap,
+        };
+        let mut plan = Plan::new(config.clone(), &point.text, &self.origin, &request)
+            .map_err(|e| one_line(&e))?;
+        // The runs' other files are not kept: not made either.
+        if self.settings.keep != Keep::All {
+            plan.config.output.formats.clear();
+        }
+        Ok(plan)
+    }
+}
+
+/// Plan the study of `config` (of `text`, named `origin`): every point's
+/// config, checked by planning its first run; each run's warnings once in
+/// `warnings`.
+///
+/// # Errors
+/// [`JobError::Input`] without a `[sweep]` table; [`JobError::Config`]
+/// for a key or value of `[sweep]` at fault, placed at its entry, or a
+/// measure the runs do not give; what [`Plan::new`] refuses of a run.
+pub(super) fn plan(
+    config: &Config,
+    text: &str,
+    origin: &str,
+    request: &Request,
+    warnings: &mut Vec<Warning>,
+) -> Result<Study, JobError> {
+    let Some(settings) = config.sweep.clone() else {
+        return Err(JobError::Input(format!(
+            "{origin}:1:1: sweep: missing table [sweep]; the sweep job needs one naming at least one config key and its values, e.g. \"fracture.width_mm\" = [2.0, 2.5, 3.0]"
+        )));
+    };
+    let kind = match settings.job {
+        Some(RunJob::Pack) => JobKind::Pack,
+        Some(RunJob::Optimise) => JobKind::Optimise,
+        Some(RunJob::Layer) => JobKind::Layer,
+        None => JobKind::single(config),
+    };
+    if settings.measure == Measure::Error && config.optimise.is_none() && kind != JobKind::Layer {
+        return Err(ConfigError::NotApplicable {
+            at: key_location(text, origin, "sweep.measure")
+                .unwrap_or_else(|| Location::at(origin, text, 0)),
+            key: "sweep.measure".to_owned(),
+            reason: format!(
+                "the {} runs have no target to measure an error against: give [optimise] target_porosity, or chart another measure",
+                kind.name()
+            ),
+        }
+        .into());
+    }
+    let options = ParseOptions {
+        force: request.force,
+    };
+    let names = point_names(&settings.keys);
+    let texts: Vec<Vec<String>> = settings.keys.iter().map(SweptKey::texts).collect();
+    let points: Vec<StudyPoint> = sweep_points(text, origin, options, &settings)?
+        .into_iter()
+        .zip(names)
+        .map(|(point, name)| StudyPoint {
+            name,
+            values: point
+                .values
+                .iter()
+                .enumerate()
+                .map(|(k, &i)| texts[k][i].clone())
+                .collect(),
+            text: point.text,
+            config: point.config,
+        })
+        .collect();
+    let mut study = Study {
+        kind,
+        points,
+        runs: Vec::with_capacity(settings.runs()),
+        resume: request.resume,
+        origin: origin.to_owned(),
+        force: request.force,
+        time_cap: request.time_cap,
+        settings,
+    };
+    for (p, point) in study.points.iter().enumerate() {
+        for k in 0..study.settings.seeds as u64 {
+            let seed = config.scene.seed.wrapping_add(k);
+            study.runs.push(StudyRun {
+                name: run_name(&point.name, seed),
+                point: p,
+                seed,
+            });
+        }
+    }
+    // Each point's first run planned now: a job that refuses a point's
+    // config refuses the study, and each warning is said once, before it runs.
+    for run in study.runs.iter().step_by(study.settings.seeds.max(1)) {
+        let Ok(config) = &study.points[run.point].config else {
+            continue;
+        };
+        let request = Request {
+            kind,
+            seed: Some(run.seed),
+            force: request.force,
+            resume: false,
+            checkpoint_every: 0,
+            time_cap: request.time_cap,
+        };
+        let plan = Plan::new(
+            config.clone(),
+            &study.points[run.point].text,
+            origin,
+            &request,
+        )?;
+        for w in plan.warnings {
+            if !warnings.contains(&w) {
+                warnings.push(w);
+            }
+        }
+    }
+    Ok(study)
+}
+
+/// What one run gives back to every process: how it ended, the files the
+/// study keeps of it, and the warnings it gave while running.
+#[derive(Debug, Serialize, Deserialize)]
+struct Ran {
+    status: Status,
+    files: Vec<(String, Vec<u8>)>,
+    warnings: Vec<Warning>,
+}
+
+/// A study run: its report, whether it was cut short, the files it made,
+/// and the files of runs resumed, which stay as the earlier study wrote them.
+pub(super) struct Finished {
+    pub report: Report,
+    pub interrupted: bool,
+    pub files: Vec<(String, Vec<u8>)>,
+    pub kept: Vec<String>,
+}
+
+/// Run `study` (of `plan`): events to `observer`, stopped by `cancel`,
+/// the earlier study read from `store` when resuming.
+///
+/// # Errors
+/// [`JobError::Input`] when a resume finds no study of this plan to go on
+/// from; [`JobError::Cancelled`] when no run was finished; an output error.
+pub(super) fn run(
+    plan: &Plan,
+    study: &Study,
+    observer: &mut dyn Observer,
+    cancel: &Cancel,
+    store: &dyn Store,
+    farm: &dyn Farm,
+) -> Result<Finished, JobError> {
+    let total = study.runs.len();
+    observer.event(&Event::Stage {
+        stage: Stage::Sweep,
+        total: Some(total as u64),
+    });
+    let mut rows: Vec<Option<Row>> = vec![None; total];
+    let mut kept = Vec::new();
+    if study.resume {
+        let earlier = earlier(plan, study, store, farm)?;
+        for (i, run) in study.runs.iter().enumerate() {
+            let Some(row) = earlier.rows.get(&run.name) else {
+                continue;
+            };
+            if row.values == study.points[run.point].values
+                && row.seed == run.seed
+                && matches!(row.status, Status::Finished(_))
+            {
+                let folder = format!("runs/{}/", run.name);
+                kept.extend(
+                    earlier
+                        .files
+                        .iter()
+                        .filter(|f| f.starts_with(&folder))
+                        .cloned(),
+                );
+                rows[i] = Some(row.clone());
+                observer.event(&Event::Run {
+                    stage: Stage::Sweep,
+                    index: i,
+                    label: format!("{} (resumed)", run.name),
+                });
+            }
+        }
+    }
+    let resumed = rows.iter().flatten().count();
+    let pending: Vec<usize> = (0..total).filter(|&i| rows[i].is_none()).collect();
+    let workers = rayon::current_num_threads().max(1) * farm.processes().max(1);
+    let wave = farm::share(farm, workers * WAVE_PER_WORKER).max(1);
+    let keep = study.settings.keep;
+    let mut files = Vec::new();
+    let mut warned: Vec<(String, Warning)> = Vec::new();
+    for chunk in pending.chunks(wave) {
+        let ran: Vec<Ran> = farm::map(farm, chunk.len(), |j| {
+            execute(study, &study.runs[chunk[j]], keep, cancel)
+        });
+        for (&i, ran) in chunk.iter().zip(ran) {
+            let run = &study.runs[i];
+            if ran.status == Status::NotRun {
+                continue;
+            }
+            observer.event(&Event::Run {
+                stage: Stage::Sweep,
+                index: i,
+                label: run.name.clone(),
+            });
+            files.extend(ran.files);
+            warned.extend(ran.warnings.into_iter().map(|w| (run.name.clone(), w)));
+            rows[i] = Some(row(study, run, ran.status));
+        }
+        if farm::agree(farm, cancel.is_cancelled()) {
+            break;
+        }
+    }
+    let rows: Vec<Row> = rows
+        .into_iter()
+        .zip(&study.runs)
+        .map(|(r, run)| r.unwrap_or_else(|| row(study, run, Status::NotRun)))
+        .collect();
+    let interrupted = rows.iter().any(|r| r.status == Status::NotRun);
+    if interrupted && rows.iter().all(|r| r.status == Status::NotRun) {
+        return Err(JobError::Cancelled);
+    }
+    for warning in gathered(warned) {
+        observer.event(&Event::Warning(warning));
+    }
+    let mut made = render_sweep(&study.settings, &rows)?;
+    made.extend(files);
+    Ok(Finished {
+        report: Report::Sweep {
+            rows,
+            keys: study.settings.keys.iter().map(|k| k.path.clone()).collect(),
+            seeds: study.settings.seeds,
+            measure: study.settings.measure,
+            resumed,
+        },
+        interrupted,
+        files: made,
+        kept,
+    })
+}
+
+fn row(study: &Study, run: &StudyRun, status: Status) -> Row {
+    Row {
+        run: run.name.clone(),
+        values: study.points[run.point].values.clone(),
+        seed: run.seed,
+        status,
+    }
+}
+
+/// Run one run of a study alone: on this thread's farm, into a store of
+/// its own, its events recorded only for the warnings it gives.
+fn execute(study: &Study, run: &StudyRun, keep: Keep, cancel: &Cancel) -> Ran {
+    let ended = |status| Ran {
+        status,
+        files: Vec::new(),
+        warnings: Vec::new(),
+    };
+    let plan = match study.run_plan(run) {
+        Ok(plan) => plan,
+        Err(why) => return ended(Status::Failed(why)),
+    };
+    if cancel.is_cancelled() {
+        return ended(Status::NotRun);
+    }
+    let mut store = MemoryStore::default();
+    let mut warnings = Vec::new();
+    let mut observer = |e: &Event| {
+        if let Event::Warning(w) = e
+            && !plan.warnings.contains(w)
+        {
+            warnings.push(w.clone());
+        }
+    };
+    let outcome = run_on(&plan, &mut observer, cancel, &mut store, &Local);
+    let status = match outcome {
+        Ok(outcome) if outcome.interrupted => return ended(Status::NotRun),
+        Ok(outcome) => match measures(&plan, &outcome.report, outcome.seconds()) {
+            Some(m) => Status::Finished(m),
+            None => Status::Failed("the run gave no measures".to_owned()),
+        },
+        Err(JobError::Cancelled) => return ended(Status::NotRun),
+        Err(e) => Status::Failed(one_line(&e)),
+    };
+    let files = if matches!(status, Status::Finished(_)) {
+        store
+            .files
+            .into_iter()
+            .filter(|(name, _)| match keep {
+                Keep::None => false,
+                Keep::Summary => {
+                    name == SUMMARY_JSON || name.ends_with(&format!("/{SUMMARY_JSON}"))
+                }
+                Keep::All => true,
+            })
+            .map(|(name, bytes)| (format!("runs/{}/{name}", run.name), bytes))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    Ran {
+        status,
+        files,
+        warnings,
+    }
+}
+
+/// A finished run's measures; the totals and means over the wells of a batch.
+fn measures(plan: &Plan, report: &Report, seconds: f64) -> Option<Measures> {
+    let target = plan.config.optimise.map(|o| o.target_porosity);
+    let error = |porosity: f64| target.map(|t| (porosity - t).abs());
+    let of = |m: &crate::Metrics, target_error| Measures {
+        particles: m.particles,
+        porosity: m.porosity,
+        psd_ks: m.psd_ks,
+        coordination: m.coordination,
+        target_error,
+        seconds,
+    };
+    match report {
+        Report::Pack { metrics, .. } => Some(of(metrics, error(metrics.porosity))),
+        Report::Optimise {
+            metrics, summary, ..
+        } => Some(of(metrics, Some(summary.error))),
+        Report::Layer {
+            metrics, layered, ..
+        } => Some(of(metrics, Some(layered.rms))),
+        Report::Wells { wells, .. } if !wells.is_empty() => {
+            let n = wells.len() as f64;
+            let mean = |f: fn(&super::WellOutcome) -> f64| wells.iter().map(f).sum::<f64>() / n;
+            let porosity = mean(|w| w.row.porosity);
+            Some(Measures {
+                particles: wells.iter().map(|w| w.row.particles).sum(),
+                porosity,
+                psd_ks: mean(|w| w.row.psd_ks),
+                coordination: mean(|w| w.row.coordination),
+                target_error: error(porosity),
+                seconds,
+            })
+        }
+        _ => None,
+    }
+}
+
+/// An error and its causes in one line: `cannot pack the scene: …`.
+fn one_line(e: &JobError) -> String {
+    let mut text = e.to_string();
+    let mut source = e.source();
+    while let Some(cause) = source {
+        let said = cause.to_string();
+        if !text.contains(&said) {
+            text = format!("{text}: {said}");
+        }
+        source = cause.source();
+    }
+    text.replace(['\n', '\r'], " ")
+}
+
+/// The warnings the runs gave, one per kind: the first run's, with how
+/// many others gave one of that kind and some of their names.
+fn gathered(warned: Vec<(String, Warning)>) -> Vec<Warning> {
+    let mut kinds: Vec<WarningKind> = Vec::new();
+    for (_, w) in &warned {
+        if !kinds.contains(&w.kind) {
+            kinds.push(w.kind);
+        }
+    }
+    kinds
+        .into_iter()
+        .filter_map(|kind| {
+            let mine: Vec<&(String, Warning)> =
+                warned.iter().filter(|(_, w)| w.kind == kind).collect();
+            let (first, warning) = mine.first()?;
+            let others: Vec<&str> = mine[1..].iter().map(|(name, _)| name.as_str()).collect();
+            let more = match others.len() {
+                0 => String::new(),
+                n if n <= NAMED_RUNS => format!(" (so did {})", others.join(", ")),
+                n => format!(
+                    " (so did {} and {} more runs)",
+                    others[..NAMED_RUNS].join(", "),
+                    n - NAMED_RUNS
+                ),
+            };
+            Some(Warning {
+                kind,
+                message: format!("run {first}: {}{more}", warning.message),
+            })
+        })
+        .collect()
+}
+
+/// The earlier study a resume goes on from: its rows by run name, and the files its manifest lists.
+struct Earlier {
+    rows: BTreeMap<String, Row>,
+    files: Vec<String>,
+}
+
+/// `manifest.json` as a resume reads it.
+#[derive(Deserialize)]
+struct EarlierManifest {
+    job: JobKind,
+    config: String,
+    identity: String,
+    seed: u64,
+    files: Vec<String>,
+}
+
+/// The store's `sweep.csv` and `manifest.json`, read by the leading
+/// process and shared, if they belong to this plan.
+fn earlier(
+    plan: &Plan,
+    study: &Study,
+    store: &dyn Store,
+    farm: &dyn Farm,
+) -> Result<Earlier, JobError> {
+    let location = store.location();
+    let read = |name: &str| -> Result<Option<Vec<u8>>, StoreError> { store.read(name) };
+    let local = read(MANIFEST_JSON).and_then(|m| Ok((m, read(SWEEP_CSV)?)));
+    let shared = farm::share(
+        farm,
+        local
+            .as_ref()
+            .map(Clone::clone)
+            .map_err(ToString::to_string),
+    );
+    let (manifest, table) = match (local, shared) {
+        (Err(e), _) => return Err(e.into()),
+        (Ok(_), Err(e)) => return Err(JobError::Input(format!("{location}: {e}"))),
+        (Ok(_), Ok(both)) => both,
+    };
+    let (Some(manifest), Some(table)) = (manifest, table) else {
+        return Err(JobError::Input(format!(
+            "there is no study to resume in {location}: it needs the {SWEEP_CSV} and {MANIFEST_JSON} of a stopped gapack sweep"
+        )));
+    };
+    let manifest: EarlierManifest = serde_json::from_slice(&manifest).map_err(|e| {
+        JobError::Input(format!(
+            "{MANIFEST_JSON} in {location} is not a gapack manifest: {e}"
+        ))
+    })?;
+    if manifest.job != JobKind::Sweep || manifest.identity != plan.identity {
+        return Err(JobError::Input(format!(
+            "{SWEEP_CSV} in {location} belongs to another run: the {} job of config {} with seed {}; this study is {} with seed {} (the config's text or the seed differ)",
+            manifest.job.name(),
+            manifest.config,
+            manifest.seed,
+            plan.origin,
+            plan.seed()
+        )));
+    }
+    let rows = read_sweep_csv(&table, study.settings.keys.len())
+        .into_iter()
+        .map(|r| (r.run.clone(), r))
+        .collect();
+    Ok(Earlier {
+        rows,
+        files: manifest.files,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn warning(kind: WarningKind, message: &str) -> Warning {
+        Warning {
+            kind,
+            message: message.to_owned(),
+        }
+    }
+
+    /// The runs' warnings are said once per kind, naming a few of the runs.
+    #[test]
+    fn the_runs_warnings_are_gathered_by_kind() {
+        let bent = |run: &str| {
+            (
+                run.to_owned(),
+                warning(WarningKind::GradingBent, &format!("{run} bends")),
+            )
+        };
+        let mut warned: Vec<(String, Warning)> = ["a", "b", "c", "d", "e"].map(bent).to_vec();
+        warned.insert(
+            1,
+            (
+                "b".to_owned(),
+                warning(WarningKind::TargetNotReached, "not reached"),
+            ),
+        );
+        let said = gathered(warned);
+        assert_eq!(said.len(), 2);
+        assert_eq!(said[0].kind, WarningKind::GradingBent);
+        assert_eq!(
+            said[0].message,
+            "run a: a bends (so did b, c, d and 1 more runs)"
+        );
+        assert_eq!(said[1].message, "run b: not reached");
+        assert!(gathered(Vec::new()).is_empty());
+    }
+
+    /// A failure's causes follow it on one line, none said twice.
+    #[test]
+    fn a_failure_is_one_line_with_its_causes() {
+        let e = JobError::Pack {
+            what: "the scene".to_owned(),
+            source: crate::PackError::DomainTooNarrow {
+                inscribed: 0.2,
+                d_min: 0.4,
+            },
+        };
+        let line = one_line(&e);
+        assert!(line.starts_with("cannot pack the scene: "), "{line}");
+        assert!(
+            line.contains("too narrow") && !line.contains('\n'),
+            "{line}"
+        );
+    }
+}
