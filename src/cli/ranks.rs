@@ -36,7 +36,7 @@ const SHARE: i32 = 4;
 const DONE: i32 = 5;
 
 /// The longest sleep between two polls of a waiting rank.
-const MAX_NAP: Duration = Duration::from_millis(2);
+const MAX_NAP: Duration = Duration::from_micros(250);
 
 /// An MPI job's ranks.
 pub struct Ranks {
