@@ -14,7 +14,7 @@
 //! `GAPACK_BENCH_JOBS`, `GAPACK_BENCH_CLIENTS` and `GAPACK_BENCH_WORKERS`
 //! change the load.
 
-#[path = "../tests/common/server.rs"]
+#[path = "../tests/integration/common/server.rs"]
 #[allow(dead_code)] // the tests use all of it, this bench only the start
 mod server;
 

@@ -20,7 +20,7 @@ use libfuzzer_sys::{fuzz_mutator, fuzz_target, fuzzer_mutate};
 use serde_json::Value;
 
 /// The edits, shared with the replay test of the main crate.
-#[path = "../../tests/common/json_edit.rs"]
+#[path = "../../tests/integration/common/json_edit.rs"]
 mod json_edit;
 
 /// The search the checkpoints belong to.

@@ -4,7 +4,7 @@
 
 use std::fs;
 
-#[path = "../../tests/common/stopped_search.rs"]
+#[path = "../../tests/integration/common/stopped_search.rs"]
 mod stopped_search;
 
 fn main() {

@@ -11,7 +11,7 @@
 //! # Scale
 //! The algorithm is scale-free, and so is every tolerance: none is an
 //! absolute length. A scene scaled by a power of two packs to the same disks
-//! scaled (bit for bit; `tests/scales.rs` checks 2⁻²⁰ to 2²⁰), and one scaled
+//! scaled (bit for bit; `tests/integration/scales.rs` checks 2⁻²⁰ to 2²⁰), and one scaled
 //! by a power of ten to the same packing up to rounding. Each tolerance is
 //! relative to one of:
 //! - **the radii**: [`OVERLAP_REL`], [`FEASIBLE_REL`], [`CONTACT_REL`],
@@ -70,7 +70,7 @@ pub const TANGENT_REL: f64 = 1e-12;
 /// forgives a computed point (see [`clear_disk_walls`]).
 ///
 /// Two ulps keep wall-tangent candidates up to 2·10⁶ diameters from the
-/// origin, along axis-aligned and slanted walls (`tests/scales.rs`). With
+/// origin, along axis-aligned and slanted walls (`tests/integration/scales.rs`). With
 /// none, a pocket turned 30° at 10⁶ diameters packed 401 disks instead of
 /// 429; with four, a disk stood out of it at 2·10⁶ diameters by 1.2·10⁻⁹ of
 /// its diameter, over [`OVERLAP_REL`].

@@ -304,7 +304,7 @@ struct Near {
 /// candidates tangent to a neighbour were judged inside it once the
 /// coordinates' rounding reached [`FEASIBLE_REL`] (about 10⁵ radii from the
 /// origin): a pocket of a domain 10⁶ diameters from the origin packed 5 to
-/// 10 % fewer disks than the same pocket near it (`tests/scales.rs`). The
+/// 10 % fewer disks than the same pocket near it (`tests/integration/scales.rs`). The
 /// point, computed as before, is where the disk goes (so packings near the
 /// origin are unchanged, bit for bit).
 #[derive(Clone, Copy)]

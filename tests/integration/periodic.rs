@@ -8,7 +8,7 @@
 //! exists only across an edge, the exports' declarations of the periodic
 //! box, the pictures, and the refusals.
 
-mod common;
+use crate::common;
 
 use std::fs;
 

@@ -7,7 +7,7 @@ use gapack::Cancel;
 use gapack::jobs::{self, Event, JobKind, MemoryStore, Plan, Request};
 
 /// The search the checkpoints belong to.
-pub const CONFIG: &str = include_str!("../data/replay/optimise.toml");
+pub const CONFIG: &str = include_str!("../../data/replay/optimise.toml");
 
 /// The origin the checkpoints are made and resumed under.
 pub const ORIGIN: &str = "optimise.toml";

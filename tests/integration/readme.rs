@@ -7,7 +7,7 @@
 //! commands with a placeholder in capitals (`configs/apN.toml`) are forms,
 //! not commands.
 
-mod common;
+use crate::common;
 
 use std::fs;
 use std::path::Path;
@@ -24,7 +24,7 @@ const ELSEWHERE: &[(&str, &str)] = &[
     ),
     (
         "mpirun ",
-        "tests/mpi.rs runs jobs under mpirun against plain runs",
+        "tests/integration/mpi.rs runs jobs under mpirun against plain runs",
     ),
     (
         "apt-get install",
@@ -32,31 +32,31 @@ const ELSEWHERE: &[(&str, &str)] = &[
     ),
     (
         "gapack serve",
-        "the service block: tests/serve.rs runs it as a script",
+        "the service block: tests/integration/serve.rs runs it as a script",
     ),
     (
         "curl ",
-        "the service block: tests/serve.rs runs it as a script",
+        "the service block: tests/integration/serve.rs runs it as a script",
     ),
     (
         "ID=$(curl",
-        "the service block: tests/serve.rs runs it as a script",
+        "the service block: tests/integration/serve.rs runs it as a script",
     ),
     (
         "--data-binary",
-        "the service block: tests/serve.rs runs it as a script",
+        "the service block: tests/integration/serve.rs runs it as a script",
     ),
     (
         "'http://",
-        "the service block: tests/serve.rs runs it as a script",
+        "the service block: tests/integration/serve.rs runs it as a script",
     ),
     (
         "kill %1",
-        "the service block: tests/serve.rs runs it as a script",
+        "the service block: tests/integration/serve.rs runs it as a script",
     ),
     (
         "wait",
-        "the service block: tests/serve.rs runs it as a script",
+        "the service block: tests/integration/serve.rs runs it as a script",
     ),
 ];
 

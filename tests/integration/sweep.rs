@@ -3,7 +3,7 @@
 //! placed at their `[sweep]` entry, the same rows whatever the threads,
 //! and a stopped or truncated study resumed to the same rows.
 
-mod common;
+use crate::common;
 
 use std::fs;
 use std::path::Path;

@@ -3,7 +3,7 @@
 //! line; the test runs that command, then checks every packing it wrote with
 //! `gapack verify` (an independent check of overlaps, containment and grading).
 
-mod common;
+use crate::common;
 
 use std::fs;
 use std::path::{Path, PathBuf};

@@ -3,7 +3,7 @@
 //! number of threads, out-of-reach targets are reported with the range,
 //! Ctrl-C still writes a valid packing, and bad `[optimise]` keys are refused.
 
-mod common;
+use crate::common;
 
 use gapack::Cancel;
 use std::fs;

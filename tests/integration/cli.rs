@@ -5,7 +5,7 @@
 //! named `packs_*` and `shipped_configs_parse` need the packer, domains and
 //! gradings, the others fail before those are called.
 
-mod common;
+use crate::common;
 
 use std::fs;
 use std::path::Path;

@@ -6,7 +6,7 @@
 //! the typed error naming the densest porosity reached. Runs end: the cancel
 //! token and deadlines are honoured, an impossible target errs quickly.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::PI;
 use std::sync::atomic::{AtomicUsize, Ordering};

@@ -1,7 +1,7 @@
 //! Invariants of every packing, over a few hundred random scenes (proptest):
 //! zero overlaps, every disk inside, termination, the domain filled.
 
-mod common;
+use crate::common;
 
 use common::frac;
 use gapack::OVERLAP_REL;

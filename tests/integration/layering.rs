@@ -2,7 +2,7 @@
 //! against the baseline it starts from, size-graded packing, determinism,
 //! and bad `[layering]` input refused.
 
-mod common;
+use crate::common;
 
 use gapack::Cancel;
 use std::fs;

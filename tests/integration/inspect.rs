@@ -2,7 +2,7 @@
 //! what they print, their exit codes, and their faults located to the line
 //! and column.
 
-mod common;
+use crate::common;
 
 use std::fs;
 

@@ -1,7 +1,10 @@
 //! Scene builders shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod json_edit;
 pub mod server;
+pub mod stopped_search;
+pub mod webdriver;
 
 use std::fs;
 use std::path::{Path, PathBuf};

@@ -1,6 +1,6 @@
 //! `gapack compare`: every generator on one scene, the table and the chart.
 
-mod common;
+use crate::common;
 
 use std::fs;
 

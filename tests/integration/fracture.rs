@@ -2,7 +2,7 @@
 //! wells and fracture cell, representative windows, narrow and tapered
 //! fractures, batches through the binary, and every bad input.
 
-mod common;
+use crate::common;
 
 use std::fs;
 use std::path::Path;
@@ -41,7 +41,7 @@ fn assert_valid(name: &str, packing: &Packing, scene: &Scene) {
 
 /// The thesis' wells (Tables 3.15–3.16), one row each.
 fn thesis_wells() -> Vec<(String, f64, f64, usize, f64)> {
-    include_str!("data/thesis_wells.csv")
+    include_str!("../data/thesis_wells.csv")
         .lines()
         .filter(|l| !l.starts_with('#') && !l.starts_with("well"))
         .map(|l| {

@@ -1,7 +1,7 @@
 //! The comparison generators (random sequential addition, ballistic
 //! deposition, relaxation): each one's invariants on many scenes.
 
-mod common;
+use crate::common;
 
 use gapack::OVERLAP_REL;
 use gapack::{

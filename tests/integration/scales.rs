@@ -12,9 +12,9 @@
 //! of the largest diameter.
 //!
 //! The scenes drawn are the same on every run (a fixed seed);
-//! `PROPTEST_RNG_SEED=N cargo test --test scales` explores others.
+//! `PROPTEST_RNG_SEED=N cargo test --test integration scales::` explores others.
 
-mod common;
+use crate::common;
 
 use gapack::check;
 use gapack::{
@@ -252,7 +252,7 @@ fn powers_of_two_pack_the_same_disks_scaled() {
 /// ties. Measured (seed 1, the 56 scenes here × 4 scales): the same disk
 /// count in 215 of 224, porosity then equal within 1e-14; the other 9 (the
 /// step grading with wall disks) within 11 disks of 184 and 0.019 in
-/// porosity. `cargo test --test scales -- --nocapture` prints them.
+/// porosity. `cargo test --test integration scales:: -- --nocapture` prints them.
 #[test]
 fn powers_of_ten_pack_alike() {
     let (mut report, mut same, mut runs) = (Vec::new(), 0, 0);

@@ -1,6 +1,6 @@
 //! `gapack stability`: the whole sweep for one method, its table and its map.
 
-mod common;
+use crate::common;
 
 use std::fs;
 

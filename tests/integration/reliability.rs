@@ -2,7 +2,7 @@
 //! cleanly with the best packing so far and a checkpoint; `--resume` goes on
 //! to the same result as a run never stopped.
 
-mod common;
+use crate::common;
 
 use std::fs;
 use std::path::Path;

@@ -4,14 +4,12 @@
 //! under another number of ranks reaches the plain run's result; a job that
 //! fails under MPI ends every rank with one message.
 //!
-//! Run with `cargo test --features mpi --test mpi` on a machine with Open
+//! Run with `cargo test --features mpi --test integration mpi::` on a machine with Open
 //! MPI (`mpirun` on the PATH); CI does.
 #![cfg(feature = "mpi")]
 
-mod common;
-#[path = "common/stopped_search.rs"]
-#[allow(dead_code)]
-mod stopped_search;
+use crate::common;
+use crate::common::stopped_search;
 
 use std::collections::BTreeMap;
 use std::fs;
@@ -176,8 +174,8 @@ fn compare_is_the_same_on_any_number_of_ranks() {
 
 #[test]
 fn a_sweep_is_the_same_on_any_number_of_ranks() {
-    let study =
-        include_str!("../configs/sweep_wells.toml").replace("keep = \"summary\"", "keep = \"all\"");
+    let study = include_str!("../../configs/sweep_wells.toml")
+        .replace("keep = \"summary\"", "keep = \"all\"");
     same_on_any_ranks("sweep", "sweep", &study, 31);
 }
 

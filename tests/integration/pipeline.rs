@@ -19,9 +19,9 @@
 //! agree with the check's (particle count, porosity to 1e-12).
 //!
 //! The texts drawn are the same on every run (a fixed seed);
-//! `PROPTEST_RNG_SEED=N cargo test --test pipeline` explores others.
+//! `PROPTEST_RNG_SEED=N cargo test --test integration pipeline::` explores others.
 
-mod common;
+use crate::common;
 
 use std::fmt::Write as _;
 use std::sync::atomic::{AtomicUsize, Ordering};

@@ -7,9 +7,8 @@
 //! fails. Screenshots go to `target/tmp/screenshots/` (or
 //! `GAPACK_SCREENSHOTS`).
 
-mod common;
-#[path = "common/webdriver.rs"]
-mod webdriver;
+use crate::common;
+use crate::common::webdriver;
 
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -33,7 +32,7 @@ fn browser_here() -> bool {
         Some(what) => {
             let how = "install Debian's chromium and chromium-driver \
                        (apt-get install -y chromium chromium-driver), then \
-                       `cargo test --test browser`";
+                       `cargo test --test integration browser::`";
             assert!(
                 std::env::var("GAPACK_BROWSER_TESTS").as_deref() != Ok("required"),
                 "browser tests required, but {what} missing: {how}"

@@ -5,7 +5,7 @@
 //! the faults: `kill -9` mid-optimise then a restart, a job whose output
 //! write fails, SIGTERM with jobs queued and running.
 
-mod common;
+use crate::common;
 
 use std::fs;
 use std::io::{BufRead, BufReader};

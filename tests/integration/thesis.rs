@@ -2,7 +2,7 @@
 //! with its wall model (`walls = "disks"`) and the Table 3.4 grading.
 //! Reference tables are copied into `tests/data/` from the project's shared reference.
 
-mod common;
+use crate::common;
 
 use gapack::{Domain, WallMode, pack};
 
@@ -37,7 +37,7 @@ fn fracture_case_matches_thesis() {
 /// Table 3.13: square domains of side ≥ 20 mm within ±0.03 of the thesis' mean porosity.
 #[test]
 fn square_domains_match_thesis() {
-    let text = include_str!("data/thesis_square_domains.csv");
+    let text = include_str!("../data/thesis_square_domains.csv");
     let mut sides: Vec<(f64, Vec<f64>)> = Vec::new();
     for line in text
         .lines()

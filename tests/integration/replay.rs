@@ -15,11 +15,9 @@
 //! `optimise.toml`; `refused_*` ones must be refused with exit 2). Add the
 //! input of every new fault there.
 
-mod common;
-#[path = "common/json_edit.rs"]
-mod json_edit;
-#[path = "common/stopped_search.rs"]
-mod stopped_search;
+use crate::common;
+use crate::common::json_edit;
+use crate::common::stopped_search;
 
 use std::fs;
 use std::io::Read;

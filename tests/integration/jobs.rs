@@ -2,7 +2,7 @@
 //! totals, every job kind cancelled part-way keeping what it finished, a
 //! reused output folder left holding only the new run's files.
 
-mod common;
+use crate::common;
 
 use std::fs;
 use std::time::{Duration, Instant};

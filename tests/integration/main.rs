@@ -1,0 +1,31 @@
+//! The integration tests, one binary (one link, one build of the crate's
+//! test harness) with a module per subject: `cargo test --test integration`
+//! runs them all, `cargo test --test integration sweep::` one subject.
+
+mod common;
+
+mod browser;
+mod cli;
+mod compare;
+mod configs;
+mod densify;
+mod exports;
+mod fracture;
+mod generators;
+mod inspect;
+mod jobs;
+mod layering;
+mod layers;
+mod mpi;
+mod optimise;
+mod packing_properties;
+mod periodic;
+mod pipeline;
+mod readme;
+mod reliability;
+mod replay;
+mod scales;
+mod serve;
+mod stability;
+mod sweep;
+mod thesis;
