@@ -10,6 +10,7 @@ mod placed;
 mod relaxation;
 mod rsa;
 mod sizer;
+mod wall_runs;
 
 pub use crate::scene::{
     DEFAULT_ATTEMPTS, Densify, Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method,
