@@ -1,8 +1,9 @@
 //! Spatial indexes for the packer's fixed-size range search.
 //!
-//! Items are disk centres with dense ids `0, 1, 2, …` inserted in order. All
-//! indexes keep each bucket as an intrusive singly linked list (`next[id]`),
-//! so an item costs 4 bytes beyond its bucket's head.
+//! Items are disk centres with dense ids `0, 1, 2, …` inserted in order; an
+//! item costs its 4-byte id beyond its bucket's 4 bytes. The MX quadtree keeps
+//! each leaf's ids contiguous (see [`MxQuadtree`]); the grid keeps each cell
+//! as an intrusive singly linked list (`next[id]`).
 
 #[cfg(test)]
 mod brute_force;
@@ -17,7 +18,7 @@ pub use mx_quadtree::MxQuadtree;
 use crate::geometry::Point;
 use std::ops::ControlFlow;
 
-/// End-of-list marker in the intrusive bucket lists.
+/// End-of-list marker in the grid's bucket lists; an empty tile in the MX quadtree's table.
 pub(crate) const NIL: u32 = u32::MAX;
 
 /// A spatial index of points for box queries.
