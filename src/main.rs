@@ -14,7 +14,7 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::{Args, Parser, Subcommand};
-use gapack::jobs::{self, Cancel, DirStore, JobError, JobKind, Outcome, Plan, Report, Request};
+use gapack::jobs::{self, Cancel, DirStore, JobError, JobKind, Outcome, Plan, Request};
 
 use cli::{Failure, ProgressObserver, load_text, report};
 #[cfg(feature = "mpi")]
@@ -259,7 +259,7 @@ fn tell(outcome: Result<Outcome, JobError>, args: &JobArgs) -> Result<(), Failur
         report(args.quiet, || line);
     }
     if !args.quiet {
-        hint(&outcome, args);
+        cli::hint::after_stop(&outcome, args.config.as_deref(), args.seed, args.force);
     }
     Ok(())
 }
@@ -301,61 +301,6 @@ fn run_ranks(plan: &Plan, args: &JobArgs, ranks: &cli::ranks::Ranks) -> Result<(
     observer.finish();
     ranks.done();
     tell(outcome, args)
-}
-
-/// After a stop: how to go on (a search) or what was kept (the others).
-fn hint(outcome: &Outcome, args: &JobArgs) {
-    if !outcome.interrupted {
-        return;
-    }
-    if let Report::Optimise {
-        resumable: true,
-        summary,
-        ..
-    } = &outcome.report
-    {
-        let mut command = String::from("gapack optimise");
-        if let Some(config) = &args.config {
-            command += &format!(" {}", config.display());
-        }
-        command += &format!(" --out {}", outcome.location);
-        if let Some(seed) = args.seed {
-            command += &format!(" --seed {seed}");
-        }
-        if args.force {
-            command += " --force";
-        }
-        eprintln!(
-            "note: stopped after generation {}; `{command} --resume` goes on from {}/{}",
-            summary.generations,
-            outcome.location,
-            jobs::CHECKPOINT_JSON
-        );
-    } else if let Report::Sweep { rows, .. } = &outcome.report {
-        let config = args
-            .config
-            .as_ref()
-            .map_or_else(String::new, |c| format!(" {}", c.display()));
-        let mut flags = args
-            .seed
-            .map_or_else(String::new, |s| format!(" --seed {s}"));
-        if args.force {
-            flags += " --force";
-        }
-        eprintln!(
-            "note: stopped; the runs finished are written to {}/sweep.csv, and `gapack sweep{config} --out {}{flags} --resume` runs the other {}",
-            outcome.location,
-            outcome.location,
-            rows.iter()
-                .filter(|r| r.status == gapack::sweep::Status::NotRun)
-                .count()
-        );
-    } else {
-        eprintln!(
-            "note: stopped; what was finished is written to {}",
-            outcome.location
-        );
-    }
 }
 
 /// `gapack validate`: the plan the run would execute, without running it.

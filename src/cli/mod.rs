@@ -1,6 +1,7 @@
 //! What the subcommands share: reading a config, the failure → exit code
 //! mapping, the result line, and the progress bars drawn from job events.
 
+pub mod hint;
 pub mod inspect;
 #[cfg(feature = "mpi")]
 pub mod ranks;
