@@ -85,6 +85,9 @@ pub enum Report {
     Optimise {
         /// The best packing found (materials laid out if the config asks).
         packing: Packing,
+        /// The scene it was packed from: the config's with the packer rules
+        /// and sizes the search found (what `summary.json` records).
+        scene: Box<crate::Scene>,
         /// Its measurements.
         metrics: Metrics,
         /// What `summary.json` records of the search.
@@ -247,6 +250,43 @@ pub fn run_on(
         notes: job.notes,
         report,
     })
+}
+
+/// Write the files of a finished `pack`, `layer` or `optimise` job again,
+/// into `store`, as [`run`] writes them but with `output` in place of the
+/// config's `[output]` (other formats, say): the same renderers from the
+/// same report, so the same plan, seed and formats give the same bytes as
+/// a run that wrote them itself (the `seconds` recorded are the run's).
+/// The files go in one [`Store::commit`] with their `manifest.json`,
+/// removing what an earlier run left there, as [`run`] does. A front end
+/// that holds a run's packing (the Python package) runs the job with no
+/// formats and writes later, where and as its user asks.
+///
+/// A search's checkpoint is not written: a search resumes from a run that
+/// wrote its own files.
+///
+/// # Errors
+/// [`JobError::Input`] for an outcome of another job; [`JobError::Output`]
+/// or [`JobError::Store`] when a file cannot be made or written.
+pub fn write(
+    plan: &Plan,
+    outcome: &Outcome,
+    output: &OutputSettings,
+    store: &mut dyn Store,
+) -> Result<Vec<String>, JobError> {
+    // The warnings were told when the job ran.
+    let mut silent = super::Silent;
+    let mut job = Running {
+        plan,
+        observer: &mut silent,
+        store,
+        farm: &Local,
+        files: Vec::new(),
+        pending: Vec::new(),
+        notes: Vec::new(),
+    };
+    job.write_report(&outcome.report, output)?;
+    job.finish(outcome.interrupted)
 }
 
 /// One well of a batch packed and drawn on its own: what travels between processes.
@@ -431,6 +471,77 @@ impl Running<'_> {
         Ok(())
     }
 
+    /// Check, render and write the files of a one-packing report (`pack`,
+    /// `layer`, `optimise`) as `output` asks: the one place a report
+    /// becomes its run's files, during the run and in [`write`].
+    fn write_report(&mut self, report: &Report, output: &OutputSettings) -> Result<(), JobError> {
+        let plan = self.plan;
+        let config = &plan.config;
+        let (packing, metrics, run) = match report {
+            Report::Pack {
+                packing,
+                metrics,
+                seconds,
+            } => (
+                packing,
+                metrics,
+                RunInfo {
+                    materials: &config.materials,
+                    ..RunInfo::new(&config.scene, &plan.origin, *seconds, output)
+                },
+            ),
+            Report::Layer {
+                packing,
+                metrics,
+                layered,
+                seconds,
+            } => (
+                packing,
+                metrics,
+                RunInfo {
+                    materials: &config.materials,
+                    layering: config
+                        .layering
+                        .as_ref()
+                        .map(|settings| layering_report(settings, layered)),
+                    fracture: whole_fracture(config),
+                    ..RunInfo::new(&config.scene, &plan.origin, *seconds, output)
+                },
+            ),
+            Report::Optimise {
+                packing,
+                scene,
+                metrics,
+                summary,
+                history,
+                layered,
+                seconds,
+                ..
+            } => (
+                packing,
+                metrics,
+                RunInfo {
+                    materials: &config.materials,
+                    optimise: Some((summary, history)),
+                    layering: config
+                        .layering
+                        .as_ref()
+                        .zip(layered.as_ref())
+                        .map(|(settings, layered)| layering_report(settings, layered)),
+                    fracture: whole_fracture(config),
+                    ..RunInfo::new(scene, &plan.origin, *seconds, output)
+                },
+            ),
+            _ => {
+                return Err(JobError::Input(format!(
+                    "the {} job's files are written by the job itself; only a pack, layer or optimise outcome is written again",
+                    plan.kind.name()
+                )));
+            }
+        };
+        self.write_packing("", packing, metrics, &run)
+    }
+
     /// Pack `scene` with progress events; a cancel is [`JobError::Cancelled`].
     fn pack_scene(
         &mut self,
@@ -474,19 +585,13 @@ impl Running<'_> {
         let (packing, seconds) = self.pack_scene(scene, "the scene", cancel)?;
         // A cancel while measuring writes nothing, as one while packing.
         let metrics = measure_cancellable(&packing, scene, cancel)?;
-        let run = RunInfo {
-            materials: &plan.config.materials,
-            ..RunInfo::new(scene, &plan.origin, seconds, &plan.config.output)
+        let report = Report::Pack {
+            packing,
+            metrics,
+            seconds,
         };
-        self.write_packing("", &packing, &metrics, &run)?;
-        Ok((
-            Report::Pack {
-                packing,
-                metrics,
-                seconds,
-            },
-            false,
-        ))
+        self.write_report(&report, &plan.config.output)?;
+        Ok((report, false))
     }
 
     fn wells(&mut self, batch: bool, cancel: &Cancel) -> Result<(Report, bool), JobError> {
@@ -944,39 +1049,27 @@ impl Running<'_> {
         } else {
             evolution.seconds
         };
-        let run = RunInfo {
-            materials: &config.materials,
-            optimise: Some((&summary, &evolution.history)),
-            layering: config
-                .layering
-                .as_ref()
-                .zip(layered.as_ref())
-                .map(|(settings, layered)| layering_report(settings, layered)),
-            fracture: whole_fracture(config),
-            ..RunInfo::new(&best_scene, &plan.origin, seconds, &config.output)
+        let resumable = interrupted && saved;
+        let report = Report::Optimise {
+            packing,
+            scene: Box::new(best_scene),
+            metrics,
+            summary,
+            history: evolution.history,
+            layered,
+            resumable,
+            seconds,
         };
-        self.write_packing("", &packing, &metrics, &run)?;
+        self.write_report(&report, &config.output)?;
         if let Some(e) = save_failed {
             return Err(JobError::Checkpoint(e));
         }
-        let resumable = interrupted && saved;
         if resumable {
             self.files.push(CHECKPOINT_JSON.to_owned());
         }
         // Otherwise the search is over: the commit removes its checkpoint
         // with the other stale files, only once the outputs are in place.
-        Ok((
-            Report::Optimise {
-                packing,
-                metrics,
-                summary,
-                history: evolution.history,
-                layered,
-                resumable,
-                seconds,
-            },
-            interrupted,
-        ))
+        Ok((report, interrupted))
     }
 
     /// Pack the drawn sizes at the target with the densify method; if the
@@ -1164,23 +1257,15 @@ impl Running<'_> {
         let layered = self.lay_out(&packing, settings, cancel);
         packing.materials = layered.assignment.clone();
         let metrics = measure(&packing, scene);
-        let run = RunInfo {
-            materials: &config.materials,
-            layering: Some(layering_report(settings, &layered)),
-            fracture: whole_fracture(config),
-            ..RunInfo::new(scene, &plan.origin, seconds, &config.output)
-        };
-        self.write_packing("", &packing, &metrics, &run)?;
         let interrupted = layered.stop == Some(StopReason::Interrupted);
-        Ok((
-            Report::Layer {
-                packing,
-                metrics,
-                layered,
-                seconds,
-            },
-            interrupted,
-        ))
+        let report = Report::Layer {
+            packing,
+            metrics,
+            layered,
+            seconds,
+        };
+        self.write_report(&report, &config.output)?;
+        Ok((report, interrupted))
     }
 
     fn compare(

@@ -1,0 +1,302 @@
+//! `gapack.Packing`: a finished `pack`, `optimise` or `layer` run, its
+//! disks as numpy arrays, and the files it writes on demand.
+
+use std::path::PathBuf;
+
+use gapack::jobs::{self, DirStore, MemoryStore, Outcome, Plan, Report};
+use gapack::output::SUMMARY_JSON;
+use gapack::{Disk, Packing as Packed};
+use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use crate::convert;
+use crate::errors::{gapack_error, job_error};
+
+/// A packing made by `gapack.pack`, `gapack.optimise` or `gapack.layer`.
+///
+/// `x`, `y` and `r` are the disks' centres and radii (mm, float64, in
+/// placement order), made once when the run ends and read-only: the same
+/// arrays on every access, and what `write` writes. `material` is each
+/// disk's material (an index into `materials`, int32) when the config has
+/// `[[materials]]`, else `None`.
+#[pyclass(frozen, module = "gapack", name = "Packing")]
+pub(crate) struct Packing {
+    /// The job's plan, with the config's own `[output]`.
+    plan: Plan,
+    /// The outcome, its packing's disks and materials moved out into the arrays.
+    outcome: Outcome,
+    /// The config's file, if it came from one (names the default folder).
+    path: Option<PathBuf>,
+    x: Py<PyArray1<f64>>,
+    y: Py<PyArray1<f64>>,
+    r: Py<PyArray1<f64>>,
+    material: Option<Py<PyArray1<i32>>>,
+    summary: Py<PyAny>,
+    history: Option<Py<PyDict>>,
+    warnings: Vec<String>,
+}
+
+/// The packing of a one-packing report.
+fn packed_mut(report: &mut Report) -> Option<&mut Packed> {
+    match report {
+        Report::Pack { packing, .. }
+        | Report::Layer { packing, .. }
+        | Report::Optimise { packing, .. } => Some(packing),
+        _ => None,
+    }
+}
+
+/// `array`, read-only.
+fn frozen<'py, T: numpy::Element>(array: Bound<'py, PyArray1<T>>) -> PyResult<Py<PyArray1<T>>> {
+    let flags = PyDict::new(array.py());
+    flags.set_item("write", false)?;
+    array.call_method("setflags", (), Some(&flags))?;
+    Ok(array.unbind())
+}
+
+impl Packing {
+    /// The packing of `outcome` (a run of `plan`), whose `summary.json` is in `store`.
+    pub(crate) fn new(
+        py: Python<'_>,
+        plan: Plan,
+        mut outcome: Outcome,
+        path: Option<PathBuf>,
+        store: &MemoryStore,
+        warnings: Vec<String>,
+    ) -> PyResult<Packing> {
+        // Nothing is written yet: the result lines name the config.
+        outcome.location.clone_from(&plan.origin);
+        let Some(packed) = packed_mut(&mut outcome.report) else {
+            return Err(gapack_error(py, "the job returned no packing"));
+        };
+        // The disks move into three arrays, one pass, no copy left behind:
+        // `write` puts them back from the arrays.
+        let disks = std::mem::take(&mut packed.disks);
+        let materials = std::mem::take(&mut packed.materials);
+        let n = disks.len();
+        let (mut x, mut y, mut r) = (
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+        );
+        for d in &disks {
+            x.push(d.c.x);
+            y.push(d.c.y);
+            r.push(d.r);
+        }
+        drop(disks);
+        let material = if plan.config.materials.is_empty() {
+            None
+        } else {
+            let m: Vec<i32> = materials.iter().map(|&m| i32::from(m)).collect();
+            Some(frozen(PyArray1::from_vec(py, m))?)
+        };
+        let history = match &outcome.report {
+            Report::Optimise { history, .. } => Some(convert::history(py, history)?.unbind()),
+            _ => None,
+        };
+        let Some(summary) = store.files.get(SUMMARY_JSON) else {
+            return Err(gapack_error(py, "the job wrote no summary.json"));
+        };
+        let summary = py
+            .import("json")?
+            .call_method1("loads", (String::from_utf8_lossy(summary),))?
+            .unbind();
+        Ok(Packing {
+            x: frozen(PyArray1::from_vec(py, x))?,
+            y: frozen(PyArray1::from_vec(py, y))?,
+            r: frozen(PyArray1::from_vec(py, r))?,
+            material,
+            plan,
+            outcome,
+            path,
+            summary,
+            history,
+            warnings,
+        })
+    }
+
+    /// The outcome with its disks and materials read back from the arrays.
+    fn whole(&self, py: Python<'_>) -> PyResult<Outcome> {
+        let (x, y, r) = (
+            self.x.bind(py).readonly(),
+            self.y.bind(py).readonly(),
+            self.r.bind(py).readonly(),
+        );
+        let (x, y, r) = (x.as_slice()?, y.as_slice()?, r.as_slice()?);
+        let mut outcome = self.outcome.clone();
+        let Some(packed) = packed_mut(&mut outcome.report) else {
+            return Err(gapack_error(py, "the job returned no packing"));
+        };
+        packed.disks = x
+            .iter()
+            .zip(y)
+            .zip(r)
+            .map(|((&x, &y), &r)| Disk::new(x, y, r))
+            .collect();
+        if let Some(m) = &self.material {
+            let m = m.bind(py).readonly();
+            packed.materials = m.as_slice()?.iter().map(|&m| m as u16).collect();
+        }
+        Ok(outcome)
+    }
+}
+
+#[pymethods]
+impl Packing {
+    /// x of each disk's centre (mm).
+    #[getter]
+    fn x(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
+        self.x.clone_ref(py)
+    }
+
+    /// y of each disk's centre (mm).
+    #[getter]
+    fn y(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
+        self.y.clone_ref(py)
+    }
+
+    /// Each disk's radius (mm).
+    #[getter]
+    fn r(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
+        self.r.clone_ref(py)
+    }
+
+    /// Each disk's material, an index into `materials` (int32), or `None`
+    /// when the config has no `[[materials]]`.
+    #[getter]
+    fn material(&self, py: Python<'_>) -> Option<Py<PyArray1<i32>>> {
+        self.material.as_ref().map(|m| m.clone_ref(py))
+    }
+
+    /// The config's materials, in order: `id` (index + 1), `name`, and
+    /// their properties (`density`, …).
+    #[getter]
+    fn materials<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        convert::materials(py, &self.plan.config.materials)
+    }
+
+    /// The domain: `shape` and its sizes, `area`, `bounds`, `walls`,
+    /// `periodic`, `outline` (an (n, 2) array).
+    #[getter]
+    fn domain<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let report = &self.outcome.report;
+        let packed = match report {
+            Report::Pack { packing, .. }
+            | Report::Layer { packing, .. }
+            | Report::Optimise { packing, .. } => packing,
+            _ => return Err(gapack_error(py, "the job returned no packing")),
+        };
+        convert::domain(py, &packed.domain, packed.walls)
+    }
+
+    /// What `summary.json` records (a dict, as the file has it).
+    #[getter]
+    fn summary(&self, py: Python<'_>) -> Py<PyAny> {
+        self.summary.clone_ref(py)
+    }
+
+    /// An optimise's convergence history: a dict of arrays, one entry per
+    /// generation (`generation`, `best`, `mean`, `worst`, `evaluations`,
+    /// `seconds`, `feasible`); `None` for other jobs.
+    #[getter]
+    fn history(&self, py: Python<'_>) -> Option<Py<PyDict>> {
+        self.history.as_ref().map(|h| h.clone_ref(py))
+    }
+
+    /// The job that made it: `pack`, `optimise` or `layer`.
+    #[getter]
+    fn job(&self) -> &'static str {
+        self.plan.kind.name()
+    }
+
+    /// The seed of the run.
+    #[getter]
+    fn seed(&self) -> u64 {
+        self.plan.seed()
+    }
+
+    /// The config's name: its path as given, `<string>` or `<dict>`.
+    #[getter]
+    fn config(&self) -> &str {
+        &self.plan.origin
+    }
+
+    /// Whether the run was stopped (Ctrl-C, `KeyboardInterrupt`) and this
+    /// is the best it had found.
+    #[getter]
+    fn interrupted(&self) -> bool {
+        self.outcome.interrupted
+    }
+
+    /// The warnings the run gave, in order (also issued as `GapackWarning`).
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.warnings.clone()
+    }
+
+    /// The result line(s) the command line prints for this run.
+    #[getter]
+    fn lines(&self) -> Vec<String> {
+        self.outcome.lines()
+    }
+
+    /// Write the run's files into `dir` (default: the config's `[output]
+    /// dir`, else `out/<config name>`, as the command line), as the command
+    /// line writes them: `summary.json`, what `formats` asks for (default:
+    /// the config's `[output] formats`), and `manifest.json`, all at once,
+    /// removing the files an earlier run left there. Returns the files'
+    /// names, relative to `dir`. Same config, seed and formats: the same
+    /// bytes as `gapack pack|optimise|layer CONFIG --seed N --out DIR`,
+    /// but for the times recorded.
+    #[pyo3(signature = (dir=None, formats=None))]
+    fn write(
+        &self,
+        py: Python<'_>,
+        dir: Option<PathBuf>,
+        formats: Option<Vec<String>>,
+    ) -> PyResult<Vec<String>> {
+        let mut output = self.plan.config.output.clone();
+        if let Some(names) = formats {
+            output.formats = convert::formats(&names)?;
+        }
+        let dir =
+            dir.unwrap_or_else(|| jobs::output_dir(None, &self.plan.config, self.path.as_deref()));
+        if dir.as_os_str().is_empty() {
+            return Err(PyValueError::new_err("dir: an empty path"));
+        }
+        let outcome = self.whole(py)?;
+        let plan = &self.plan;
+        py.detach(|| {
+            let mut store = DirStore::new(&dir);
+            jobs::write(plan, &outcome, &output, &mut store)
+        })
+        .map_err(|e| job_error(py, e))
+    }
+
+    fn __len__(&self, py: Python<'_>) -> usize {
+        self.x.bind(py).len()
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let porosity = self
+            .summary
+            .bind(py)
+            .get_item("porosity")
+            .and_then(|p| p.extract::<f64>())
+            .map_or_else(|_| "?".to_owned(), |p| format!("{p:.4}"));
+        format!(
+            "<gapack.Packing {}: {} disks, porosity {porosity}, seed {}{}>",
+            self.plan.kind.name(),
+            self.x.bind(py).len(),
+            self.plan.seed(),
+            if self.outcome.interrupted {
+                ", interrupted"
+            } else {
+                ""
+            }
+        )
+    }
+}
