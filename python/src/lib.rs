@@ -145,7 +145,7 @@ fn run_to(
     let told = PyDict::new(py);
     told.set_item("job", outcome.kind.name())?;
     told.set_item("location", &outcome.location)?;
-    told.set_item("dir", &dir)?;
+    told.set_item("dir", dir.display().to_string())?;
     told.set_item("files", &outcome.files)?;
     told.set_item("interrupted", outcome.interrupted)?;
     told.set_item("notes", &outcome.notes)?;
@@ -185,7 +185,7 @@ fn validate(
     told.set_item("job", plan.kind.name())?;
     told.set_item("config", origin)?;
     told.set_item("seed", plan.seed())?;
-    told.set_item("out", &out)?;
+    told.set_item("out", out.display().to_string())?;
     let warnings: Vec<&str> = plan.warnings.iter().map(|w| w.message.as_str()).collect();
     told.set_item("warnings", warnings)?;
     told.set_item("plan", plan.describe(&out.display().to_string()))?;

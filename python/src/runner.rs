@@ -7,6 +7,7 @@ use std::sync::mpsc::{self, RecvTimeoutError};
 use std::time::Duration;
 
 use gapack::jobs::{self, Cancel, Event, JobError, Outcome, Plan, Store};
+use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 
 use crate::errors::gapack_error;
@@ -72,9 +73,19 @@ pub(crate) fn run_plan<S: Store + Send>(
                             .map_err(|e| gapack_error(py, &format!("cannot read an event: {e}")))
                             .and_then(|json| loads.call1((json,)))
                             .and_then(|dict| callback.call1((dict,)));
-                        if let Err(e) = told {
-                            cancel.cancel();
-                            failed = Some(e);
+                        match told {
+                            Ok(_) => {}
+                            // A signal's handler ran inside the callback (the
+                            // interpreter runs them between bytecodes): Ctrl-C
+                            // all the same.
+                            Err(e) if e.is_instance_of::<PyKeyboardInterrupt>(py) => {
+                                cancel.cancel();
+                                interrupt.get_or_insert(e);
+                            }
+                            Err(e) => {
+                                cancel.cancel();
+                                failed = Some(e);
+                            }
                         }
                     }
                 }
