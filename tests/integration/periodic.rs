@@ -441,7 +441,8 @@ fn exports_declare_the_periodic_box() {
         .lines()
         .find(|l| l.starts_with("# periodic cell: O.periodic = True; O.cell.setBox(0.02, 0.012, "))
         .unwrap_or_else(|| panic!("{yade}"));
-    // The depth: twice the largest diameter, so no sphere meets its z image.
+    // The depth: four largest diameters, so that no sphere meets its z
+    // image and YADE's collider takes the spheres' enlarged boxes.
     let depth: f64 = declared
         .trim_end_matches(')')
         .rsplit(", ")
@@ -450,7 +451,7 @@ fn exports_declare_the_periodic_box() {
         .parse()
         .unwrap();
     let d_max = packing.disks.iter().fold(0.0f64, |m, d| m.max(2.0 * d.r));
-    assert!((depth - 2.0 * d_max * 1e-3).abs() < 1e-15, "{depth}");
+    assert!((depth - 4.0 * d_max * 1e-3).abs() < 1e-15, "{depth}");
     let pfc = text(pfc_commands(&packing, &[], &opts).unwrap());
     assert!(
         pfc.contains("\nmodel domain extent 0 0.02 0 0.012 condition periodic periodic\n"),

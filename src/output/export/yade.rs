@@ -26,8 +26,11 @@ pub const YADE_TEXT: &str = "packing.yade.txt";
 /// materials. A periodic cell adds a comment line declaring it in YADE's
 /// terms: `# periodic cell: O.periodic = True; O.cell.setBox(w, h, t)`,
 /// `w` × `h` the cell (its lower-left corner at the origin, as gapack's)
-/// and `t` twice the largest diameter (z must hold the spheres without
-/// their meeting their own images).
+/// and `t` four times the largest diameter: z must hold the spheres
+/// without their meeting their own images, and YADE's collider refuses a
+/// body whose bounding box, enlarged by its Verlet distance (by default
+/// half the smallest radius), reaches half the cell (twice the largest
+/// diameter was refused: `Body larger than half of the cell size`).
 ///
 /// # In YADE
 /// ```text
@@ -75,7 +78,7 @@ pub fn yade_text(
         ));
     }
     if let Some(cell) = packing.domain.period() {
-        let depth = 4.0 * r_max(packing);
+        let depth = 8.0 * r_max(packing);
         t.line(format_args!(
             "# periodic cell: O.periodic = True; O.cell.setBox({}, {}, {})",
             Num(cell.x * s),
