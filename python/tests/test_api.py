@@ -299,3 +299,49 @@ def test_to_toml_writes_what_the_dict_holds():
     assert back["flag"] is True and back["tiny"] == 1e-07 and back["big"] == 1e20
     with pytest.raises(TypeError, match="domain.width: a config value must be"):
         gapack.to_toml({"domain": {"width": object()}})
+
+
+def test_progress_draws_a_bar_per_stage(monkeypatch):
+    """progress=True hands the events to tqdm.auto (a stand-in here: tqdm is optional)."""
+    import types
+
+    bars = []
+
+    class Bar:
+        def __init__(self, total=None, unit=None, desc=None, leave=True):
+            self.total, self.unit, self.desc, self.n, self.postfix, self.closed = total, unit, desc, 0, "", False
+            bars.append(self)
+
+        def refresh(self):
+            pass
+
+        def update(self, k):
+            self.n += k
+
+        def set_postfix_str(self, text):
+            self.postfix = text
+
+        def close(self):
+            self.closed = True
+
+    auto = types.ModuleType("tqdm.auto")
+    auto.tqdm = Bar
+    monkeypatch.setitem(sys.modules, "tqdm", types.ModuleType("tqdm"))
+    monkeypatch.setitem(sys.modules, "tqdm.auto", auto)
+    p = gapack.optimise(SEARCH, progress=True)
+    (bar,) = bars
+    assert (bar.desc, bar.unit, bar.total) == ("optimise", "generation", 30)
+    assert bar.n == p.summary["generations"] and bar.closed
+    assert bar.postfix == f"best porosity {p.history['best'][-1]:.4f}"
+    # A small pack draws no bar; progress=False none at all.
+    bars.clear()
+    gapack.pack(SQUARE, progress=True)
+    gapack.optimise(SEARCH, progress=False)
+    assert bars == []
+
+
+def test_the_module_docstring_example_runs():
+    import doctest
+
+    result = doctest.testmod(gapack)
+    assert result.attempted >= 2 and result.failed == 0

@@ -55,6 +55,14 @@ const ELSEWHERE: &[(&str, &str)] = &[
         "the service block: tests/integration/serve.rs runs it as a script",
     ),
     (
+        "pip install ./python",
+        "the Python package: .ci/run installs it so, then runs python/tests (test_readme.py runs the README's Python blocks)",
+    ),
+    (
+        "python3 examples/python/",
+        "the Python examples: python/tests/test_examples.py runs them",
+    ),
+    (
         "wait",
         "the service block: tests/integration/serve.rs runs it as a script",
     ),
