@@ -10,11 +10,13 @@
 //! windows and holes near an edge see the disks across it, and each disk's
 //! area counts once.
 
+mod bands;
 mod contacts;
 mod grading;
 pub(crate) mod near;
 mod porosity_map;
 
+pub use bands::{Zone, zones};
 pub use contacts::coordination;
 pub(crate) use contacts::visit_near;
 pub use grading::{Blend, curve_diameters, psd_ks, psd_ks_blend, psd_ks_by_curve};
