@@ -1387,9 +1387,6 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             let (dx, dy) = (cand.off.x - n.rel.x, cand.off.y - n.rel.y);
             dx * dx + dy * dy >= n.clear2
         };
-        if self.region.is_some_and(|region| !region.contains(cand.at)) {
-            return false;
-        }
         if near_wall {
             self.tests.set(self.tests.get() + self.walls.len() as u64);
             if !clear_disk_walls(&self.scene.domain, cand.at, r) {
@@ -1430,7 +1427,8 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 self.last_blocker.set(i);
                 false
             }
-            None => true,
+            // A part's region last: most candidates are blocked before.
+            None => self.region.is_none_or(|region| region.contains(cand.at)),
         }
     }
 

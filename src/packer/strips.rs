@@ -28,16 +28,16 @@
 //! diameter apart, so their disks never meet. The scene's particle and
 //! memory limits count the disks of every trapezoid together.
 
-use std::sync::atomic::AtomicU64;
+use std::sync::OnceLock;
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
-use rayon::prelude::*;
 
 use super::advancing_front::{Part, WORK_FLOOR, WORK_PER_DISK, pack_part, size_count_in};
 use super::{FrontRules, PackError, PackStats, Packing, Strips};
 use crate::Scene;
-use crate::cancel::Cancel;
+use crate::cancel::{Cancel, Cancelled};
 use crate::geometry::{Disk, Point, Shape, WallMode};
 
 /// Scenes of more disks than this are split by [`Strips::Auto`].
@@ -47,7 +47,7 @@ pub const AUTO_DISKS: f64 = 200_000.0;
 const STRIP_DISKS: f64 = 50_000.0;
 
 /// Narrowest strip [`Strips::Auto`] makes, in largest diameters.
-const AUTO_WIDTH_DIAMETERS: f64 = 60.0;
+const AUTO_WIDTH_DIAMETERS: f64 = 100.0;
 
 /// Narrowest strip a config may ask for, in largest diameters: the gaps
 /// between trapezoids packed at once take four of them.
@@ -263,7 +263,13 @@ fn part_seed(seed: u64, i: usize) -> u64 {
 }
 
 /// Pack `scene` (filling up, near the origin) in `count` strips of
-/// trapezoids, telling `progress` the sizes drawn after each turn.
+/// trapezoids, telling `progress` the sizes drawn as they go.
+///
+/// # Behavior
+/// A trapezoid is packed as soon as every one it rests on is (those of the
+/// level below within reach, and for a valley the mounds beside it), so the
+/// levels overlap in time and no core waits for a whole level; what each
+/// trapezoid sees is fixed by the layout, so the packing is not.
 ///
 /// # Errors
 /// The first error of a trapezoid, in packing order: a limit passed
@@ -279,81 +285,78 @@ pub(super) fn pack_up(
     let bounds = scene.domain.bounds();
     let (cuts, gap, run, levels) = layout(scene, count);
     let reach = scene.d_max(); // two largest radii
-    let placed = AtomicU64::new(0);
-    // A trapezoid that fails stops the others.
-    let stop = cancel.child();
-    let mut next_seed = 0usize;
-    let mut pack_one = |regions: &[Region], before: &[&(Region, Packing)]| {
-        let first_seed = next_seed;
-        next_seed += regions.len();
-        let packed: Vec<Result<Packing, PackError>> = regions
-            .par_iter()
-            .enumerate()
-            .map(|(k, region)| {
-                let fixed: Vec<Disk> = before
-                    .iter()
-                    .filter(|(other, _)| other.near(region, reach))
-                    .flat_map(|(_, p)| &p.disks)
-                    .filter(|d| {
-                        d.c.x >= region.lo.x - reach
-                            && d.c.x <= region.hi.x + reach
-                            && d.c.y >= region.lo.y - reach
-                            && d.c.y <= region.hi.y + reach
-                            && region.outside(d.c) <= reach
-                    })
-                    .copied()
-                    .collect();
-                let (lo, hi) = (region.lo, region.hi);
-                let area = scene.domain.area_in_box(lo.x, hi.x, lo.y, hi.y);
-                let share = area / scene.domain.area();
-                let disks = share * scene.max_disks() + fixed.len() as f64;
-                let part = Part {
-                    region,
-                    fixed: &fixed,
-                    placed: &placed,
-                    budget: (disks as u64)
-                        .saturating_mul(WORK_PER_DISK)
-                        .saturating_add(WORK_FLOOR),
-                };
-                let seed = part_seed(scene.seed, first_seed + k);
-                let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
-                let genes =
-                    (0..size_count_in(area, scene.d_min())).map(move |_| rng.r#gen::<f64>());
-                let packed = pack_part(scene, Some(&part), genes, &stop);
-                if packed.is_err() {
-                    stop.cancel();
-                }
-                packed
-            })
-            .collect();
-        first_error(packed, cancel)
-    };
-    let mut stats = PackStats::default();
-    // As many as the domain holds solid at the mean disk area, as one piece reserves.
-    let expected = (scene.domain.area() / scene.mean_disk_area()).min(scene.max_disks()) as usize;
-    let (mut disks, mut materials) = (Vec::with_capacity(expected), Vec::new());
-    let mut below: Vec<(Region, Packing)> = Vec::new();
+    let dip = DIP_DIAMETERS * scene.d_max();
+    // Every trapezoid in packing order, and the earlier ones each rests on.
+    let mut regions: Vec<Region> = Vec::new();
+    let mut deps: Vec<Vec<usize>> = Vec::new();
+    let mut below = 0..0;
     for l in 0..levels {
         let y = |k: usize| bounds.0.y + run * k as f64;
-        let dip = DIP_DIAMETERS * scene.d_max();
         let (mounds, valleys) = level(&cuts, (y(l), y(l + 1)), (gap, run, dip), bounds);
-        let packed = pack_one(&mounds, &below.iter().collect::<Vec<_>>())?;
-        let mounds: Vec<(Region, Packing)> = mounds.into_iter().zip(packed).collect();
-        let before: Vec<&(Region, Packing)> = below.iter().chain(&mounds).collect();
-        let packed = pack_one(&valleys, &before)?;
-        let valleys: Vec<(Region, Packing)> = valleys.into_iter().zip(packed).collect();
-        // The level below is no obstacle to the next: its disks are done.
-        for (_, mut p) in below.drain(..) {
-            add_stats(&mut stats, &p.stats);
-            disks.append(&mut p.disks);
-            materials.append(&mut p.materials);
+        let first = regions.len();
+        for (kind, list) in [(0, mounds), (1, valleys)] {
+            let mounds = first..regions.len();
+            for region in list {
+                let mut on: Vec<usize> = below.clone().collect();
+                if kind == 1 {
+                    on.extend(mounds.clone());
+                }
+                on.retain(|&k| regions[k].near(&region, reach));
+                deps.push(on);
+                regions.push(region);
+            }
         }
-        below.extend(mounds);
-        below.extend(valleys);
-        let drawn = below.iter().map(|(_, p)| p.stats.sizes_drawn).sum::<u64>();
-        progress(stats.sizes_drawn + drawn);
+        below = first..regions.len();
     }
-    for (_, mut p) in below {
+    let mut dependents: Vec<Vec<usize>> = vec![Vec::new(); regions.len()];
+    for (k, on) in deps.iter().enumerate() {
+        for &d in on {
+            dependents[d].push(k);
+        }
+    }
+    let farm = Farm {
+        scene,
+        regions: &regions,
+        deps: &deps,
+        dependents: &dependents,
+        waiting: deps.iter().map(|on| AtomicUsize::new(on.len())).collect(),
+        done: (0..regions.len()).map(|_| OnceLock::new()).collect(),
+        finished: AtomicUsize::new(0),
+        drawn: AtomicU64::new(0),
+        placed: AtomicU64::new(0),
+        stop: cancel.child(),
+        reach,
+    };
+    // The calling thread reports progress while the pool packs, unless it
+    // is one of the pool's own threads (it would hold one back).
+    rayon::in_place_scope(|s| {
+        for (k, on) in deps.iter().enumerate() {
+            if on.is_empty() {
+                let farm = &farm;
+                s.spawn(move |s| farm.pack(s, k));
+            }
+        }
+        if rayon::current_thread_index().is_none() {
+            while farm.finished.load(Ordering::Acquire) < regions.len() {
+                progress(farm.drawn.load(Ordering::Relaxed));
+                std::thread::sleep(PROGRESS_NAP);
+            }
+        }
+    });
+    progress(farm.drawn.load(Ordering::Relaxed));
+    let parts = farm
+        .done
+        .into_iter()
+        .map(|p| {
+            p.into_inner()
+                .unwrap_or(Err(PackError::Cancelled(Cancelled::Flag)))
+        })
+        .collect();
+    let parts = first_error(parts, cancel)?;
+    let mut stats = PackStats::default();
+    let total = parts.iter().map(|p| p.disks.len()).sum();
+    let (mut disks, mut materials) = (Vec::with_capacity(total), Vec::new());
+    for mut p in parts {
         add_stats(&mut stats, &p.stats);
         disks.append(&mut p.disks);
         materials.append(&mut p.materials);
@@ -366,6 +369,84 @@ pub(super) fn pack_up(
         materials,
         stats,
     })
+}
+
+/// How often the calling thread reports progress while the trapezoids are packed.
+const PROGRESS_NAP: std::time::Duration = std::time::Duration::from_millis(20);
+
+/// The trapezoids of a scene being packed, each as soon as those it rests on are.
+struct Farm<'a> {
+    scene: &'a Scene,
+    regions: &'a [Region],
+    /// Per trapezoid: those it rests on, and those resting on it.
+    deps: &'a [Vec<usize>],
+    dependents: &'a [Vec<usize>],
+    /// Per trapezoid: how many it rests on are not packed yet.
+    waiting: Vec<AtomicUsize>,
+    /// Per trapezoid: its packing, once done.
+    done: Vec<OnceLock<Result<Packing, PackError>>>,
+    /// Trapezoids done, and sizes drawn by them.
+    finished: AtomicUsize,
+    drawn: AtomicU64,
+    /// Disks placed by every trapezoid, against the scene's limits.
+    placed: AtomicU64,
+    /// Raised when a trapezoid fails: the others stop.
+    stop: Cancel,
+    /// Two largest radii: how far a disk packed before may touch one placed.
+    reach: f64,
+}
+
+impl Farm<'_> {
+    /// Pack trapezoid `k`, then start those resting on it that wait for nothing more.
+    fn pack<'s>(&'s self, s: &rayon::Scope<'s>, k: usize) {
+        let packed = self.pack_one(k);
+        if let Ok(p) = &packed {
+            self.drawn.fetch_add(p.stats.sizes_drawn, Ordering::Relaxed);
+        } else {
+            self.stop.cancel();
+        }
+        // Set once: each trapezoid is started once, when its count reaches 0.
+        let _ = self.done[k].set(packed);
+        for &d in &self.dependents[k] {
+            if self.waiting[d].fetch_sub(1, Ordering::AcqRel) == 1 {
+                s.spawn(move |s| self.pack(s, d));
+            }
+        }
+        self.finished.fetch_add(1, Ordering::Release);
+    }
+
+    /// Trapezoid `k`'s packing around the disks of those it rests on.
+    fn pack_one(&self, k: usize) -> Result<Packing, PackError> {
+        let (scene, region, reach) = (self.scene, &self.regions[k], self.reach);
+        let mut fixed: Vec<Disk> = Vec::new();
+        for &d in &self.deps[k] {
+            let Some(Ok(before)) = self.done[d].get() else {
+                return Err(PackError::Cancelled(Cancelled::Flag));
+            };
+            fixed.extend(before.disks.iter().filter(|d| {
+                d.c.x >= region.lo.x - reach
+                    && d.c.x <= region.hi.x + reach
+                    && d.c.y >= region.lo.y - reach
+                    && d.c.y <= region.hi.y + reach
+                    && region.outside(d.c) <= reach
+            }));
+        }
+        let (lo, hi) = (region.lo, region.hi);
+        let area = scene.domain.area_in_box(lo.x, hi.x, lo.y, hi.y);
+        let share = area / scene.domain.area();
+        let disks = share * scene.max_disks() + fixed.len() as f64;
+        let part = Part {
+            region,
+            fixed: &fixed,
+            placed: &self.placed,
+            budget: (disks as u64)
+                .saturating_mul(WORK_PER_DISK)
+                .saturating_add(WORK_FLOOR),
+        };
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(part_seed(scene.seed, k));
+        let genes = (0..size_count_in(area, scene.d_min())).map(move |_| rng.r#gen::<f64>());
+        pack_part(scene, Some(&part), genes, &self.stop)
+    }
 }
 
 /// The trapezoids' packings, or the first error in order that is not only
