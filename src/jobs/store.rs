@@ -711,7 +711,7 @@ mod tests {
         let staged = store
             .stage("t.csv", &mut streaming(b"0,1\n2,3\n"))
             .expect("staged");
-        assert!(store.files.get("t.csv").is_none());
+        assert!(!store.files.contains_key("t.csv"));
         store
             .commit_staged(vec![staged], &["old.txt".to_owned()])
             .expect("committed");

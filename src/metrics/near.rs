@@ -69,10 +69,7 @@ impl ByRadius {
         let classes = (0..MAX_CLASSES)
             .filter(|&k| counts[k] > 0)
             .map(|k| {
-                let members = ids
-                    .clone()
-                    .into_iter()
-                    .filter(|&i| class_of(disks[i].r) == k);
+                let members = ids.clone().filter(|&i| class_of(disks[i].r) == k);
                 Class::new(disks, members, counts[k])
             })
             .collect();

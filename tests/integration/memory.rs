@@ -31,6 +31,10 @@ fn square(side: f64) -> String {
 /// Run `gapack pack` on a square of `side` mm in `dir`: the disks written
 /// and the peak resident set of that process alone (bytes), as the kernel
 /// counted it when the process was reaped (`wait4`, `ru_maxrss`).
+#[expect(
+    clippy::zombie_processes,
+    reason = "the child is reaped by wait4, which gives its resource usage"
+)]
 fn pack_peak(dir: &Path, side: f64) -> (usize, f64) {
     let name = format!("square_{side}");
     let config = dir.join(format!("{name}.toml"));
