@@ -417,6 +417,8 @@ impl Farm<'_> {
 
     /// Trapezoid `k`'s packing around the disks of those it rests on.
     fn pack_one(&self, k: usize) -> Result<Packing, PackError> {
+        // A small trapezoid may end before its front looks at the token.
+        self.stop.check()?;
         let (scene, region, reach) = (self.scene, &self.regions[k], self.reach);
         let mut fixed: Vec<Disk> = Vec::new();
         for &d in &self.deps[k] {
@@ -475,4 +477,89 @@ fn add_stats(all: &mut PackStats, part: &PackStats) {
     all.fallbacks += part.fallbacks;
     all.witness_checks += part.witness_checks;
     all.work += part.work;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grading::Grading;
+    use crate::{Domain, PackerSettings};
+
+    fn scene(strips: u32) -> Scene {
+        Scene::new(
+            Domain::rectangle(120.0, 60.0).unwrap(),
+            Grading::uniform(1.0, 1.5, Default::default()).unwrap(),
+        )
+        .with_packer(PackerSettings {
+            strips: Strips::Count(strips),
+            ..PackerSettings::default()
+        })
+        .with_seed(3)
+    }
+
+    /// A raised token stops every trapezoid, and the run says so; progress
+    /// is told the sizes drawn, ending at the packing's own count.
+    #[test]
+    fn strips_stop_when_cancelled_and_report_the_sizes_drawn() {
+        let cancel = Cancel::new();
+        cancel.cancel();
+        let stopped = super::super::pack_observed(&scene(4), &mut |_| {}, &cancel);
+        assert!(
+            matches!(stopped, Err(PackError::Cancelled(_))),
+            "not stopped: {:?}",
+            stopped.map(|p| p.disks.len())
+        );
+        let mut told = Vec::new();
+        let packing =
+            super::super::pack_observed(&scene(4), &mut |n| told.push(n), &Cancel::new()).unwrap();
+        assert_eq!(told.last(), Some(&packing.stats.sizes_drawn));
+        assert!(packing.stats.sizes_drawn >= packing.disks.len() as u64);
+    }
+
+    /// The layout: mounds and valleys tile each level, trapezoids packed at
+    /// once (mounds of a level, valleys of a level) keep more than a
+    /// largest diameter apart.
+    #[test]
+    fn trapezoids_packed_at_once_stay_more_than_a_diameter_apart() {
+        let s = scene(4);
+        let (cuts, gap, run, levels) = layout(&s, 4);
+        assert_eq!(cuts.len(), 5);
+        let dip = DIP_DIAMETERS * s.d_max();
+        let (lo, hi) = s.domain.bounds();
+        let (mounds, valleys) = level(
+            &cuts,
+            (lo.y + run, lo.y + 2.0 * run),
+            (gap, run, dip),
+            (lo, hi),
+        );
+        assert!(levels >= 2);
+        // Sample points of each region on a fine grid; nearest points of
+        // two neighbours at once must be farther apart than d_max.
+        let points = |r: &Region| {
+            let mut v = Vec::new();
+            for i in 0..=200 {
+                for j in 0..=100 {
+                    let p = Point::new(
+                        r.lo.x + (r.hi.x - r.lo.x) * f64::from(i) / 200.0,
+                        r.lo.y + (r.hi.y - r.lo.y) * f64::from(j) / 100.0,
+                    );
+                    if r.contains(p) {
+                        v.push(p);
+                    }
+                }
+            }
+            v
+        };
+        for group in [&mounds, &valleys] {
+            for pair in group.windows(2) {
+                let (a, b) = (points(&pair[0]), points(&pair[1]));
+                assert!(!a.is_empty() && !b.is_empty());
+                let nearest = a
+                    .iter()
+                    .flat_map(|p| b.iter().map(move |q| (p - q).norm()))
+                    .fold(f64::INFINITY, f64::min);
+                assert!(nearest > s.d_max(), "{nearest} ≤ {}", s.d_max());
+            }
+        }
+    }
 }
