@@ -1,5 +1,6 @@
 //! `gapack bench`: disks per second and peak memory per disk, MX quadtree
-//! against the grid, on square domains with the Table 3.4 grading.
+//! against the grid, in one piece and in strips, on square domains with the
+//! Table 3.4 grading; `--seams`, how the seams of strips compare with the bulk.
 //!
 //! Peak memory comes from [`counting::PeakAlloc`], a counting wrapper around
 //! the system allocator. It is installed only in a binary built with
@@ -8,7 +9,8 @@
 
 use std::time::Instant;
 
-use gapack::{Domain, Grading, IndexKind, PackerSettings, Scene, pack};
+use gapack::strips;
+use gapack::{Domain, Grading, IndexKind, PackerSettings, Scene, Strips, pack};
 use gapack::{porosity, solid_area};
 
 /// The counting allocator and its two counters.
@@ -91,6 +93,10 @@ pub struct Row {
     pub side_mm: f64,
     /// Index name as written in configs.
     pub index: &'static str,
+    /// Strips the domain was packed in (1: one piece).
+    pub strips: usize,
+    /// Threads the strips could use (rayon's pool).
+    pub threads: usize,
     /// Disks packed.
     pub disks: usize,
     /// Porosity reached.
@@ -109,7 +115,9 @@ fn side_for(target: u64, grading: &Grading) -> f64 {
     (target as f64 * grading.mean_disk_area() / 0.82).sqrt()
 }
 
-/// Measure every (size, index) pair; `targets` are disk counts.
+/// Measure every (size, index, split) triple; `targets` are disk counts.
+/// Scenes that `packer.strips = "auto"` packs in strips are measured in one
+/// piece too.
 pub fn run(
     targets: &[u64],
     repeats: usize,
@@ -131,49 +139,154 @@ pub fn run(
                 ("mx-quadtree", IndexKind::MxQuadtree),
                 ("grid", IndexKind::Grid),
             ] {
-                let scene = Scene::new(Domain::rectangle(side, side)?, grading.clone())
+                let auto = Scene::new(Domain::rectangle(side, side)?, grading.clone())
                     .with_packer(PackerSettings {
                         index,
+                        strips: Strips::Auto,
                         ..PackerSettings::default()
                     })
                     .with_seed(1);
-                let mut best = f64::INFINITY;
-                let mut peak = Some(0usize);
-                let mut packing = None;
-                for _ in 0..repeats.max(1) {
-                    drop(packing.take());
-                    let base = counting::start();
-                    let start = Instant::now();
-                    let p = pack(&scene)?;
-                    best = best.min(start.elapsed().as_secs_f64());
-                    peak = peak.zip(counting::peak_since(base)).map(|(a, b)| a.max(b));
-                    packing = Some(p);
+                let mut splits = vec![1];
+                splits.extend(strips::count(&auto));
+                for count in splits {
+                    let mut scene = auto.clone();
+                    scene.packer.strips = Strips::Count(count as u32);
+                    let mut best = f64::INFINITY;
+                    let mut peak = Some(0usize);
+                    let mut packing = None;
+                    for _ in 0..repeats.max(1) {
+                        drop(packing.take());
+                        let base = counting::start();
+                        let start = Instant::now();
+                        let p = pack(&scene)?;
+                        best = best.min(start.elapsed().as_secs_f64());
+                        peak = peak.zip(counting::peak_since(base)).map(|(a, b)| a.max(b));
+                        packing = Some(p);
+                    }
+                    // At least one repeat ran, so the packing is there.
+                    let Some(packing) = packing else { continue };
+                    let disks = packing.disks.len();
+                    let row = Row {
+                        target,
+                        side_mm: side,
+                        index: name,
+                        strips: count,
+                        threads: rayon::current_num_threads(),
+                        disks,
+                        porosity: porosity(solid_area(&packing.disks), side * side),
+                        seconds: best,
+                        disks_per_second: disks as f64 / best,
+                        peak_bytes_per_disk: peak.map(|p| p as f64 / disks.max(1) as f64),
+                    };
+                    progress(&row);
+                    rows.push(row);
                 }
-                // At least one repeat ran, so the packing is there.
-                let Some(packing) = packing else { continue };
-                let disks = packing.disks.len();
-                let row = Row {
-                    target,
-                    side_mm: side,
-                    index: name,
-                    disks,
-                    porosity: porosity(solid_area(&packing.disks), side * side),
-                    seconds: best,
-                    disks_per_second: disks as f64 / best,
-                    peak_bytes_per_disk: peak.map(|p| p as f64 / disks.max(1) as f64),
-                };
-                progress(&row);
-                rows.push(row);
             }
         }
     }
     Ok(rows)
 }
 
+/// One zone of `gapack bench --seams`, over the seeds.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct SeamRow {
+    /// How the square was packed: in strips, or in one piece.
+    pub packed: &'static str,
+    /// Which zone: near the seams (within 3 largest diameters), or away.
+    pub zone: &'static str,
+    /// Mean and standard deviation over the seeds of the zone's porosity,
+    /// coordination and KS distance to the grading.
+    pub porosity: f64,
+    pub porosity_sd: f64,
+    /// Standard deviation of the porosity of one-diameter cells within the
+    /// zone (mean over the seeds).
+    pub cell_sd: f64,
+    pub coordination: f64,
+    pub coordination_sd: f64,
+    pub psd_ks: f64,
+    pub psd_ks_sd: f64,
+    /// Disks in the zone (mean over the seeds).
+    pub disks: f64,
+}
+
+/// Mean and standard deviation (n − 1) of `values`.
+fn mean_sd(values: &[f64]) -> (f64, f64) {
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+    (mean, var.sqrt())
+}
+
+/// Half width of the seams' zone, in largest diameters.
+const SEAM_BAND_DIAMETERS: f64 = 3.0;
+
+/// `gapack bench --seams`: a square of side `side` mm with the Table 3.4
+/// grading, for each seed packed in strips (`"auto"`) and in one piece,
+/// each measured within 3 largest diameters of the strips' seams and away
+/// from them, 3 largest diameters clear of the walls.
+pub fn run_seams(side: f64, seeds: u64) -> anyhow::Result<Vec<SeamRow>> {
+    let grading = Grading::from_table(
+        gapack::THESIS_TABLE_3_4,
+        Default::default(),
+        Default::default(),
+    )?;
+    let half = SEAM_BAND_DIAMETERS * grading.d_max();
+    // Per (packed, zone): the zone of each seed.
+    let mut zones: [Vec<gapack::Zone>; 4] = Default::default();
+    for seed in 1..=seeds {
+        let scene = Scene::new(Domain::rectangle(side, side)?, grading.clone())
+            .with_packer(PackerSettings {
+                strips: Strips::Auto,
+                ..PackerSettings::default()
+            })
+            .with_seed(seed);
+        let count = strips::count(&scene).ok_or_else(|| {
+            anyhow::anyhow!("a {side} mm square is packed in one piece: take a larger side")
+        })?;
+        let seams = strips::seams(&scene, count);
+        let mut whole = scene.clone();
+        whole.packer.strips = Strips::Count(1);
+        for (k, scene) in [scene, whole].iter().enumerate() {
+            let packing = pack(scene)?;
+            let [near, away] = gapack::zones(&packing, scene, &seams, half, half);
+            zones[2 * k].push(near);
+            zones[2 * k + 1].push(away);
+        }
+    }
+    let names = [
+        ("strips", "near seams"),
+        ("strips", "away"),
+        ("one piece", "near the same lines"),
+        ("one piece", "away"),
+    ];
+    Ok(names
+        .into_iter()
+        .zip(zones)
+        .map(|((packed, zone), all)| {
+            let of = |f: fn(&gapack::Zone) -> f64| mean_sd(&all.iter().map(f).collect::<Vec<_>>());
+            let (porosity, porosity_sd) = of(|z| z.porosity);
+            let (coordination, coordination_sd) = of(|z| z.coordination);
+            let (psd_ks, psd_ks_sd) = of(|z| z.psd_ks);
+            SeamRow {
+                packed,
+                zone,
+                porosity,
+                porosity_sd,
+                cell_sd: of(|z| z.cell_sd).0,
+                coordination,
+                coordination_sd,
+                psd_ks,
+                psd_ks_sd,
+                disks: of(|z| z.disks as f64).0,
+            }
+        })
+        .collect())
+}
+
 /// `gapack bench` arguments.
 #[derive(clap::Args)]
 pub struct BenchArgs {
-    /// Largest disk count measured: 10⁴, 10⁵ and 10⁶ up to this.
+    /// Largest disk count measured: 10⁴, 10⁵, 10⁶ and 10⁷ up to this.
     #[arg(long, default_value_t = 1_000_000, value_name = "N")]
     max: u64,
     /// Runs per configuration; the fastest is kept.
@@ -193,11 +306,18 @@ pub struct BenchArgs {
     /// generation.
     #[arg(long, conflicts_with = "densify")]
     ranks: bool,
-    /// With --ranks: the side of the square packed (mm); 110 gives packings
-    /// of about 50 ms on the reference machine, smaller sides show what the
-    /// sharing out costs.
-    #[arg(long, default_value_t = 110.0, value_name = "MM", requires = "ranks")]
-    side: f64,
+    /// Instead: a square packed in strips and in one piece, measured near
+    /// the strips' seams and away from them (seams.csv).
+    #[arg(long, conflicts_with_all = ["densify", "ranks"])]
+    seams: bool,
+    /// With --seams: seeds packed (1, 2, …).
+    #[arg(long, default_value_t = 3, value_name = "N", requires = "seams")]
+    seeds: u64,
+    /// The side of the square packed (mm). With --ranks (default 110): 110
+    /// gives packings of about 50 ms on the reference machine, smaller sides
+    /// show what the sharing out costs. With --seams (default 1000).
+    #[arg(long, value_name = "MM")]
+    side: Option<f64>,
 }
 
 /// The search of `gapack bench --ranks` on a square of side `SIDE` mm: a
@@ -414,9 +534,12 @@ pub fn run_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
         return run_densest(args);
     }
     if args.ranks {
-        return run_ranks(args.side);
+        return run_ranks(args.side.unwrap_or(110.0));
     }
-    let targets: Vec<u64> = [10_000, 100_000, 1_000_000]
+    if args.seams {
+        return seams_command(args);
+    }
+    let targets: Vec<u64> = [10_000, 100_000, 1_000_000, 10_000_000]
         .into_iter()
         .filter(|&n| n <= args.max)
         .collect();
@@ -427,15 +550,26 @@ pub fn run_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
         )));
     }
     print_line(format_args!(
-        "{:>9} {:>9} {:>12} {:>9} {:>9} {:>9} {:>12} {:>10}",
-        "target", "side_mm", "index", "disks", "porosity", "seconds", "disks/s", "bytes/disk"
+        "{:>9} {:>9} {:>12} {:>6} {:>7} {:>9} {:>9} {:>9} {:>12} {:>10}",
+        "target",
+        "side_mm",
+        "index",
+        "strips",
+        "threads",
+        "disks",
+        "porosity",
+        "seconds",
+        "disks/s",
+        "bytes/disk"
     ));
     let rows = run(&targets, args.repeats, |r| {
         print_line(format_args!(
-            "{:>9} {:>9.1} {:>12} {:>9} {:>9.4} {:>9.3} {:>12.0} {:>10}",
+            "{:>9} {:>9.1} {:>12} {:>6} {:>7} {:>9} {:>9.4} {:>9.3} {:>12.0} {:>10}",
             r.target,
             r.side_mm,
             r.index,
+            r.strips,
+            r.threads,
             r.disks,
             r.porosity,
             r.seconds,
@@ -466,5 +600,50 @@ pub fn run_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
         .context("cannot write bench.csv")
         .map_err(Failure::Run)?;
     print_line(args.out.join("bench.csv").display());
+    Ok(())
+}
+
+/// `gapack bench --seams`: print the table, then write seams.csv.
+fn seams_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
+    use crate::cli::{Failure, print_line};
+    use anyhow::Context;
+    use gapack::jobs::{DirStore, Store};
+    let rows = run_seams(args.side.unwrap_or(1000.0), args.seeds)
+        .context("cannot run the seam benchmark")
+        .map_err(Failure::Run)?;
+    print_line(format_args!(
+        "{:<10} {:<20} {:>17} {:>8} {:>15} {:>17} {:>8}",
+        "packed", "zone", "porosity", "cell_sd", "coordination", "psd_ks", "disks"
+    ));
+    for r in &rows {
+        print_line(format_args!(
+            "{:<10} {:<20} {:>8.4} ± {:<6.4} {:>8.4} {:>6.3} ± {:<6.3} {:>7.4} ± {:<7.4} {:>8.0}",
+            r.packed,
+            r.zone,
+            r.porosity,
+            r.porosity_sd,
+            r.cell_sd,
+            r.coordination,
+            r.coordination_sd,
+            r.psd_ks,
+            r.psd_ks_sd,
+            r.disks
+        ));
+    }
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for row in &rows {
+        w.serialize(row)
+            .context("cannot format seams.csv")
+            .map_err(Failure::Run)?;
+    }
+    let bytes = w
+        .into_inner()
+        .context("cannot format seams.csv")
+        .map_err(Failure::Run)?;
+    DirStore::new(&args.out)
+        .write(&[("seams.csv".to_owned(), bytes)])
+        .context("cannot write seams.csv")
+        .map_err(Failure::Run)?;
+    print_line(args.out.join("seams.csv").display());
     Ok(())
 }

@@ -127,10 +127,15 @@ impl Check {
 pub fn check(disks: &[Disk], domain: &Domain, grading: Option<&Grading>) -> Check {
     let well_formed =
         |d: &Disk| d.c.x.is_finite() && d.c.y.is_finite() && d.r.is_finite() && d.r > 0.0;
-    let ok: Vec<usize> = (0..disks.len())
-        .filter(|&i| well_formed(&disks[i]))
-        .collect();
-    let r_max = ok.iter().fold(0.0f64, |m, &i| m.max(disks[i].r));
+    // The well-formed disks, 4 bytes each (ids below 2³², as every index's).
+    let mut ok: Vec<u32> = Vec::with_capacity(disks.len());
+    ok.extend(
+        (0..disks.len())
+            .filter(|&i| well_formed(&disks[i]))
+            .map(|i| i as u32),
+    );
+    let ok_ids = || ok.iter().map(|&i| i as usize);
+    let r_max = ok_ids().fold(0.0f64, |m, i| m.max(disks[i].r));
 
     let (overlaps, worst_overlap) = overlapping_pairs(disks, &ok, domain);
 
@@ -138,7 +143,7 @@ pub fn check(disks: &[Disk], domain: &Domain, grading: Option<&Grading>) -> Chec
     let mut outside = 0;
     let mut worst_outside: Option<(usize, f64)> = None;
     let (lo, hi) = domain.bounds();
-    for &i in &ok {
+    for i in ok_ids() {
         let d = &disks[i];
         let beyond = if domain.is_periodic() {
             (lo.x - d.c.x)
@@ -157,8 +162,7 @@ pub fn check(disks: &[Disk], domain: &Domain, grading: Option<&Grading>) -> Chec
     }
 
     let domain_area = domain.area();
-    let solid_area = solid_area(ok.iter().map(|&i| &disks[i]));
-    let diameters: Vec<f64> = ok.iter().map(|&i| 2.0 * disks[i].r).collect();
+    let solid_area = solid_area(ok_ids().map(|i| &disks[i]));
     Check {
         particles: disks.len(),
         malformed: disks.len() - ok.len(),
@@ -170,7 +174,10 @@ pub fn check(disks: &[Disk], domain: &Domain, grading: Option<&Grading>) -> Chec
         solid_area,
         porosity: porosity(solid_area, domain_area),
         grading: grading.map_or(GradingCheck::NotAsked, |g| {
-            GradingCheck::of(diameters.len(), || g.ks_distance(&diameters))
+            // Listed only when asked for, and sorted where they are.
+            GradingCheck::of(ok.len(), || {
+                g.ks_distance_sorting(&mut ok_ids().map(|i| 2.0 * disks[i].r).collect::<Vec<_>>())
+            })
         }),
         ks_limit: ks_limit(ok.len()),
     }
@@ -207,17 +214,18 @@ pub fn grading_kept(n: usize, ks: f64) -> bool {
 /// own images (each pair of opposite shifts once) as a pair with itself.
 fn overlapping_pairs(
     disks: &[Disk],
-    ok: &[usize],
+    ok: &[u32],
     domain: &Domain,
 ) -> (usize, Option<(usize, usize, f64)>) {
     if ok.len() < 2 && !domain.is_periodic() {
         return (0, None);
     }
-    let near = ByRadius::new(disks, ok.iter().copied());
-    let r_max = ok.iter().fold(0.0f64, |m, &i| m.max(disks[i].r));
+    let ids = || ok.iter().map(|&i| i as usize);
+    let near = ByRadius::new(disks, ids());
+    let r_max = ids().fold(0.0f64, |m, i| m.max(disks[i].r));
     let mut count = 0;
     let mut worst: Option<(usize, usize, f64)> = None;
-    for &a in ok {
+    for a in ids() {
         let p = &disks[a];
         let reach = p.r + r_max;
         let (lo, hi) = (

@@ -47,13 +47,16 @@ pub use check::{Check, GradingCheck, KS_MARGIN, MIN_GRADING_DISKS, check, gradin
 pub use geometry::predicates::OVERLAP_REL;
 pub use geometry::{Disk, Domain, GeometryError, ImageShifts, Point, Shape, Wall, WallMode};
 pub use grading::{Basis, Grading, GradingError, Interpolation, THESIS_TABLE_3_4};
-pub use metrics::{Metrics, PorosityMap, measure, porosity, porosity_map, psd_ks, solid_area};
+pub use metrics::{
+    Metrics, PorosityMap, Zone, measure, porosity, porosity_map, psd_ks, solid_area, zones,
+};
 pub use packer::index::{Grid, MxQuadtree, SpatialIndex};
+pub use packer::strips;
 pub use packer::{
     DensifyTrace, PEAK_BYTES_PER_DISK, PackError, PackStats, Packing, WORK_PER_DISK,
     densify_traced, estimated_peak_bytes, pack, pack_observed, size_count, work_budget,
 };
 pub use scene::{
     Axis, Densify, Fill, FrontRules, IndexKind, Limits, MAX_DEFERRED, MAX_GAP, Method,
-    PackerSettings, Profile, Relaxation, Scene, SizeGradient,
+    PackerSettings, Profile, Relaxation, Scene, SizeGradient, Strips,
 };

@@ -303,6 +303,15 @@ pub(crate) struct RawPacker {
     pub relaxation_tolerance: Option<Spanned<f64>>,
     pub densify_porosity: Option<Spanned<f64>>,
     pub densify_iterations: Option<Spanned<i64>>,
+    pub strips: Option<Spanned<RawStrips>>,
+}
+
+/// `packer.strips`: `"auto"` or a number of strips.
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+pub(crate) enum RawStrips {
+    Count(i64),
+    Name(String),
 }
 
 /// `[optimise]` (or `[optimize]`): a target-porosity run.

@@ -1206,3 +1206,43 @@ fn sizes_that_dwarf_the_domain_blame_the_grading_and_name_millimetres() {
         "{message}"
     );
 }
+
+#[test]
+fn strips_are_auto_a_count_or_one_piece_by_default() {
+    use crate::packer::Strips;
+    let strips = |line: &str| {
+        parse(&rect("width = 200\nheight = 100", line), "t")
+            .expect("valid")
+            .scene
+            .packer
+            .strips
+    };
+    assert_eq!(strips(""), Strips::Count(1));
+    assert_eq!(strips("[packer]\nstrips = \"auto\""), Strips::Auto);
+    assert_eq!(strips("[packer]\nstrips = 4"), Strips::Count(4));
+    let packer = |line: &str| rect("width = 200\nheight = 100", &format!("[packer]\n{line}\n"));
+    fails_with(
+        &packer("strips = \"many\""),
+        "t.toml:8:10: packer.strips: unknown strip setting \"many\"; valid: auto, a whole number of strips",
+    );
+    fails_with(
+        &packer("strips = 0"),
+        "t.toml:8:10: packer.strips: must be a whole number in [1, 100000], got 0",
+    );
+    // 200 mm across 30 strips: 6.7 mm each, under 8 diameters of 1.2 mm.
+    fails_with(
+        &packer("strips = 30"),
+        "t.toml:8:10: packer.strips: must be at most 20 here: strips 6.6667 mm wide are narrower than 8 largest diameters (9.6000 mm), got 30",
+    );
+    fails_with(
+        &packer("strips = 2\nmethod = \"rsa\""),
+        "t.toml:8:10: packer.strips: the advancing front only",
+    );
+    fails_with(
+        &rect(
+            "width = 200\nheight = 100\nwalls = \"disks\"",
+            "[packer]\nstrips = 2\n",
+        ),
+        "t.toml:9:10: packer.strips: strips need walls = \"exact\"",
+    );
+}

@@ -16,7 +16,7 @@ use super::error::{ConfigError, Location};
 use super::parse::Config;
 use super::raw::{
     Pair, RawCompare, RawConfig, RawDomain, RawGrading, RawLayering, RawLimits, RawOptimise,
-    RawPacker, Table,
+    RawPacker, RawStrips, Table,
 };
 use crate::compare::CompareSettings;
 use crate::fracture::{Extent, FractureRun, Well};
@@ -30,8 +30,8 @@ use crate::names::{
     WALLS,
 };
 use crate::packer::{
-    DEFAULT_ATTEMPTS, Densify, MAX_DEFERRED, MAX_GAP, Method, PEAK_BYTES_PER_DISK, PackError,
-    PackerSettings, Relaxation, estimated_peak_bytes, size_count,
+    DEFAULT_ATTEMPTS, Densify, Fill, MAX_DEFERRED, MAX_GAP, Method, PEAK_BYTES_PER_DISK, PackError,
+    PackerSettings, Relaxation, Strips, estimated_peak_bytes, size_count, strips,
 };
 use crate::{Limits, Scene};
 
@@ -46,6 +46,9 @@ const FORCE_HINT: &str = ", or run with --force to go ahead";
 
 /// Largest `packer.attempts`: more tries per disk than this would run for hours.
 const MAX_ATTEMPTS: i64 = 10_000_000;
+
+/// Largest `packer.strips`.
+const MAX_STRIPS: i64 = 100_000;
 
 /// Largest `packer.relaxation_iterations` and `packer.densify_iterations`, for the same reason.
 const MAX_ITERATIONS: i64 = 1_000_000;
@@ -280,6 +283,7 @@ impl Validator<'_> {
                 self.check_particles(&scene, &plan.width_key, particles.clone())?;
                 let walls = (raw_domain.walls.as_ref(), raw_domain.wall_disk.as_ref());
                 self.check_walls(&scene, "domain", walls, &plan.width_key)?;
+                self.check_strips(&scene, raw.packer.as_deref())?;
                 self.check_memory(&scene, &plan.width_key, limit.clone())?;
                 (scene, None)
             }
@@ -1192,7 +1196,75 @@ impl Validator<'_> {
             gap,
             max_deferred,
             fill: self.name(&FILLS, "packer.fill", p.fill.as_ref())?,
+            strips: self.strips(p.strips.as_ref())?,
         })
+    }
+
+    /// `packer.strips`: `"auto"` or a whole number of strips (1, the default: one piece).
+    fn strips(&self, raw: Option<&Spanned<RawStrips>>) -> Result<Strips, ConfigError> {
+        let Some(v) = raw else {
+            return Ok(Strips::default());
+        };
+        match v.get_ref() {
+            RawStrips::Name(name) if name == "auto" => Ok(Strips::Auto),
+            RawStrips::Name(name) => Err(ConfigError::UnknownName {
+                at: self.at(&v.span()),
+                key: "packer.strips".to_owned(),
+                what: "strip setting",
+                given: format!("{name:?}"),
+                valid: Box::new(["auto", "a whole number of strips"]),
+            }),
+            RawStrips::Count(n) => {
+                let n = Spanned::new(v.span(), *n);
+                let n = self.whole("packer.strips", &n, 1, Some(MAX_STRIPS))?;
+                Ok(Strips::Count(n as u32))
+            }
+        }
+    }
+
+    /// Strips asked for (`packer.strips` above 1) must suit the scene:
+    /// the advancing front's dense packs with exact walls, strips no
+    /// narrower than [`strips::MIN_WIDTH_DIAMETERS`] largest diameters.
+    fn check_strips(&self, scene: &Scene, raw: Option<&RawPacker>) -> Result<(), ConfigError> {
+        let (Strips::Count(n), Some(v)) =
+            (scene.packer.strips, raw.and_then(|p| p.strips.as_ref()))
+        else {
+            return Ok(());
+        };
+        if n < 2 {
+            return Ok(());
+        }
+        let at = self.at(&v.span());
+        let key = "packer.strips".to_owned();
+        let reason = if scene.packer.method != Method::AdvancingFront {
+            Some("the advancing front only".to_owned())
+        } else {
+            strips::unsupported(scene).map(|needs| format!("strips need {needs}"))
+        };
+        if let Some(reason) = reason {
+            return Err(ConfigError::NotApplicable { at, key, reason });
+        }
+        let (lo, hi) = scene.domain.bounds();
+        let across = if scene.packer.fill == Fill::Right {
+            hi.y - lo.y
+        } else {
+            hi.x - lo.x
+        };
+        let width = across / f64::from(n);
+        let least = strips::MIN_WIDTH_DIAMETERS * scene.d_max();
+        if width < least {
+            return Err(ConfigError::OutOfRange {
+                at,
+                key,
+                range: format!(
+                    "at most {:.0} here: strips {width:.4} mm wide are narrower than {} largest diameters ({least:.4} mm)",
+                    (across / least).floor(),
+                    strips::MIN_WIDTH_DIAMETERS
+                ),
+                value: f64::from(n),
+            });
+        }
+        Ok(())
     }
 
     /// A number that must lie in `[lo, hi]`.

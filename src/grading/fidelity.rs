@@ -22,13 +22,20 @@ impl Grading {
     /// follow any curve.
     ///
     /// # Performance
-    /// Sorts a copy: O(n log n) time, O(n) memory.
+    /// Sorts a copy: O(n log n) time, O(n) memory
+    /// ([`Grading::ks_distance_sorting`] sorts the caller's own instead).
     pub fn ks_distance(&self, diameters: &[f64]) -> f64 {
+        self.ks_distance_sorting(&mut diameters.to_vec())
+    }
+
+    /// [`Grading::ks_distance`] of `diameters`, sorting them in place: no
+    /// copy, for a caller that collected them for this alone.
+    pub fn ks_distance_sorting(&self, diameters: &mut [f64]) -> f64 {
         if diameters.is_empty() || diameters.iter().any(|d| !(d.is_finite() && *d > 0.0)) {
             return 1.0;
         }
-        let mut sorted = diameters.to_vec();
-        sorted.sort_unstable_by(f64::total_cmp);
+        diameters.sort_unstable_by(f64::total_cmp);
+        let sorted = &*diameters;
         let k = self.basis().exponent();
         let largest = sorted.last().copied().unwrap_or(1.0);
         // Weights relative to the largest diameter: no overflow, the largest weighs 1.

@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 use super::error::JobError;
 use super::event::{Event, Observer, Stage, Warning, WarningKind};
 use super::plan::{Job, JobKind, Plan};
-use super::store::{Store, StoreError};
+use super::store::{Staged, Store, StoreError};
 use super::sweep::{self, Study};
 use crate::Method;
 use crate::cancel::{Cancel, Cancelled};
@@ -25,10 +25,10 @@ use crate::layering::LayeringSettings;
 use crate::metrics::{Metrics, measure, measure_cancellable};
 use crate::names::ConfigName;
 use crate::output::{
-    FILE_NAMES, Format, FractureSummary, LayeringDetails, LayeringReport, LayeringSummary,
+    Body, FILE_NAMES, Format, FractureSummary, LayeringDetails, LayeringReport, LayeringSummary,
     OptimiseSummary, OutputError, OutputSettings, RunInfo, SVG_MAX_BYTES, SearchWindow, WELLS_CSV,
-    WellRow, WindowSummary, packing_svg_note, render_compare, render_outputs, render_stability,
-    variant_label, wells_csv,
+    WellRow, WindowSummary, packing_svg_note, render_compare, render_output_bodies,
+    render_stability, variant_label, wells_csv,
 };
 use crate::packer::{PackError, Packing, pack_observed};
 use crate::stability::{self, StabilityRun};
@@ -166,8 +166,9 @@ pub struct WellOutcome {
 ///
 /// # Behavior
 /// Every file is made in memory (a packing's after it has passed an
-/// independent check) and the run's files go to the store in one
-/// [`Store::commit`] at the end, whole or not at all: its files, its
+/// independent check; its table streamed to the store instead,
+/// [`Store::stage`]) and the run's files go to the store in one
+/// [`Store::commit_staged`] at the end, whole or not at all: its files, its
 /// `manifest.json` listing them, and the removal of the files an earlier
 /// run left in the same place that this run did not write. A run that
 /// fails — bad input, a scene that cannot be packed, a well of a batch that
@@ -342,7 +343,14 @@ fn well_alone(
         Err(JobError::Cancelled) => return Err(Halt::Cancelled),
         Err(_) => return Err(Halt::Failed),
     };
-    let (files, notes) = (alone.pending, alone.notes);
+    // Staged in memory: the bytes travel with the piece.
+    let files = alone
+        .pending
+        .into_iter()
+        .map(|file| Ok((file.name().to_owned(), file.into_bytes()?)))
+        .collect::<Result<Vec<_>, StoreError>>()
+        .map_err(|_| Halt::Failed)?;
+    let notes = alone.notes;
     Ok(WellPiece {
         outcome,
         files,
@@ -412,9 +420,10 @@ struct Running<'p> {
     /// Every file of the run, for the manifest (a checkpoint the search
     /// wrote itself included).
     files: Vec<String>,
-    /// The files made, held until [`Running::finish`] commits them with
-    /// the manifest in one step: a run that fails leaves none of them.
-    pending: Vec<(String, Vec<u8>)>,
+    /// The files made or staged, held until [`Running::finish`] commits
+    /// them with the manifest in one step: a run that fails leaves none of
+    /// them (a staged file is removed when dropped).
+    pending: Vec<Staged>,
     /// What the files do not show as usual, for the manifest and the result lines.
     notes: Vec<String>,
 }
@@ -434,7 +443,26 @@ impl Running<'_> {
         for (name, bytes) in files {
             let name = format!("{folder}{name}");
             self.files.push(name.clone());
-            self.pending.push((name, bytes));
+            self.pending.push(Staged::bytes(name, bytes));
+        }
+        Ok(())
+    }
+
+    /// [`Running::write`] of files made or streamed: a streamed one is
+    /// staged in the store now, while what it streams from is at hand.
+    fn write_bodies(
+        &mut self,
+        folder: &str,
+        files: Vec<(String, Body<'_>)>,
+    ) -> Result<(), JobError> {
+        for (name, body) in files {
+            let name = format!("{folder}{name}");
+            self.files.push(name.clone());
+            let staged = match body {
+                Body::Bytes(bytes) => Staged::bytes(name, bytes),
+                Body::Stream(write) => self.store.stage(&name, &mut |out| write(out))?,
+            };
+            self.pending.push(staged);
         }
         Ok(())
     }
@@ -447,8 +475,9 @@ impl Running<'_> {
         metrics: &Metrics,
         run: &RunInfo<'_>,
     ) -> Result<(), JobError> {
-        let files = render_outputs(packing, metrics, run).map_err(|e| relaxation_hint(e, run))?;
-        self.write(folder, files)?;
+        let files =
+            render_output_bodies(packing, metrics, run).map_err(|e| relaxation_hint(e, run))?;
+        self.write_bodies(folder, files)?;
         self.notes
             .extend(picture_notes(folder, packing, run.output, SVG_MAX_BYTES));
         if !grading_kept(metrics.particles, metrics.psd_ks) {
@@ -628,7 +657,7 @@ impl Running<'_> {
                         self.notes.extend(piece.notes);
                         for (name, bytes) in piece.files {
                             self.files.push(name.clone());
-                            self.pending.push((name, bytes));
+                            self.pending.push(Staged::bytes(name, bytes));
                         }
                         self.told(i, &piece.outcome);
                         wells.push(piece.outcome);
@@ -1411,7 +1440,7 @@ impl Running<'_> {
         let bytes =
             serde_json::to_vec_pretty(&manifest).map_err(|e| StoreError::Write(e.into()))?;
         let mut pending = std::mem::take(&mut self.pending);
-        pending.push((MANIFEST_JSON.to_owned(), bytes));
+        pending.push(Staged::bytes(MANIFEST_JSON.to_owned(), bytes));
         // A checkpoint this run does not list belongs to a search that is
         // over or superseded.
         let mut stale: Vec<String> = earlier
@@ -1421,10 +1450,9 @@ impl Running<'_> {
             .collect();
         stale.sort();
         stale.dedup();
-        self.store.commit(&pending, &stale)?;
-        self.event(Event::Written {
-            files: pending.into_iter().map(|(name, _)| name).collect(),
-        });
+        let written = pending.iter().map(|f| f.name().to_owned()).collect();
+        self.store.commit_staged(pending, &stale)?;
+        self.event(Event::Written { files: written });
         Ok(files)
     }
 }

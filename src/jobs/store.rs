@@ -4,14 +4,17 @@
 //!
 //! A run puts its files in place with one [`Store::commit`] at its end:
 //! every file written and every stale file removed, or on failure nothing
-//! changed, no folder of its own left and no temporary file.
+//! changed, no folder of its own left and no temporary file. A large file
+//! (a packing's table) may be streamed ahead with [`Store::stage`], never
+//! held whole in memory, and put in place by that one commit
+//! ([`Store::commit_staged`]).
 
 use std::collections::BTreeMap;
 use std::fs;
-use std::io;
+use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
-use crate::output::{OutputError, commit_atomic};
+use crate::output::{OutputError, TempFile, commit_with_temps};
 
 /// Why a store could not read or write.
 #[derive(Debug, thiserror::Error)]
@@ -77,6 +80,49 @@ pub trait Store {
         Ok(())
     }
 
+    /// Make file `name` of the set the next [`Store::commit_staged`] puts
+    /// in place, its bytes streamed by `write`, so that they need not be
+    /// held whole in memory. Nothing is in place before that commit, and a
+    /// [`Staged`] dropped uncommitted leaves nothing behind.
+    ///
+    /// The default holds the bytes in memory ([`DirStore`] writes them to
+    /// a temporary file beside the file's place).
+    ///
+    /// # Errors
+    /// [`StoreError`] naming the file and the cause (a bad name, or an
+    /// error `write` returns).
+    fn stage(
+        &mut self,
+        name: &str,
+        write: &mut dyn FnMut(&mut dyn Write) -> io::Result<()>,
+    ) -> Result<Staged, StoreError> {
+        checked(name)?;
+        let mut bytes = Vec::new();
+        write(&mut bytes).map_err(|source| OutputError::Write {
+            path: PathBuf::from(name),
+            source,
+        })?;
+        Ok(Staged::bytes(name.to_owned(), bytes))
+    }
+
+    /// [`Store::commit`] of a set of staged files ([`Store::stage`], or
+    /// [`Staged::bytes`] for those made in memory): all of them put in
+    /// place and the files named in `stale` removed, or on error nothing
+    /// changed.
+    ///
+    /// The default takes the bytes of each ([`Staged::into_bytes`]) and
+    /// calls [`Store::commit`].
+    ///
+    /// # Errors
+    /// [`StoreError`] naming the file and the cause.
+    fn commit_staged(&mut self, files: Vec<Staged>, stale: &[String]) -> Result<(), StoreError> {
+        let files = files
+            .into_iter()
+            .map(|file| Ok((file.name().to_owned(), file.into_bytes()?)))
+            .collect::<Result<Vec<_>, StoreError>>()?;
+        self.commit(&files, stale)
+    }
+
     /// A file's bytes, `None` if there is no such file.
     ///
     /// # Errors
@@ -105,6 +151,54 @@ fn checked(name: &str) -> Result<&str, StoreError> {
         Err(StoreError::Name(name.to_owned()))
     } else {
         Ok(name)
+    }
+}
+
+/// A file of a set to be committed ([`Store::commit_staged`]): its bytes in
+/// memory, or written ahead to a temporary file ([`Store::stage`] of a
+/// [`DirStore`]) that is removed, with the folders made for it, if this is
+/// dropped uncommitted.
+#[derive(Debug)]
+pub struct Staged {
+    name: String,
+    held: Held,
+}
+
+#[derive(Debug)]
+enum Held {
+    Bytes(Vec<u8>),
+    /// The temporary file and the folders made for it (outermost first).
+    File(TempFile, Folders),
+}
+
+impl Staged {
+    /// File `name` of a set, made in memory.
+    pub fn bytes(name: String, bytes: Vec<u8>) -> Self {
+        Staged {
+            name,
+            held: Held::Bytes(bytes),
+        }
+    }
+
+    /// Its name, relative to the run's folder.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Its bytes: those held, or those of its temporary file, read back
+    /// (which is then removed).
+    ///
+    /// # Errors
+    /// [`StoreError::Io`] when the temporary file cannot be read.
+    pub fn into_bytes(self) -> Result<Vec<u8>, StoreError> {
+        match self.held {
+            Held::Bytes(bytes) => Ok(bytes),
+            Held::File(file, _folders) => file.read().map_err(|source| StoreError::Io {
+                action: "read",
+                path: file.path().to_path_buf(),
+                source,
+            }),
+        }
     }
 }
 
@@ -201,7 +295,7 @@ impl DirStore {
 
 /// Folders a commit created, removed again (innermost first) when it is
 /// dropped on failure; [`Folders::keep`] once the commit succeeded.
-#[derive(Default)]
+#[derive(Debug, Default)]
 struct Folders(Vec<PathBuf>);
 
 impl Folders {
@@ -219,34 +313,108 @@ impl Drop for Folders {
     }
 }
 
-impl Store for DirStore {
-    fn write(&mut self, files: &[(String, Vec<u8>)]) -> Result<(), StoreError> {
-        self.commit(files, &[])
-    }
-
-    fn commit(&mut self, files: &[(String, Vec<u8>)], stale: &[String]) -> Result<(), StoreError> {
+impl DirStore {
+    /// Put `files` (names and bytes) and the files written ahead in place,
+    /// and remove `stale`, as one step ([`commit_with_temps`]): on failure
+    /// every folder made for them (now and when they were staged) goes.
+    fn put(
+        &mut self,
+        files: &[(&str, &[u8])],
+        ahead: Vec<(TempFile, Folders)>,
+        stale: &[String],
+    ) -> Result<(), StoreError> {
         // Every name and link checked before anything is created.
         let mut writes = Vec::with_capacity(files.len());
-        for (name, bytes) in files {
-            writes.push((self.unlinked(name, "write")?, bytes.as_slice()));
+        for &(name, bytes) in files {
+            writes.push((self.unlinked(name, "write")?, bytes));
         }
         let removals = stale
             .iter()
             .map(|name| self.unlinked(name, "remove"))
             .collect::<Result<Vec<_>, _>>()?;
+        // One record of every folder made, in the order made (those of the
+        // files written ahead first), undone in reverse on failure.
         let mut made = Folders::default();
+        let mut temps = Vec::with_capacity(ahead.len());
+        for (temp, mut folders) in ahead {
+            made.0.append(&mut folders.0);
+            temps.push(temp);
+        }
         for (path, _) in &writes {
             if let Some(parent) = path.parent() {
                 Self::create(parent, &mut made)?;
             }
         }
-        commit_atomic(&writes, &removals)?;
+        // On failure the temporary files go first (inside), then the
+        // folders left empty (`made` dropped).
+        commit_with_temps(&writes, temps, &removals)?;
         made.keep();
         for path in &removals {
             // A well's folder left empty goes too; one still holding files stays.
             self.prune(path);
         }
         Ok(())
+    }
+}
+
+impl Store for DirStore {
+    fn write(&mut self, files: &[(String, Vec<u8>)]) -> Result<(), StoreError> {
+        self.commit(files, &[])
+    }
+
+    fn commit(&mut self, files: &[(String, Vec<u8>)], stale: &[String]) -> Result<(), StoreError> {
+        let files: Vec<(&str, &[u8])> = files
+            .iter()
+            .map(|(name, bytes)| (name.as_str(), bytes.as_slice()))
+            .collect();
+        self.put(&files, Vec::new(), stale)
+    }
+
+    /// Streams the bytes to a temporary file beside the file's place (its
+    /// folders made now, and removed again if it is dropped uncommitted).
+    fn stage(
+        &mut self,
+        name: &str,
+        write: &mut dyn FnMut(&mut dyn Write) -> io::Result<()>,
+    ) -> Result<Staged, StoreError> {
+        let path = self.unlinked(name, "write")?;
+        let mut made = Folders::default();
+        if let Some(parent) = path.parent() {
+            Self::create(parent, &mut made)?;
+        }
+        let file = TempFile::write(&path, write)?;
+        Ok(Staged {
+            name: name.to_owned(),
+            held: Held::File(file, made),
+        })
+    }
+
+    fn commit_staged(&mut self, files: Vec<Staged>, stale: &[String]) -> Result<(), StoreError> {
+        let mut held = Vec::new();
+        let mut ahead = Vec::new();
+        for file in files {
+            match file.held {
+                Held::Bytes(bytes) => held.push((file.name, bytes)),
+                Held::File(temp, made) => {
+                    // Written ahead for this store's folder, under this name.
+                    if temp.path() != self.unlinked(&file.name, "write")? {
+                        let bytes = temp.read().map_err(|source| StoreError::Io {
+                            action: "read",
+                            path: temp.path().to_path_buf(),
+                            source,
+                        })?;
+                        held.push((file.name, bytes));
+                    } else {
+                        ahead.push((temp, made));
+                    }
+                }
+            }
+        }
+        let files: Vec<(&str, &[u8])> = held
+            .iter()
+            .map(|(name, bytes)| (name.as_str(), bytes.as_slice()))
+            .collect();
+        self.put(&files, ahead, stale)
     }
 
     fn read(&self, name: &str) -> Result<Option<Vec<u8>>, StoreError> {
@@ -330,6 +498,27 @@ impl Store for MemoryStore {
         for (name, bytes) in files {
             self.files.insert(name.clone(), bytes.clone());
         }
+        Ok(())
+    }
+
+    fn commit_staged(&mut self, files: Vec<Staged>, stale: &[String]) -> Result<(), StoreError> {
+        for name in files
+            .iter()
+            .map(Staged::name)
+            .chain(stale.iter().map(String::as_str))
+        {
+            checked(name)?;
+        }
+        // Every file's bytes first (one staged elsewhere is read back):
+        // an error leaves the store as it was.
+        let files = files
+            .into_iter()
+            .map(|file| Ok((file.name.clone(), file.into_bytes()?)))
+            .collect::<Result<Vec<_>, StoreError>>()?;
+        for name in stale {
+            self.files.remove(name);
+        }
+        self.files.extend(files);
         Ok(())
     }
 
@@ -438,6 +627,100 @@ mod tests {
         store.commit(&new, &stale).expect("committed");
         assert_eq!(listing(&dir), ["b.txt", "c.txt"], "w/ emptied goes too");
         let _ = fs::remove_dir_all(&dir);
+    }
+
+    /// A stream writing `text` in pieces.
+    fn streaming(text: &'static [u8]) -> impl FnMut(&mut dyn Write) -> io::Result<()> {
+        move |out| {
+            for piece in text.chunks(3) {
+                out.write_all(piece)?;
+            }
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn a_staged_file_is_in_place_only_after_its_commit() {
+        let scratch = scratch("staged");
+        let dir = scratch.join("out");
+        let mut store = DirStore::new(&dir);
+        let staged = store
+            .stage("w/table.csv", &mut streaming(b"id,x\n0,1\n"))
+            .expect("staged");
+        assert_eq!(staged.name(), "w/table.csv");
+        // Written ahead under a temporary name: nothing in place yet.
+        assert_eq!(store.read("w/table.csv").expect("read"), None);
+        let files = vec![staged, Staged::bytes("a.txt".to_owned(), b"a".to_vec())];
+        store.commit_staged(files, &[]).expect("committed");
+        assert_eq!(
+            store.read("w/table.csv").expect("read"),
+            Some(b"id,x\n0,1\n".to_vec())
+        );
+        assert_eq!(listing(&dir), ["a.txt", "w"]);
+        assert_eq!(listing(&dir.join("w")), ["table.csv"]);
+        let _ = fs::remove_dir_all(&scratch);
+    }
+
+    #[test]
+    fn a_staged_file_dropped_or_failed_leaves_nothing() {
+        let scratch = scratch("staged-failed");
+        let dir = scratch.join("out");
+        let mut store = DirStore::new(&dir);
+        // Dropped uncommitted: its temporary file and its folders go.
+        let staged = store
+            .stage("w/t.csv", &mut streaming(b"t"))
+            .expect("staged");
+        assert_eq!(listing(&scratch), ["out"]);
+        drop(staged);
+        assert!(listing(&scratch).is_empty(), "{:?}", listing(&scratch));
+        // A stream that fails: the error names the file, nothing is left.
+        let err = store
+            .stage("w/t.csv", &mut |out: &mut dyn Write| {
+                out.write_all(b"part")?;
+                Err(io::Error::other("disk full"))
+            })
+            .expect_err("the stream failed");
+        assert!(
+            matches!(&err, StoreError::Write(OutputError::Write { path, .. }) if path.ends_with("w/t.csv")),
+            "{err:?}"
+        );
+        assert!(listing(&scratch).is_empty(), "{:?}", listing(&scratch));
+        // A commit that fails at a rename: the set is undone, and the
+        // staged file and the folders made for it go too.
+        let staged = store
+            .stage("w/t.csv", &mut streaming(b"t"))
+            .expect("staged");
+        let files = vec![
+            staged,
+            Staged::bytes("x/b.txt".to_owned(), b"b".to_vec()),
+            Staged::bytes("x".to_owned(), b"x".to_vec()),
+        ];
+        store
+            .commit_staged(files, &[])
+            .expect_err("a directory is in the way of x");
+        assert!(listing(&scratch).is_empty(), "{:?}", listing(&scratch));
+        let _ = fs::remove_dir_all(&scratch);
+    }
+
+    #[test]
+    fn a_memory_store_stages_in_memory() {
+        let mut store = MemoryStore::default();
+        store
+            .write(&[("old.txt".to_owned(), b"old".to_vec())])
+            .expect("written");
+        let staged = store
+            .stage("t.csv", &mut streaming(b"0,1\n2,3\n"))
+            .expect("staged");
+        assert!(!store.files.contains_key("t.csv"));
+        store
+            .commit_staged(vec![staged], &["old.txt".to_owned()])
+            .expect("committed");
+        assert_eq!(store.files.len(), 1);
+        assert_eq!(store.files["t.csv"], b"0,1\n2,3\n");
+        assert!(matches!(
+            store.stage("../t.csv", &mut streaming(b"")),
+            Err(StoreError::Name(_))
+        ));
     }
 
     #[test]

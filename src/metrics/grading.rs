@@ -12,13 +12,18 @@ pub fn curve_diameters(packing: &Packing, scene: &Scene, curve: usize) -> Vec<f6
     // Only size-graded scenes tie a material to a curve; materials laid
     // out on a finished packing all share the one grading.
     let graded = scene.gradient.is_some();
-    packing
-        .disks
-        .iter()
-        .zip(packing.materials.iter().chain(std::iter::repeat(&0)))
-        .filter(|&(_, &m)| !graded || usize::from(m) == curve)
-        .map(|(d, _)| 2.0 * d.r)
-        .collect()
+    // Every disk when not size-graded: room for all of them at once, no
+    // slack from growing.
+    let mut diameters = Vec::with_capacity(if graded { 0 } else { packing.disks.len() });
+    diameters.extend(
+        packing
+            .disks
+            .iter()
+            .zip(packing.materials.iter().chain(std::iter::repeat(&0)))
+            .filter(|&(_, &m)| !graded || usize::from(m) == curve)
+            .map(|(d, _)| 2.0 * d.r),
+    );
+    diameters
 }
 
 /// Kolmogorov–Smirnov distance of each of `scene`'s grading curves to the
@@ -30,11 +35,11 @@ pub fn psd_ks_by_curve(packing: &Packing, scene: &Scene) -> Vec<f64> {
         .curves()
         .enumerate()
         .map(|(m, curve)| {
-            let own = curve_diameters(packing, scene, m);
+            let mut own = curve_diameters(packing, scene, m);
             if own.is_empty() && graded {
                 0.0
             } else {
-                curve.ks_distance(&own)
+                curve.ks_distance_sorting(&mut own)
             }
         })
         .collect()

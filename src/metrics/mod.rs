@@ -10,16 +10,19 @@
 //! windows and holes near an edge see the disks across it, and each disk's
 //! area counts once.
 
+mod bands;
 mod contacts;
 mod grading;
 pub(crate) mod near;
 mod porosity_map;
 
+pub use bands::{Zone, zones};
 pub use contacts::coordination;
 pub(crate) use contacts::visit_near;
 pub use grading::{Blend, curve_diameters, psd_ks, psd_ks_blend, psd_ks_by_curve};
 pub use porosity_map::{PorosityMap, porosity_map};
 
+use std::borrow::Cow;
 use std::ops::ControlFlow;
 
 use crate::Scene;
@@ -130,8 +133,16 @@ pub fn measure_cancellable(
         .chain(&packing.boundary)
         .fold(0.0f64, |m, d| m.max(d.r));
 
-    // One index over wall disks then packed disks.
-    let all: Vec<Disk> = packing.boundary.iter().chain(disks).copied().collect();
+    // First, while no index is held: it sorts a list of the diameters.
+    let psd_ks = psd_ks(packing, scene);
+
+    // One index over wall disks then packed disks: the packed disks
+    // themselves without wall disks, no copy of the packing.
+    let all: Cow<'_, [Disk]> = if packing.boundary.is_empty() {
+        Cow::Borrowed(disks)
+    } else {
+        Cow::Owned(packing.boundary.iter().chain(disks).copied().collect())
+    };
     let nb = packing.boundary.len();
     let (lo, hi) = domain.bounds();
     // With no disk at all, buckets of the grading's size keep the grid small.
@@ -193,7 +204,7 @@ pub fn measure_cancellable(
         domain_area,
         solid_area,
         porosity: porosity(solid_area, domain_area),
-        psd_ks: psd_ks(packing, scene),
+        psd_ks,
         max_overlap,
         min_wall_clearance: if n == 0 && !periodic {
             0.0

@@ -29,7 +29,9 @@ struct Class {
     origin: (f64, f64),
     rows: i64,
     cols: i64,
-    keyed: Vec<((i64, i64), u32)>,
+    /// (row, column, disk) of each disk of the class, sorted: 12 bytes a
+    /// disk (rows and columns are at most the class's count).
+    keyed: Vec<(u32, u32, u32)>,
     /// Where each row's keys begin in `keyed`, and its end last.
     row_start: Vec<u32>,
 }
@@ -40,12 +42,16 @@ pub(crate) struct ByRadius {
 }
 
 impl ByRadius {
-    /// Bucket `disks[i]` for each `i` of `ids` (finite centres and radii).
-    pub(crate) fn new(disks: &[Disk], ids: impl IntoIterator<Item = usize>) -> Self {
-        let ids: Vec<usize> = ids.into_iter().collect();
+    /// Bucket `disks[i]` for each `i` of `ids` (finite centres and radii;
+    /// fewer than 2³² disks).
+    ///
+    /// # Performance
+    /// Walks `ids` once per size class present, and holds 12 bytes a disk
+    /// (no list of the ids or of the classes' members on the way).
+    pub(crate) fn new(disks: &[Disk], ids: impl Iterator<Item = usize> + Clone) -> Self {
         let r_min = ids
-            .iter()
-            .map(|&i| disks[i].r)
+            .clone()
+            .map(|i| disks[i].r)
             .filter(|r| *r > 0.0)
             .fold(f64::INFINITY, f64::min);
         let class_of = |r: f64| {
@@ -56,14 +62,16 @@ impl ByRadius {
                 0
             }
         };
-        let mut members: Vec<Vec<usize>> = vec![Vec::new(); MAX_CLASSES];
-        for &i in &ids {
-            members[class_of(disks[i].r)].push(i);
+        let mut counts = [0usize; MAX_CLASSES];
+        for i in ids.clone() {
+            counts[class_of(disks[i].r)] += 1;
         }
-        let classes = members
-            .into_iter()
-            .filter(|m| !m.is_empty())
-            .map(|m| Class::new(disks, &m))
+        let classes = (0..MAX_CLASSES)
+            .filter(|&k| counts[k] > 0)
+            .map(|k| {
+                let members = ids.clone().filter(|&i| class_of(disks[i].r) == k);
+                Class::new(disks, members, counts[k])
+            })
             .collect();
         ByRadius { classes }
     }
@@ -98,21 +106,22 @@ impl ByRadius {
 }
 
 impl Class {
-    fn new(disks: &[Disk], ids: &[usize]) -> Self {
-        let r_max = ids.iter().fold(0.0f64, |m, &i| m.max(disks[i].r));
+    /// The class of the `count` disks `disks[i]`, `i` of `ids`.
+    fn new(disks: &[Disk], ids: impl Iterator<Item = usize> + Clone, count: usize) -> Self {
+        let r_max = ids.clone().fold(0.0f64, |m, i| m.max(disks[i].r));
         let (mut x0, mut y0, mut x1, mut y1) = (
             f64::INFINITY,
             f64::INFINITY,
             f64::NEG_INFINITY,
             f64::NEG_INFINITY,
         );
-        for &i in ids {
+        for i in ids.clone() {
             let c = disks[i].c;
             (x0, y0, x1, y1) = (x0.min(c.x), y0.min(c.y), x1.max(c.x), y1.max(c.y));
         }
         // Cells of a sparse class hold about one disk each, and no class
         // spans more rows or columns than it has disks.
-        let n = ids.len() as f64;
+        let n = count as f64;
         let sparse = ((x1 - x0) * (y1 - y0) / n).sqrt();
         let mut side = (2.0 * r_max).max(sparse).max((x1 - x0).max(y1 - y0) / n);
         if !(side > 0.0 && side.is_finite()) {
@@ -120,21 +129,20 @@ impl Class {
         }
         // At most n rows and columns past the first (more only from a
         // centre that is not finite, which no query could find anyway).
-        let last = ids.len() as i64;
-        let key = |c: Point| {
-            (
-                (((c.y - y0) / side).floor() as i64).clamp(0, last),
-                (((c.x - x0) / side).floor() as i64).clamp(0, last),
-            )
-        };
-        let mut keyed: Vec<((i64, i64), u32)> =
-            ids.iter().map(|&i| (key(disks[i].c), i as u32)).collect();
+        let last = count as i64;
+        let cell = |v: f64, o: f64| (((v - o) / side).floor() as i64).clamp(0, last) as u32;
+        let mut keyed = Vec::with_capacity(count);
+        keyed.extend(ids.map(|i| {
+            let c = disks[i].c;
+            (cell(c.y, y0), cell(c.x, x0), i as u32)
+        }));
         keyed.sort_unstable();
         let (rows, cols) = keyed
             .iter()
-            .fold((0, 0), |(r, c), &((kr, kc), _)| (r.max(kr), c.max(kc)));
+            .fold((0, 0), |(r, c), &(kr, kc, _)| (r.max(kr), c.max(kc)));
+        let (rows, cols) = (i64::from(rows), i64::from(cols));
         let row_start = (0..=rows + 1)
-            .map(|row| keyed.partition_point(|(k, _)| k.0 < row) as u32)
+            .map(|row| keyed.partition_point(|&(r, _, _)| i64::from(r) < row) as u32)
             .collect();
         Class {
             r_max,
@@ -169,9 +177,9 @@ impl Class {
         for row in r0..=r1 {
             let keys = &self.keyed
                 [self.row_start[row as usize] as usize..self.row_start[row as usize + 1] as usize];
-            let lo = keys.partition_point(|(k, _)| k.1 < c0);
-            let hi = lo + keys[lo..].partition_point(|(k, _)| k.1 <= c1);
-            for &(_, j) in &keys[lo..hi] {
+            let lo = keys.partition_point(|&(_, c, _)| i64::from(c) < c0);
+            let hi = lo + keys[lo..].partition_point(|&(_, c, _)| i64::from(c) <= c1);
+            for &(_, _, j) in &keys[lo..hi] {
                 #[cfg(test)]
                 VISITED.with(|v| v.set(v.get() + 1));
                 f(j as usize)?;

@@ -6,8 +6,9 @@
 //! so no exit path that runs destructors leaves a `.name.<pid>.tmp`.
 
 use std::fs;
-use std::io::{self, Write};
+use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use rayon::prelude::*;
 
@@ -56,42 +57,65 @@ pub fn write_all_atomic(files: &[(PathBuf, Vec<u8>)]) -> Result<(), OutputError>
 /// [`OutputError::Write`], [`OutputError::Rename`] or
 /// [`OutputError::Remove`] with the I/O cause.
 pub fn commit_atomic(files: &[(PathBuf, &[u8])], remove: &[PathBuf]) -> Result<(), OutputError> {
+    commit_with_temps(files, Vec::new(), remove)
+}
+
+/// [`commit_atomic`], with files written ahead under temporary names
+/// ([`TempFile`]) put in place among them: renamed after `files`' own
+/// temporary files, and removed with them on failure.
+///
+/// # Errors
+/// As [`commit_atomic`].
+pub fn commit_with_temps(
+    files: &[(PathBuf, &[u8])],
+    written: Vec<TempFile>,
+    remove: &[PathBuf],
+) -> Result<(), OutputError> {
     let mut commit = Commit::default();
+    // Every rename to make: each destination and its temporary file, the
+    // temporary file owned by the guard from the moment it is listed (for
+    // `files`, before it exists: a partial one goes too).
+    let mut renames = Vec::with_capacity(files.len() + written.len());
     for (path, _) in files {
         let temp = temp_path(path, "tmp").map_err(|source| OutputError::Write {
             path: path.clone(),
             source,
         })?;
-        // Owned by the guard before the file exists: a partial one goes too.
-        commit.temps.push(temp);
+        commit.temps.push(temp.clone());
+        renames.push((path.clone(), temp));
+    }
+    for file in written {
+        let (path, temp) = file.into_parts();
+        commit.temps.push(temp.clone());
+        renames.push((path, temp));
     }
     // Written and synced side by side: each waits for its own disk flush,
     // and those flushes overlap instead of queueing one after another. The
     // error reported is the first file's in order, whichever failed first.
-    let written: Vec<io::Result<()>> = files
+    let results: Vec<io::Result<()>> = files
         .par_iter()
-        .zip(&commit.temps)
-        .map(|((_, contents), temp)| write_synced(temp, contents))
+        .zip(&renames)
+        .map(|((_, contents), (_, temp))| write_synced(temp, contents))
         .collect();
-    for ((path, _), result) in files.iter().zip(written) {
+    for ((path, _), result) in files.iter().zip(results) {
         result.map_err(|source| OutputError::Write {
             path: path.clone(),
             source,
         })?;
     }
-    for ((path, _), temp) in files.iter().zip(commit.temps.clone()) {
-        let backup = back_up(path).map_err(|source| OutputError::Rename {
+    for (path, temp) in renames {
+        let backup = back_up(&path).map_err(|source| OutputError::Rename {
             path: path.clone(),
             source,
         })?;
         if let Some(backup) = &backup {
             commit.backups.push(backup.clone());
         }
-        fs::rename(&temp, path).map_err(|source| OutputError::Rename {
+        fs::rename(&temp, &path).map_err(|source| OutputError::Rename {
             path: path.clone(),
             source,
         })?;
-        commit.done.push((path.clone(), backup));
+        commit.done.push((path, backup));
     }
     for path in remove {
         let removed = set_aside(path).map_err(|source| OutputError::Remove {
@@ -105,6 +129,82 @@ pub fn commit_atomic(files: &[(PathBuf, &[u8])], remove: &[PathBuf]) -> Result<(
     }
     commit.keep();
     Ok(())
+}
+
+/// A file written ahead of the set it belongs to, under a temporary name
+/// beside its destination (`.name.<pid>.<n>.tmp`), synced to disk: put in
+/// place by [`commit_with_temps`] with the rest of its set, and removed if
+/// it is dropped first (an error, a cancel, a panic unwinding).
+#[derive(Debug)]
+pub struct TempFile {
+    /// Where it goes.
+    path: PathBuf,
+    /// Where it is; `None` once handed to a commit.
+    temp: Option<PathBuf>,
+}
+
+/// Numbers the temporary files written ahead, so that two of the same
+/// name in one process never share one.
+static AHEAD: AtomicU64 = AtomicU64::new(0);
+
+impl TempFile {
+    /// Write the bytes `write` streams to a temporary file beside `path`
+    /// (through a buffer), and sync it. The folder must exist.
+    ///
+    /// # Errors
+    /// [`OutputError::Write`] naming `path`, with the I/O cause (the
+    /// temporary file removed).
+    pub fn write(
+        path: &Path,
+        write: &mut dyn FnMut(&mut dyn Write) -> io::Result<()>,
+    ) -> Result<Self, OutputError> {
+        let failed = |source| OutputError::Write {
+            path: path.to_path_buf(),
+            source,
+        };
+        let n = AHEAD.fetch_add(1, Ordering::Relaxed);
+        // Owned before the file exists: a partial one goes too.
+        let file = TempFile {
+            path: path.to_path_buf(),
+            temp: Some(temp_path(path, &format!("{n}.tmp")).map_err(failed)?),
+        };
+        let temp = file.temp.as_deref().unwrap_or(path);
+        let mut out = BufWriter::with_capacity(1 << 16, fs::File::create(temp).map_err(failed)?);
+        write(&mut out).map_err(failed)?;
+        out.into_inner()
+            .map_err(|e| failed(e.into_error()))?
+            .sync_all()
+            .map_err(failed)?;
+        Ok(file)
+    }
+
+    /// Where the file goes.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The bytes written, read back.
+    ///
+    /// # Errors
+    /// The I/O error reading the temporary file.
+    pub fn read(&self) -> io::Result<Vec<u8>> {
+        fs::read(self.temp.as_deref().unwrap_or(&self.path))
+    }
+
+    /// Its destination and its temporary name, no longer removed on drop.
+    fn into_parts(mut self) -> (PathBuf, PathBuf) {
+        let temp = self.temp.take().unwrap_or_default();
+        (std::mem::take(&mut self.path), temp)
+    }
+}
+
+impl Drop for TempFile {
+    fn drop(&mut self) {
+        if let Some(temp) = self.temp.take() {
+            // Best effort: the error being reported is the one that dropped it.
+            let _ = fs::remove_file(temp);
+        }
+    }
 }
 
 /// The debris of a commit under way, cleaned up when it is dropped unless

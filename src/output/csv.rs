@@ -4,6 +4,9 @@
 //! `window.csv` (one row per window of a fracture) and `wells.csv` (one row
 //! per well of a batch).
 
+use std::fmt::Write as _;
+use std::io::{self, Write};
+
 use super::error::OutputError;
 use super::plot::variant_label;
 use crate::compare::CompareRun;
@@ -289,29 +292,53 @@ pub fn convergence_csv(history: &[Generation]) -> Result<Vec<u8>, OutputError> {
 /// # Errors
 /// [`OutputError::Csv`] if the CSV writer fails (it does not on memory).
 pub fn packing_csv(packing: &Packing, materials: &[Material]) -> Result<Vec<u8>, OutputError> {
-    let mut writer = ::csv::Writer::from_writer(Vec::new());
+    let mut bytes = Vec::new();
+    write_packing_csv(packing, materials, &mut bytes).map_err(::csv::Error::from)?;
+    Ok(bytes)
+}
+
+/// [`packing_csv`], streamed to `out` row by row: the table is never held
+/// whole in memory (a few kilobytes of buffer).
+///
+/// # Errors
+/// The first I/O error of `out`.
+pub fn write_packing_csv(
+    packing: &Packing,
+    materials: &[Material],
+    out: &mut dyn Write,
+) -> io::Result<()> {
+    let mut writer = ::csv::Writer::from_writer(out);
     let named = !materials.is_empty();
     if named {
         writer.write_record(["id", "x", "y", "r", "material"])?;
     } else {
         writer.write_record(["id", "x", "y", "r"])?;
     }
+    // One row's fields, formatted into buffers reused from row to row.
+    let mut fields: [String; 5] = Default::default();
     for (id, disk) in packing.disks.iter().enumerate() {
-        let mut row = vec![
-            id.to_string(),
-            disk.c.x.to_string(),
-            disk.c.y.to_string(),
-            disk.r.to_string(),
-        ];
+        for field in &mut fields {
+            field.clear();
+        }
+        let [i, x, y, r, material] = &mut fields;
+        // Formatting into a String cannot fail.
+        let _ = (
+            write!(i, "{id}"),
+            write!(x, "{}", disk.c.x),
+            write!(y, "{}", disk.c.y),
+            write!(r, "{}", disk.r),
+        );
         if named {
             let m = packing.materials.get(id).map_or(0, |&m| usize::from(m));
-            row.push(materials.get(m).map_or(String::new(), |m| m.name.clone()));
+            if let Some(m) = materials.get(m) {
+                material.push_str(&m.name);
+            }
+            writer.write_record(&fields)?;
+        } else {
+            writer.write_record(&fields[..4])?;
         }
-        writer.write_record(&row)?;
     }
-    writer
-        .into_inner()
-        .map_err(|e| OutputError::Csv(e.into_error().into()))
+    writer.flush()
 }
 
 #[cfg(test)]

@@ -19,11 +19,11 @@ mod run;
 mod svg;
 mod sweep;
 
-pub use atomic::{commit_atomic, write_all_atomic, write_atomic};
+pub use atomic::{TempFile, commit_atomic, commit_with_temps, write_all_atomic, write_atomic};
 pub use csv::{
     COMPARE_CSV, CONVERGENCE_CSV, PACKING_CSV, PROFILE_CSV, STABILITY_CSV, WELLS_CSV, WINDOW_CSV,
     WellRow, compare_csv, convergence_csv, packing_csv, profile_csv, stability_csv, wells_csv,
-    window_csv,
+    window_csv, write_packing_csv,
 };
 pub use error::OutputError;
 pub use export::{
@@ -45,9 +45,10 @@ pub use plot::{
 };
 pub use read::{PackingTable, ReadError, read_packing_csv};
 pub use run::{
-    COMPARE_PNG, COMPARE_SVG, CONVERGENCE_PNG, CONVERGENCE_SVG, Files, LayeringReport, PROFILE_PNG,
-    PROFILE_SVG, RunInfo, STABILITY_PNG, STABILITY_SVG, WINDOW_PNG, WINDOW_SVG, render_compare,
-    render_outputs, render_pictures, render_stability,
+    Body, COMPARE_PNG, COMPARE_SVG, CONVERGENCE_PNG, CONVERGENCE_SVG, Files, LayeringReport,
+    PROFILE_PNG, PROFILE_SVG, RunInfo, STABILITY_PNG, STABILITY_SVG, Stream, WINDOW_PNG,
+    WINDOW_SVG, render_compare, render_output_bodies, render_outputs, render_pictures,
+    render_stability,
 };
 pub use svg::{
     PACKING_SVG, SVG_MAX_BYTES, diameter_range, packing_svg, packing_svg_note, packing_svg_within,

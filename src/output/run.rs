@@ -1,13 +1,14 @@
 //! Writing the outputs of a run, as one atomic set.
 
+use std::io::{self, Write};
 use std::sync::Arc;
 
 use rayon::prelude::*;
 
 use super::csv::{COMPARE_CSV, STABILITY_CSV, compare_csv, stability_csv};
 use super::csv::{
-    CONVERGENCE_CSV, PACKING_CSV, PROFILE_CSV, WINDOW_CSV, convergence_csv, packing_csv,
-    profile_csv, window_csv,
+    CONVERGENCE_CSV, PACKING_CSV, PROFILE_CSV, WINDOW_CSV, convergence_csv, profile_csv,
+    window_csv, write_packing_csv,
 };
 use super::error::OutputError;
 use super::export::{
@@ -51,6 +52,48 @@ pub const COMPARE_PNG: &str = "compare.png";
 
 /// The files of a run: a name relative to the run's folder and the bytes.
 pub type Files = Vec<(String, Vec<u8>)>;
+
+/// Writes a file's bytes to a stream, once, as the file is written.
+pub type Stream<'a> = Box<dyn Fn(&mut dyn Write) -> io::Result<()> + Send + Sync + 'a>;
+
+/// A file's contents: made in memory, or streamed where the file goes (a
+/// packing's table, as large as the packing), never held whole.
+pub enum Body<'a> {
+    /// The bytes, made.
+    Bytes(Vec<u8>),
+    /// The bytes, to be written to a stream.
+    Stream(Stream<'a>),
+}
+
+impl Body<'_> {
+    /// The bytes, made in memory if streamed; `name` names the file in an
+    /// error.
+    ///
+    /// # Errors
+    /// [`OutputError::Write`] naming the file, with the stream's error.
+    pub fn into_bytes(self, name: &str) -> Result<Vec<u8>, OutputError> {
+        match self {
+            Body::Bytes(bytes) => Ok(bytes),
+            Body::Stream(write) => {
+                let mut bytes = Vec::new();
+                write(&mut bytes).map_err(|source| OutputError::Write {
+                    path: name.into(),
+                    source,
+                })?;
+                Ok(bytes)
+            }
+        }
+    }
+}
+
+impl std::fmt::Debug for Body<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Body::Bytes(bytes) => write!(f, "Bytes({} bytes)", bytes.len()),
+            Body::Stream(_) => f.write_str("Stream"),
+        }
+    }
+}
 
 /// The files of a comparison: `compare.csv`, `compare.svg`, `compare.png`.
 ///
@@ -166,6 +209,7 @@ impl<'a> RunInfo<'a> {
 ///
 /// Everything is rendered in memory, after the packing has passed an
 /// independent check; a store then writes the files as one atomic set.
+/// [`render_output_bodies`] leaves the packing's table to be streamed.
 ///
 /// # Errors
 /// [`OutputError::Invalid`] when the packing fails the check, or another
@@ -175,6 +219,27 @@ pub fn render_outputs(
     metrics: &Metrics,
     run: &RunInfo<'_>,
 ) -> Result<Files, OutputError> {
+    render_output_bodies(packing, metrics, run)?
+        .into_iter()
+        .map(|(name, body)| {
+            let bytes = body.into_bytes(&name)?;
+            Ok((name, bytes))
+        })
+        .collect()
+}
+
+/// [`render_outputs`], but the files as large as the packing
+/// (`packing.csv`) come as [`Body::Stream`]s that write them from the
+/// packing where they go: the store streams them to disk, and no copy of
+/// the table is held in memory. The others are made, on all cores.
+///
+/// # Errors
+/// As [`render_outputs`].
+pub fn render_output_bodies<'a>(
+    packing: &'a Packing,
+    metrics: &'a Metrics,
+    run: &'a RunInfo<'a>,
+) -> Result<Vec<(String, Body<'a>)>, OutputError> {
     confirm(packing, metrics)?;
     let out = run.output;
     let materials = run.materials;
@@ -182,7 +247,9 @@ pub fn render_outputs(
     let mut tasks = Tasks::new(out);
     tasks.add(SUMMARY_JSON, || summary_json(packing, metrics, run));
     if out.wants(Format::Csv) {
-        tasks.add(PACKING_CSV, || packing_csv(packing, materials));
+        tasks.stream(PACKING_CSV, move |w| {
+            write_packing_csv(packing, materials, w)
+        });
     }
     if out.wants(Format::Json) {
         tasks.add(PACKING_JSON, || packing_json(packing, metrics, run));
@@ -236,7 +303,7 @@ pub fn render_outputs(
             window_chart(window.steps, window.tolerance, fracture.name)
         });
     }
-    tasks.make()
+    tasks.bodies()
 }
 
 /// Largest difference between the summary's porosity and the one the check
@@ -295,13 +362,19 @@ fn confirm(packing: &Packing, metrics: &Metrics) -> Result<(), OutputError> {
 /// How one file is made.
 type Make<'a> = Box<dyn Fn() -> Result<Vec<u8>, OutputError> + Send + Sync + 'a>;
 
+/// One file of a run: made, or streamed where it goes.
+enum Task<'a> {
+    Make(Make<'a>),
+    Stream(Stream<'a>),
+}
+
 /// The files of a run, listed first and made together: each file is
 /// independent of the others, so they are rendered on all cores (a run's
 /// pictures cost far more than its packing on small scenes), and come out
 /// in the order listed whatever the number of threads.
 struct Tasks<'a> {
     out: &'a OutputSettings,
-    list: Vec<(&'static str, Make<'a>)>,
+    list: Vec<(&'static str, Task<'a>)>,
 }
 
 impl<'a> Tasks<'a> {
@@ -318,7 +391,16 @@ impl<'a> Tasks<'a> {
         name: &'static str,
         make: impl Fn() -> Result<Vec<u8>, OutputError> + Send + Sync + 'a,
     ) {
-        self.list.push((name, Box::new(make)));
+        self.list.push((name, Task::Make(Box::new(make))));
+    }
+
+    /// File `name`, streamed by `write` where it goes.
+    fn stream(
+        &mut self,
+        name: &'static str,
+        write: impl Fn(&mut dyn Write) -> io::Result<()> + Send + Sync + 'a,
+    ) {
+        self.list.push((name, Task::Stream(Box::new(write))));
     }
 
     /// The pictures of a packing, each in the formats asked for: the
@@ -373,9 +455,27 @@ impl<'a> Tasks<'a> {
 
     /// Make every file listed, in parallel; the first error if any fails.
     fn make(self) -> Result<Files, OutputError> {
+        self.bodies()?
+            .into_iter()
+            .map(|(name, body)| {
+                let bytes = body.into_bytes(&name)?;
+                Ok((name, bytes))
+            })
+            .collect()
+    }
+
+    /// Make every file listed but those streamed, in parallel, in the order
+    /// listed; the first error if any fails.
+    fn bodies(self) -> Result<Vec<(String, Body<'a>)>, OutputError> {
         self.list
             .into_par_iter()
-            .map(|(name, make)| make().map(|bytes| (name.to_owned(), bytes)))
+            .map(|(name, task)| {
+                let body = match task {
+                    Task::Make(make) => Body::Bytes(make()?),
+                    Task::Stream(write) => Body::Stream(write),
+                };
+                Ok((name.to_owned(), body))
+            })
             .collect()
     }
 }

@@ -98,10 +98,12 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use std::cell::Cell;
 use std::collections::VecDeque;
 use std::ops::ControlFlow;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::arcs::{Arcs, Measure};
 use super::index::{Grid, MxQuadtree, SpatialIndex};
 use super::sizer::Sizer;
+use super::strips::Region;
 use super::wall_runs::WallRuns;
 use super::{Fill, FrontRules, IndexKind, PackError, PackStats, Packing};
 use crate::Scene;
@@ -145,8 +147,13 @@ const ANGLE_STREAM: u64 = 0x9E37_79B9_7F4A_7C15;
 
 /// Number of sizes the thesis draws: `ceil(domain area / area of the smallest disk)`.
 pub fn size_count(domain: &Domain, d_min: f64) -> u64 {
+    size_count_in(domain.area(), d_min)
+}
+
+/// [`size_count`] of an area (mm²).
+pub(super) fn size_count_in(area: f64, d_min: f64) -> u64 {
     let a_min = std::f64::consts::PI * d_min * d_min / 4.0;
-    (domain.area() / a_min).ceil() as u64
+    (area / a_min).ceil() as u64
 }
 
 /// Sizes drawn between two calls of a packing's progress callback, and
@@ -154,7 +161,8 @@ pub fn size_count(domain: &Domain, d_min: f64) -> u64 {
 pub const PROGRESS_STEP: u64 = 4096;
 
 /// Pack a scene with the advancing-front generator, sizes drawn from its
-/// grading; `progress` is told the sizes drawn so far every [`PROGRESS_STEP`].
+/// grading; `progress` is told the sizes drawn so far every [`PROGRESS_STEP`]
+/// (a scene packed in strips, [`super::strips`], after each colour).
 ///
 /// # Errors
 /// As [`pack_genes`], and [`PackError::Cancelled`] once `cancel` is raised.
@@ -163,6 +171,18 @@ pub fn pack(
     progress: &mut dyn FnMut(u64),
     cancel: &Cancel,
 ) -> Result<Packing, PackError> {
+    let strips = match scene.packer.fill {
+        Fill::Right => super::strips::count(&scene.transposed()),
+        Fill::Up => super::strips::count(scene),
+    };
+    if let Some(strips) = strips {
+        // Cut in the frame the front fills in, next to the origin.
+        return super::near_origin(scene, |scene| {
+            filled(scene, |up| {
+                super::strips::pack_up(up, strips, progress, cancel)
+            })
+        });
+    }
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(scene.seed);
     let count = size_count(&scene.domain, scene.d_min());
     let genes = (0..count).map(move |_| rng.r#gen::<f64>());
@@ -229,15 +249,24 @@ fn pack_filled(
     genes: impl Iterator<Item = f64>,
     cancel: &Cancel,
 ) -> Result<Packing, PackError> {
+    filled(scene, |up| pack_up(up, genes, cancel))
+}
+
+/// `pack_up`'s packing of `scene` filling up, or, filling right, of the
+/// mirrored scene mirrored back.
+fn filled(
+    scene: &Scene,
+    pack_up: impl FnOnce(&Scene) -> Result<Packing, PackError>,
+) -> Result<Packing, PackError> {
     if scene.packer.fill == Fill::Right {
-        let mut packing = pack_up(&scene.transposed(), genes, cancel)?;
+        let mut packing = pack_up(&scene.transposed())?;
         let swap = |d: &mut Disk| d.c = Point::new(d.c.y, d.c.x);
         packing.disks.iter_mut().for_each(swap);
         packing.boundary.iter_mut().for_each(swap);
         packing.domain = scene.domain.clone();
         return Ok(packing);
     }
-    pack_up(scene, genes, cancel)
+    pack_up(scene)
 }
 
 /// [`pack_genes`] with the front advancing up (lowest ordinate first).
@@ -247,10 +276,34 @@ fn pack_up(
     cancel: &Cancel,
 ) -> Result<Packing, PackError> {
     super::placed::check_fits(scene)?;
+    pack_part(scene, None, genes, cancel)
+}
+
+/// Pack `scene`, or only `part` of it, with the sizes the genes draw.
+pub(super) fn pack_part(
+    scene: &Scene,
+    part: Option<&Part>,
+    genes: impl Iterator<Item = f64>,
+    cancel: &Cancel,
+) -> Result<Packing, PackError> {
     match scene.packer.index {
-        IndexKind::MxQuadtree => Front::<MxQuadtree>::new(scene, cancel).run(genes),
-        IndexKind::Grid => Front::<Grid>::new(scene, cancel).run(genes),
+        IndexKind::MxQuadtree => Front::<MxQuadtree>::new(scene, cancel, part).run(genes),
+        IndexKind::Grid => Front::<Grid>::new(scene, cancel, part).run(genes),
     }
+}
+
+/// A part of a domain packed on its own (see `super::strips`): the disks'
+/// centres lie in a convex region, clear of fixed disks packed before.
+pub(super) struct Part<'a> {
+    /// Where the centres lie.
+    pub region: &'a Region,
+    /// Disks packed before, from the parts beside this one: obstacles
+    /// and fronts, not part of the packing returned.
+    pub fixed: &'a [Disk],
+    /// Disks placed by every part of the domain so far, against the scene's limits.
+    pub placed: &'a AtomicU64,
+    /// The work after which this part stops ([`work_budget`] of its share).
+    pub budget: u64,
 }
 
 /// Work between two looks at the cancel token inside a run (neighbours
@@ -264,7 +317,7 @@ const WORK_STEP: u64 = 1 << 20;
 pub const WORK_PER_DISK: u64 = 1 << 14;
 
 /// Work any run may do, however few disks its domain holds.
-const WORK_FLOOR: u64 = 1 << 30;
+pub(super) const WORK_FLOOR: u64 = 1 << 30;
 
 /// The most work the advancing front may do on `scene` before it stops with
 /// [`PackError::WorkBudget`]: [`WORK_PER_DISK`] per disk the domain could
@@ -349,6 +402,11 @@ struct Front<'a, I> {
     tests: Cell<u64>,
     /// The most disks the scene's limits allow, and the error past it.
     ceiling: Option<(u64, PackError)>,
+    /// Packing a part of the domain: the disks every part placed so far
+    /// (the ceiling counts them all).
+    placed: Option<&'a AtomicU64>,
+    /// Packing a part of the domain: where its centres lie.
+    region: Option<&'a Region>,
     /// Walls the candidates must respect exactly (empty with wall disks
     /// and in a periodic cell).
     walls: Vec<Wall>,
@@ -404,19 +462,40 @@ struct Front<'a, I> {
 }
 
 impl<'a, I: SpatialIndex> Front<'a, I> {
-    fn new(scene: &'a Scene, cancel: &'a Cancel) -> Self {
+    fn new(scene: &'a Scene, cancel: &'a Cancel, part: Option<&Part<'a>>) -> Self {
         let domain = &scene.domain;
+        // A part (exact walls only) spans its region's bounds and the
+        // fixed disks' (within a largest diameter): what may touch a disk it
+        // places. Its index and its reflex corners are those of that span.
+        let (mut lo, mut hi) = domain.bounds();
+        if let Some(part) = part {
+            let d = scene.d_max();
+            lo = Point::new(
+                lo.x.max(part.region.lo.x - d),
+                lo.y.max(part.region.lo.y - d),
+            );
+            hi = Point::new(
+                hi.x.min(part.region.hi.x + d),
+                hi.y.min(part.region.hi.y + d),
+            );
+        }
         let (mut obs, walls) = match scene.walls {
             WallMode::Disks => (domain.boundary_disks(scene.wall_disk()), Vec::new()),
             WallMode::Periodic => (Vec::new(), Vec::new()),
             WallMode::Exact => {
                 let corners = domain.reflex_vertices().iter();
+                let corners = corners
+                    .filter(|c| (lo.x..=hi.x).contains(&c.x) && (lo.y..=hi.y).contains(&c.y));
                 (
                     corners.map(|&c| Disk { c, r: 0.0 }).collect(),
                     domain.walls().to_vec(),
                 )
             }
         };
+        let corners = obs.len();
+        if let Some(part) = part {
+            obs.extend_from_slice(part.fixed);
+        }
         let first_packed = obs.len();
         let runs = match scene.walls {
             WallMode::Disks => {
@@ -435,13 +514,16 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         // As many as the domain holds solid at the mean disk area (more come
         // only from wide gradings); reserving the upper bound, up to ten
         // times more for them, would only inflate the peak.
-        let expected = (domain.area() / scene.mean_disk_area())
+        let share = match part {
+            None => 1.0,
+            Some(_) => (domain.area_in_box(lo.x, hi.x, lo.y, hi.y) / domain.area()).min(1.0),
+        };
+        let expected = (share * domain.area() / scene.mean_disk_area())
             .min(scene.max_disks())
             .ceil() as usize;
         obs.reserve(expected);
         witness.reserve(expected);
         bound.reserve(expected);
-        let (lo, hi) = domain.bounds();
         let margin = Point::new(r_max, r_max).coords;
         let mut index = Indexed {
             index: I::new(lo - margin, hi + margin, I::BUCKET_DIAMETERS * 2.0 * r_max),
@@ -450,20 +532,23 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         for (id, o) in obs.iter().enumerate().skip(base) {
             index.insert(id as u32, o.c);
         }
-        // Wall disks start the front list: lowest, then leftmost, on top.
+        // Wall disks, or a part's fixed disks, start the front list: lowest,
+        // then leftmost, on top.
         let mut fronts: Vec<u32> = if scene.walls == WallMode::Disks {
             (0..first_packed as u32).collect()
         } else {
-            Vec::new()
+            (corners as u32..first_packed as u32).collect()
         };
         fronts.sort_by(|&a, &b| lowest_first(obs[b as usize].c, obs[a as usize].c));
         Front {
             scene,
             cancel,
-            budget: work_budget(scene),
+            budget: part.map_or_else(|| work_budget(scene), |p| p.budget),
             next_look: WORK_STEP,
             tests: Cell::new(0),
             ceiling: super::disk_ceiling(scene),
+            placed: part.map(|p| p.placed),
+            region: part.map(|p| p.region),
             walls,
             periodic: scene.walls == WallMode::Periodic,
             origin: domain
@@ -520,8 +605,10 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 }
             }
         }
-        if self.scene.walls == WallMode::Exact {
-            // The first disk sits in the lowest corner; retry smaller sizes if it does not fit.
+        if self.scene.walls == WallMode::Exact && self.fronts.is_empty() {
+            // The first disk sits in the lowest corner (a part's lowest
+            // spot); retry smaller sizes if it does not fit. A part with
+            // fixed disks grows from them.
             for u in genes.by_ref() {
                 self.stats.sizes_drawn += 1;
                 let (d, tag) = self.sizer.size(u, self.growth_point());
@@ -832,10 +919,14 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
     /// # Errors
     /// The scene's particle or memory limit, when this disk would pass it.
     fn place(&mut self, p: Point, r: f64, tag: u16) -> Result<(), PackError> {
-        if let Some((max, error)) = &self.ceiling
-            && (self.obs.len() - self.first_packed) as u64 >= *max
-        {
-            return Err(error.clone());
+        if let Some((max, error)) = &self.ceiling {
+            let placed = match self.placed {
+                Some(all) => all.fetch_add(1, Ordering::Relaxed),
+                None => (self.obs.len() - self.first_packed) as u64,
+            };
+            if placed >= *max {
+                return Err(error.clone());
+            }
         }
         let id = self.obs.len() as u32;
         // In a periodic cell the centre is stored in the cell (the identity elsewhere).
@@ -1336,7 +1427,8 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 self.last_blocker.set(i);
                 false
             }
-            None => true,
+            // A part's region last: most candidates are blocked before.
+            None => self.region.is_none_or(|region| region.contains(cand.at)),
         }
     }
 
@@ -1476,6 +1568,15 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             if let Wall::Circle { center, radius } = *a {
                 spots.push(Point::new(center.x, center.y - (radius - r)));
             }
+            // A part's lowest spots may lie on its sides, on one wall.
+            if let Some(region) = self.region {
+                for &plane in &region.planes {
+                    wall_spot_on_line(a, r, plane, &mut spots);
+                }
+            }
+        }
+        if let Some(region) = self.region {
+            spots.retain(|&p| region.contains(p));
         }
         spots.sort_unstable_by(|a, b| lowest_first(*a, *b));
         for p in spots {
@@ -1719,6 +1820,25 @@ fn wall_candidates(wall: &Wall, c: Point, rf: f64, r: f64, out: &mut Vec<Point>)
     }
 }
 
+/// The centre of a disk of radius `r` tangent to straight `wall` (inside)
+/// on the line `a·x + b·y = c` of `plane` (`[a, b, c]`), if there is one: a
+/// part's lowest spot where its side meets a wall.
+fn wall_spot_on_line(wall: &Wall, r: f64, [a, b, c]: [f64; 3], out: &mut Vec<Point>) {
+    let Wall::Segment { a: p, b: q } = *wall else {
+        return;
+    };
+    let len = (q - p).norm();
+    let (ux, uy) = ((q.x - p.x) / len, (q.y - p.y) / len);
+    let o = Point::new(p.x - uy * r, p.y + ux * r); // offset inward (left) by r
+    let along = a * ux + b * uy;
+    if along.abs() > 1e-12 {
+        let t = (c - a * o.x - b * o.y) / along;
+        if (0.0..=len).contains(&t) {
+            out.push(Point::new(o.x + ux * t, o.y + uy * t));
+        }
+    }
+}
+
 /// Centres of disks of radius `r` tangent to both walls (inside), for seeding.
 fn wall_wall_spots(a: &Wall, b: &Wall, r: f64, out: &mut Vec<Point>) {
     let offset = |w: &Wall| match *w {
@@ -1801,7 +1921,7 @@ mod tests {
     fn a_run_stops_with_an_error_once_its_work_budget_is_spent() {
         let scene = wide_by_mass(3.0);
         let cancel = Cancel::new();
-        let mut front = Front::<Grid>::new(&scene, &cancel);
+        let mut front = Front::<Grid>::new(&scene, &cancel, None);
         front.budget = 1 << 16;
         front.next_look = 0;
         let genes = (0..10_000).map(|i| f64::from(i % 97) / 97.0);
@@ -1824,7 +1944,7 @@ mod tests {
         let scene = wide_by_mass(3.0);
         let cancel = Cancel::new();
         cancel.cancel();
-        let mut front = Front::<Grid>::new(&scene, &cancel);
+        let mut front = Front::<Grid>::new(&scene, &cancel, None);
         front.next_look = 0;
         let genes = std::iter::repeat_n(0.5, 100);
         assert!(matches!(

@@ -10,11 +10,12 @@ mod placed;
 mod relaxation;
 mod rsa;
 mod sizer;
+pub mod strips;
 mod wall_runs;
 
 pub use crate::scene::{
     DEFAULT_ATTEMPTS, Densify, Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method,
-    PackerSettings, Relaxation,
+    PackerSettings, Relaxation, Strips,
 };
 pub use advancing_front::{WORK_PER_DISK, pack_genes_watched, size_count, work_budget};
 pub use densify::{DensifyTrace, densify_traced, pack_densify};

@@ -8,7 +8,7 @@ mod settings;
 pub use profile::{Axis, Frame, Profile, SizeGradient};
 pub use settings::{
     DEFAULT_ATTEMPTS, Densify, Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method,
-    PackerSettings, Relaxation,
+    PackerSettings, Relaxation, Strips,
 };
 
 use crate::geometry::{Domain, WallMode};

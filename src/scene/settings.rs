@@ -133,6 +133,8 @@ pub struct PackerSettings {
     pub max_deferred: usize,
     /// Which way the front advances through the domain.
     pub fill: Fill,
+    /// Whether the advancing front packs the domain in strips, on every core.
+    pub strips: Strips,
 }
 
 impl Default for PackerSettings {
@@ -148,7 +150,28 @@ impl Default for PackerSettings {
             gap: 0.0,
             max_deferred: MAX_DEFERRED,
             fill: Fill::default(),
+            strips: Strips::default(),
         }
+    }
+}
+
+/// Whether the advancing front packs one domain in strips of trapezoids,
+/// each turn's trapezoids at once on every core (the packing depends on the
+/// strips, never on the threads; see `packer::strips`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Strips {
+    /// In strips when the scene holds more than about 200,000 disks and
+    /// allows them (a rectangle, exact walls, dense robust packs); else in one piece.
+    Auto,
+    /// In this many strips of equal width; 1 (the default): in one piece.
+    Count(u32),
+}
+
+/// In one piece: strips leave a trace on their seams (docs/ARCHITECTURE.md,
+/// "Strips"), so they are asked for, not chosen for the user.
+impl Default for Strips {
+    fn default() -> Self {
+        Strips::Count(1)
     }
 }
 

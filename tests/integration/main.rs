@@ -16,6 +16,7 @@ mod inspect;
 mod jobs;
 mod layering;
 mod layers;
+mod memory;
 mod mpi;
 mod optimise;
 mod packing_properties;

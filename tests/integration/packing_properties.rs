@@ -320,3 +320,87 @@ fn a_loose_pack_fills_a_narrow_l() {
     assert!(m.max_overlap <= OVERLAP_REL);
     assert!(m.largest_hole < 2.0, "hole {}", m.largest_hole);
 }
+
+/// Random rectangles packed in strips (`packer.strips`): 2 to 6 strips as
+/// wide as the grading allows, either fill, either index.
+fn strips_strategy() -> impl Strategy<Value = Scene> {
+    (
+        (40.0..160.0f64, 20.0..120.0f64),
+        grading_strategy(),
+        2u32..=6,
+        prop_oneof![Just(IndexKind::MxQuadtree), Just(IndexKind::Grid)],
+        prop_oneof![3 => Just(Fill::Up), 1 => Just(Fill::Right)],
+        any::<u64>(),
+    )
+        .prop_map(|((w, h), grading, strips, index, fill, seed)| {
+            let across = if fill == Fill::Up { w } else { h };
+            let widest = (across / (gapack::strips::MIN_WIDTH_DIAMETERS * grading.d_max())).floor();
+            Scene::new(Domain::rectangle(w, h).unwrap(), grading)
+                .with_packer(PackerSettings {
+                    index,
+                    fill,
+                    strips: gapack::Strips::Count(strips.min(widest.max(1.0) as u32)),
+                    ..PackerSettings::default()
+                })
+                .with_seed(seed)
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, rng_seed: rng_seed(), ..ProptestConfig::default() })]
+
+    /// The same invariants as in one piece: the trapezoids' seams leave no
+    /// overlap, no disk outside and no hole wider than in one piece.
+    #[test]
+    fn packings_in_strips_have_no_overlap_stay_inside_and_fill(scene in strips_strategy()) {
+        let packing = pack(&scene).unwrap();
+        let m = measure(&packing, &scene);
+        let d_max = scene.grading.d_max();
+        prop_assert!(m.particles > 0);
+        prop_assert!(m.max_overlap <= OVERLAP_REL, "overlap {}", m.max_overlap);
+        prop_assert!(m.min_wall_clearance >= -OVERLAP_REL * d_max, "outside by {}", m.min_wall_clearance);
+        prop_assert_eq!(m.isolated, 0, "disks touching no other disk");
+        prop_assert!(
+            m.largest_hole <= MAX_HOLE_DMAX * d_max,
+            "hole {} mm = {} d_max", m.largest_hole, m.largest_hole / d_max
+        );
+    }
+}
+
+/// A domain packed in strips is the same, disk for disk and bit for bit,
+/// on 1, 2 and 3 threads: the strips depend on the scene only.
+#[test]
+fn strips_give_the_same_packing_on_any_number_of_threads() {
+    let scene = Scene::new(Domain::rectangle(150.0, 90.0).unwrap(), common::table_3_4())
+        .with_packer(PackerSettings {
+            strips: gapack::Strips::Count(5),
+            ..PackerSettings::default()
+        })
+        .with_seed(7);
+    let bits = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let packing = pool.install(|| pack(&scene)).unwrap();
+        packing
+            .disks
+            .iter()
+            .map(|d| (d.c.x.to_bits(), d.c.y.to_bits(), d.r.to_bits()))
+            .collect::<Vec<_>>()
+    };
+    let one = bits(1);
+    assert!(one.len() > 8_000, "{} disks", one.len());
+    assert_eq!(bits(2), one);
+    assert_eq!(bits(3), one);
+    // And not the packing in one piece: the strips were used.
+    let mut whole = scene.clone();
+    whole.packer.strips = gapack::Strips::Count(1);
+    let whole = pack(&whole).unwrap();
+    let whole: Vec<_> = whole
+        .disks
+        .iter()
+        .map(|d| (d.c.x.to_bits(), d.c.y.to_bits(), d.r.to_bits()))
+        .collect();
+    assert_ne!(whole, one);
+}
