@@ -65,11 +65,16 @@ def test_keyboard_interrupt_raises_with_the_best_so_far():
     assert 0.6 <= stopped < 5.0, stopped
     assert len(generations) >= 2
     assert p.summary["interrupted"] is True and p.summary["stop"] == "interrupted"
-    assert p.summary["generations"] == len(generations) - 1
+    # Every generation was told but, at most, the one whose callback the
+    # KeyboardInterrupt itself broke into (Python runs the signal's handler
+    # between any two bytecodes, the callback's included).
+    seen = [g["index"] for g in generations]
+    g = p.summary["generations"]
+    assert set(seen) <= set(range(g + 1)) and len(seen) >= g
+    assert all(p.history["best"][e["index"]] == e["best"] for e in generations)
     # The best so far is a valid packing of the config.
     told = gapack.verify(p.x, p.y, p.r, LONG_SEARCH)
     assert told["valid"], told
-    assert p.history["best"][-1] == pytest.approx(generations[-1]["best"])
 
 
 def test_keyboard_interrupt_can_return_the_best_so_far(tmp_path):
