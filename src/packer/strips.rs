@@ -47,7 +47,7 @@ pub const AUTO_DISKS: f64 = 200_000.0;
 const STRIP_DISKS: f64 = 50_000.0;
 
 /// Narrowest strip [`Strips::Auto`] makes, in largest diameters.
-const AUTO_WIDTH_DIAMETERS: f64 = 100.0;
+const AUTO_WIDTH_DIAMETERS: f64 = 200.0;
 
 /// Narrowest strip a config may ask for, in largest diameters: the gaps
 /// between trapezoids packed at once take four of them.
@@ -399,8 +399,12 @@ struct Farm<'a> {
 impl Farm<'_> {
     /// Pack trapezoid `k`, then start those resting on it that wait for nothing more.
     fn pack<'s>(&'s self, s: &rayon::Scope<'s>, k: usize) {
-        let packed = self.pack_one(k);
-        if let Ok(p) = &packed {
+        let mut packed = self.pack_one(k);
+        if let Ok(p) = &mut packed {
+            // Reserved for the trapezoid's box, which it half fills: the
+            // slack would stay until the end.
+            p.disks.shrink_to_fit();
+            p.materials.shrink_to_fit();
             self.drawn.fetch_add(p.stats.sizes_drawn, Ordering::Relaxed);
         } else {
             self.stop.cancel();
