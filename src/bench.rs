@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use gapack::strips;
 use gapack::{Domain, Grading, IndexKind, PackerSettings, Scene, Strips, pack};
-use gapack::{porosity, solid_area};
+use gapack::{mean_sd, porosity, solid_area};
 
 /// The counting allocator and its two counters.
 #[cfg(feature = "count-alloc")]
@@ -207,14 +207,6 @@ pub struct SeamRow {
     pub psd_ks_sd: f64,
     /// Disks in the zone (mean over the seeds).
     pub disks: f64,
-}
-
-/// Mean and standard deviation (n − 1) of `values`.
-fn mean_sd(values: &[f64]) -> (f64, f64) {
-    let n = values.len() as f64;
-    let mean = values.iter().sum::<f64>() / n;
-    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
-    (mean, var.sqrt())
 }
 
 /// Half width of the seams' zone, in largest diameters.

@@ -48,7 +48,7 @@ pub use geometry::predicates::OVERLAP_REL;
 pub use geometry::{Disk, Domain, GeometryError, ImageShifts, Point, Shape, Wall, WallMode};
 pub use grading::{Basis, Grading, GradingError, Interpolation, THESIS_TABLE_3_4};
 pub use metrics::{
-    Metrics, PorosityMap, Zone, measure, porosity, porosity_map, psd_ks, solid_area, zones,
+    Metrics, PorosityMap, Zone, mean_sd, measure, porosity, porosity_map, psd_ks, solid_area, zones,
 };
 pub use packer::index::{Grid, MxQuadtree, SpatialIndex};
 pub use packer::strips;

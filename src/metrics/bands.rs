@@ -2,7 +2,7 @@
 //! seams of a packing made in parts (`packer.strips`) differ from its bulk.
 
 use super::contacts::{coordination, visit_near};
-use super::porosity;
+use super::{mean_sd, porosity};
 use crate::Scene;
 use crate::geometry::Point;
 use crate::geometry::predicates::area_disk_box;
@@ -110,13 +110,10 @@ pub fn zones(
         }
     }
     [0, 1].map(|z| {
-        let values = &cells[z];
-        let n = values.len().max(1) as f64;
-        let mean = values.iter().sum::<f64>() / n;
-        let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+        let (mean, sd) = mean_sd(&cells[z]);
         Zone {
             porosity: mean,
-            cell_sd: var.sqrt(),
+            cell_sd: sd,
             disks: sizes[z].len(),
             coordination: coordination(ends[z], sizes[z].len()),
             psd_ks: scene.grading.ks_distance(&sizes[z]),

@@ -242,9 +242,16 @@ fn local_porosity(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64) -> (
     if values.len() < 2 {
         return (f64::NAN, values.len(), clipped);
     }
-    let mean = values.iter().sum::<f64>() / values.len() as f64;
-    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (values.len() - 1) as f64;
-    (var.sqrt(), values.len(), clipped)
+    (mean_sd(&values).1, values.len(), clipped)
+}
+
+/// Mean and sample standard deviation (n − 1) of `values` (the deviation
+/// is 0 for one value; both are NaN for none).
+pub fn mean_sd(values: &[f64]) -> (f64, f64) {
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+    (mean, var.sqrt())
 }
 
 /// The porosities of the windows of side `w` centred on the domain's

@@ -10,7 +10,7 @@ use gapack::{
     pack,
 };
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
+use proptest::test_runner::{RngSeed, TestCaseError};
 
 /// Largest empty circle allowed, in largest diameters, for the robust rules
 /// with dense placements; loose ones add two diameters per radius of gap.
@@ -118,22 +118,36 @@ proptest! {
 
     #[test]
     fn packings_have_no_overlap_stay_inside_and_fill(scene in scene_strategy()) {
-        let packing = pack(&scene).unwrap();
-        let m = measure(&packing, &scene);
-        let d_max = scene.grading.d_max();
-        prop_assert!(m.particles > 0);
-        prop_assert!(m.max_overlap <= OVERLAP_REL, "overlap {}", m.max_overlap);
-        prop_assert!(m.min_wall_clearance >= -OVERLAP_REL * d_max, "outside by {}", m.min_wall_clearance);
-        prop_assert!(m.porosity > 0.0 && m.porosity < 1.0);
-        prop_assert_eq!(m.isolated, 0, "disks touching no other disk");
-        if scene.packer.rules == FrontRules::Robust {
-            let limit = (MAX_HOLE_DMAX + 2.0 * scene.packer.gap) * d_max;
-            prop_assert!(
-                m.largest_hole <= limit,
-                "hole {} mm = {} d_max", m.largest_hole, m.largest_hole / d_max
-            );
-        }
+        valid_and_full(&scene)?;
     }
+}
+
+/// The invariants of a packing of `scene`: some disks, zero overlaps, every
+/// disk inside, none isolated, and under the robust rules no hole wider
+/// than [`MAX_HOLE_DMAX`] (plus two diameters per radius of gap).
+fn valid_and_full(scene: &Scene) -> Result<(), TestCaseError> {
+    let packing = pack(scene).unwrap();
+    let m = measure(&packing, scene);
+    let d_max = scene.grading.d_max();
+    prop_assert!(m.particles > 0);
+    prop_assert!(m.max_overlap <= OVERLAP_REL, "overlap {}", m.max_overlap);
+    prop_assert!(
+        m.min_wall_clearance >= -OVERLAP_REL * d_max,
+        "outside by {}",
+        m.min_wall_clearance
+    );
+    prop_assert!(m.porosity > 0.0 && m.porosity < 1.0);
+    prop_assert_eq!(m.isolated, 0, "disks touching no other disk");
+    if scene.packer.rules == FrontRules::Robust {
+        let limit = (MAX_HOLE_DMAX + 2.0 * scene.packer.gap) * d_max;
+        prop_assert!(
+            m.largest_hole <= limit,
+            "hole {} mm = {} d_max",
+            m.largest_hole,
+            m.largest_hole / d_max
+        );
+    }
+    Ok(())
 }
 
 #[test]
@@ -353,17 +367,7 @@ proptest! {
     /// overlap, no disk outside and no hole wider than in one piece.
     #[test]
     fn packings_in_strips_have_no_overlap_stay_inside_and_fill(scene in strips_strategy()) {
-        let packing = pack(&scene).unwrap();
-        let m = measure(&packing, &scene);
-        let d_max = scene.grading.d_max();
-        prop_assert!(m.particles > 0);
-        prop_assert!(m.max_overlap <= OVERLAP_REL, "overlap {}", m.max_overlap);
-        prop_assert!(m.min_wall_clearance >= -OVERLAP_REL * d_max, "outside by {}", m.min_wall_clearance);
-        prop_assert_eq!(m.isolated, 0, "disks touching no other disk");
-        prop_assert!(
-            m.largest_hole <= MAX_HOLE_DMAX * d_max,
-            "hole {} mm = {} d_max", m.largest_hole, m.largest_hole / d_max
-        );
+        valid_and_full(&scene)?;
     }
 }
 
