@@ -276,7 +276,7 @@ fn pack_up(
     cancel: &Cancel,
 ) -> Result<Packing, PackError> {
     super::placed::check_fits(scene)?;
-    pack_part(scene, None, genes, cancel)
+    pack_part(scene, None, genes, cancel).map(|p| p.packing)
 }
 
 /// Pack `scene`, or only `part` of it, with the sizes the genes draw.
@@ -285,11 +285,24 @@ pub(super) fn pack_part(
     part: Option<&Part>,
     genes: impl Iterator<Item = f64>,
     cancel: &Cancel,
-) -> Result<Packing, PackError> {
+) -> Result<PartPacking, PackError> {
     match scene.packer.index {
-        IndexKind::MxQuadtree => Front::<MxQuadtree>::new(scene, cancel, part).run(genes),
-        IndexKind::Grid => Front::<Grid>::new(scene, cancel, part).run(genes),
+        IndexKind::MxQuadtree => Front::<MxQuadtree>::new(scene, cancel, part).pack(genes),
+        IndexKind::Grid => Front::<Grid>::new(scene, cancel, part).pack(genes),
     }
+}
+
+/// A part's packing, and which of its disks the parts packed after it
+/// still grow from.
+pub(super) struct PartPacking {
+    pub packing: Packing,
+    /// Per disk of a part (empty in one piece): whether it may still take
+    /// a disk in a part packed after this one. A disk its own part closed
+    /// (it failed for the smallest sizes and left the fronts) without a
+    /// candidate refused for lying outside the part's region has no room
+    /// left anywhere: every disk or wall that blocked it is within reach
+    /// of any later part it touches, so there it is an obstacle only.
+    pub open: Vec<bool>,
 }
 
 /// A part of a domain packed on its own (see `super::strips`): the disks'
@@ -297,9 +310,12 @@ pub(super) fn pack_part(
 pub(super) struct Part<'a> {
     /// Where the centres lie.
     pub region: &'a Region,
-    /// Disks packed before, from the parts beside this one: obstacles
-    /// and fronts, not part of the packing returned.
+    /// Disks packed before, from the parts beside this one: obstacles,
+    /// not part of the packing returned.
     pub fixed: &'a [Disk],
+    /// Per fixed disk: whether it is a front here, open at the end of its
+    /// own part (see [`PartPacking::open`]).
+    pub open: &'a [bool],
     /// Disks placed by every part of the domain so far, against the scene's limits.
     pub placed: &'a AtomicU64,
     /// The work after which this part stops ([`work_budget`] of its share).
@@ -407,6 +423,11 @@ struct Front<'a, I> {
     placed: Option<&'a AtomicU64>,
     /// Packing a part of the domain: where its centres lie.
     region: Option<&'a Region>,
+    /// Set by `feasible` when a candidate clear of every obstacle lies
+    /// outside the part's region; taken after each front's attempt.
+    refused: Cell<bool>,
+    /// Fronts that had a candidate refused so (see [`PartPacking::open`]).
+    refused_fronts: Vec<u32>,
     /// Walls the candidates must respect exactly (empty with wall disks
     /// and in a periodic cell).
     walls: Vec<Wall>,
@@ -537,7 +558,11 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let mut fronts: Vec<u32> = if scene.walls == WallMode::Disks {
             (0..first_packed as u32).collect()
         } else {
-            (corners as u32..first_packed as u32).collect()
+            let open = part.map_or(&[][..], |p| p.open);
+            (corners..first_packed)
+                .filter(|&i| open.get(i - corners).copied().unwrap_or(true))
+                .map(|i| i as u32)
+                .collect()
         };
         fronts.sort_by(|&a, &b| lowest_first(obs[b as usize].c, obs[a as usize].c));
         Front {
@@ -549,6 +574,8 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             ceiling: super::disk_ceiling(scene),
             placed: part.map(|p| p.placed),
             region: part.map(|p| p.region),
+            refused: Cell::new(false),
+            refused_fronts: Vec::new(),
             walls,
             periodic: scene.walls == WallMode::Periodic,
             origin: domain
@@ -587,7 +614,9 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         self.scene.packer.rules == FrontRules::Robust
     }
 
-    fn run(mut self, mut genes: impl Iterator<Item = f64>) -> Result<Packing, PackError> {
+    /// Pack with the sizes the genes draw until they run out (or the
+    /// sizes fit nowhere); in a part, with which disks stay open.
+    fn pack(mut self, mut genes: impl Iterator<Item = f64>) -> Result<PartPacking, PackError> {
         if self.periodic {
             // The first two sizes: one disk at the cell's corner, the next
             // touching it (no wall offers a second contact yet).
@@ -666,6 +695,15 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             }
         }
         self.stats.sizes_unplaced += self.deferred.len() as u64;
+        let mut open = Vec::new();
+        if self.region.is_some() {
+            open.resize(self.obs.len(), false);
+            let fronts = self.fronts.iter().chain(self.parked.iter().map(|(_, f)| f));
+            for &f in fronts.chain(&self.refused_fronts) {
+                open[f as usize] = true;
+            }
+            open.drain(..self.first_packed);
+        }
         let boundary: Vec<Disk> = match self.scene.walls {
             WallMode::Disks => self.obs.drain(..self.first_packed).collect(),
             WallMode::Exact | WallMode::Periodic => {
@@ -673,13 +711,16 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 Vec::new()
             }
         };
-        Ok(Packing {
-            domain: self.scene.domain.clone(),
-            walls: self.scene.walls,
-            boundary,
-            disks: self.obs,
-            materials: self.tags,
-            stats: self.stats,
+        Ok(PartPacking {
+            packing: Packing {
+                domain: self.scene.domain.clone(),
+                walls: self.scene.walls,
+                boundary,
+                disks: self.obs,
+                materials: self.tags,
+                stats: self.stats,
+            },
+            open,
         })
     }
 
@@ -740,7 +781,11 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                     continue;
                 }
                 self.stats.front_attempts += 1;
-                match self.attempt(f, r, one_contact) {
+                let placed = self.attempt(f, r, one_contact);
+                if self.refused.take() && self.refused_fronts.last() != Some(&f) {
+                    self.refused_fronts.push(f);
+                }
+                match placed {
                     Some((p, feasible)) => {
                         if feasible < 2 {
                             self.fronts.pop();
@@ -754,9 +799,15 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                         self.fronts.pop();
                         if !self.robust() || r <= self.r_retire {
                             self.park(f, r);
-                        } else if let Some(bound) = self.room_left(f, r, one_contact) {
-                            self.bound[f as usize] = (bound as f32).next_up();
-                            self.park(f, bound);
+                        } else {
+                            let bound = self.room_left(f, r, one_contact);
+                            if self.refused.take() && self.refused_fronts.last() != Some(&f) {
+                                self.refused_fronts.push(f);
+                            }
+                            if let Some(bound) = bound {
+                                self.bound[f as usize] = (bound as f32).next_up();
+                                self.park(f, bound);
+                            }
                         }
                     }
                 }
@@ -1428,7 +1479,13 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 false
             }
             // A part's region last: most candidates are blocked before.
-            None => self.region.is_none_or(|region| region.contains(cand.at)),
+            None => {
+                let inside = self.region.is_none_or(|region| region.contains(cand.at));
+                if !inside {
+                    self.refused.set(true);
+                }
+                inside
+            }
         }
     }
 
@@ -1925,7 +1982,7 @@ mod tests {
         front.budget = 1 << 16;
         front.next_look = 0;
         let genes = (0..10_000).map(|i| f64::from(i % 97) / 97.0);
-        match front.run(genes) {
+        match front.pack(genes).map(|p| p.packing) {
             Err(PackError::WorkBudget { budget, disks, .. }) => {
                 assert_eq!(budget, 1 << 16);
                 assert!(disks < 5000, "{disks}");
@@ -1948,7 +2005,7 @@ mod tests {
         front.next_look = 0;
         let genes = std::iter::repeat_n(0.5, 100);
         assert!(matches!(
-            front.run(genes),
+            front.pack(genes).map(|p| p.packing),
             Err(PackError::Cancelled(crate::cancel::Cancelled::Flag))
         ));
     }
