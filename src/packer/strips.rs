@@ -12,7 +12,8 @@
 //! stream of sizes: its disks' centres stay in it (its sides are open: a
 //! disk may stick out by its radius), and the disks packed before within
 //! reach (the level below, and for a valley the mounds beside it) are fixed
-//! obstacles and the fronts it grows from.
+//! obstacles, and those their own trapezoid left open are the fronts it
+//! grows from (see `PartPacking::open`).
 //!
 //! Why this shape: every trapezoid is packed *on top of* the disks packed
 //! before it (the level below, and for a valley the mounds' slopes), as the
