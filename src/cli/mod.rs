@@ -3,6 +3,7 @@
 
 pub mod hint;
 pub mod inspect;
+pub mod job;
 #[cfg(feature = "mpi")]
 pub mod ranks;
 
