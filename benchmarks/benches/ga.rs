@@ -17,7 +17,7 @@ fn generation(c: &mut Criterion) {
     let mut group = c.benchmark_group("ga_generation");
     group.sample_size(10);
     for name in ["ap4", "dense_target"] {
-        let path = format!("{}/configs/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+        let path = format!("{}/../configs/{name}.toml", env!("CARGO_MANIFEST_DIR"));
         let text = std::fs::read_to_string(&path).expect("shipped config");
         let cfg = config::parse(&text, &path).expect("valid config");
         let settings = cfg.optimise.expect("[optimise] table");
