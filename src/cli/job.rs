@@ -69,13 +69,7 @@ pub struct ValidateArgs {
 }
 
 fn job_kind(name: &str) -> Result<JobKind, String> {
-    JobKind::ALL
-        .into_iter()
-        .find(|k| k.name() == name)
-        .ok_or_else(|| {
-            let names: Vec<&str> = JobKind::ALL.iter().map(|k| k.name()).collect();
-            format!("unknown job {name:?}: {}", names.join(", "))
-        })
+    JobKind::named(name).ok_or_else(|| format!("unknown job {name:?}: {}", JobKind::names()))
 }
 
 /// The request a job's arguments make.

@@ -58,6 +58,16 @@ impl JobKind {
         }
     }
 
+    /// The job called `name` (`pack`, `optimise`, …), if there is one.
+    pub fn named(name: &str) -> Option<JobKind> {
+        JobKind::ALL.into_iter().find(|k| k.name() == name)
+    }
+
+    /// Every job's name, for a message that lists them: `pack, optimise, …`.
+    pub fn names() -> String {
+        JobKind::ALL.map(JobKind::name).join(", ")
+    }
+
     /// The job a config is written for: `sweep` with a `[sweep]` table,
     /// else `optimise` with an `[optimise]` one, else `layer` with a
     /// `[layering]` one, else `pack`.

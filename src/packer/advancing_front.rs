@@ -782,9 +782,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 }
                 self.stats.front_attempts += 1;
                 let placed = self.attempt(f, r, one_contact);
-                if self.refused.take() && self.refused_fronts.last() != Some(&f) {
-                    self.refused_fronts.push(f);
-                }
+                self.note_refused(f);
                 match placed {
                     Some((p, feasible)) => {
                         if feasible < 2 {
@@ -801,9 +799,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                             self.park(f, r);
                         } else {
                             let bound = self.room_left(f, r, one_contact);
-                            if self.refused.take() && self.refused_fronts.last() != Some(&f) {
-                                self.refused_fronts.push(f);
-                            }
+                            self.note_refused(f);
                             if let Some(bound) = bound {
                                 self.bound[f as usize] = (bound as f32).next_up();
                                 self.park(f, bound);
@@ -941,6 +937,14 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                         .runs
                         .any_in_box(obs, lo, hi, |id| blocks(id, Vector2::zeros()))
             })
+    }
+
+    /// Remember front `f` as open for later parts if its last attempt had
+    /// a candidate refused only by the part's region.
+    fn note_refused(&mut self, f: u32) {
+        if self.refused.take() && self.refused_fronts.last() != Some(&f) {
+            self.refused_fronts.push(f);
+        }
     }
 
     /// A front that failed for `r`: parked for smaller sizes (robust rules) or dropped.

@@ -307,16 +307,12 @@ struct Submission {
 }
 
 fn job_kind(name: &str) -> Result<JobKind, ApiError> {
-    JobKind::ALL
-        .into_iter()
-        .find(|k| k.name() == name)
-        .ok_or_else(|| {
-            let names: Vec<&str> = JobKind::ALL.iter().map(|k| k.name()).collect();
-            ApiError::bad_request(format!(
-                "unknown job kind {name:?}; valid: {}",
-                names.join(", ")
-            ))
-        })
+    JobKind::named(name).ok_or_else(|| {
+        ApiError::bad_request(format!(
+            "unknown job kind {name:?}; valid: {}",
+            JobKind::names()
+        ))
+    })
 }
 
 /// The submission a request makes: a TOML body with query parameters, or

@@ -137,9 +137,7 @@ fn run_one(shared: &Arc<Shared>, job: JobRow) {
 
 /// Plan and run the job as the CLI would.
 fn execute(shared: &Shared, job: &JobRow, cancel: &Cancel) -> Result<Outcome, JobError> {
-    let kind = JobKind::ALL
-        .into_iter()
-        .find(|k| k.name() == job.kind)
+    let kind = JobKind::named(&job.kind)
         .ok_or_else(|| JobError::Input(format!("unknown job kind {:?}", job.kind)))?;
     let mut store = DirStore::new(job_dir(shared, &job.id));
     // A restarted job goes on from what it left: a search from its
