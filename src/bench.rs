@@ -1,6 +1,7 @@
 //! `gapack bench`: disks per second and peak memory per disk, MX quadtree
 //! against the grid, in one piece and in strips, on square domains with the
-//! Table 3.4 grading; `--seams`, how the seams of strips compare with the bulk.
+//! Table 3.4 grading; `--seams`, how the seams of strips compare with the bulk
+//! (Table 3.4 and Table 3.1).
 //!
 //! Peak memory comes from [`counting::PeakAlloc`], a counting wrapper around
 //! the system allocator. It is installed only in a binary built with
@@ -190,6 +191,11 @@ pub fn run(
 /// One zone of `gapack bench --seams`, over the seeds.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct SeamRow {
+    /// The grading packed (a thesis table).
+    pub grading: &'static str,
+    /// Side of the square (mm), and the strips `"auto"` cut it into.
+    pub side_mm: f64,
+    pub strips: usize,
     /// How the square was packed: in strips, or in one piece.
     pub packed: &'static str,
     /// Which zone: near the seams (within 3 largest diameters), or away.
@@ -209,57 +215,71 @@ pub struct SeamRow {
     pub disks: f64,
 }
 
+/// A grading table: `(diameter mm, percent passing)`.
+type Table = &'static [(f64, f64)];
+
 /// Half width of the seams' zone, in largest diameters.
 const SEAM_BAND_DIAMETERS: f64 = 3.0;
 
-/// `gapack bench --seams`: a square of side `side` mm with the Table 3.4
-/// grading, for each seed packed in strips (`"auto"`) and in one piece,
-/// each measured within 3 largest diameters of the strips' seams and away
-/// from them, 3 largest diameters clear of the walls.
-pub fn run_seams(side: f64, seeds: u64) -> anyhow::Result<Vec<SeamRow>> {
-    let grading = Grading::from_table(
-        gapack::THESIS_TABLE_3_4,
-        Default::default(),
-        Default::default(),
-    )?;
-    let half = SEAM_BAND_DIAMETERS * grading.d_max();
-    // Per (packed, zone): the zone of each seed.
-    let mut zones: [Vec<gapack::Zone>; 4] = Default::default();
-    for seed in 1..=seeds {
-        let scene = Scene::new(Domain::rectangle(side, side)?, grading.clone())
-            .with_packer(PackerSettings {
-                strips: Strips::Auto,
-                ..PackerSettings::default()
-            })
-            .with_seed(seed);
-        let count = strips::count(&scene).ok_or_else(|| {
-            anyhow::anyhow!("a {side} mm square is packed in one piece: take a larger side")
-        })?;
-        let seams = strips::seams(&scene, count);
-        let mut whole = scene.clone();
-        whole.packer.strips = Strips::Count(1);
-        for (k, scene) in [scene, whole].iter().enumerate() {
-            let packing = pack(scene)?;
-            let [near, away] = gapack::zones(&packing, scene, &seams, half, half);
-            zones[2 * k].push(near);
-            zones[2 * k + 1].push(away);
+/// The gradings of `gapack bench --seams`, each with the side of its square
+/// (mm): the thesis' nearly one-size proppant in its 1000 mm square, and its
+/// polydisperse benchmark grading in a square wide enough for `"auto"` to cut
+/// (strips at least 200 largest diameters wide).
+const SEAM_GRADINGS: [(&str, Table, f64); 2] = [
+    ("Table 3.4", gapack::THESIS_TABLE_3_4, 1000.0),
+    ("Table 3.1", gapack::THESIS_TABLE_3_1, 1500.0),
+];
+
+/// `gapack bench --seams`: for each grading of [`SEAM_GRADINGS`], a square
+/// (of side `side` mm if given), for each seed packed in strips (`"auto"`)
+/// and in one piece, each measured within 3 largest diameters of the strips'
+/// seams and away from them, 3 largest diameters clear of the walls.
+pub fn run_seams(side: Option<f64>, seeds: u64) -> anyhow::Result<Vec<SeamRow>> {
+    let mut rows = Vec::new();
+    for (name, table, default_side) in SEAM_GRADINGS {
+        let grading = Grading::from_table(table, Default::default(), Default::default())?;
+        let side = side.unwrap_or(default_side);
+        let half = SEAM_BAND_DIAMETERS * grading.d_max();
+        // Per (packed, zone): the zone of each seed.
+        let mut zones: [Vec<gapack::Zone>; 4] = Default::default();
+        let mut count = 0;
+        for seed in 1..=seeds {
+            let scene = Scene::new(Domain::rectangle(side, side)?, grading.clone())
+                .with_packer(PackerSettings {
+                    strips: Strips::Auto,
+                    ..PackerSettings::default()
+                })
+                .with_seed(seed);
+            count = strips::count(&scene).ok_or_else(|| {
+                anyhow::anyhow!(
+                    "a {side} mm square of {name} is packed in one piece: take a larger side"
+                )
+            })?;
+            let seams = strips::seams(&scene, count);
+            let mut whole = scene.clone();
+            whole.packer.strips = Strips::Count(1);
+            for (k, scene) in [scene, whole].iter().enumerate() {
+                let packing = pack(scene)?;
+                let [near, away] = gapack::zones(&packing, scene, &seams, half, half);
+                zones[2 * k].push(near);
+                zones[2 * k + 1].push(away);
+            }
         }
-    }
-    let names = [
-        ("strips", "near seams"),
-        ("strips", "away"),
-        ("one piece", "near the same lines"),
-        ("one piece", "away"),
-    ];
-    Ok(names
-        .into_iter()
-        .zip(zones)
-        .map(|((packed, zone), all)| {
+        let names = [
+            ("strips", "near seams"),
+            ("strips", "away"),
+            ("one piece", "near the same lines"),
+            ("one piece", "away"),
+        ];
+        rows.extend(names.into_iter().zip(zones).map(|((packed, zone), all)| {
             let of = |f: fn(&gapack::Zone) -> f64| mean_sd(&all.iter().map(f).collect::<Vec<_>>());
             let (porosity, porosity_sd) = of(|z| z.porosity);
             let (coordination, coordination_sd) = of(|z| z.coordination);
             let (psd_ks, psd_ks_sd) = of(|z| z.psd_ks);
             SeamRow {
+                grading: name,
+                side_mm: side,
+                strips: count,
                 packed,
                 zone,
                 porosity,
@@ -271,8 +291,9 @@ pub fn run_seams(side: f64, seeds: u64) -> anyhow::Result<Vec<SeamRow>> {
                 psd_ks_sd,
                 disks: of(|z| z.disks as f64).0,
             }
-        })
-        .collect())
+        }));
+    }
+    Ok(rows)
 }
 
 /// `gapack bench` arguments.
@@ -307,7 +328,8 @@ pub struct BenchArgs {
     seeds: u64,
     /// The side of the square packed (mm). With --ranks (default 110): 110
     /// gives packings of about 50 ms on the reference machine, smaller sides
-    /// show what the sharing out costs. With --seams (default 1000).
+    /// show what the sharing out costs. With --seams (default 1000 for
+    /// Table 3.4, 1500 for Table 3.1).
     #[arg(long, value_name = "MM")]
     side: Option<f64>,
 }
@@ -405,7 +427,7 @@ fn densest_gradings() -> anyhow::Result<Vec<Densest>> {
         },
         Densest {
             name: "thesis Table 3.1, 1.275-3.54 mm",
-            grading: table(&[(1.275, 0.0), (1.8, 35.0), (2.55, 95.0), (3.54, 100.0)])?,
+            grading: table(gapack::THESIS_TABLE_3_1)?,
             published: 1.0 - 0.84,
             source: "polydisperse disks: phi_J about 0.84",
         },
@@ -600,16 +622,28 @@ fn seams_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
     use crate::cli::{Failure, print_line};
     use anyhow::Context;
     use gapack::jobs::{DirStore, Store};
-    let rows = run_seams(args.side.unwrap_or(1000.0), args.seeds)
+    let rows = run_seams(args.side, args.seeds)
         .context("cannot run the seam benchmark")
         .map_err(Failure::Run)?;
     print_line(format_args!(
-        "{:<10} {:<20} {:>17} {:>8} {:>15} {:>17} {:>8}",
-        "packed", "zone", "porosity", "cell_sd", "coordination", "psd_ks", "disks"
+        "{:<10} {:>7} {:>6} {:<10} {:<20} {:>17} {:>8} {:>15} {:>17} {:>8}",
+        "grading",
+        "side",
+        "strips",
+        "packed",
+        "zone",
+        "porosity",
+        "cell_sd",
+        "coordination",
+        "psd_ks",
+        "disks"
     ));
     for r in &rows {
         print_line(format_args!(
-            "{:<10} {:<20} {:>8.4} ± {:<6.4} {:>8.4} {:>6.3} ± {:<6.3} {:>7.4} ± {:<7.4} {:>8.0}",
+            "{:<10} {:>7} {:>6} {:<10} {:<20} {:>8.4} ± {:<6.4} {:>8.4} {:>6.3} ± {:<6.3} {:>7.4} ± {:<7.4} {:>8.0}",
+            r.grading,
+            r.side_mm,
+            r.strips,
             r.packed,
             r.zone,
             r.porosity,

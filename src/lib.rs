@@ -46,7 +46,9 @@ pub use cancel::{Cancel, Cancelled};
 pub use check::{Check, GradingCheck, KS_MARGIN, MIN_GRADING_DISKS, check, grading_kept, ks_limit};
 pub use geometry::predicates::OVERLAP_REL;
 pub use geometry::{Disk, Domain, GeometryError, ImageShifts, Point, Shape, Wall, WallMode};
-pub use grading::{Basis, Grading, GradingError, Interpolation, THESIS_TABLE_3_4};
+pub use grading::{
+    Basis, Grading, GradingError, Interpolation, THESIS_TABLE_3_1, THESIS_TABLE_3_4,
+};
 pub use metrics::{
     Metrics, PorosityMap, Zone, mean_sd, measure, porosity, porosity_map, psd_ks, solid_area, zones,
 };

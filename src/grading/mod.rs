@@ -17,6 +17,11 @@ mod test_tables;
 pub use curve::{Basis, Grading, Interpolation};
 pub use error::GradingError;
 
+/// The thesis' Table 3.1 (Pinto 2009), `(diameter mm, percent passing by
+/// number)`: the polydisperse grading of its benchmark run.
+pub const THESIS_TABLE_3_1: &[(f64, f64)] =
+    &[(1.275, 0.0), (1.8, 35.0), (2.55, 95.0), (3.54, 100.0)];
+
 /// The thesis' Table 3.4 (Pinto 2009), `(diameter mm, percent passing by
 /// number)`: the proppant grading of its fracture case and square domains,
 /// used by the reproduction tests and `gapack bench`.

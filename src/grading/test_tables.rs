@@ -5,8 +5,7 @@ use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
 /// Thesis Table 3.1 (benchmark run).
-pub(super) const TABLE_3_1: &[(f64, f64)] =
-    &[(1.275, 0.0), (1.8, 35.0), (2.55, 95.0), (3.54, 100.0)];
+pub(super) use super::THESIS_TABLE_3_1 as TABLE_3_1;
 
 /// Thesis Table 3.4 (proppant, fracture case).
 pub(super) use super::THESIS_TABLE_3_4 as TABLE_3_4;
