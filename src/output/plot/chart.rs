@@ -170,24 +170,15 @@ impl LineChart {
         root: DrawingArea<DB, Shift>,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
         root.fill(&WHITE)?;
-        let (xs, ys) = self.axes();
         let entries = self.legend();
         let (plot, legend) = beside(&root, &entries);
-        let mut chart = ChartBuilder::on(&plot)
-            .caption(&self.title, (FAMILY, 22))
-            .margin(14)
-            .x_label_area_size(48)
-            .y_label_area_size(70)
-            .build_cartesian_2d(xs, ys)?;
-        chart
-            .configure_mesh()
-            .x_desc(&self.x_label)
-            .y_desc(&self.y_label)
-            .x_label_formatter(&tidy)
-            .y_label_formatter(&tidy)
-            .label_style((FAMILY, 14))
-            .axis_desc_style((FAMILY, 16))
-            .draw()?;
+        let mut chart = plot_area(
+            &plot,
+            (&self.title, 22),
+            self.axes(),
+            [&self.x_label, &self.y_label],
+            &tidy,
+        )?;
         for s in &self.series {
             let [r, g, b] = colour(s.colour);
             let colour = RGBColor(r, g, b);
@@ -214,6 +205,37 @@ impl LineChart {
         draw_legend(&legend, &entries, 1, LEGEND_TOP)?;
         root.present()
     }
+}
+
+/// A chart's plot area, drawn on with its axes' values.
+pub(super) type Plot<'a, DB> = ChartContext<'a, DB, Cartesian2d<Axis, Axis>>;
+
+/// The plot area of a chart on `plot`: its caption (`title` at `size` px),
+/// the axes and their mesh, labelled `descs` (x, y), the x values written
+/// by `x_label` and the y values tidied.
+pub(super) fn plot_area<'a, DB: DrawingBackend>(
+    plot: &'a DrawingArea<DB, Shift>,
+    (title, size): (&str, u32),
+    (xs, ys): (Axis, Axis),
+    [x_desc, y_desc]: [&str; 2],
+    x_label: &dyn Fn(&f64) -> String,
+) -> Result<Plot<'a, DB>, DrawingAreaErrorKind<DB::ErrorType>> {
+    let mut chart = ChartBuilder::on(plot)
+        .caption(title, (FAMILY, size))
+        .margin(14)
+        .x_label_area_size(48)
+        .y_label_area_size(70)
+        .build_cartesian_2d(xs, ys)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .x_label_formatter(x_label)
+        .y_label_formatter(&tidy)
+        .label_style((FAMILY, 14))
+        .axis_desc_style((FAMILY, 16))
+        .draw()?;
+    Ok(chart)
 }
 
 /// One line of a legend: a swatch in the series' colour and its text.

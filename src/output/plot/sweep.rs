@@ -7,7 +7,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::axis::{Axis, Pad};
-use super::chart::{Drawable, Entry, FAMILY, LEGEND_TOP, Mark, beside, draw_legend, tidy};
+use super::chart::{Drawable, Entry, LEGEND_TOP, Mark, beside, draw_legend, plot_area, tidy};
 use crate::output::palette::colour;
 use crate::sweep::{Measure, Row, Spread, SweepSettings, spreads};
 
@@ -241,12 +241,6 @@ impl Drawable for SweepChart {
         let (xs, ys) = self.axes();
         let entries = self.legend();
         let (plot, legend) = beside(&root, &entries);
-        let mut chart = ChartBuilder::on(&plot)
-            .caption(&self.title, (FAMILY, 18))
-            .margin(14)
-            .x_label_area_size(48)
-            .y_label_area_size(70)
-            .build_cartesian_2d(xs, ys)?;
         let categories = match &self.xs {
             Xs::Categories(names) => Some(names.clone()),
             Xs::Numbers(_) => None,
@@ -262,15 +256,13 @@ impl Drawable for SweepChart {
             }
             None => tidy(v),
         };
-        chart
-            .configure_mesh()
-            .x_desc(&self.x_title)
-            .y_desc(self.measure.title())
-            .x_label_formatter(&x_label)
-            .y_label_formatter(&tidy)
-            .label_style((FAMILY, 14))
-            .axis_desc_style((FAMILY, 16))
-            .draw()?;
+        let mut chart = plot_area(
+            &plot,
+            (&self.title, 18),
+            (xs, ys),
+            [&self.x_title, self.measure.title()],
+            &x_label,
+        )?;
         let (lo, hi) = xs.ends();
         let span = hi - lo;
         let n = self.series.len();
