@@ -242,20 +242,21 @@ pub fn run_seams(side: Option<f64>, seeds: u64) -> anyhow::Result<Vec<SeamRow>> 
         let half = SEAM_BAND_DIAMETERS * grading.d_max();
         // Per (packed, zone): the zone of each seed.
         let mut zones: [Vec<gapack::Zone>; 4] = Default::default();
-        let mut count = 0;
+        // The layout, and so the seams, depend on the scene, not its seed.
+        let strips_of = Scene::new(Domain::rectangle(side, side)?, grading.clone()).with_packer(
+            PackerSettings {
+                strips: Strips::Auto,
+                ..PackerSettings::default()
+            },
+        );
+        let count = strips::count(&strips_of).ok_or_else(|| {
+            anyhow::anyhow!(
+                "a {side} mm square of {name} is packed in one piece: take a larger side"
+            )
+        })?;
+        let seams = strips::seams(&strips_of, count);
         for seed in 1..=seeds {
-            let scene = Scene::new(Domain::rectangle(side, side)?, grading.clone())
-                .with_packer(PackerSettings {
-                    strips: Strips::Auto,
-                    ..PackerSettings::default()
-                })
-                .with_seed(seed);
-            count = strips::count(&scene).ok_or_else(|| {
-                anyhow::anyhow!(
-                    "a {side} mm square of {name} is packed in one piece: take a larger side"
-                )
-            })?;
-            let seams = strips::seams(&scene, count);
+            let scene = strips_of.clone().with_seed(seed);
             let mut whole = scene.clone();
             whole.packer.strips = Strips::Count(1);
             for (k, scene) in [scene, whole].iter().enumerate() {
