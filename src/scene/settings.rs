@@ -5,7 +5,7 @@ use crate::geometry::predicates::OVERLAP_REL;
 /// Spatial index used for neighbour search.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum IndexKind {
-    /// MX quadtree: regular subdivision of a 2^N-cell square, data in leaves (default).
+    /// MX quadtree: regular subdivision into leaf cells laid out in Morton order, data in leaves (default).
     #[default]
     MxQuadtree,
     /// Uniform grid of cells, for comparison.

@@ -1,9 +1,10 @@
 //! Spatial indexes for the packer's fixed-size range search.
 //!
 //! Items are disk centres with dense ids `0, 1, 2, …` inserted in order; an
-//! item costs its 4-byte id beyond its bucket's 4 bytes. The MX quadtree keeps
-//! each leaf's ids contiguous (see [`MxQuadtree`]); the grid keeps each cell
-//! as an intrusive singly linked list (`next[id]`).
+//! item costs its 4-byte id beyond its bucket's 4 bytes. Both keep each
+//! bucket as an intrusive singly linked list (`next[id]`), newest first; the
+//! MX quadtree lays its leaves out in Morton order (see [`MxQuadtree`]), the
+//! grid its cells row by row.
 
 #[cfg(test)]
 mod brute_force;
@@ -18,7 +19,7 @@ pub use mx_quadtree::MxQuadtree;
 use crate::geometry::Point;
 use std::ops::ControlFlow;
 
-/// End-of-list marker in the grid's bucket lists; an empty tile in the MX quadtree's table.
+/// End-of-list marker in the buckets' lists (an empty bucket's head).
 pub(crate) const NIL: u32 = u32::MAX;
 
 /// A spatial index of points for box queries.
