@@ -1,6 +1,6 @@
 //! Uniform grid: the simplest index, kept to compare the MX quadtree against.
 
-use super::{NIL, SpatialIndex, bucket_of, bucket_span};
+use super::{NIL, SpatialIndex, box_span, bucket_of, walk_list};
 use crate::geometry::Point;
 use std::ops::ControlFlow;
 
@@ -48,22 +48,15 @@ impl SpatialIndex for Grid {
         max: Point,
         mut f: impl FnMut(u32) -> ControlFlow<()>,
     ) -> ControlFlow<()> {
-        let Some((x0, x1)) = bucket_span(min.x, max.x, self.origin.x, self.inv_side, self.nx)
-        else {
-            return ControlFlow::Continue(());
-        };
-        let Some((y0, y1)) = bucket_span(min.y, max.y, self.origin.y, self.inv_side, self.ny)
+        let Some((x0, x1, y0, y1)) =
+            box_span(min, max, self.origin, self.inv_side, (self.nx, self.ny))
         else {
             return ControlFlow::Continue(());
         };
         for iy in y0..=y1 {
             let row = (iy * self.nx) as usize;
             for ix in x0..=x1 {
-                let mut id = self.head[row + ix as usize];
-                while id != NIL {
-                    f(id)?;
-                    id = self.next[id as usize];
-                }
+                walk_list(self.head[row + ix as usize], &self.next, &mut f)?;
             }
         }
         ControlFlow::Continue(())

@@ -79,13 +79,7 @@ pub trait SpatialIndex {
 /// bucket coordinates it converts are checked non-negative first, and
 /// `as u32` saturates. NaN misses.
 #[inline]
-pub(crate) fn bucket_span(
-    a: f64,
-    b: f64,
-    origin: f64,
-    inv_side: f64,
-    n: u32,
-) -> Option<(u32, u32)> {
+fn bucket_span(a: f64, b: f64, origin: f64, inv_side: f64, n: u32) -> Option<(u32, u32)> {
     let ka = (a - origin) * inv_side;
     let kb = (b - origin) * inv_side;
     if !(kb >= 0.0 && ka < f64::from(n)) {
@@ -93,6 +87,37 @@ pub(crate) fn bucket_span(
     }
     let lo = if ka > 0.0 { ka as u32 } else { 0 };
     Some((lo, (kb as u32).min(n - 1)))
+}
+
+/// The buckets `(x0, x1, y0, y1)` (inclusive) covered by the box
+/// `min`–`max` in an `nx` × `ny` array of square buckets from `origin`, or
+/// `None` if the box misses it.
+#[inline]
+pub(crate) fn box_span(
+    min: Point,
+    max: Point,
+    origin: Point,
+    inv_side: f64,
+    (nx, ny): (u32, u32),
+) -> Option<(u32, u32, u32, u32)> {
+    let (x0, x1) = bucket_span(min.x, max.x, origin.x, inv_side, nx)?;
+    let (y0, y1) = bucket_span(min.y, max.y, origin.y, inv_side, ny)?;
+    Some((x0, x1, y0, y1))
+}
+
+/// Call `f` with each item of the bucket list that starts at `id`, through
+/// `next`, until it breaks.
+#[inline]
+pub(crate) fn walk_list(
+    mut id: u32,
+    next: &[u32],
+    f: &mut impl FnMut(u32) -> ControlFlow<()>,
+) -> ControlFlow<()> {
+    while id != NIL {
+        f(id)?;
+        id = next[id as usize];
+    }
+    ControlFlow::Continue(())
 }
 
 /// Bucket coordinate of `v` along one axis, clamped to `0..n` (NaN gives 0).

@@ -1,7 +1,7 @@
 //! MX quadtree (Samet), linear: the leaf cells of a regular subdivision
 //! stored in Morton (Z-order) within tiles, each leaf a bucket of its items.
 
-use super::{NIL, SpatialIndex, bucket_of, bucket_span};
+use super::{NIL, SpatialIndex, box_span, bucket_of, walk_list};
 use crate::geometry::Point;
 use std::ops::ControlFlow;
 
@@ -134,11 +134,8 @@ impl SpatialIndex for MxQuadtree {
         max: Point,
         mut f: impl FnMut(u32) -> ControlFlow<()>,
     ) -> ControlFlow<()> {
-        let Some((x0, x1)) = bucket_span(min.x, max.x, self.origin.x, self.inv_side, self.nx)
-        else {
-            return ControlFlow::Continue(());
-        };
-        let Some((y0, y1)) = bucket_span(min.y, max.y, self.origin.y, self.inv_side, self.ny)
+        let Some((x0, x1, y0, y1)) =
+            box_span(min, max, self.origin, self.inv_side, (self.nx, self.ny))
         else {
             return ControlFlow::Continue(());
         };
@@ -147,11 +144,7 @@ impl SpatialIndex for MxQuadtree {
             let row = self.row_offset(iy);
             let mut column = first_column;
             for _ in x0..=x1 {
-                let mut id = self.head[(row + column) as usize];
-                while id != NIL {
-                    f(id)?;
-                    id = self.next[id as usize];
-                }
+                walk_list(self.head[(row + column) as usize], &self.next, &mut f)?;
                 column = next_column(column);
             }
         }
