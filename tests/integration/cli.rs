@@ -712,3 +712,40 @@ fn units_mistakes_are_said_before_the_run() {
     let out = gapack(&dir, &["validate", "light.toml"]);
     assert!(!String::from_utf8_lossy(&out.stdout).contains("estimated at about"));
 }
+
+/// `gapack bench` at its smallest size: both indexes, in turns, pack the
+/// same disks (the index changes the speed, not the packing), and each row
+/// has a time and a rate that agree.
+#[test]
+fn bench_measures_both_indexes_on_the_same_packing() {
+    let dir = scratch("bench-indexes");
+    let out = gapack(
+        &dir,
+        &["bench", "--max", "10000", "--repeats", "2", "--out", "b"],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = fs::read_to_string(dir.join("b/bench.csv")).expect("bench.csv");
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows.len(), 2, "{csv}");
+    assert_eq!((rows[0][2], rows[1][2]), ("mx-quadtree", "grid"));
+    for col in [0, 3, 5, 6] {
+        assert_eq!(rows[0][col], rows[1][col], "column {col}: {csv}");
+    }
+    let disks: f64 = rows[0][5].parse().unwrap();
+    assert!((9_000.0..11_000.0).contains(&disks), "{csv}");
+    for row in &rows {
+        let (seconds, rate): (f64, f64) = (row[7].parse().unwrap(), row[8].parse().unwrap());
+        assert!(
+            seconds > 0.0 && (rate * seconds - disks).abs() < 1e-6 * disks,
+            "{csv}"
+        );
+    }
+}
