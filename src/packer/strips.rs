@@ -329,6 +329,7 @@ pub(super) fn pack_up(
         placed: AtomicU64::new(0),
         stop: cancel.child(),
         reach,
+        caller: std::thread::current(),
     };
     // The calling thread reports progress while the pool packs, unless it
     // is one of the pool's own threads (it would hold one back).
@@ -343,7 +344,7 @@ pub(super) fn pack_up(
             while farm.finished.load(Ordering::Acquire) < regions.len() && !farm.stop.is_cancelled()
             {
                 progress(farm.drawn.load(Ordering::Relaxed));
-                std::thread::sleep(PROGRESS_NAP);
+                std::thread::park_timeout(PROGRESS_NAP);
             }
         }
     });
@@ -354,7 +355,7 @@ pub(super) fn pack_up(
         .map(|p| {
             p.into_inner()
                 .unwrap_or(Err(PackError::Cancelled(Cancelled::Flag)))
-                .map(|p| p.packing)
+                .map(|done| done.part.packing)
         })
         .collect();
     let parts = first_error(parts, cancel)?;
@@ -389,7 +390,8 @@ impl Drop for StopOnPanic<'_> {
     }
 }
 
-/// How often the calling thread reports progress while the trapezoids are packed.
+/// How often the calling thread reports progress while the trapezoids are
+/// packed (it is woken at once when they are done).
 const PROGRESS_NAP: std::time::Duration = std::time::Duration::from_millis(20);
 
 /// The trapezoids of a scene being packed, each as soon as those it rests on are.
@@ -402,7 +404,7 @@ struct Farm<'a> {
     /// Per trapezoid: how many it rests on are not packed yet.
     waiting: Vec<AtomicUsize>,
     /// Per trapezoid: its packing, once done.
-    done: Vec<OnceLock<Result<PartPacking, PackError>>>,
+    done: Vec<OnceLock<Result<Done, PackError>>>,
     /// Trapezoids done, and sizes drawn by them.
     finished: AtomicUsize,
     drawn: AtomicU64,
@@ -412,20 +414,26 @@ struct Farm<'a> {
     stop: Cancel,
     /// Two largest radii: how far a disk packed before may touch one placed.
     reach: f64,
+    /// The thread reporting progress: woken when the last trapezoid is
+    /// done or one fails, rather than at its next look.
+    caller: std::thread::Thread,
 }
 
 impl Farm<'_> {
     /// Pack trapezoid `k`, then start those resting on it that wait for nothing more.
     fn pack<'s>(&'s self, s: &rayon::Scope<'s>, k: usize) {
         let _stop = StopOnPanic(&self.stop);
-        let mut packed = self.pack_one(k);
-        if let Ok(PartPacking { packing: p, .. }) = &mut packed {
+        let packed = self.pack_one(k).map(|mut part| {
+            let p = &mut part.packing;
             // Reserved for the trapezoid's box, which it half fills: the
             // slack would stay until the end.
             p.disks.shrink_to_fit();
             p.materials.shrink_to_fit();
             self.drawn.fetch_add(p.stats.sizes_drawn, Ordering::Relaxed);
-        } else {
+            let boxes = p.disks.chunks(CHUNK).map(centres_box).collect();
+            Done { part, boxes }
+        });
+        if packed.is_err() {
             self.stop.cancel();
         }
         // Set once: each trapezoid is started once, when its count reaches 0.
@@ -435,7 +443,10 @@ impl Farm<'_> {
                 s.spawn(move |s| self.pack(s, d));
             }
         }
-        self.finished.fetch_add(1, Ordering::Release);
+        let finished = self.finished.fetch_add(1, Ordering::Release) + 1;
+        if finished == self.regions.len() || self.stop.is_cancelled() {
+            self.caller.unpark();
+        }
     }
 
     /// Trapezoid `k`'s packing around the disks of those it rests on.
@@ -448,17 +459,7 @@ impl Farm<'_> {
             let Some(Ok(before)) = self.done[d].get() else {
                 return Err(PackError::Cancelled(Cancelled::Flag));
             };
-            let disks = before.packing.disks.iter().zip(&before.open);
-            for (d, &o) in disks.filter(|(d, _)| {
-                d.c.x >= region.lo.x - reach
-                    && d.c.x <= region.hi.x + reach
-                    && d.c.y >= region.lo.y - reach
-                    && d.c.y <= region.hi.y + reach
-                    && region.outside(d.c) <= reach
-            }) {
-                fixed.push(*d);
-                open.push(o);
-            }
+            before.within_reach(region, reach, &mut fixed, &mut open);
         }
         let (lo, hi) = (region.lo, region.hi);
         let area = scene.domain.area_in_box(lo.x, hi.x, lo.y, hi.y);
@@ -477,6 +478,67 @@ impl Farm<'_> {
         let genes = (0..size_count_in(area, scene.d_min())).map(move |_| rng.r#gen::<f64>());
         pack_part(scene, Some(&part), genes, &self.stop)
     }
+}
+
+/// Disks per chunk of a trapezoid's packing whose centres' box those
+/// packed after it look at before its disks (see `Farm::pack_one`).
+const CHUNK: usize = 64;
+
+/// A trapezoid's packing, and the box of its disks' centres for each
+/// [`CHUNK`] of them in packing order (the front packs near the last disk,
+/// so a chunk's box is small).
+struct Done {
+    part: PartPacking,
+    boxes: Vec<(Point, Point)>,
+}
+
+impl Done {
+    /// Append to `fixed` (and their openness to `open`) this packing's disks
+    /// within `reach` of `region` (their centres in its box widened by
+    /// `reach` and at most `reach` outside its planes), in packing order:
+    /// the disks a scan of them all would take, without reading the chunks
+    /// whose box is out of reach.
+    fn within_reach(
+        &self,
+        region: &Region,
+        reach: f64,
+        fixed: &mut Vec<Disk>,
+        open: &mut Vec<bool>,
+    ) {
+        let (lo, hi) = (
+            Point::new(region.lo.x - reach, region.lo.y - reach),
+            Point::new(region.hi.x + reach, region.hi.y + reach),
+        );
+        let (disks, opens) = (&self.part.packing.disks, &self.part.open);
+        for (c, &(blo, bhi)) in self.boxes.iter().enumerate() {
+            if bhi.x < lo.x || blo.x > hi.x || bhi.y < lo.y || blo.y > hi.y {
+                continue;
+            }
+            let chunk = c * CHUNK..disks.len().min((c + 1) * CHUNK);
+            for (d, &o) in disks[chunk.clone()].iter().zip(&opens[chunk]) {
+                if d.c.x >= lo.x
+                    && d.c.x <= hi.x
+                    && d.c.y >= lo.y
+                    && d.c.y <= hi.y
+                    && region.outside(d.c) <= reach
+                {
+                    fixed.push(*d);
+                    open.push(o);
+                }
+            }
+        }
+    }
+}
+
+/// The box of the centres of `disks` (lower-left, upper-right).
+fn centres_box(disks: &[Disk]) -> (Point, Point) {
+    let far = Point::new(f64::INFINITY, f64::INFINITY);
+    disks.iter().fold((far, -far), |(lo, hi), d| {
+        (
+            Point::new(lo.x.min(d.c.x), lo.y.min(d.c.y)),
+            Point::new(hi.x.max(d.c.x), hi.y.max(d.c.y)),
+        )
+    })
 }
 
 /// The trapezoids' packings, or the first error in order that is not only
@@ -523,6 +585,69 @@ mod tests {
             ..PackerSettings::default()
         })
         .with_seed(3)
+    }
+
+    /// The chunks' boxes leave out no disk within reach: on a random walk
+    /// of disks (packing order keeps neighbours near), every region takes
+    /// the disks a scan of them all takes, in the same order.
+    #[test]
+    fn chunks_take_what_a_full_scan_takes() {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(11);
+        let mut at = Point::new(50.0, 50.0);
+        let disks: Vec<Disk> = (0..5000)
+            .map(|_| {
+                at = Point::new(
+                    (at.x + rng.gen_range(-1.0..1.0)).clamp(0.0, 100.0),
+                    (at.y + rng.gen_range(-0.2..1.0)).rem_euclid(100.0),
+                );
+                Disk::new(at.x, at.y, rng.gen_range(0.2..0.6))
+            })
+            .collect();
+        let open: Vec<bool> = (0..disks.len()).map(|i| i % 3 == 0).collect();
+        let packing = Packing {
+            domain: Domain::rectangle(100.0, 100.0).unwrap(),
+            walls: WallMode::Exact,
+            boundary: Vec::new(),
+            disks: disks.clone(),
+            materials: Vec::new(),
+            stats: PackStats::default(),
+        };
+        let boxes = disks.chunks(CHUNK).map(centres_box).collect();
+        let done = Done {
+            part: PartPacking {
+                packing,
+                open: open.clone(),
+            },
+            boxes,
+        };
+        let mut taken = 0;
+        for _ in 0..200 {
+            let (x, y) = (rng.gen_range(-10.0..100.0), rng.gen_range(-10.0..100.0));
+            let (w, h) = (rng.gen_range(1.0..40.0), rng.gen_range(1.0..40.0));
+            let region = Region {
+                planes: vec![plane(1.0, rng.gen_range(-1.0..1.0), x + w)],
+                lo: Point::new(x, y),
+                hi: Point::new(x + w, y + h),
+            };
+            let reach = rng.gen_range(0.0..3.0);
+            let (mut fixed, mut opens) = (Vec::new(), Vec::new());
+            done.within_reach(&region, reach, &mut fixed, &mut opens);
+            let all: Vec<(Disk, bool)> = disks
+                .iter()
+                .zip(&open)
+                .filter(|(d, _)| {
+                    d.c.x >= region.lo.x - reach
+                        && d.c.x <= region.hi.x + reach
+                        && d.c.y >= region.lo.y - reach
+                        && d.c.y <= region.hi.y + reach
+                        && region.outside(d.c) <= reach
+                })
+                .map(|(d, &o)| (*d, o))
+                .collect();
+            assert_eq!(fixed.into_iter().zip(opens).collect::<Vec<_>>(), all);
+            taken += all.len();
+        }
+        assert!(taken > 10_000, "the regions took only {taken} disks");
     }
 
     /// A disk its part closed takes no disk in a part packed after it: the
