@@ -706,13 +706,10 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         }
         let boundary: Vec<Disk> = match self.scene.walls {
             WallMode::Disks => self.obs.drain(..self.first_packed).collect(),
-            // A part's own disks follow the fixed ones: copied out at their
-            // size once, rather than shifted down and shrunk.
-            WallMode::Exact | WallMode::Periodic if self.first_packed > 0 => {
-                self.obs = self.obs.split_off(self.first_packed);
+            WallMode::Exact | WallMode::Periodic => {
+                self.obs.drain(..self.first_packed);
                 Vec::new()
             }
-            WallMode::Exact | WallMode::Periodic => Vec::new(),
         };
         Ok(PartPacking {
             packing: Packing {
