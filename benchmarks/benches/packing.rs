@@ -1,22 +1,30 @@
-//! Packing throughput: disks per second for 10⁴, 10⁵ and 10⁶ disks (Table 3.4
-//! grading, square domains), MX quadtree against the uniform grid.
-//! Run: `cargo bench --bench packing`. Setup (scene building) is not timed.
+//! Packing throughput: disks per second for 10⁴ to 10⁷ disks (Table 3.4
+//! grading, square domains), MX quadtree against the uniform grid, in one
+//! piece and, from 10⁶ disks, in strips (`packer.strips = "auto"`, on the
+//! threads `RAYON_NUM_THREADS` gives). Run: `cargo bench -p
+//! gapack-benchmarks --bench packing` (`-- pack-strips` for the strips
+//! alone). Setup (scene building) is not timed.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use gapack::{IndexKind, PackerSettings, pack};
+use gapack::{IndexKind, PackerSettings, Strips, pack};
 
 mod common;
 
-fn packing(c: &mut Criterion) {
-    let mut group = c.benchmark_group("pack");
+const INDEXES: [(&str, IndexKind); 2] = [
+    ("mx-quadtree", IndexKind::MxQuadtree),
+    ("grid", IndexKind::Grid),
+];
+
+/// Measure `pack` on the square of about `n` disks for each index, packed
+/// in `strips`, as group `group`.
+fn measure(c: &mut Criterion, group: &str, sizes: &[f64], strips: Strips) {
+    let mut group = c.benchmark_group(group);
     group.sample_size(10);
-    for n in [1e4, 1e5, 1e6] {
-        for (name, index) in [
-            ("mx-quadtree", IndexKind::MxQuadtree),
-            ("grid", IndexKind::Grid),
-        ] {
+    for &n in sizes {
+        for (name, index) in INDEXES {
             let packer = PackerSettings {
                 index,
+                strips,
                 ..PackerSettings::default()
             };
             let scene = common::square(n, packer);
@@ -28,6 +36,11 @@ fn packing(c: &mut Criterion) {
         }
     }
     group.finish();
+}
+
+fn packing(c: &mut Criterion) {
+    measure(c, "pack", &[1e4, 1e5, 1e6, 1e7], Strips::Count(1));
+    measure(c, "pack-strips", &[1e6, 1e7], Strips::Auto);
 }
 
 criterion_group! {
