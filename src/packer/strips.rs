@@ -41,7 +41,7 @@ use super::advancing_front::{
 use super::{FrontRules, PackError, PackStats, Packing, Strips};
 use crate::Scene;
 use crate::cancel::{Cancel, Cancelled};
-use crate::geometry::{Disk, Point, Shape, WallMode};
+use crate::geometry::{Disk, Point, Shape, WallMode, bounds_of};
 
 /// Scenes of more disks than this are split by [`Strips::Auto`].
 pub const AUTO_DISKS: f64 = 200_000.0;
@@ -430,7 +430,11 @@ impl Farm<'_> {
             p.disks.shrink_to_fit();
             p.materials.shrink_to_fit();
             self.drawn.fetch_add(p.stats.sizes_drawn, Ordering::Relaxed);
-            let boxes = p.disks.chunks(CHUNK).map(centres_box).collect();
+            let boxes = p
+                .disks
+                .chunks(CHUNK)
+                .map(|c| bounds_of(c.iter().map(|d| &d.c)))
+                .collect();
             Done { part, boxes }
         });
         if packed.is_err() {
@@ -530,17 +534,6 @@ impl Done {
     }
 }
 
-/// The box of the centres of `disks` (lower-left, upper-right).
-fn centres_box(disks: &[Disk]) -> (Point, Point) {
-    let far = Point::new(f64::INFINITY, f64::INFINITY);
-    disks.iter().fold((far, -far), |(lo, hi), d| {
-        (
-            Point::new(lo.x.min(d.c.x), lo.y.min(d.c.y)),
-            Point::new(hi.x.max(d.c.x), hi.y.max(d.c.y)),
-        )
-    })
-}
-
 /// The trapezoids' packings, or the first error in order that is not only
 /// the stop another trapezoid's error raised.
 fn first_error(
@@ -612,7 +605,10 @@ mod tests {
             materials: Vec::new(),
             stats: PackStats::default(),
         };
-        let boxes = disks.chunks(CHUNK).map(centres_box).collect();
+        let boxes = disks
+            .chunks(CHUNK)
+            .map(|c| bounds_of(c.iter().map(|d| &d.c)))
+            .collect();
         let done = Done {
             part: PartPacking {
                 packing,
