@@ -8,4 +8,3 @@ pub mod predicates;
 
 pub use disk::{Disk, Point};
 pub use domain::{Domain, GeometryError, ImageShifts, Shape, Wall, WallMode};
-pub(crate) use polygon::bounds_of;

@@ -223,12 +223,10 @@ pub(crate) fn validate_polygon(input: &[Point]) -> Result<Vec<Point>, GeometryEr
     Ok(v)
 }
 
-/// Axis-aligned bounds `(min, max)` of a non-empty list of points
-/// (polygon vertices, disk centres).
-pub(crate) fn bounds_of<'a>(points: impl IntoIterator<Item = &'a Point>) -> (Point, Point) {
-    let mut points = points.into_iter();
-    let first = points.next().copied().unwrap_or_else(Point::origin);
-    points.fold((first, first), |(lo, hi), p| {
+/// Axis-aligned bounds `(min, max)` of a non-empty vertex list.
+pub(crate) fn bounds_of(v: &[Point]) -> (Point, Point) {
+    let first = v.first().copied().unwrap_or_else(Point::origin);
+    v.iter().fold((first, first), |(lo, hi), p| {
         (
             Point::new(lo.x.min(p.x), lo.y.min(p.y)),
             Point::new(hi.x.max(p.x), hi.y.max(p.y)),

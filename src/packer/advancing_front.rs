@@ -96,7 +96,7 @@ use nalgebra::Vector2;
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use std::cell::Cell;
-use std::collections::VecDeque;
+use std::collections::{BTreeMap, VecDeque};
 use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -297,12 +297,55 @@ pub(super) fn pack_part(
 pub(super) struct PartPacking {
     pub packing: Packing,
     /// Per disk of a part (empty in one piece): whether it may still take
-    /// a disk in a part packed after this one. A disk its own part closed
-    /// (it failed for the smallest sizes and left the fronts) without a
-    /// candidate refused for lying outside the part's region has no room
-    /// left anywhere: every disk or wall that blocked it is within reach
-    /// of any later part it touches, so there it is an obstacle only.
-    pub open: Vec<bool>,
+    /// a disk in a part packed after this one, and what its part learnt of
+    /// its room. A disk its own part closed (it failed for the smallest
+    /// sizes and left the fronts) without a candidate refused for lying
+    /// outside the part's region has no room left anywhere: every disk or
+    /// wall that blocked it is within reach of any later part it touches,
+    /// so there it is an obstacle only.
+    pub open: Vec<Option<Opening>>,
+}
+
+/// What a part learnt of the room of a disk it left open, for the parts
+/// packed after it: its free spots and the radius it is known not to take,
+/// as its own part would go on using them (see [`Front::witnesses_closed`]).
+/// They hold in a later part too when no candidate of the disk was ever
+/// refused for lying outside its own part's region (every spot it found, or
+/// ruled out, was then judged on obstacles a later part sees as well);
+/// otherwise the disk is handed on as fresh ([`Opening::FRESH`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Opening {
+    witness: Witnesses,
+    bound: f32,
+}
+
+impl Opening {
+    /// An open disk with nothing known of its room: attempted in full.
+    pub const FRESH: Opening = Opening {
+        witness: NO_WITNESS,
+        bound: f32::INFINITY,
+    };
+}
+
+/// The opening of a disk with candidates refused for lying outside its
+/// part's region: its free spots inside and outside, when they fit the
+/// witnesses' slots (else [`Opening::FRESH`]); its bound was measured
+/// inside the region only, so it is not handed on.
+fn merged(inside: Witnesses, outside: Witnesses) -> Opening {
+    let mut spots = inside.into_iter().chain(outside).filter(|&w| w != [0, 0]);
+    let mut witness = NO_WITNESS;
+    for slot in &mut witness {
+        if let Some(w) = spots.next() {
+            *slot = w;
+        }
+    }
+    if spots.next().is_some() {
+        return Opening::FRESH;
+    }
+    Opening {
+        witness,
+        bound: f32::INFINITY,
+    }
 }
 
 /// A part of a domain packed on its own (see `super::strips`): the disks'
@@ -314,8 +357,8 @@ pub(super) struct Part<'a> {
     /// not part of the packing returned.
     pub fixed: &'a [Disk],
     /// Per fixed disk: whether it is a front here, open at the end of its
-    /// own part (see [`PartPacking::open`]).
-    pub open: &'a [bool],
+    /// own part, and what that part learnt of its room (see [`PartPacking::open`]).
+    pub open: &'a [Option<Opening>],
     /// Disks placed by every part of the domain so far, against the scene's limits.
     pub placed: &'a AtomicU64,
     /// The work after which this part stops ([`work_budget`] of its share).
@@ -375,6 +418,14 @@ const WITNESS_SCALE: f64 = i16::MAX as f64;
 /// (they say nothing of the narrower gaps smaller disks fit).
 const NO_WITNESS: Witnesses = [[0; 2]; WITNESSES];
 
+/// The witness of a free spot at `q` of a front centred at `c`: the
+/// direction from `c`, scaled by [`WITNESS_SCALE`].
+fn witness_of(c: Point, q: Point) -> [i16; 2] {
+    let (dx, dy) = (q.x - c.x, q.y - c.y);
+    let k = WITNESS_SCALE / (dx * dx + dy * dy).sqrt();
+    [(dx * k).round() as i16, (dy * k).round() as i16]
+}
+
 /// A neighbour of the current front: its centre relative to the front's
 /// (`rel`), and its squared clearance for the new radius (`clear_disk_disk`
 /// in one comparison).
@@ -423,11 +474,20 @@ struct Front<'a, I> {
     placed: Option<&'a AtomicU64>,
     /// Packing a part of the domain: where its centres lie.
     region: Option<&'a Region>,
+    /// Whether the current front's candidates may lie outside the part's
+    /// region (set per attempt: deeper inside, the region is not tested).
+    near_edge: bool,
     /// Set by `feasible` when a candidate clear of every obstacle lies
     /// outside the part's region; taken after each front's attempt.
-    refused: Cell<bool>,
+    refused: Cell<u32>,
     /// Fronts that had a candidate refused so (see [`PartPacking::open`]).
     refused_fronts: Vec<u32>,
+    /// Packing a part: per front that had candidates refused for lying
+    /// outside the region, those of its last attempt near the region's
+    /// edges, for the parts packed after it (`None`: not all known).
+    handoff: BTreeMap<u32, Option<Witnesses>>,
+    /// The spots of the current attempt refused so.
+    outside: Vec<Point>,
     /// Walls the candidates must respect exactly (empty with wall disks
     /// and in a periodic cell).
     walls: Vec<Wall>,
@@ -530,6 +590,14 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let mut witness = Vec::with_capacity(first_packed);
         witness.resize(first_packed, NO_WITNESS);
         let mut bound = vec![f32::INFINITY; first_packed];
+        if let Some(part) = part {
+            for (i, o) in part.open.iter().enumerate() {
+                if let Some(o) = o {
+                    witness[corners + i] = o.witness;
+                    bound[corners + i] = o.bound;
+                }
+            }
+        }
         let wall_r = obs.iter().fold(0.0f64, |m, o| m.max(o.r));
         let r_max = (scene.d_max() / 2.0).max(wall_r);
         // As many as the domain holds solid at the mean disk area (more come
@@ -560,7 +628,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         } else {
             let open = part.map_or(&[][..], |p| p.open);
             (corners..first_packed)
-                .filter(|&i| open.get(i - corners).copied().unwrap_or(true))
+                .filter(|&i| open.get(i - corners).is_none_or(Option::is_some))
                 .map(|i| i as u32)
                 .collect()
         };
@@ -574,8 +642,11 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             ceiling: super::disk_ceiling(scene),
             placed: part.map(|p| p.placed),
             region: part.map(|p| p.region),
-            refused: Cell::new(false),
+            near_edge: false,
+            refused: Cell::new(0),
             refused_fronts: Vec::new(),
+            handoff: BTreeMap::new(),
+            outside: Vec::new(),
             walls,
             periodic: scene.walls == WallMode::Periodic,
             origin: domain
@@ -697,10 +768,21 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         self.stats.sizes_unplaced += self.deferred.len() as u64;
         let mut open = Vec::new();
         if self.region.is_some() {
-            open.resize(self.obs.len(), false);
+            open.resize(self.obs.len(), None);
             let fronts = self.fronts.iter().chain(self.parked.iter().map(|(_, f)| f));
-            for &f in fronts.chain(&self.refused_fronts) {
-                open[f as usize] = true;
+            for &f in fronts {
+                let f = f as usize;
+                open[f] = Some(Opening {
+                    witness: self.witness[f],
+                    bound: self.bound[f],
+                });
+            }
+            for &f in &self.refused_fronts {
+                let f = f as usize;
+                let outside = self.handoff.get(&(f as u32)).copied().flatten();
+                open[f] = Some(
+                    outside.map_or(Opening::FRESH, |outside| merged(self.witness[f], outside)),
+                );
             }
             open.drain(..self.first_packed);
         }
@@ -799,6 +881,10 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                             self.park(f, r);
                         } else {
                             let bound = self.room_left(f, r, one_contact);
+                            if self.refused.get() > 0 {
+                                // Spots refused at other radii: not handed on.
+                                self.handoff.insert(f, None);
+                            }
                             self.note_refused(f);
                             if let Some(bound) = bound {
                                 self.bound[f as usize] = (bound as f32).next_up();
@@ -942,9 +1028,32 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
     /// Remember front `f` as open for later parts if its last attempt had
     /// a candidate refused only by the part's region.
     fn note_refused(&mut self, f: u32) {
-        if self.refused.take() && self.refused_fronts.last() != Some(&f) {
+        if self.refused.take() > 0 && self.refused_fronts.last() != Some(&f) {
             self.refused_fronts.push(f);
         }
+    }
+
+    /// Remember the spots of front `f`'s attempt for radius `r` refused for
+    /// lying outside the part's region, as directions from its centre,
+    /// less those the disk about to go `best` covers: the later parts it
+    /// touches look there first (see [`Opening`]). Not all known when they
+    /// are more than [`WITNESSES`], or found for a disk larger than
+    /// `r_retire` (see [`NO_WITNESS`]).
+    fn hand_off(&mut self, f: u32, r: f64, best: Option<Point>) {
+        let clear = (2.0 * r * (1.0 - FEASIBLE_REL)).powi(2);
+        let c = self.obs[f as usize].c;
+        let mut spots = self
+            .outside
+            .iter()
+            .filter(|q| best.is_none_or(|b| (*q - b).norm_squared() >= clear));
+        let mut kept = NO_WITNESS;
+        for slot in &mut kept {
+            if let Some(q) = spots.next() {
+                *slot = witness_of(c, *q);
+            }
+        }
+        let known = r <= self.r_retire && spots.next().is_none();
+        self.handoff.insert(f, known.then_some(kept));
     }
 
     /// A front that failed for `r`: parked for smaller sizes (robust rules) or dropped.
@@ -1024,6 +1133,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let front = self.obs[f as usize];
         let reach = (front.r + 2.0 * r) * (1.0 + WALL_MARGIN_REL);
         let near_wall = self.near_wall(front.c, reach);
+        self.near_edge = self.near_edge(front.c, reach);
         self.tangent_candidates(f, r, near_wall);
         // The lowest feasible candidate, and whether the front keeps room:
         // thesis rules, a second feasible candidate; robust rules, a second
@@ -1035,9 +1145,14 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             // Lowest first; in a periodic cell, nearest the first disk first
             // (see `Front::rank`).
             let mut best: Option<(Point, f64)> = None;
+            self.outside.clear();
             for i in 0..self.cands.len() {
                 let cand = self.cands[i];
+                let refusals = self.refused.get();
                 if !self.feasible(f, &cand, r, near_wall) {
+                    if self.near_edge && self.refused.get() != refusals {
+                        self.outside.push(cand.at);
+                    }
                     continue;
                 }
                 let p = cand.at;
@@ -1046,6 +1161,9 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 if best.is_none_or(|(b, bk)| first_of(key, p, bk, b).is_lt()) {
                     best = Some((p, key));
                 }
+            }
+            if !self.outside.is_empty() {
+                self.hand_off(f, r, best.map(|(p, _)| p));
             }
             let (best, _) = best?;
             let room = self.spots.len() >= 2;
@@ -1064,9 +1182,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             let c = front.c;
             let mut kept = NO_WITNESS;
             for (slot, q) in kept.iter_mut().zip(&self.spots) {
-                let (dx, dy) = (q.x - c.x, q.y - c.y);
-                let k = WITNESS_SCALE / (dx * dx + dy * dy).sqrt();
-                *slot = [(dx * k).round() as i16, (dy * k).round() as i16];
+                *slot = witness_of(c, *q);
             }
             let room = kept[0] != [0, 0];
             self.witness[f as usize] = if r <= self.r_retire { kept } else { NO_WITNESS };
@@ -1229,6 +1345,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let front = self.obs[f as usize];
         let reach = (front.r + 2.0 * r) * (1.0 + WALL_MARGIN_REL);
         let near_wall = self.near_wall(front.c, reach);
+        self.near_edge = self.near_edge(front.c, reach);
         // The neighbours gathered for `r`, each with the least radius whose
         // halo reaches it (see `near_for`).
         let widen = if share > 0.0 { gap } else { 0.0 };
@@ -1484,9 +1601,10 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             }
             // A part's region last: most candidates are blocked before.
             None => {
-                let inside = self.region.is_none_or(|region| region.contains(cand.at));
+                let inside =
+                    !self.near_edge || self.region.is_none_or(|region| region.contains(cand.at));
                 if !inside {
-                    self.refused.set(true);
+                    self.refused.set(self.refused.get() + 1);
                 }
                 inside
             }
@@ -1668,6 +1786,13 @@ impl<I: SpatialIndex> Front<'_, I> {
     /// in a periodic cell.
     fn near_wall(&self, c: Point, reach: f64) -> bool {
         !self.periodic && self.scene.domain.signed_distance(c) <= reach
+    }
+
+    /// Whether a disk centred within `reach` of `c` may lie outside the
+    /// part's region: never in one piece.
+    fn near_edge(&self, c: Point, reach: f64) -> bool {
+        self.region
+            .is_some_and(|region| !region.inside_by(c, reach))
     }
 
     /// The rank of a candidate at `p`, lower first (then lowest, then
