@@ -296,14 +296,15 @@ pub(super) fn pack_part(
 /// still grow from.
 pub(super) struct PartPacking {
     pub packing: Packing,
-    /// Per disk of a part (empty in one piece): whether it may still take
-    /// a disk in a part packed after this one, and what its part learnt of
-    /// its room. A disk its own part closed (it failed for the smallest
-    /// sizes and left the fronts) without a candidate refused for lying
-    /// outside the part's region has no room left anywhere: every disk or
-    /// wall that blocked it is within reach of any later part it touches,
-    /// so there it is an obstacle only.
-    pub open: Vec<Option<Opening>>,
+    /// The disks of a part (none in one piece) that may still take a disk
+    /// in a part packed after this one, by index in `packing.disks`,
+    /// ascending, with what their part learnt of their room. A disk its
+    /// own part closed (it failed for the smallest sizes and left the
+    /// fronts) without a candidate refused for lying outside the part's
+    /// region has no room left anywhere: every disk or wall that blocked it
+    /// is within reach of any later part it touches, so there it is an
+    /// obstacle only.
+    pub open: Vec<(u32, Opening)>,
 }
 
 /// What a part learnt of the room of a disk it left open, for the parts
@@ -768,23 +769,25 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         self.stats.sizes_unplaced += self.deferred.len() as u64;
         let mut open = Vec::new();
         if self.region.is_some() {
-            open.resize(self.obs.len(), None);
+            // The refused first: sorted stably, they win over the same disk
+            // as a front.
+            for &f in &self.refused_fronts {
+                let outside = self.handoff.get(&f).copied().flatten();
+                let w = self.witness[f as usize];
+                open.push((f, outside.map_or(Opening::FRESH, |o| merged(w, o))));
+            }
             let fronts = self.fronts.iter().chain(self.parked.iter().map(|(_, f)| f));
             for &f in fronts {
-                let f = f as usize;
-                open[f] = Some(Opening {
-                    witness: self.witness[f],
-                    bound: self.bound[f],
-                });
+                let (witness, bound) = (self.witness[f as usize], self.bound[f as usize]);
+                open.push((f, Opening { witness, bound }));
             }
-            for &f in &self.refused_fronts {
-                let f = f as usize;
-                let outside = self.handoff.get(&(f as u32)).copied().flatten();
-                open[f] = Some(
-                    outside.map_or(Opening::FRESH, |outside| merged(self.witness[f], outside)),
-                );
+            open.sort_by_key(|&(f, _)| f);
+            open.dedup_by_key(|&mut (f, _)| f);
+            let first = self.first_packed as u32;
+            open.retain(|&(f, _)| f >= first);
+            for (f, _) in &mut open {
+                *f -= first;
             }
-            open.drain(..self.first_packed);
         }
         let boundary: Vec<Disk> = match self.scene.walls {
             WallMode::Disks => self.obs.drain(..self.first_packed).collect(),
