@@ -46,7 +46,7 @@ use crate::geometry::{Disk, Point, Shape, WallMode};
 /// Scenes of more disks than this are split by [`Strips::Auto`].
 pub const AUTO_DISKS: f64 = 200_000.0;
 
-/// Disks a strip holds, about, when [`Strips::Auto`] splits a scene.
+/// Fewest disks a strip holds, about, when [`Strips::Auto`] splits a scene.
 const STRIP_DISKS: f64 = 50_000.0;
 
 /// Narrowest strip [`Strips::Auto`] makes, in largest diameters.
