@@ -333,20 +333,23 @@ impl Opening {
 /// witnesses' slots (else [`Opening::FRESH`]); its bound was measured
 /// inside the region only, so it is not handed on.
 fn merged(inside: Witnesses, outside: Witnesses) -> Opening {
-    let mut spots = inside.into_iter().chain(outside).filter(|&w| w != [0, 0]);
+    let spots = inside.into_iter().chain(outside).filter(|&w| w != [0, 0]);
+    all_witnesses(spots).map_or(Opening::FRESH, |witness| Opening {
+        witness,
+        bound: f32::INFINITY,
+    })
+}
+
+/// Witnesses of every spot of `spots`, or `None` when they are more than
+/// [`WITNESSES`].
+fn all_witnesses(mut spots: impl Iterator<Item = [i16; 2]>) -> Option<Witnesses> {
     let mut witness = NO_WITNESS;
     for slot in &mut witness {
         if let Some(w) = spots.next() {
             *slot = w;
         }
     }
-    if spots.next().is_some() {
-        return Opening::FRESH;
-    }
-    Opening {
-        witness,
-        bound: f32::INFINITY,
-    }
+    spots.next().is_none().then_some(witness)
 }
 
 /// A part of a domain packed on its own (see `super::strips`): the disks'
@@ -1045,18 +1048,13 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
     fn hand_off(&mut self, f: u32, r: f64, best: Option<Point>) {
         let clear = (2.0 * r * (1.0 - FEASIBLE_REL)).powi(2);
         let c = self.obs[f as usize].c;
-        let mut spots = self
+        let spots = self
             .outside
             .iter()
-            .filter(|q| best.is_none_or(|b| (*q - b).norm_squared() >= clear));
-        let mut kept = NO_WITNESS;
-        for slot in &mut kept {
-            if let Some(q) = spots.next() {
-                *slot = witness_of(c, *q);
-            }
-        }
-        let known = r <= self.r_retire && spots.next().is_none();
-        self.handoff.insert(f, known.then_some(kept));
+            .filter(|q| best.is_none_or(|b| (*q - b).norm_squared() >= clear))
+            .map(|q| witness_of(c, *q));
+        let known = all_witnesses(spots).filter(|_| r <= self.r_retire);
+        self.handoff.insert(f, known);
     }
 
     /// A front that failed for `r`: parked for smaller sizes (robust rules) or dropped.

@@ -328,7 +328,9 @@ pub(super) fn pack_up(
         below = first..regions.len();
     }
     let mut dependents: Vec<Vec<usize>> = vec![Vec::new(); regions.len()];
+    let mut slots: Vec<Vec<usize>> = Vec::with_capacity(deps.len());
     for (k, on) in deps.iter().enumerate() {
+        slots.push(on.iter().map(|&d| dependents[d].len()).collect());
         for &d in on {
             dependents[d].push(k);
         }
@@ -337,13 +339,11 @@ pub(super) fn pack_up(
         scene,
         regions: &regions,
         deps: &deps,
+        slots: &slots,
         dependents: &dependents,
         waiting: deps.iter().map(|on| AtomicUsize::new(on.len())).collect(),
         done: (0..regions.len()).map(|_| OnceLock::new()).collect(),
-        assembly: Mutex::new(Assembly {
-            waiting: (0..regions.len()).map(|_| None).collect(),
-            ..Assembly::default()
-        }),
+        assembly: Mutex::new(Assembly::new(regions.len())),
         finished: AtomicUsize::new(0),
         drawn: AtomicU64::new(0),
         placed: AtomicU64::new(0),
@@ -419,6 +419,9 @@ struct Farm<'a> {
     regions: &'a [Region],
     /// Per trapezoid: those it rests on, and those resting on it.
     deps: &'a [Vec<usize>],
+    /// Per trapezoid, per one it rests on: its place among those resting
+    /// on that one (which of that one's borders are its own).
+    slots: &'a [Vec<usize>],
     dependents: &'a [Vec<usize>],
     /// Per trapezoid: how many it rests on are not packed yet.
     waiting: Vec<AtomicUsize>,
@@ -450,7 +453,6 @@ type Borders = Vec<(Vec<Disk>, Vec<Option<Opening>>)>;
 /// are appended by the thread that packed it (or the one packing the last
 /// before it to end), while the others go on packing, so no copy is left
 /// for after the last trapezoid.
-#[derive(Default)]
 struct Assembly {
     /// The next trapezoid to append.
     next: usize,
@@ -462,6 +464,17 @@ struct Assembly {
 }
 
 impl Assembly {
+    /// An empty packing of `parts` trapezoids.
+    fn new(parts: usize) -> Assembly {
+        Assembly {
+            next: 0,
+            waiting: (0..parts).map(|_| None).collect(),
+            disks: Vec::new(),
+            materials: Vec::new(),
+            stats: PackStats::default(),
+        }
+    }
+
     /// Take trapezoid `k`'s packing, and append those waiting in order.
     fn take(&mut self, k: usize, mut packing: Packing) {
         if k != self.next {
@@ -518,15 +531,13 @@ impl Farm<'_> {
         self.stop.check()?;
         let (scene, region) = (self.scene, &self.regions[k]);
         let (mut fixed, mut open): (Vec<Disk>, Vec<Option<Opening>>) = (Vec::new(), Vec::new());
-        for &d in &self.deps[k] {
+        for (&d, &slot) in self.deps[k].iter().zip(&self.slots[k]) {
             let Some(Ok(borders)) = self.done[d].get() else {
                 return Err(PackError::Cancelled(Cancelled::Flag));
             };
-            let at = self.dependents[d].iter().position(|&x| x == k);
-            if let Some((disks, opens)) = at.and_then(|at| borders.get(at)) {
-                fixed.extend_from_slice(disks);
-                open.extend_from_slice(opens);
-            }
+            let (disks, opens) = &borders[slot];
+            fixed.extend_from_slice(disks);
+            open.extend_from_slice(opens);
         }
         let (lo, hi) = (region.lo, region.hi);
         let area = scene.domain.area_in_box(lo.x, hi.x, lo.y, hi.y);
