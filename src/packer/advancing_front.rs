@@ -1584,11 +1584,13 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let blocker = (0..len)
             .map(|step| {
                 let k = step.div_ceil(2);
-                if step % 2 == 1 {
-                    (start + len - k) % len
+                let i = if step % 2 == 1 {
+                    start + len - k
                 } else {
-                    (start + k) % len
-                }
+                    start + k
+                };
+                // `start < len` and `k ≤ len / 2`: one wrap at most.
+                if i >= len { i - len } else { i }
             })
             .find(|&i| {
                 tested += 1;
