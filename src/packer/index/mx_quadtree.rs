@@ -64,7 +64,8 @@ const SPREAD: [u32; TILE_SIDE as usize] = {
 /// offsets or the leaves' slots computed once per query, 1.02–1.06; leaves
 /// of 0.75, 0.9 or 1.15 diameters, 1.04–1.18. Tiles of 4 × 4 or 16 × 16
 /// leaves are level with 8 × 8. As it is, the quadtree makes the grid's
-/// loads in the grid's order and is level with it (README, Speed and memory).
+/// loads in the grid's order plus the Morton step, and is level with the
+/// grid or up to 4 % behind it (README, Speed and memory).
 /// Memory: 4 bytes per leaf of the bounding rectangle (its sides rounded up
 /// to whole tiles) and 4 per item, as the grid.
 #[derive(Debug, Clone)]
