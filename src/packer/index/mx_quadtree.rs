@@ -51,21 +51,12 @@ const SPREAD: [u32; TILE_SIDE as usize] = {
 /// cells, so the packer sees its neighbours in the same order and does the
 /// same work with either index. Per leaf, three instructions step the
 /// Morton offset of its column (its row's is computed once per row); per
-/// item, one load of `next`. Other forms were slower in whole packings
-/// (time over the grid's, the same packings): a pointer tree (a path per
-/// 2 × 2 block, a dependent load per item) and tiles keeping each leaf's ids
-/// contiguous behind a table of tiles (an insert shifted the tile's later
-/// ids and offsets; the table and the tile were two more dependent loads
-/// per query, and the visit order changed the packer's work), 1.13–1.34; a
-/// bit per leaf of each tile saying whether it holds an item, so a query
-/// visits only occupied leaves, 1.14; each leaf's two newest items in its
-/// slot, 1.04; the box's ids first gathered into a buffer without branches,
-/// 1.08–1.30; rows cut to the circle the packer keeps, 1.11; the columns'
-/// offsets or the leaves' slots computed once per query, 1.02–1.06; leaves
-/// of 0.75, 0.9 or 1.15 diameters, 1.04–1.18. Tiles of 4 × 4 or 16 × 16
-/// leaves are level with 8 × 8. As it is, the quadtree makes the grid's
-/// loads in the grid's order plus the Morton step, and is level with the
-/// grid or up to 4 % behind it (README, Speed and memory).
+/// item, one load of `next`. The other forms tried (a pointer tree,
+/// contiguous leaf ids, occupancy bits, inline pairs, branch-free buffers,
+/// circle-cut rows, other leaf sizes) were slower in whole packings, and
+/// other tile sizes no faster; README (Speed and memory) has their times. As it is, the
+/// quadtree makes the grid's loads in the grid's order plus the Morton
+/// step, and is level with the grid or up to 4 % behind it.
 /// Memory: 4 bytes per leaf of the bounding rectangle (its sides rounded up
 /// to whole tiles) and 4 per item, as the grid.
 #[derive(Debug, Clone)]
