@@ -134,8 +134,15 @@ mod tests {
     use rand_xoshiro::Xoshiro256PlusPlus;
     use std::collections::BTreeSet;
 
-    /// Compare an index against the brute-force scan on seeded random points and boxes.
-    fn check_against_brute_force<I: SpatialIndex>(bucket: f64, w: f64, h: f64) {
+    /// Compare an index against the brute-force scan on seeded random points
+    /// and boxes; the points lie below the height `front(x)` (a share of the
+    /// box's height), as a packing's do while its front rises.
+    fn check_against_brute_force<I: SpatialIndex>(
+        bucket: f64,
+        w: f64,
+        h: f64,
+        front: impl Fn(f64) -> f64,
+    ) {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(11);
         let (min, max) = (Point::new(-1.0, 2.0), Point::new(-1.0 + w, 2.0 + h));
         let mut index = I::new(min, max, bucket);
@@ -146,7 +153,8 @@ mod tests {
         index.visit_box(min, max, |_| none += 1);
         assert_eq!(none, 0);
         for id in 0..3000u32 {
-            let p = Point::new(rng.gen_range(min.x..max.x), rng.gen_range(min.y..max.y));
+            let x = rng.gen_range(min.x..max.x);
+            let p = Point::new(x, min.y + h * front((x - min.x) / w) * rng.r#gen::<f64>());
             index.insert(id, p);
             brute.insert(id, p);
             pts.push(p);
@@ -196,13 +204,18 @@ mod tests {
 
     #[test]
     fn mx_quadtree_matches_brute_force() {
-        check_against_brute_force::<MxQuadtree>(1.3, 40.0, 40.0);
-        check_against_brute_force::<MxQuadtree>(0.7, 8.6, 62.5);
+        check_against_brute_force::<MxQuadtree>(1.3, 40.0, 40.0, |_| 1.0);
+        check_against_brute_force::<MxQuadtree>(0.7, 8.6, 62.5, |_| 1.0);
+        // A ragged front: the columns' tops differ, leaves above them are skipped.
+        check_against_brute_force::<MxQuadtree>(1.3, 40.0, 40.0, |t| {
+            0.3 + 0.4 * t + 0.2 * (17.0 * t).sin()
+        });
+        check_against_brute_force::<MxQuadtree>(0.7, 8.6, 62.5, |t| 0.1 + 0.5 * t * t);
     }
 
     #[test]
     fn grid_matches_brute_force() {
-        check_against_brute_force::<Grid>(1.3, 40.0, 40.0);
-        check_against_brute_force::<Grid>(0.7, 8.6, 62.5);
+        check_against_brute_force::<Grid>(1.3, 40.0, 40.0, |_| 1.0);
+        check_against_brute_force::<Grid>(0.7, 8.6, 62.5, |_| 1.0);
     }
 }
