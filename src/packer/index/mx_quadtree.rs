@@ -55,7 +55,7 @@ const SPREAD: [u32; TILE_SIDE as usize] = {
 /// it, empty. Per leaf, three instructions step the Morton offset of its
 /// column (its row's is computed once per row); per item, one load of
 /// `next`. The other forms tried (a pointer tree, contiguous leaf ids,
-/// occupancy bits, inline pairs or disks, branch-free buffers, circle-cut
+/// occupancy bits, inline pairs, branch-free buffers, circle-cut
 /// rows, other leaf sizes) were slower in whole packings, and other tile
 /// sizes no faster; README (Speed and memory) has their times, and the
 /// quadtree's against the grid's, which does without the column tops.
