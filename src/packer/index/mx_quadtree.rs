@@ -147,16 +147,13 @@ impl SpatialIndex for MxQuadtree {
             return ControlFlow::Continue(());
         };
         // Rows above every column's highest item hold nothing.
-        let mut top = 0;
-        for &t in &self.top[x0 as usize..=x1 as usize] {
-            top = top.max(t);
-        }
-        let end = (y1 + 1).min(top);
+        let tops = &self.top[x0 as usize..=x1 as usize];
+        let end = (y1 + 1).min(tops.iter().fold(0, |m, &t| m.max(t)));
         let first_column = Self::column_offset(x0);
         for iy in y0..end {
             let row = self.row_offset(iy);
             let mut column = first_column;
-            for &t in &self.top[x0 as usize..=x1 as usize] {
+            for &t in tops {
                 if iy < t {
                     walk_list(self.head[(row + column) as usize], &self.next, &mut f)?;
                 }
