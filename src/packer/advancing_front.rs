@@ -295,7 +295,11 @@ pub(super) fn pack_part(
 /// A part's packing, and which of its disks the parts packed after it
 /// still grow from.
 pub(super) struct PartPacking {
+    /// In a part, its disks come after the `fixed` disks it was packed
+    /// against (see [`PartPacking::own`]): they are not shifted out, so
+    /// the part's own disks are copied once, into the whole packing.
     pub packing: Packing,
+    pub fixed: usize,
     /// The disks of a part (none in one piece) that may still take a disk
     /// in a part packed after this one, by index in `packing.disks`,
     /// ascending, with what their part learnt of their room. A disk its
@@ -305,6 +309,13 @@ pub(super) struct PartPacking {
     /// is within reach of any later part it touches, so there it is an
     /// obstacle only.
     pub open: Vec<(u32, Opening)>,
+}
+
+impl PartPacking {
+    /// The disks the part placed, in order (`open` indexes them).
+    pub fn own(&self) -> &[Disk] {
+        &self.packing.disks[self.fixed..]
+    }
 }
 
 /// What a part learnt of the room of a disk it left open, for the parts
@@ -792,11 +803,17 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 *f -= first;
             }
         }
-        let boundary: Vec<Disk> = match self.scene.walls {
-            WallMode::Disks => self.obs.drain(..self.first_packed).collect(),
+        let (boundary, fixed) = match self.scene.walls {
+            WallMode::Disks => (self.obs.drain(..self.first_packed).collect(), 0),
             WallMode::Exact | WallMode::Periodic => {
-                self.obs.drain(..self.first_packed);
-                Vec::new()
+                // A part keeps the disks it was packed against ahead of its own.
+                let fixed = if self.region.is_some() {
+                    self.first_packed
+                } else {
+                    0
+                };
+                self.obs.drain(..self.first_packed - fixed);
+                (Vec::new(), fixed)
             }
         };
         Ok(PartPacking {
@@ -808,6 +825,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 materials: self.tags,
                 stats: self.stats,
             },
+            fixed,
             open,
         })
     }

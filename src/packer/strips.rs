@@ -167,6 +167,17 @@ impl Region {
             .all(|&[a, b, c]| a * p.x + b * p.y + margin <= c)
     }
 
+    /// Whether a disk centred at `c` is within `reach` of the region: in
+    /// its box widened by `reach`, and at most `reach` outside any plane.
+    #[inline]
+    fn reaches(&self, c: Point, reach: f64) -> bool {
+        c.x >= self.lo.x - reach
+            && c.x <= self.hi.x + reach
+            && c.y >= self.lo.y - reach
+            && c.y <= self.hi.y + reach
+            && self.inside_by(c, -reach)
+    }
+
     /// Whether the boxes of two regions, each widened by `by`, meet.
     fn near(&self, other: &Region, by: f64) -> bool {
         self.lo.x - by <= other.hi.x + by
@@ -281,31 +292,13 @@ fn part_seed(seed: u64, i: usize) -> u64 {
     z ^ (z >> 31)
 }
 
-/// Pack `scene` (filling up, near the origin) in `count` strips of
-/// trapezoids, telling `progress` the sizes drawn as they go.
-///
-/// # Behavior
-/// A trapezoid is packed as soon as every one it rests on is (those of the
-/// level below within reach, and for a valley the mounds beside it), so the
-/// levels overlap in time and no core waits for a whole level; what each
-/// trapezoid sees is fixed by the layout, so the packing is not.
-///
-/// # Errors
-/// The first error of a trapezoid, in packing order: a limit passed
-/// (counted over every trapezoid), the work budget, or
-/// [`PackError::Cancelled`].
-pub(super) fn pack_up(
-    scene: &Scene,
-    count: usize,
-    progress: &mut dyn FnMut(u64),
-    cancel: &Cancel,
-) -> Result<Packing, PackError> {
-    super::placed::check_fits(scene)?;
+/// Every trapezoid of `scene` in `count` strips, in packing order, and
+/// for each the earlier ones it rests on: those of the level below, and
+/// for a valley the mounds beside it, whose boxes come within `reach`.
+fn trapezoids(scene: &Scene, count: usize, reach: f64) -> (Vec<Region>, Vec<Vec<usize>>) {
     let bounds = scene.domain.bounds();
     let (cuts, gap, run, levels) = layout(scene, count);
-    let reach = scene.d_max(); // two largest radii
     let dip = DIP_DIAMETERS * scene.d_max();
-    // Every trapezoid in packing order, and the earlier ones each rests on.
     let mut regions: Vec<Region> = Vec::new();
     let mut deps: Vec<Vec<usize>> = Vec::new();
     let mut below = 0..0;
@@ -327,6 +320,31 @@ pub(super) fn pack_up(
         }
         below = first..regions.len();
     }
+    (regions, deps)
+}
+
+/// Pack `scene` (filling up, near the origin) in `count` strips of
+/// trapezoids, telling `progress` the sizes drawn as they go.
+///
+/// # Behavior
+/// A trapezoid is packed as soon as every one it rests on is (those of the
+/// level below within reach, and for a valley the mounds beside it), so the
+/// levels overlap in time and no core waits for a whole level; what each
+/// trapezoid sees is fixed by the layout, so the packing is not.
+///
+/// # Errors
+/// The first error of a trapezoid, in packing order: a limit passed
+/// (counted over every trapezoid), the work budget, or
+/// [`PackError::Cancelled`].
+pub(super) fn pack_up(
+    scene: &Scene,
+    count: usize,
+    progress: &mut dyn FnMut(u64),
+    cancel: &Cancel,
+) -> Result<Packing, PackError> {
+    super::placed::check_fits(scene)?;
+    let reach = scene.d_max(); // two largest radii
+    let (regions, deps) = trapezoids(scene, count, reach);
     let mut dependents: Vec<Vec<usize>> = vec![Vec::new(); regions.len()];
     let mut slots: Vec<Vec<usize>> = Vec::with_capacity(deps.len());
     for (k, on) in deps.iter().enumerate() {
@@ -456,8 +474,9 @@ type Borders = Vec<(Vec<Disk>, Vec<Option<Opening>>)>;
 struct Assembly {
     /// The next trapezoid to append.
     next: usize,
-    /// Per trapezoid: its packing, once done and until appended.
-    waiting: Vec<Option<Packing>>,
+    /// Per trapezoid: its packing (its own disks after the first so many,
+    /// see `PartPacking::fixed`), once done and until appended.
+    waiting: Vec<Option<(Packing, usize)>>,
     disks: Vec<Disk>,
     materials: Vec<u16>,
     stats: PackStats,
@@ -476,15 +495,17 @@ impl Assembly {
     }
 
     /// Take trapezoid `k`'s packing, and append those waiting in order.
-    fn take(&mut self, k: usize, mut packing: Packing) {
+    fn take(&mut self, k: usize, mut packing: Packing, mut fixed: usize) {
         if k != self.next {
             // Reserved for the trapezoid's box, which it half fills.
+            packing.disks.drain(..fixed);
+            fixed = 0;
             packing.disks.shrink_to_fit();
             packing.materials.shrink_to_fit();
         }
-        self.waiting[k] = Some(packing);
-        while let Some(p) = self.waiting.get_mut(self.next).and_then(Option::take) {
-            self.disks.extend_from_slice(&p.disks);
+        self.waiting[k] = Some((packing, fixed));
+        while let Some((p, fixed)) = self.waiting.get_mut(self.next).and_then(Option::take) {
+            self.disks.extend_from_slice(&p.disks[fixed..]);
             self.materials.extend_from_slice(&p.materials);
             add_stats(&mut self.stats, &p.stats);
             self.next += 1;
@@ -501,7 +522,7 @@ impl Farm<'_> {
             Ok(part) => {
                 self.drawn
                     .fetch_add(part.packing.stats.sizes_drawn, Ordering::Relaxed);
-                (Ok(self.borders(k, &part)), Some(part.packing))
+                (Ok(self.borders(k, &part)), Some((part.packing, part.fixed)))
             }
             Err(e) => {
                 self.stop.cancel();
@@ -515,9 +536,9 @@ impl Farm<'_> {
                 s.spawn_fifo(move |s| self.pack(s, d));
             }
         }
-        if let Some(packing) = packing {
+        if let Some((packing, fixed)) = packing {
             let mut all = self.assembly.lock().unwrap_or_else(PoisonError::into_inner);
-            all.take(k, packing);
+            all.take(k, packing, fixed);
         }
         let finished = self.finished.fetch_add(1, Ordering::Release) + 1;
         if finished == self.regions.len() || self.stop.is_cancelled() {
@@ -558,39 +579,41 @@ impl Farm<'_> {
     }
 
     /// For each trapezoid resting on `k`, the disks of `k`'s packing within
-    /// reach of its region (centres in its box widened by the reach, and at
-    /// most the reach outside its planes), in packing order.
+    /// reach of its region ([`Region::reaches`]), in packing order. Only
+    /// the disks near `k`'s edges are looked at ([`edge_band`]).
     fn borders(&self, k: usize, part: &PartPacking) -> Borders {
         let reach = self.reach;
-        let (disks, open) = (&part.packing.disks, &part.open);
+        let (disks, open) = (part.own(), &part.open);
         let opening = |i: usize| {
             let at = open.binary_search_by_key(&(i as u32), |&(d, _)| d);
             at.ok().map(|at| open[at].1)
         };
+        let own = &self.regions[k];
+        let inner = edge_band(self.scene.d_max(), reach);
+        let near_edge: Vec<usize> = (0..disks.len())
+            .filter(|&i| !own.inside_by(disks[i].c, inner))
+            .collect();
         self.dependents[k]
             .iter()
             .map(|&d| {
                 let region = &self.regions[d];
-                let (lo, hi) = (
-                    Point::new(region.lo.x - reach, region.lo.y - reach),
-                    Point::new(region.hi.x + reach, region.hi.y + reach),
-                );
-                disks
+                near_edge
                     .iter()
-                    .enumerate()
-                    .filter(|(_, disk)| {
-                        let c = disk.c;
-                        c.x >= lo.x
-                            && c.x <= hi.x
-                            && c.y >= lo.y
-                            && c.y <= hi.y
-                            && region.inside_by(c, -reach)
-                    })
-                    .map(|(i, disk)| (*disk, opening(i)))
+                    .filter(|&&i| region.reaches(disks[i].c, reach))
+                    .map(|&i| (disks[i], opening(i)))
                     .unzip()
             })
             .collect()
     }
+}
+
+/// How far inside every plane of its own trapezoid a centre lies beyond
+/// the reach of every trapezoid resting on that one: those reach at most
+/// `dip` past its ceiling or a side (see [`level`]; the planes they share
+/// are the same lines), and take the centres within `reach` of that; the
+/// margin doubles the reach against rounding.
+fn edge_band(d_max: f64, reach: f64) -> f64 {
+    DIP_DIAMETERS * d_max + 2.0 * reach
 }
 
 /// The first error of the trapezoids' outcomes, in order, that is not only
@@ -680,8 +703,7 @@ mod tests {
             let first = pack_in(&below, &[], &[], 1);
             let opening = |i: usize| first.open.iter().find(|&&(d, _)| d as usize == i);
             let (fixed, open): (Vec<Disk>, Vec<Option<Opening>>) = first
-                .packing
-                .disks
+                .own()
                 .iter()
                 .enumerate()
                 .filter(|(_, d)| above.inside_by(d.c, -d_max))
@@ -697,11 +719,8 @@ mod tests {
             let reopened: Vec<Option<Opening>> =
                 open.iter().map(|o| o.or(Some(Opening::FRESH))).collect();
             let all = pack_in(&above, &fixed, &reopened, 2);
-            assert!(skipping.packing.disks.len() > 500);
-            assert!(
-                skipping.packing.disks == all.packing.disks,
-                "{d_min}–{d_max} mm"
-            );
+            assert!(skipping.own().len() > 500);
+            assert!(skipping.own() == all.own(), "{d_min}–{d_max} mm");
             assert!(
                 skipping.packing.stats.front_attempts < all.packing.stats.front_attempts,
                 "{} attempts, {} growing from every fixed disk",
@@ -717,16 +736,63 @@ mod tests {
             let fresh: Vec<Option<Opening>> =
                 open.iter().map(|o| o.map(|_| Opening::FRESH)).collect();
             let blind = pack_in(&above, &fixed, &fresh, 2);
-            let (a, b) = (&skipping.packing, &blind.packing);
-            assert!(
-                a.stats.front_attempts < b.stats.front_attempts
-                    && a.disks.len() as f64 >= 0.99 * b.disks.len() as f64,
-                "{d_min}–{d_max} mm: {} disks at {} attempts, {} at {} with nothing carried",
-                a.disks.len(),
-                a.stats.front_attempts,
-                b.disks.len(),
-                b.stats.front_attempts
+            let (a, b) = (&skipping, &blind);
+            let (attempts_a, attempts_b) = (
+                a.packing.stats.front_attempts,
+                b.packing.stats.front_attempts,
             );
+            assert!(
+                attempts_a < attempts_b && a.own().len() as f64 >= 0.99 * b.own().len() as f64,
+                "{d_min}–{d_max} mm: {} disks at {attempts_a} attempts, {} at {attempts_b} with nothing carried",
+                a.own().len(),
+                b.own().len(),
+            );
+        }
+    }
+
+    /// A centre deeper inside its trapezoid than the edge band is within
+    /// reach of none of the trapezoids resting on it (so `borders` may skip
+    /// it), for narrow and wide gradings and several strip counts.
+    #[test]
+    fn centres_past_the_edge_band_reach_no_trapezoid_resting_on_theirs() {
+        for (strips, d_min, d_max, side) in [
+            (4, 1.0, 1.5, 120.0),
+            (3, 0.3, 3.0, 240.0),
+            (2, 1.0, 1.5, 90.0),
+        ] {
+            let s = Scene::new(
+                Domain::rectangle(side, 0.5 * side).unwrap(),
+                Grading::uniform(d_min, d_max, Default::default()).unwrap(),
+            );
+            let reach = s.d_max();
+            let (regions, deps) = trapezoids(&s, strips, reach);
+            let inner = edge_band(s.d_max(), reach);
+            let (mut deep, mut reached) = (0, 0);
+            for (k, own) in regions.iter().enumerate() {
+                let resting: Vec<&Region> = (0..regions.len())
+                    .filter(|&d| deps[d].contains(&k))
+                    .map(|d| &regions[d])
+                    .collect();
+                for i in 0..=120 {
+                    for j in 0..=120 {
+                        let p = Point::new(
+                            own.lo.x + (own.hi.x - own.lo.x) * f64::from(i) / 120.0,
+                            own.lo.y + (own.hi.y - own.lo.y) * f64::from(j) / 120.0,
+                        );
+                        if !own.contains(p) {
+                            continue;
+                        }
+                        let near = resting.iter().any(|r| r.reaches(p, reach));
+                        if own.inside_by(p, inner) {
+                            assert!(!near, "{p:?} in trapezoid {k} ({strips} strips)");
+                            deep += 1;
+                        } else if near {
+                            reached += 1;
+                        }
+                    }
+                }
+            }
+            assert!(deep > 0 && reached > 0, "{deep} deep, {reached} reached");
         }
     }
 
