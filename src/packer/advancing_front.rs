@@ -1440,7 +1440,9 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
     fn gather_neighbours(&mut self, f: u32, r: f64, gap: f64) {
         let front = self.obs[f as usize];
         let reach = front.r + (2.0 + gap) * r; // plus the neighbour's own radius
-        let half = front.r + (2.2 + gap) * r + self.r_max;
+        // The farthest centre the filter below keeps, and a hundredth of
+        // the radius against rounding (the box was 0.2 r wider, for nothing).
+        let half = (reach + self.r_max) * (1.0 + FEASIBLE_REL) + 0.01 * r;
         let (lo, hi) = (
             Point::new(front.c.x - half, front.c.y - half),
             Point::new(front.c.x + half, front.c.y + half),
