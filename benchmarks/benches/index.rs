@@ -1,6 +1,6 @@
 //! Spatial indexes on the packer's own query pattern: for each disk of a real
 //! packing, in placement order, one box query around it (half side
-//! r + 2.2·r + r_max, as the packer gathers a front's neighbours), the hits
+//! 3·r + r_max + 0.01·r, as the packer gathers a front's neighbours), the hits
 //! filtered by exact distance, then the disk inserted. MX quadtree and
 //! uniform grid (the packer's), a kd-tree (kiddo, Chebyshev distance = a box)
 //! and an R-tree (rstar, envelope query), for 10³ to 10⁵ disks.
@@ -104,8 +104,8 @@ fn replay<I: Index>(disks: &[Disk]) -> usize {
     let mut index = I::build(lo, hi, 2.0 * r_max);
     let mut found = 0usize;
     for (id, d) in disks.iter().enumerate() {
-        let half = d.r + 2.2 * d.r + r_max;
         let reach = 3.0 * d.r + r_max;
+        let half = reach + 0.01 * d.r;
         index.query(d.c, half, &mut |j| {
             let o = disks[j as usize];
             if (o.c - d.c).norm_squared() < reach * reach {
