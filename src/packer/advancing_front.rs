@@ -1441,7 +1441,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let front = self.obs[f as usize];
         let reach = front.r + (2.0 + gap) * r; // plus the neighbour's own radius
         // The farthest centre the filter below keeps, and a hundredth of
-        // the radius against rounding (the box was 0.2 r wider, for nothing).
+        // the radius against rounding.
         let half = (reach + self.r_max) * (1.0 + FEASIBLE_REL) + 0.01 * r;
         let (lo, hi) = (
             Point::new(front.c.x - half, front.c.y - half),

@@ -474,9 +474,8 @@ type Borders = Vec<(Vec<Disk>, Vec<Option<Opening>>)>;
 struct Assembly {
     /// The next trapezoid to append.
     next: usize,
-    /// Per trapezoid: its packing (its own disks after the first so many,
-    /// see `PartPacking::fixed`), once done and until appended.
-    waiting: Vec<Option<(Packing, usize)>>,
+    /// Per trapezoid: its packing, once done and until appended.
+    waiting: Vec<Option<PartPacking>>,
     disks: Vec<Disk>,
     materials: Vec<u16>,
     stats: PackStats,
@@ -495,19 +494,21 @@ impl Assembly {
     }
 
     /// Take trapezoid `k`'s packing, and append those waiting in order.
-    fn take(&mut self, k: usize, mut packing: Packing, mut fixed: usize) {
+    fn take(&mut self, k: usize, mut part: PartPacking) {
         if k != self.next {
-            // Reserved for the trapezoid's box, which it half fills.
-            packing.disks.drain(..fixed);
-            fixed = 0;
-            packing.disks.shrink_to_fit();
-            packing.materials.shrink_to_fit();
+            // Only its own disks wait, in a vector no longer reserved for
+            // the trapezoid's box, which it half fills.
+            part.packing.disks.drain(..part.fixed);
+            part.fixed = 0;
+            part.packing.disks.shrink_to_fit();
+            part.packing.materials.shrink_to_fit();
+            part.open = Vec::new();
         }
-        self.waiting[k] = Some((packing, fixed));
-        while let Some((p, fixed)) = self.waiting.get_mut(self.next).and_then(Option::take) {
-            self.disks.extend_from_slice(&p.disks[fixed..]);
-            self.materials.extend_from_slice(&p.materials);
-            add_stats(&mut self.stats, &p.stats);
+        self.waiting[k] = Some(part);
+        while let Some(p) = self.waiting.get_mut(self.next).and_then(Option::take) {
+            self.disks.extend_from_slice(p.own());
+            self.materials.extend_from_slice(&p.packing.materials);
+            add_stats(&mut self.stats, &p.packing.stats);
             self.next += 1;
         }
     }
@@ -518,11 +519,11 @@ impl Farm<'_> {
     /// more, and append its disks to the whole packing.
     fn pack<'s>(&'s self, s: &rayon::ScopeFifo<'s>, k: usize) {
         let _stop = StopOnPanic(&self.stop);
-        let (borders, packing) = match self.pack_one(k) {
+        let (borders, part) = match self.pack_one(k) {
             Ok(part) => {
                 self.drawn
                     .fetch_add(part.packing.stats.sizes_drawn, Ordering::Relaxed);
-                (Ok(self.borders(k, &part)), Some((part.packing, part.fixed)))
+                (Ok(self.borders(k, &part)), Some(part))
             }
             Err(e) => {
                 self.stop.cancel();
@@ -536,9 +537,9 @@ impl Farm<'_> {
                 s.spawn_fifo(move |s| self.pack(s, d));
             }
         }
-        if let Some((packing, fixed)) = packing {
+        if let Some(part) = part {
             let mut all = self.assembly.lock().unwrap_or_else(PoisonError::into_inner);
-            all.take(k, packing, fixed);
+            all.take(k, part);
         }
         let finished = self.finished.fetch_add(1, Ordering::Release) + 1;
         if finished == self.regions.len() || self.stop.is_cancelled() {
