@@ -40,7 +40,7 @@ pub mod output;
 mod packer;
 mod scene;
 pub mod stability;
-pub mod sweep;
+pub mod study;
 
 pub use cancel::{Cancel, Cancelled};
 pub use check::{Check, GradingCheck, KS_MARGIN, MIN_GRADING_DISKS, check, grading_kept, ks_limit};

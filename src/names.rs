@@ -7,7 +7,7 @@ use crate::geometry::{Shape, WallMode};
 use crate::grading::{Basis, Interpolation};
 use crate::layering::LayeringMode;
 use crate::scene::{Axis, Fill, FrontRules, IndexKind, Method};
-use crate::sweep::{Keep, Measure, RunJob};
+use crate::study::{Keep, Measure, RunJob};
 
 /// The default packing method's name.
 pub const METHOD: &str = "advancing-front";

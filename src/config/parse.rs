@@ -10,7 +10,7 @@ use crate::fracture::FractureRun;
 use crate::ga::OptimiseSettings;
 use crate::layering::{LayeringSettings, Material};
 use crate::output::OutputSettings;
-use crate::sweep::SweepSettings;
+use crate::study::SweepSettings;
 
 /// A validated config: the scene, and what to do with it beyond packing it once.
 #[derive(Debug, Clone)]

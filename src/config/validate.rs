@@ -154,7 +154,7 @@ mod fracture;
 mod materials;
 mod output;
 mod periodic;
-mod sweep;
+mod study;
 
 use fracture::FracturePlan;
 use materials::MaterialPlan;

@@ -12,7 +12,7 @@ use crate::ga::{Layered, StopReason, Verdict};
 use crate::metrics::Metrics;
 use crate::packer::{PEAK_BYTES_PER_DISK, estimated_peak_bytes};
 use crate::stability;
-use crate::sweep::{Keep, Measure, Row, Status};
+use crate::study::{Keep, Measure, Row, Status};
 use crate::{Scene, Shape};
 
 impl Plan {
@@ -482,7 +482,7 @@ fn point_lines(study: &Study) -> Vec<String> {
 /// One line per point of a study's rows: its measures over the seeds
 /// that finished (porosity with its range), or why its runs failed.
 fn study_result(rows: &[Row], seeds: usize) -> Vec<String> {
-    let spreads = crate::sweep::spreads(rows, seeds, Measure::Porosity);
+    let spreads = crate::study::spreads(rows, seeds, Measure::Porosity);
     rows.chunks(seeds.max(1))
         .zip(spreads)
         .filter_map(|(point, porosity)| {
@@ -491,7 +491,7 @@ fn study_result(rows: &[Row], seeds: usize) -> Vec<String> {
                 .run
                 .rsplit_once(",seed=")
                 .map_or(first.run.as_str(), |(p, _)| p);
-            let done: Vec<&crate::sweep::Measures> = point
+            let done: Vec<&crate::study::Measures> = point
                 .iter()
                 .filter_map(|r| match &r.status {
                     Status::Finished(m) => Some(m),
@@ -506,7 +506,7 @@ fn study_result(rows: &[Row], seeds: usize) -> Vec<String> {
                 return failed.map(|why| format!("{name:<40} failed: {why}"));
             };
             let n = done.len() as f64;
-            let mean = |f: fn(&crate::sweep::Measures) -> f64| done.iter().map(|m| f(m)).sum::<f64>() / n;
+            let mean = |f: fn(&crate::study::Measures) -> f64| done.iter().map(|m| f(m)).sum::<f64>() / n;
             let errors: Vec<f64> = done.iter().filter_map(|m| m.target_error).collect();
             Some(format!(
                 "{name:<40} porosity {:.4} ({:.4}–{:.4}), {:.0} disks, psd_ks {:.3}, coordination {:.2}{}, {} of {} runs, {} each",

@@ -32,7 +32,7 @@ use crate::output::{
 };
 use crate::packer::{PackError, Packing, pack_observed};
 use crate::stability::{self, StabilityRun};
-use crate::sweep::{Measure, Row};
+use crate::study::{Measure, Row};
 
 /// File name of the list of a run's files, in its folder.
 pub const MANIFEST_JSON: &str = "manifest.json";

@@ -28,7 +28,7 @@ use crate::cancel::Cancel;
 use crate::config::{Config, ConfigError, Location, ParseOptions, key_location, sweep_points};
 use crate::farm::{self, Farm, Local};
 use crate::output::{SUMMARY_JSON, SWEEP_CSV, read_sweep_csv, render_sweep};
-use crate::sweep::{
+use crate::study::{
     Keep, Measure, Measures, Row, RunJob, Status, SweepSettings, SweptKey, point_names, run_name,
 };
 

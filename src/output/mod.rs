@@ -17,7 +17,7 @@ mod plot;
 mod read;
 mod run;
 mod svg;
-mod sweep;
+mod sweep_table;
 
 pub use atomic::{TempFile, commit_atomic, commit_with_temps, write_all_atomic, write_atomic};
 pub use csv::{
@@ -53,7 +53,7 @@ pub use run::{
 pub use svg::{
     PACKING_SVG, SVG_MAX_BYTES, diameter_range, packing_svg, packing_svg_note, packing_svg_within,
 };
-pub use sweep::{SWEEP_CSV, SWEEP_PNG, SWEEP_SVG, read_sweep_csv, render_sweep, sweep_csv};
+pub use sweep_table::{SWEEP_CSV, SWEEP_PNG, SWEEP_SVG, read_sweep_csv, render_sweep, sweep_csv};
 
 /// Every file name a run may write at the top of its folder.
 pub const FILE_NAMES: &[&str] = &[

@@ -189,7 +189,7 @@ fn refuses_scene_over_memory_limit() {
 
 #[test]
 fn shipped_configs_parse() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs");
+    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("configs");
     let mut count = 0;
     for entry in fs::read_dir(&dir).expect("configs/ exists") {
         let path = entry.expect("dir entry").path();

@@ -12,7 +12,7 @@ use common::{gapack, scratch};
 
 /// The shipped configs, sorted.
 fn shipped() -> Vec<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs");
+    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("configs");
     let mut files: Vec<PathBuf> = fs::read_dir(&dir)
         .expect("configs/ exists")
         .map(|e| e.expect("readable entry").path())

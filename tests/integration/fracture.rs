@@ -15,7 +15,7 @@ use gapack::fracture::{Extent, settle};
 use gapack::{Fill, Packing, Scene, measure, pack};
 
 fn config(name: &str) -> Config {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+    let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
         .join("configs")
         .join(name);
     let text = fs::read_to_string(&path).expect("read config");

@@ -17,7 +17,7 @@ use gapack::layering::{Axis, LayeringMode, Profile};
 use gapack::{measure, pack};
 
 fn shipped(name: &str) -> String {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+    let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
         .join("configs")
         .join(name);
     fs::read_to_string(path).expect("read shipped config")

@@ -28,5 +28,5 @@ mod replay;
 mod scales;
 mod serve;
 mod stability;
-mod sweep;
+mod parameter_study;
 mod thesis;

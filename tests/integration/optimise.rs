@@ -19,7 +19,7 @@ use gapack::{Disk, config, measure};
 
 /// A shipped config's text.
 fn shipped(name: &str) -> String {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+    let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
         .join("configs")
         .join(name);
     fs::read_to_string(path).expect("read shipped config")

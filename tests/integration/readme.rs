@@ -117,7 +117,7 @@ fn copy_dir(from: &Path, to: &Path) {
 
 #[test]
 fn every_readme_command_runs_as_written() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
     let readme = fs::read_to_string(root.join("README.md")).unwrap();
     let dir = scratch("readme");
     copy_dir(&root.join("configs"), &dir.join("configs"));

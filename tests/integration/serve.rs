@@ -883,7 +883,7 @@ fn sigterm_loses_nothing_queued_or_running() {
 #[test]
 fn the_readme_service_commands_run() {
     let readme =
-        fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).expect("README");
+        fs::read_to_string(concat!(concat!(env!("CARGO_MANIFEST_DIR"), "/.."), "/README.md")).expect("README");
     let section = readme
         .split("## Run as a service")
         .nth(1)
@@ -901,7 +901,7 @@ fn the_readme_service_commands_run() {
     let dir = scratch("serve-readme");
     fs::create_dir_all(dir.join("configs")).expect("dir");
     fs::copy(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/configs/default.toml"),
+        concat!(concat!(env!("CARGO_MANIFEST_DIR"), "/.."), "/configs/default.toml"),
         dir.join("configs/default.toml"),
     )
     .expect("config");

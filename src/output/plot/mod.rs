@@ -10,7 +10,7 @@ mod porosity_map;
 mod profile;
 mod psd;
 mod stability;
-mod sweep;
+mod sweep_chart;
 #[cfg(test)]
 mod testing;
 mod text;
@@ -24,5 +24,5 @@ pub use porosity_map::{POROSITY_MAP_PNG, POROSITY_MAP_SVG, PorosityMapChart, por
 pub use profile::profile_chart;
 pub use psd::{PSD_PNG, PSD_SVG, PsdChart, psd_chart, psd_chart_of_scene};
 pub use stability::StabilityChart;
-pub use sweep::SweepChart;
+pub use sweep_chart::SweepChart;
 pub use window::window_chart;

@@ -27,51 +27,62 @@ use std::sync::{Arc, Condvar, Mutex, PoisonError};
 use std::time::Duration;
 
 use anyhow::Context;
-use clap::Args;
 use gapack::jobs::Cancel;
 use tokio::sync::{broadcast, watch};
 
-use crate::cli::{Failure, print_line};
 use db::Db;
 use metrics::Metrics;
 
-/// `gapack serve` options.
-#[derive(Args)]
-pub struct ServeArgs {
-    /// Address to listen on (port 0: any free port; the first line on
-    /// stdout says which). Any address but loopback needs --token-file.
-    #[arg(long, default_value = "127.0.0.1:8080", value_name = "ADDR")]
-    listen: SocketAddr,
+/// What the service is started with (`gapack serve`'s options).
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// Address to listen on (port 0: any free port). Any address but
+    /// loopback needs a token.
+    pub listen: SocketAddr,
     /// Folder of the job store (gapack.db) and of the jobs' files (jobs/<id>/).
-    #[arg(long, default_value = "gapack-data", value_name = "DIR")]
-    data: PathBuf,
-    /// Jobs run at once [default: one per two cores]; 0 only queues.
-    #[arg(long, value_name = "N")]
-    workers: Option<usize>,
-    /// File holding the bearer token every request must carry
-    /// (`Authorization: Bearer TOKEN`).
-    #[arg(long, value_name = "F")]
-    token_file: Option<PathBuf>,
+    pub data: PathBuf,
+    /// Jobs run at once (`None`: one per two cores); 0 only queues.
+    pub workers: Option<usize>,
+    /// File holding the bearer token every request must carry.
+    pub token_file: Option<PathBuf>,
     /// Jobs that may wait in the queue; a submission beyond gets 503.
-    #[arg(long, default_value_t = 1000, value_name = "N")]
-    max_queue: usize,
-    /// Most disks a submitted scene may hold (its upper bound); a config's
-    /// [limits] cannot raise it.
-    #[arg(long, default_value_t = 2_000_000, value_name = "N")]
-    max_particles: u64,
+    pub max_queue: usize,
+    /// Most disks a submitted scene may hold (its upper bound).
+    pub max_particles: u64,
     /// Most memory a submitted run may be estimated to need (MB).
-    #[arg(long, default_value_t = 1024, value_name = "MB")]
-    max_memory_mb: u64,
-    /// Longest a job may run (s); it is then stopped, keeping what it finished.
-    #[arg(long, default_value_t = 3600, value_name = "S")]
-    max_seconds: u64,
-    /// Let a submission ask for `force=true` (run over the config's and the
-    /// server's limits).
-    #[arg(long)]
-    force: bool,
-    /// optimise: save a checkpoint every N generations (a restart resumes from it).
-    #[arg(long, default_value_t = 10, value_name = "N")]
-    checkpoint_every: usize,
+    pub max_memory_mb: u64,
+    /// Longest a job may run (s; 0: no limit).
+    pub max_seconds: u64,
+    /// Whether a submission may ask for `force` (run over the limits).
+    pub force: bool,
+    /// optimise: save a checkpoint every N generations.
+    pub checkpoint_every: usize,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            listen: SocketAddr::from(([127, 0, 0, 1], 8080)),
+            data: PathBuf::from("gapack-data"),
+            workers: None,
+            token_file: None,
+            max_queue: 1000,
+            max_particles: 2_000_000,
+            max_memory_mb: 1024,
+            max_seconds: 3600,
+            force: false,
+            checkpoint_every: 10,
+        }
+    }
+}
+
+/// Why the service did not start or stopped with an error.
+#[derive(Debug)]
+pub enum Failure {
+    /// Bad options (a non-loopback address without a token, a bad token file).
+    Input(anyhow::Error),
+    /// The store, the runtime or the socket failed.
+    Run(anyhow::Error),
 }
 
 /// The server's ceilings on what a submission may ask.
@@ -156,12 +167,14 @@ impl Shared {
     }
 }
 
-/// Run the service until SIGINT or SIGTERM.
+/// Run the service until SIGINT or SIGTERM; `listening` is told the bound
+/// address once the socket is open (the command line prints it first on
+/// stdout, which tests and scripts read to find a port 0's port).
 ///
 /// # Errors
 /// [`Failure::Input`] for bad options (a non-loopback address without a
 /// token), [`Failure::Run`] when the store or the socket cannot be opened.
-pub fn run(args: &ServeArgs) -> Result<(), Failure> {
+pub fn run(args: &Options, listening: impl FnOnce(SocketAddr)) -> Result<(), Failure> {
     let token = match &args.token_file {
         Some(path) => {
             let text = std::fs::read_to_string(path)
@@ -239,7 +252,7 @@ pub fn run(args: &ServeArgs) -> Result<(), Failure> {
         .local_addr()
         .context("cannot read the bound address")
         .map_err(run_failure)?;
-    print_line(format!("listening on http://{addr}"));
+    listening(addr);
     tracing::info!(%addr, workers, recovered, data = %args.data.display(), "serving");
     let threads: Vec<_> = (0..workers)
         .map(|i| {

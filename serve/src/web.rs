@@ -159,7 +159,7 @@ mod tests {
 
     #[test]
     fn every_shipped_config_is_offered_once() {
-        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/configs");
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../configs");
         let mut shipped: Vec<String> = std::fs::read_dir(dir)
             .expect("configs/")
             .filter_map(|e| {

@@ -4,7 +4,7 @@
 use super::error::OutputError;
 use super::plot::{Drawable, SweepChart};
 use super::run::Files;
-use crate::sweep::{Measures, Row, Status, SweepSettings};
+use crate::study::{Measures, Row, Status, SweepSettings};
 
 /// File name of a study's table.
 pub const SWEEP_CSV: &str = "sweep.csv";

@@ -6,6 +6,7 @@ pub mod inspect;
 pub mod job;
 #[cfg(feature = "mpi")]
 pub mod ranks;
+pub mod serve;
 
 use std::fmt::Display;
 use std::io::{ErrorKind, IsTerminal, Write};

@@ -5,7 +5,7 @@
 use super::error::{ConfigError, Location};
 use super::locate::from_toml_error;
 use super::parse::{Config, ParseOptions, parse_with};
-use crate::sweep::{SweepSettings, SweptKey, point_names, points};
+use crate::study::{SweepSettings, SweptKey, point_names, points};
 
 /// One point of a study: a value of every swept key.
 #[derive(Debug, Clone)]
@@ -31,7 +31,7 @@ const GRADING_SOURCES: [&str; 4] = ["table", "uniform", "constant", "preset"];
 const WELL_KEYS: [&str; 3] = ["width_mm", "height_m", "tip_width_mm"];
 
 /// The configs of the study `settings` describes on the config `text`
-/// (named `origin`), one per point in product order ([`crate::sweep::points`]).
+/// (named `origin`), one per point in product order ([`crate::study::points`]).
 ///
 /// # Behavior
 /// A swept key's value replaces the config's: `fracture.width_mm` (and

@@ -43,7 +43,7 @@ pub fn after_stop(outcome: &Outcome, config: Option<&Path>, seed: Option<u64>, f
             outcome.location,
             outcome.location,
             rows.iter()
-                .filter(|r| r.status == gapack::sweep::Status::NotRun)
+                .filter(|r| r.status == gapack::study::Status::NotRun)
                 .count()
         );
     } else {

@@ -9,7 +9,7 @@ use plotters::prelude::*;
 use super::axis::{Axis, Pad};
 use super::chart::{Drawable, Entry, LEGEND_TOP, Mark, beside, draw_legend, plot_area, tidy};
 use crate::output::palette::colour;
-use crate::sweep::{Measure, Row, Spread, SweepSettings, spreads};
+use crate::study::{Measure, Row, Spread, SweepSettings, spreads};
 
 /// Pixel size of the chart.
 const SIZE: (u32, u32) = (1000, 600);
@@ -101,7 +101,7 @@ impl SweepChart {
                         .collect()
                 })
                 .collect();
-            crate::sweep::points(rest)
+            crate::study::points(rest)
                 .iter()
                 .map(|combo| {
                     combo
@@ -301,7 +301,7 @@ impl Drawable for SweepChart {
 mod tests {
     use super::*;
     use crate::output::plot::testing::{assert_legend_hides_nothing, svg_texts};
-    use crate::sweep::{Keep, Measures, Status, SweptKey};
+    use crate::study::{Keep, Measures, Status, SweptKey};
 
     fn key(path: &str, values: Vec<toml::Value>) -> SweptKey {
         let n = values.len();

@@ -13,7 +13,7 @@ use super::Validator;
 use crate::config::error::ConfigError;
 use crate::config::raw::Table;
 use crate::names::{KEEPS, MEASURES, Names, RUN_JOBS};
-use crate::sweep::{Keep, Measure, SweepSettings, SweptKey};
+use crate::study::{Keep, Measure, SweepSettings, SweptKey};
 
 /// Most seeds per point of a study.
 const MAX_SEEDS: i64 = 10_000;

@@ -7,7 +7,6 @@
 
 mod bench;
 mod cli;
-mod serve;
 
 use std::process::ExitCode;
 
@@ -78,7 +77,7 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Run jobs as an HTTP service (submit, follow, cancel, fetch files);
     /// see docs/api.md. Runs until SIGINT or SIGTERM.
-    Serve(serve::ServeArgs),
+    Serve(cli::serve::ServeArgs),
 }
 
 fn main() -> ExitCode {
@@ -93,7 +92,7 @@ fn main() -> ExitCode {
         Command::Verify(args) => cli::inspect::run_verify(&args),
         Command::Plot(args) => cli::inspect::run_plot(&args),
         Command::Bench(args) => bench::run_command(&args),
-        Command::Serve(args) => serve::run(&args),
+        Command::Serve(args) => cli::serve::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -11,7 +11,7 @@ use std::process::{Command, Output};
 
 use common::{gapack, scratch};
 use gapack::jobs::{self, Cancel, Event, JobError, JobKind, MemoryStore, Plan, Report, Request};
-use gapack::sweep::{Row, Status};
+use gapack::study::{Row, Status};
 
 /// A fracture window, swept over three widths and two meshes, two seeds each.
 const STUDY: &str = "seed = 5
