@@ -256,8 +256,11 @@ fn a_cancelled_layering_writes_its_best_assignment() {
 
 #[test]
 fn a_cancelled_batch_keeps_the_wells_it_finished() {
-    let text = fs::read_to_string(concat!(concat!(env!("CARGO_MANIFEST_DIR"), "/.."), "/configs/wells.toml"))
-        .expect("shipped config");
+    let text = fs::read_to_string(concat!(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/.."),
+        "/configs/wells.toml"
+    ))
+    .expect("shipped config");
     let plan = plan(&text, JobKind::Pack);
     let total = plan.config.fracture.as_ref().unwrap().wells.len();
     assert!(total > 1);
@@ -338,8 +341,11 @@ fn a_reused_output_folder_holds_only_the_new_runs_files() {
     assert!(!out.join("boundary.vtk").exists());
 
     // A batch's well folders go when a plain pack takes the folder over.
-    let wells = fs::read_to_string(concat!(concat!(env!("CARGO_MANIFEST_DIR"), "/.."), "/configs/wells.toml"))
-        .expect("shipped config");
+    let wells = fs::read_to_string(concat!(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/.."),
+        "/configs/wells.toml"
+    ))
+    .expect("shipped config");
     let batch = run(&wells);
     let folder = batch
         .files
@@ -450,11 +456,14 @@ fn an_edited_checkpoint_is_refused_at_load_naming_what_differs() {
 fn a_short_search_is_not_reached_and_never_out_of_reach() {
     // AP-3's scene: 2 genomes for 1 generation span [0.2251, 0.2517], and
     // were called out of reach of 0.4, which a real search reaches (0.4005).
-    let ap3 = fs::read_to_string(concat!(concat!(env!("CARGO_MANIFEST_DIR"), "/.."), "/configs/ap3.toml"))
-        .expect("shipped config")
-        .replace("target_porosity = 0.5", "target_porosity = 0.4")
-        .replace("population = 64", "population = 2")
-        .replace("generations = 200", "generations = 1");
+    let ap3 = fs::read_to_string(concat!(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/.."),
+        "/configs/ap3.toml"
+    ))
+    .expect("shipped config")
+    .replace("target_porosity = 0.5", "target_porosity = 0.4")
+    .replace("population = 64", "population = 2")
+    .replace("generations = 200", "generations = 1");
     let plan = plan(&ap3, JobKind::Optimise);
     let mut store = MemoryStore::default();
     let (outcome, events) = recorded(&plan, &mut store, |_| false);

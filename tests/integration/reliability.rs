@@ -328,7 +328,10 @@ fn the_resume_hint_runs_as_printed() {
 #[test]
 fn an_interrupted_stability_sweep_writes_the_runs_it_finished() {
     let dir = scratch("sweep");
-    let config = concat!(concat!(env!("CARGO_MANIFEST_DIR"), "/.."), "/configs/default.toml");
+    let config = concat!(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/.."),
+        "/configs/default.toml"
+    );
     let start = Instant::now();
     let (code, stderr) = interrupted(&dir, &["stability", config, "--out", "s"], || {
         start.elapsed() > Duration::from_secs(2)

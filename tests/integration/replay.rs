@@ -152,7 +152,8 @@ fn every_config_that_ever_failed_is_refused_or_runs_within_bounds() {
 /// `verify` (against the shipped default scene) and `plot` (framed by the
 /// disks) of one table file in `dir`.
 fn inspect(dir: &Path, name: &str, expect: Option<i32>) {
-    let default = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("configs/default.toml");
+    let default =
+        Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("configs/default.toml");
     let default = default.to_str().expect("a UTF-8 path");
     let verified = bounded(dir, &["verify", name, "--config", default]);
     judge(&format!("verify {name}"), &verified, expect);

@@ -706,11 +706,17 @@ fn the_page_and_the_data_it_draws() {
     assert_eq!(examples[0]["name"], "default");
     assert_eq!(
         examples.len(),
-        fs::read_dir("configs").expect("configs").count()
+        fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../configs"))
+            .expect("configs")
+            .count()
     );
     for e in examples {
         let name = e["name"].as_str().expect("name");
-        let text = fs::read_to_string(format!("configs/{name}.toml")).expect("config");
+        let text = fs::read_to_string(format!(
+            "{}/../configs/{name}.toml",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+        .expect("config");
         assert_eq!(e["config"].as_str(), Some(text.as_str()), "{name}");
     }
     // Estimates: a search's packings are bounded by its population and generations.
@@ -882,8 +888,11 @@ fn sigterm_loses_nothing_queued_or_running() {
 /// with `gapack` on the PATH) in a scratch folder holding the default config.
 #[test]
 fn the_readme_service_commands_run() {
-    let readme =
-        fs::read_to_string(concat!(concat!(env!("CARGO_MANIFEST_DIR"), "/.."), "/README.md")).expect("README");
+    let readme = fs::read_to_string(concat!(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/.."),
+        "/README.md"
+    ))
+    .expect("README");
     let section = readme
         .split("## Run as a service")
         .nth(1)
@@ -901,7 +910,10 @@ fn the_readme_service_commands_run() {
     let dir = scratch("serve-readme");
     fs::create_dir_all(dir.join("configs")).expect("dir");
     fs::copy(
-        concat!(concat!(env!("CARGO_MANIFEST_DIR"), "/.."), "/configs/default.toml"),
+        concat!(
+            concat!(env!("CARGO_MANIFEST_DIR"), "/.."),
+            "/configs/default.toml"
+        ),
         dir.join("configs/default.toml"),
     )
     .expect("config");
