@@ -1,12 +1,14 @@
-//! Every command the README shows runs as written: the `sh` blocks' lines
-//! and the `cargo run --release -- …` quoted in its text, in order, in a
-//! clean folder holding a copy of `configs/`, each `cargo run --release --
-//! ARGS` run as `gapack ARGS` and expected to succeed. The lines that are
-//! not gapack runs, and the one run of minutes (the stability sweep), are
-//! named here with where they are run instead, so a
-//! new kind of line fails this test until it is given a place; quoted
-//! commands with a placeholder in capitals (`configs/apN.toml`) are forms,
-//! not commands.
+//! Every command the README and the guide pages show runs as written: the
+//! `sh` blocks' lines and the `cargo run --release -- …` quoted in their
+//! text, page after page (`PAGES`, the README first), in order, in one
+//! clean folder holding a copy of `configs/` (a page may use what an
+//! earlier one wrote), each `cargo run --release -- ARGS` run as `gapack
+//! ARGS` and expected to succeed, a command shown on two pages run once.
+//! The lines that are not gapack runs, the one run of minutes (the
+//! stability sweep) and the benchmarks are named here with where they are
+//! run instead, or why they are not, so a new kind of line fails this test
+//! until it is given a place; quoted commands with a placeholder in
+//! capitals (`configs/apN.toml`) are forms, not commands.
 
 use crate::common;
 
@@ -15,8 +17,27 @@ use std::path::Path;
 
 use common::{gapack, scratch};
 
-/// Lines of the README's `sh` blocks that this test does not run, by their
-/// start, and why.
+/// The pages whose commands this test runs, from the repository root, in
+/// order: the README, then the pages its sections moved to.
+const PAGES: &[&str] = &[
+    "README.md",
+    "docs/usage.md",
+    "docs/optimise.md",
+    "docs/layering.md",
+    "docs/fractures.md",
+    "docs/compare.md",
+    "docs/sweep.md",
+    "docs/strips.md",
+    "docs/how-it-works.md",
+    "docs/reliability.md",
+    "docs/results.md",
+    "docs/performance.md",
+    "benchmarks/README.md",
+    "CONTRIBUTING.md",
+];
+
+/// Lines of the pages' `sh` blocks (and quoted commands) that this test
+/// does not run, by their start, and why.
 const ELSEWHERE: &[(&str, &str)] = &[
     (
         "cargo run --release -- stability ",
@@ -24,8 +45,35 @@ const ELSEWHERE: &[(&str, &str)] = &[
     ),
     ("cargo test", "the test command itself"),
     (
-        "cargo build --release --features mpi",
+        "cargo build --release --features gapack-cli/mpi",
         "the MPI build: CI builds the tests with the feature",
+    ),
+    (
+        "cargo install --path cli",
+        "installs the binary the tests build and run as `gapack`",
+    ),
+    (
+        "cargo build --release -p gapack-cli --features count-alloc",
+        "the benchmark build with the counting allocator (docs/performance.md): measured, not asserted",
+    ),
+    (
+        "cargo build --release",
+        "a release build: the tests build and run the same binary",
+    ),
+    ("cargo fmt", "formatting: .ci/run checks it"),
+    ("cargo clippy", "the lints: .ci/run runs them"),
+    ("CI=true bash .ci/run", "CI itself, on a clean clone"),
+    (
+        "cargo bench",
+        "a benchmark: its figures are measured, not asserted, and take minutes; `cargo test` builds the benches",
+    ),
+    (
+        "cargo rustc --release",
+        "a benchmark build linked in a random layout (docs/performance.md): measured, not asserted",
+    ),
+    (
+        "RAYON_NUM_THREADS=",
+        "`gapack bench` at full size (minutes): tests/integration/cli.rs runs `gapack bench` on small scenes",
     ),
     (
         "mpirun ",
@@ -73,8 +121,8 @@ const ELSEWHERE: &[(&str, &str)] = &[
     ),
 ];
 
-/// The lines of the README's `sh` blocks (comments and blank lines left
-/// out) and the `cargo run --release -- …` quoted in its text, in order.
+/// The lines of a page's `sh` blocks (comments and blank lines left out)
+/// and the `cargo run --release -- …` quoted in its text, in order.
 fn shell_lines(readme: &str) -> Vec<String> {
     const QUOTED: &str = "`cargo run --release -- ";
     let mut lines = Vec::new();
@@ -118,29 +166,62 @@ fn copy_dir(from: &Path, to: &Path) {
 #[test]
 fn every_readme_command_runs_as_written() {
     let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
-    let readme = fs::read_to_string(root.join("README.md")).unwrap();
     let dir = scratch("readme");
     copy_dir(&root.join("configs"), &dir.join("configs"));
-    let mut ran = 0;
-    for line in shell_lines(&readme) {
-        if ELSEWHERE.iter().any(|(start, _)| line.starts_with(start)) {
-            continue;
+    let mut done: Vec<String> = Vec::new();
+    for page in PAGES {
+        let text = fs::read_to_string(root.join(page)).unwrap_or_else(|e| panic!("{page}: {e}"));
+        let mut ran = 0;
+        for line in shell_lines(&text) {
+            if ELSEWHERE.iter().any(|(start, _)| line.starts_with(start)) {
+                continue;
+            }
+            if let Some(rest) = line.strip_prefix("cargo run --release -- ") {
+                // Without the trailing comment.
+                let command = rest.split(" #").next().unwrap_or(rest).trim().to_owned();
+                ran += 1;
+                if done.contains(&command) {
+                    continue;
+                }
+                let args: Vec<&str> = command.split_whitespace().collect();
+                let out = gapack(&dir, &args);
+                assert!(
+                    out.status.success(),
+                    "{page}: command failed: {line}\n{}{}",
+                    String::from_utf8_lossy(&out.stdout),
+                    String::from_utf8_lossy(&out.stderr)
+                );
+                done.push(command);
+                continue;
+            }
+            panic!("{page}: a command this test neither runs nor knows a place for: {line}");
         }
-        if let Some(rest) = line.strip_prefix("cargo run --release -- ") {
-            // Without the trailing comment.
-            let command = rest.split(" #").next().unwrap_or(rest);
-            let args: Vec<&str> = command.split_whitespace().collect();
-            let out = gapack(&dir, &args);
-            assert!(
-                out.status.success(),
-                "README command failed: {line}\n{}{}",
-                String::from_utf8_lossy(&out.stdout),
-                String::from_utf8_lossy(&out.stderr)
-            );
-            ran += 1;
-            continue;
+        if *page == "README.md" {
+            assert!(ran >= 8, "only {ran} gapack commands found in the README");
         }
-        panic!("a README command this test neither runs nor knows a place for: {line}");
     }
-    assert!(ran >= 8, "only {ran} gapack commands found in the README");
+}
+
+/// A docs page that shows a `cargo run --release -- …` command is one of
+/// `PAGES`, so that its commands are run too.
+#[test]
+fn every_page_showing_gapack_runs_is_listed() {
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
+    for entry in fs::read_dir(root.join("docs")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "md") {
+            continue;
+        }
+        let page = format!("docs/{}", path.file_name().unwrap().to_string_lossy());
+        if PAGES.contains(&page.as_str()) {
+            continue;
+        }
+        let text = fs::read_to_string(&path).unwrap();
+        if let Some(line) = shell_lines(&text)
+            .into_iter()
+            .find(|l| l.starts_with("cargo run --release -- "))
+        {
+            panic!("{page} shows `{line}` but is not in PAGES");
+        }
+    }
 }
