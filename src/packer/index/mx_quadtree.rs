@@ -57,7 +57,7 @@ const SPREAD: [u32; TILE_SIDE as usize] = {
 /// `next`. The other forms tried (a pointer tree, contiguous leaf ids,
 /// occupancy bits, inline pairs, branch-free buffers, circle-cut
 /// rows, other leaf sizes) were slower in whole packings, and other tile
-/// sizes no faster; README (Speed and memory) has their times, and the
+/// sizes no faster; docs/performance.md (spatial indexes) has their times, and the
 /// quadtree's against the grid's, which does without the column tops.
 /// Memory: 4 bytes per leaf of the bounding rectangle (its sides rounded up
 /// to whole tiles), 4 per item, as the grid, and 4 per column.
