@@ -1,0 +1,180 @@
+//! A finished job's files: the list (`GET /jobs/{id}/files`) and each file
+//! (`GET /jobs/{id}/files/{name}`), served only by the names its
+//! `manifest.json` lists, so that no other file of the data folder can be
+//! reached.
+
+use std::sync::Arc;
+
+use axum::extract::{Path, State};
+use axum::http::{StatusCode, header};
+use axum::response::IntoResponse;
+use axum::routing::get;
+use axum::{Json, Router};
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+use utoipa::ToSchema;
+
+use super::error::{ApiError, ErrorBody};
+use super::jobs::JobId;
+use super::{AppState, blocking};
+use crate::Shared;
+use crate::worker::job_dir;
+
+/// The routes of a job's files.
+pub fn router() -> Router<Arc<Shared>> {
+    Router::new()
+        .route("/jobs/{id}/files", get(files))
+        .route("/jobs/{id}/files/{*name}", get(file))
+}
+
+/// One file of a run.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct FileEntry {
+    /// Its name in the run's folder (`packing.csv`, `well_a/packing.csv`).
+    name: String,
+    /// Its size (bytes).
+    bytes: u64,
+    /// Where to fetch it.
+    url: String,
+}
+
+/// A finished run's files, from its manifest.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct FileList {
+    /// Whether the run was cut short (cancelled: what it finished).
+    interrupted: bool,
+    /// The files, as `manifest.json` lists them.
+    files: Vec<FileEntry>,
+    /// The manifest itself.
+    #[schema(value_type = Object)]
+    manifest: Value,
+}
+
+/// The manifest of a finished job, or why there is none to serve.
+pub fn manifest(shared: &Shared, id: &str) -> Result<Value, ApiError> {
+    let row = shared
+        .db
+        .get(id)?
+        .ok_or_else(|| ApiError::unknown_job(id))?;
+    if !row.state.is_final() {
+        return Err(ApiError::new(
+            StatusCode::CONFLICT,
+            format!(
+                "job {id} is {}: its files are served once it has finished",
+                row.state.name()
+            ),
+        ));
+    }
+    let path = job_dir(shared, id).join(gapack::jobs::MANIFEST_JSON);
+    let bytes = match std::fs::read(&path) {
+        Ok(bytes) => bytes,
+        Err(e)
+            if matches!(
+                e.kind(),
+                std::io::ErrorKind::NotFound | std::io::ErrorKind::NotADirectory
+            ) =>
+        {
+            return Err(ApiError::new(
+                StatusCode::NOT_FOUND,
+                format!("job {id} wrote no files"),
+            ));
+        }
+        Err(e) => return Err(ApiError::internal(e)),
+    };
+    serde_json::from_slice(&bytes).map_err(ApiError::internal)
+}
+
+/// The file names a manifest lists.
+pub fn listed(manifest: &Value) -> Vec<String> {
+    manifest["files"]
+        .as_array()
+        .map(|files| {
+            files
+                .iter()
+                .filter_map(|f| f.as_str().map(str::to_owned))
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// A finished job's files, as its `manifest.json` lists them.
+#[utoipa::path(get, path = "/api/v1/jobs/{id}/files", params(("id" = String, Path, description = "Job id")),
+    responses((status = 200, body = FileList), (status = 404, body = ErrorBody), (status = 409, description = "Not finished", body = ErrorBody)))]
+async fn files(State(shared): AppState, JobId(id): JobId) -> Result<Json<FileList>, ApiError> {
+    let list = blocking(move || {
+        let manifest = manifest(&shared, &id)?;
+        let dir = job_dir(&shared, &id);
+        let files = listed(&manifest)
+            .into_iter()
+            .map(|name| FileEntry {
+                bytes: std::fs::metadata(dir.join(&name)).map_or(0, |m| m.len()),
+                url: format!("/api/v1/jobs/{id}/files/{name}"),
+                name,
+            })
+            .collect();
+        Ok(FileList {
+            interrupted: manifest["interrupted"].as_bool().unwrap_or(false),
+            files,
+            manifest,
+        })
+    })
+    .await?;
+    Ok(Json(list))
+}
+
+/// The content type of a file by its extension.
+fn content_type(name: &str) -> &'static str {
+    match name.rsplit('.').next().unwrap_or("") {
+        "csv" => "text/csv; charset=utf-8",
+        "json" => "application/json",
+        "svg" => "image/svg+xml",
+        "png" => "image/png",
+        "vtk" | "data" | "txt" | "dat" | "py" | "p4p" | "geo" => "text/plain; charset=utf-8",
+        _ => "application/octet-stream",
+    }
+}
+
+/// Whether `name` is a plain relative path inside a job's folder: no
+/// root, no backslash, no empty, `.` or `..` part.
+fn inside(name: &str) -> bool {
+    !name.is_empty()
+        && !name.starts_with('/')
+        && !name.contains('\\')
+        && name
+            .split('/')
+            .all(|p| !p.is_empty() && p != "." && p != "..")
+}
+
+/// The `{name}` of a file's route (its `{id}` is read as a [`JobId`]).
+#[derive(Deserialize)]
+struct NameParam {
+    name: String,
+}
+
+/// One file of a finished job: only the names its manifest lists.
+#[utoipa::path(get, path = "/api/v1/jobs/{id}/files/{name}", params(("id" = String, Path, description = "Job id"), ("name" = String, Path, description = "File name as the manifest lists it")),
+    responses((status = 200, description = "The file, with its content type"), (status = 404, body = ErrorBody), (status = 409, body = ErrorBody)))]
+async fn file(
+    State(shared): AppState,
+    JobId(id): JobId,
+    Path(NameParam { name }): Path<NameParam>,
+) -> Result<impl IntoResponse, ApiError> {
+    let bytes = blocking({
+        let name = name.clone();
+        move || {
+            let manifest = manifest(&shared, &id)?;
+            let known = name == gapack::jobs::MANIFEST_JSON || listed(&manifest).contains(&name);
+            if !known || !inside(&name) {
+                return Err(ApiError::new(
+                    StatusCode::NOT_FOUND,
+                    format!(
+                        "job {id} has no file {name:?}; GET /api/v1/jobs/{id}/files lists them"
+                    ),
+                ));
+            }
+            std::fs::read(job_dir(&shared, &id).join(&name)).map_err(ApiError::internal)
+        }
+    })
+    .await?;
+    Ok(([(header::CONTENT_TYPE, content_type(&name))], bytes))
+}
