@@ -152,3 +152,61 @@ async fn events(
     });
     Ok(Sse::new(stream).keep_alive(KeepAlive::default()))
 }
+
+#[cfg(test)]
+mod tests {
+    use std::time::Duration;
+
+    use axum::http::{Method, StatusCode};
+
+    use crate::api::testing::{NO_JOB, SQUARE, TestServer, sse_events};
+
+    #[tokio::test]
+    async fn a_stream_opened_before_the_run_follows_it_to_the_end() {
+        let server = std::sync::Arc::new(TestServer::new());
+        let id = server.submit("?kind=pack", SQUARE).await;
+        let follower = tokio::spawn({
+            let server = std::sync::Arc::clone(&server);
+            let path = format!("/api/v1/jobs/{id}/events");
+            async move { server.get(&path).await }
+        });
+        // The stream waits for news while the job is queued.
+        tokio::time::sleep(Duration::from_millis(200)).await;
+        assert!(!follower.is_finished());
+        server.run_queued().await;
+        let r = tokio::time::timeout(Duration::from_secs(60), follower)
+            .await
+            .expect("the stream ends with the job")
+            .expect("the follower");
+        assert_eq!(r.status, StatusCode::OK);
+        let events = sse_events(r.text());
+        let states: Vec<&str> = events
+            .iter()
+            .filter(|e| e.1 == "state")
+            .filter_map(|e| e.2["state"].as_str())
+            .collect();
+        assert_eq!(states, ["queued", "running", "succeeded"], "{events:?}");
+    }
+
+    #[tokio::test]
+    async fn a_bad_resume_point_or_an_unknown_job_is_refused() {
+        let server = TestServer::new();
+        let id = server.submit("?kind=pack", SQUARE).await;
+        for bad in ["abc", "1.5", ""] {
+            let r = server
+                .call(
+                    Method::GET,
+                    &format!("/api/v1/jobs/{id}/events"),
+                    &[("last-event-id", bad)],
+                )
+                .await;
+            assert_eq!(r.status, StatusCode::BAD_REQUEST, "{bad:?}");
+            assert_eq!(r.error(), "Last-Event-ID must be an event number");
+        }
+        for unknown in [NO_JOB, "nope"] {
+            let r = server.get(&format!("/api/v1/jobs/{unknown}/events")).await;
+            assert_eq!(r.status, StatusCode::NOT_FOUND);
+            assert_eq!(r.error(), format!("no job {unknown:?}"));
+        }
+    }
+}

@@ -178,3 +178,95 @@ async fn file(
     .await?;
     Ok(([(header::CONTENT_TYPE, content_type(&name))], bytes))
 }
+
+#[cfg(test)]
+mod tests {
+    use axum::http::StatusCode;
+
+    use super::{content_type, inside};
+    use crate::api::testing::{NO_JOB, SQUARE, TestServer};
+
+    #[tokio::test]
+    async fn only_the_names_the_manifest_lists_are_served() {
+        let server = TestServer::new();
+        let id = server.submit("?kind=pack", SQUARE).await;
+        server.run_queued().await;
+        let dir = server.data().join("jobs").join(&id);
+        std::fs::write(dir.join("secret.txt"), "no").expect("write");
+        std::fs::write(server.data().join("secret.txt"), "no").expect("write");
+        for name in [
+            "secret.txt",
+            "../secret.txt",
+            "..%2Fsecret.txt",
+            "%2E%2E/%2E%2E/gapack.db",
+            "./packing.csv",
+            "/etc/passwd",
+            "..",
+            "a\\b",
+            "packing.csv/",
+        ] {
+            let r = server.get(&format!("/api/v1/jobs/{id}/files/{name}")).await;
+            assert_eq!(r.status, StatusCode::NOT_FOUND, "{name}: {}", r.text());
+            assert!(r.error().contains("has no file"), "{name}: {}", r.error());
+        }
+        let manifest = server
+            .get(&format!("/api/v1/jobs/{id}/files/manifest.json"))
+            .await;
+        assert_eq!(manifest.status, StatusCode::OK);
+        assert_eq!(manifest.header("content-type"), Some("application/json"));
+        assert_eq!(manifest.json()["job"], "pack");
+        let svg = server
+            .get(&format!("/api/v1/jobs/{id}/files/packing.svg"))
+            .await;
+        assert_eq!(svg.header("content-type"), Some("image/svg+xml"));
+        // Invalid UTF-8 in a name is the path extractor's own 400.
+        let r = server.get(&format!("/api/v1/jobs/{id}/files/%FF")).await;
+        assert_eq!(r.status, StatusCode::BAD_REQUEST);
+    }
+
+    #[tokio::test]
+    async fn files_wait_for_the_end_of_the_job() {
+        let server = TestServer::new();
+        let id = server.submit("?kind=pack", SQUARE).await;
+        for path in ["files", "files/packing.csv", "packing"] {
+            let r = server.get(&format!("/api/v1/jobs/{id}/{path}")).await;
+            assert_eq!(r.status, StatusCode::CONFLICT, "{path}");
+            assert_eq!(
+                r.error(),
+                format!("job {id} is queued: its files are served once it has finished")
+            );
+        }
+        let r = server.get(&format!("/api/v1/jobs/{NO_JOB}/files")).await;
+        assert_eq!(r.status, StatusCode::NOT_FOUND);
+        assert_eq!(r.error(), format!("no job {NO_JOB:?}"));
+    }
+
+    #[test]
+    fn names_stay_inside_the_job_folder() {
+        for name in ["packing.csv", "well_a/packing.csv", "a.b/c"] {
+            assert!(inside(name), "{name}");
+        }
+        for name in [
+            "",
+            "/etc/passwd",
+            "..",
+            "a/../b",
+            "./a",
+            "a//b",
+            "a/",
+            "a\\b",
+        ] {
+            assert!(!inside(name), "{name}");
+        }
+    }
+
+    #[test]
+    fn content_types_follow_the_extension() {
+        assert_eq!(content_type("packing.csv"), "text/csv; charset=utf-8");
+        assert_eq!(content_type("well_a/summary.json"), "application/json");
+        assert_eq!(content_type("packing.png"), "image/png");
+        assert_eq!(content_type("packing.vtk"), "text/plain; charset=utf-8");
+        assert_eq!(content_type("checkpoint.bin"), "application/octet-stream");
+        assert_eq!(content_type("noextension"), "application/octet-stream");
+    }
+}

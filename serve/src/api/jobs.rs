@@ -394,3 +394,217 @@ async fn delete(State(shared): AppState, JobId(id): JobId) -> Result<StatusCode,
     .await?;
     Ok(StatusCode::NO_CONTENT)
 }
+
+#[cfg(test)]
+mod tests {
+    use std::sync::atomic::Ordering;
+
+    use axum::http::{Method, StatusCode};
+    use serde_json::json;
+
+    use crate::api::testing::{NO_JOB, SQUARE, TestServer};
+
+    #[tokio::test]
+    async fn malformed_submissions_are_refused_and_nothing_is_queued() {
+        let server = TestServer::new();
+        let toml = "application/toml";
+        let json = "application/json";
+        let huge = format!("{SQUARE}#{}\n", "x".repeat(1 << 20));
+        let cases: Vec<(&str, &str, Vec<u8>, StatusCode, &str)> = vec![
+            (
+                "",
+                "text/html",
+                SQUARE.into(),
+                StatusCode::UNSUPPORTED_MEDIA_TYPE,
+                "Content-Type \"text/html\": send the config as application/toml",
+            ),
+            (
+                "",
+                "",
+                SQUARE.into(),
+                StatusCode::UNSUPPORTED_MEDIA_TYPE,
+                "Content-Type missing: send",
+            ),
+            (
+                "",
+                json,
+                b"{\"kind\": \"pack\"".to_vec(),
+                StatusCode::BAD_REQUEST,
+                "bad JSON body: ",
+            ),
+            (
+                "",
+                json,
+                json!({"kind": "bake", "config": SQUARE}).to_string().into(),
+                StatusCode::BAD_REQUEST,
+                "unknown job kind \"bake\"; valid: ",
+            ),
+            (
+                "?kind=bake",
+                toml,
+                SQUARE.into(),
+                StatusCode::BAD_REQUEST,
+                "unknown job kind \"bake\"; valid: ",
+            ),
+            (
+                "?seed=abc",
+                toml,
+                SQUARE.into(),
+                StatusCode::BAD_REQUEST,
+                "bad query: ",
+            ),
+            (
+                "",
+                toml,
+                vec![0xff, 0xfe, b'a'],
+                StatusCode::BAD_REQUEST,
+                "the config is not UTF-8 text",
+            ),
+            (
+                "?kind=pack",
+                toml,
+                huge.into(),
+                StatusCode::PAYLOAD_TOO_LARGE,
+                "the request body is over the limit of 1048576 bytes (1 MiB)",
+            ),
+        ];
+        for (query, content_type, body, status, start) in cases {
+            let r = server
+                .post(&format!("/api/v1/jobs{query}"), content_type, body)
+                .await;
+            assert_eq!(r.status, status, "{query} {content_type}: {}", r.text());
+            assert!(r.error().starts_with(start), "{}", r.error());
+            assert_eq!(r.header("content-type"), Some("application/json"));
+        }
+        assert_eq!(server.get("/api/v1/jobs").await.json()["jobs"], json!([]));
+    }
+
+    #[tokio::test]
+    async fn a_json_submission_takes_its_kind_and_seed_from_the_body() {
+        let server = TestServer::new();
+        let body = json!({"kind": "pack", "config": SQUARE, "seed": 4}).to_string();
+        let r = server
+            .post("/api/v1/jobs?seed=9", "application/json", body)
+            .await;
+        assert_eq!(r.status, StatusCode::CREATED, "{}", r.text());
+        assert_eq!(
+            (&r.json()["kind"], &r.json()["seed"]),
+            (&"pack".into(), &4.into())
+        );
+        // Without a kind: the config's natural one; without a seed: its own.
+        let r = server
+            .post("/api/v1/jobs", "application/toml", SQUARE)
+            .await;
+        assert_eq!(
+            (&r.json()["kind"], &r.json()["seed"]),
+            (&"pack".into(), &3.into())
+        );
+    }
+
+    #[tokio::test]
+    async fn unknown_and_malformed_ids_are_unknown_jobs() {
+        let server = TestServer::new();
+        for id in [
+            NO_JOB,
+            "nope",
+            "0123456789ABCDEF0123456789ABCDEF",
+            "..",
+            "0123456789abcdef0123456789abcdef0",
+        ] {
+            for (method, tail) in [
+                (Method::GET, ""),
+                (Method::DELETE, ""),
+                (Method::POST, "/cancel"),
+                (Method::GET, "/files"),
+                (Method::GET, "/files/packing.csv"),
+                (Method::GET, "/packing"),
+            ] {
+                let r = server
+                    .call(method.clone(), &format!("/api/v1/jobs/{id}{tail}"), &[])
+                    .await;
+                assert_eq!(r.status, StatusCode::NOT_FOUND, "{method} {id}{tail}");
+                assert_eq!(r.error(), format!("no job {id:?}"));
+            }
+        }
+        // Not UTF-8 once decoded: the path extractor's 400.
+        assert_eq!(
+            server.get("/api/v1/jobs/%FF").await.status,
+            StatusCode::BAD_REQUEST
+        );
+    }
+
+    #[tokio::test]
+    async fn the_list_pages_newest_first_and_filters_by_state() {
+        let server = TestServer::new();
+        let mut ids = Vec::new();
+        for _ in 0..3 {
+            ids.push(server.submit("?kind=pack", SQUARE).await);
+        }
+        let r = server
+            .call(
+                Method::POST,
+                &format!("/api/v1/jobs/{}/cancel", ids[0]),
+                &[],
+            )
+            .await;
+        assert_eq!(r.json()["state"], "cancelled");
+        let page = server.get("/api/v1/jobs?limit=2").await.json();
+        let listed: Vec<&str> = page["jobs"]
+            .as_array()
+            .expect("jobs")
+            .iter()
+            .filter_map(|j| j["id"].as_str())
+            .collect();
+        assert_eq!(listed, [ids[2].as_str(), ids[1].as_str()]);
+        let next = page["next"].as_str().expect("a next page");
+        assert!(next.starts_with("/api/v1/jobs?limit=2&before="), "{next}");
+        let page = server.get(next).await.json();
+        assert_eq!(page["jobs"][0]["id"], ids[0].as_str());
+        assert_eq!(page["jobs"].as_array().map(Vec::len), Some(1));
+        assert_eq!(page["next"], json!(null));
+        let queued = server.get("/api/v1/jobs?state=queued&limit=1").await.json();
+        assert_eq!(queued["jobs"][0]["id"], ids[2].as_str());
+        assert!(
+            queued["next"]
+                .as_str()
+                .expect("next")
+                .ends_with("&state=queued")
+        );
+        let cancelled = server.get("/api/v1/jobs?state=cancelled").await.json();
+        assert_eq!(cancelled["jobs"].as_array().map(Vec::len), Some(1));
+        for (query, error) in [
+            (
+                "state=sleeping",
+                "unknown state \"sleeping\"; valid: queued, running, succeeded, failed, cancelled",
+            ),
+            ("limit=0", "limit must be 1 to 500, got 0"),
+            ("limit=501", "limit must be 1 to 500, got 501"),
+        ] {
+            let r = server.get(&format!("/api/v1/jobs?{query}")).await;
+            assert_eq!(r.status, StatusCode::BAD_REQUEST, "{query}");
+            assert_eq!(r.error(), error);
+        }
+        let r = server.get("/api/v1/jobs?limit=abc").await;
+        assert_eq!(r.status, StatusCode::BAD_REQUEST);
+        assert!(r.error().starts_with("bad query: "), "{}", r.error());
+    }
+
+    #[tokio::test]
+    async fn a_full_queue_and_a_stopping_server_say_when_to_retry() {
+        let server = TestServer::with(|o| o.max_queue = 1, None);
+        server.submit("?kind=pack", SQUARE).await;
+        let r = server
+            .post("/api/v1/jobs", "application/toml", SQUARE)
+            .await;
+        assert_eq!(r.status, StatusCode::SERVICE_UNAVAILABLE);
+        assert_eq!(r.header("retry-after"), Some("5"));
+        assert!(r.error().contains("queue is full"), "{}", r.error());
+        server.shared.stopping.store(true, Ordering::SeqCst);
+        let r = server
+            .post("/api/v1/jobs", "application/toml", SQUARE)
+            .await;
+        assert_eq!(r.status, StatusCode::SERVICE_UNAVAILABLE);
+        assert_eq!(r.header("retry-after"), Some("10"));
+        assert_eq!(r.error(), "the server is stopping");
+    }
+}

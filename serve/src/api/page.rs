@@ -121,3 +121,56 @@ async fn examples() -> Json<Vec<Example>> {
             .collect(),
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use axum::http::StatusCode;
+
+    use crate::api::testing::TestServer;
+    use crate::web::EXAMPLES;
+
+    #[tokio::test]
+    async fn the_page_and_its_assets_are_served_revalidated() {
+        let server = TestServer::new();
+        for (path, kind, text) in [
+            (
+                "/",
+                "text/html; charset=utf-8",
+                include_str!("../web/index.html"),
+            ),
+            (
+                "/app.js",
+                "text/javascript; charset=utf-8",
+                include_str!("../web/app.js"),
+            ),
+            (
+                "/app.css",
+                "text/css; charset=utf-8",
+                include_str!("../web/app.css"),
+            ),
+        ] {
+            let r = server.get(path).await;
+            assert_eq!(r.status, StatusCode::OK, "{path}");
+            assert_eq!(r.header("content-type"), Some(kind), "{path}");
+            assert_eq!(r.header("cache-control"), Some("no-cache"), "{path}");
+            assert_eq!(r.text(), text, "{path}");
+        }
+    }
+
+    #[tokio::test]
+    async fn the_examples_are_the_shipped_configs_default_first() {
+        let server = TestServer::new();
+        let r = server.get("/api/v1/examples").await;
+        assert_eq!(r.status, StatusCode::OK);
+        let examples = r.json();
+        let examples = examples.as_array().expect("a list");
+        assert_eq!(examples.len(), EXAMPLES.len());
+        assert_eq!(examples[0]["name"], "default");
+        for (got, (name, config)) in examples.iter().zip(EXAMPLES) {
+            assert_eq!(
+                (&got["name"], &got["config"]),
+                (&(*name).into(), &(*config).into())
+            );
+        }
+    }
+}

@@ -280,3 +280,164 @@ impl Estimates {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use axum::http::StatusCode;
+
+    use crate::api::testing::{SQUARE, TestServer};
+
+    #[tokio::test]
+    async fn config_faults_are_located_as_the_cli_locates_them() {
+        let server = TestServer::new();
+        let toml = "application/toml";
+        let r = server
+            .post(
+                "/api/v1/jobs?kind=pack",
+                toml,
+                SQUARE.replace("width = 20", "width = 20 mm"),
+            )
+            .await;
+        assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY);
+        let v = r.json();
+        assert!(r.error().starts_with("config.toml:4:9: "), "{}", r.error());
+        assert_eq!(
+            (&v["line"], &v["column"], &v["key"]),
+            (&4.into(), &9.into(), &"domain.width".into())
+        );
+        assert!(
+            v["message"]
+                .as_str()
+                .expect("message")
+                .contains("TOML syntax error")
+        );
+        let r = server
+            .post(
+                "/api/v1/jobs",
+                toml,
+                SQUARE.replace("width = 20", "width = -1"),
+            )
+            .await;
+        assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY);
+        assert_eq!(r.json()["key"], "domain.width");
+        let r = server
+            .post("/api/v1/jobs?kind=optimise", toml, SQUARE)
+            .await;
+        assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY);
+        assert!(
+            r.error().contains("missing table [optimise]"),
+            "{}",
+            r.error()
+        );
+        // The server chooses where files go.
+        let r = server
+            .post(
+                "/api/v1/jobs?kind=pack",
+                toml,
+                format!("{SQUARE}[output]\ndir = \"/tmp/elsewhere\"\n"),
+            )
+            .await;
+        assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY);
+        let v = r.json();
+        assert_eq!(
+            r.error(),
+            "config.toml:9:1: output.dir: the server chooses where a job's files go; remove dir from [output]"
+        );
+        assert_eq!(
+            (&v["line"], &v["column"], &v["key"]),
+            (&9.into(), &1.into(), &"output.dir".into())
+        );
+        assert_eq!(
+            v["message"],
+            "the server chooses where a job's files go; remove dir from [output]"
+        );
+        assert_eq!(
+            server.get("/api/v1/jobs").await.json()["jobs"],
+            serde_json::json!([])
+        );
+    }
+
+    #[tokio::test]
+    async fn the_servers_ceilings_hold_unless_it_allows_force() {
+        let big = "[domain]\nshape = \"rectangle\"\nwidth = 10000\nheight = 10000\n[grading]\nconstant = 1.0\n[limits]\nmax_particles = 1000000000\nmax_memory_mb = 100000\n";
+        let server = TestServer::new();
+        let r = server
+            .post("/api/v1/jobs?kind=pack", "application/toml", big)
+            .await;
+        assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY);
+        let v = r.json();
+        assert_eq!(v["key"], "limits.max_particles");
+        assert!(
+            r.error()
+                .starts_with("config.toml: limits.max_particles: the scene could hold "),
+            "{}",
+            r.error()
+        );
+        assert!(
+            r.error().ends_with("over this server's ceiling of 2000000"),
+            "{}",
+            r.error()
+        );
+        assert_eq!(v.get("line"), None);
+        let r = server
+            .post(
+                "/api/v1/jobs?kind=pack&force=true",
+                "application/toml",
+                SQUARE,
+            )
+            .await;
+        assert_eq!(r.status, StatusCode::FORBIDDEN);
+        assert_eq!(
+            r.error(),
+            "force is refused: this server was not started with --force"
+        );
+        // A lower memory ceiling, then a server that allows force.
+        let server = TestServer::with(|o| o.max_memory_mb = 0, None);
+        let r = server
+            .post("/api/v1/validate", "application/toml", SQUARE)
+            .await;
+        assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY);
+        assert_eq!(r.json()["key"], "limits.max_memory_mb");
+        let server = TestServer::with(
+            |o| {
+                o.force = true;
+                o.max_memory_mb = 0;
+            },
+            None,
+        );
+        let r = server
+            .post("/api/v1/validate?force=true", "application/toml", SQUARE)
+            .await;
+        assert_eq!(r.status, StatusCode::OK, "{}", r.text());
+    }
+
+    #[tokio::test]
+    async fn validate_plans_and_estimates_without_queueing() {
+        let server = TestServer::new();
+        let config = format!(
+            "{SQUARE}[optimise]\ntarget_porosity = 0.95\npopulation = 8\ngenerations = 4\nstagnation = 100\n"
+        );
+        let r = server
+            .post("/api/v1/validate", "application/toml", config)
+            .await;
+        assert_eq!(r.status, StatusCode::OK, "{}", r.text());
+        let v = r.json();
+        assert_eq!((&v["kind"], &v["seed"]), (&"optimise".into(), &3.into()));
+        assert!(!v["plan"].as_array().expect("plan").is_empty());
+        assert!(!v["identity"].as_str().expect("identity").is_empty());
+        let e = &v["estimates"];
+        // 8 initial members, then under 3 × 8 packings per generation for 4.
+        assert_eq!(e["packings"], 8 + 3 * 8 * 4);
+        let disks = e["disks"].as_f64().expect("disks");
+        assert!(disks > 10.0 && disks <= e["max_disks"].as_f64().expect("max"));
+        assert!((e["seconds"].as_f64().expect("seconds") - disks * 104.0 / 1e6).abs() < 1e-9);
+        let r = server
+            .post("/api/v1/validate?kind=pack", "application/toml", SQUARE)
+            .await;
+        assert_eq!(r.json()["estimates"]["packings"], 1);
+        assert_eq!(
+            server.get("/api/v1/jobs").await.json()["jobs"],
+            serde_json::json!([])
+        );
+    }
+}
