@@ -4,8 +4,9 @@
 //!   state changes; crash recovery re-queues what was running);
 //! - `worker`: threads that run claimed jobs with `jobs::run`, each into
 //!   `DATA/jobs/<id>/` with a `DirStore`, exactly as the CLI would;
-//! - `api`: the handlers under `/api/v1`, their OpenAPI document, auth and
-//!   the JSON errors;
+//! - `api`: the routes, one module per group (jobs, events, files, the
+//!   page and its data, health and metrics, the OpenAPI document) merged
+//!   into one router, with the bearer token and one JSON error type;
 //! - this file: the options, the shared state, startup and shutdown.
 //!
 //! SIGINT or SIGTERM: the server stops taking jobs, cancels the running ones
@@ -121,7 +122,46 @@ pub struct Shared {
     metrics: Metrics,
 }
 
+impl Limits {
+    /// The ceilings `args` set.
+    fn of(args: &Options) -> Limits {
+        Limits {
+            max_particles: args.max_particles,
+            max_memory_bytes: args.max_memory_mb as f64 * 1024.0 * 1024.0,
+            max_seconds: (args.max_seconds > 0).then(|| Duration::from_secs(args.max_seconds)),
+            force: args.force,
+            max_queue: args.max_queue,
+            checkpoint_every: args.checkpoint_every,
+        }
+    }
+}
+
 impl Shared {
+    /// The state over `args.data` (created if absent; jobs a crash left
+    /// running are re-queued, and counted in the second value), guarded by
+    /// `token`. No worker runs yet.
+    fn open(args: &Options, token: Option<String>) -> anyhow::Result<(Shared, usize)> {
+        std::fs::create_dir_all(args.data.join("jobs"))
+            .with_context(|| format!("cannot create {}", args.data.display()))?;
+        let db = Db::open(&args.data.join("gapack.db")).context("cannot open the job store")?;
+        let recovered = db.recover().context("cannot recover the job store")?;
+        let (events, _) = broadcast::channel(1024);
+        let (shutdown, _) = watch::channel(false);
+        let shared = Shared {
+            db,
+            data: args.data.clone(),
+            limits: Limits::of(args),
+            token,
+            stopping: AtomicBool::new(false),
+            running: Mutex::new(BTreeMap::new()),
+            wake: (Mutex::new(0), Condvar::new()),
+            events,
+            shutdown,
+            metrics: Metrics::default(),
+        };
+        Ok((shared, recovered))
+    }
+
     fn register(&self, id: &str, token: Cancel) {
         self.lock_running().insert(id.to_owned(), token);
     }
@@ -199,39 +239,8 @@ pub fn run(args: &Options, listening: impl FnOnce(SocketAddr)) -> Result<(), Fai
     }
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
     let workers = args.workers.unwrap_or((cores / 2).max(1));
-    let limits = Limits {
-        max_particles: args.max_particles,
-        max_memory_bytes: args.max_memory_mb as f64 * 1024.0 * 1024.0,
-        max_seconds: (args.max_seconds > 0).then(|| Duration::from_secs(args.max_seconds)),
-        force: args.force,
-        max_queue: args.max_queue,
-        checkpoint_every: args.checkpoint_every,
-    };
-    let run_failure = |e: anyhow::Error| Failure::Run(e);
-    std::fs::create_dir_all(args.data.join("jobs"))
-        .with_context(|| format!("cannot create {}", args.data.display()))
-        .map_err(run_failure)?;
-    let db = Db::open(&args.data.join("gapack.db"))
-        .context("cannot open the job store")
-        .map_err(run_failure)?;
-    let recovered = db
-        .recover()
-        .context("cannot recover the job store")
-        .map_err(run_failure)?;
-    let (events, _) = broadcast::channel(1024);
-    let (shutdown, _) = watch::channel(false);
-    let shared = Arc::new(Shared {
-        db,
-        data: args.data.clone(),
-        limits,
-        token,
-        stopping: AtomicBool::new(false),
-        running: Mutex::new(BTreeMap::new()),
-        wake: (Mutex::new(0), Condvar::new()),
-        events,
-        shutdown,
-        metrics: Metrics::default(),
-    });
+    let (shared, recovered) = Shared::open(args, token).map_err(Failure::Run)?;
+    let shared = Arc::new(shared);
     // Already set (never, in the binary) is fine: logs go where it says.
     let _ = tracing_subscriber::fmt()
         .with_writer(std::io::stderr)
@@ -243,15 +252,15 @@ pub fn run(args: &Options, listening: impl FnOnce(SocketAddr)) -> Result<(), Fai
         .enable_all()
         .build()
         .context("cannot start the async runtime")
-        .map_err(run_failure)?;
+        .map_err(Failure::Run)?;
     let listener = runtime
         .block_on(tokio::net::TcpListener::bind(args.listen))
         .with_context(|| format!("cannot listen on {}", args.listen))
-        .map_err(run_failure)?;
+        .map_err(Failure::Run)?;
     let addr = listener
         .local_addr()
         .context("cannot read the bound address")
-        .map_err(run_failure)?;
+        .map_err(Failure::Run)?;
     listening(addr);
     tracing::info!(%addr, workers, recovered, data = %args.data.display(), "serving");
     let threads: Vec<_> = (0..workers)

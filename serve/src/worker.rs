@@ -49,7 +49,7 @@ pub fn work(shared: &Arc<Shared>, index: usize) {
 }
 
 /// Run one claimed job and record how it ended.
-fn run_one(shared: &Arc<Shared>, job: JobRow) {
+pub fn run_one(shared: &Arc<Shared>, job: JobRow) {
     let id = job.id.clone();
     tracing::info!(job = %id, kind = %job.kind, attempt = job.attempts, resume = job.resume, state = "running", "job state");
     shared.notify(&id);

@@ -1,0 +1,610 @@
+//! The jobs: submit (`POST /jobs`), check without running (`POST
+//! /validate`), list (`GET /jobs`), read (`GET /jobs/{id}`), cancel
+//! (`POST /jobs/{id}/cancel`) and delete (`DELETE /jobs/{id}`); and
+//! [`JobId`], the checked id every `/jobs/{id}` route extracts.
+
+use std::sync::Arc;
+
+use axum::extract::rejection::QueryRejection;
+use axum::extract::{FromRequestParts, Path, Query, State};
+use axum::http::request::Parts;
+use axum::http::{HeaderValue, StatusCode, header};
+use axum::response::{IntoResponse, Response};
+use axum::routing::{get, post};
+use axum::{Json, Router};
+use rand::RngCore;
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+use utoipa::{IntoParams, ToSchema};
+
+use super::error::{ApiError, ErrorBody};
+use super::submission::{Estimates, Submission, SubmitBody, SubmitQuery, bad_query};
+use super::{AppState, blocking};
+use crate::Shared;
+use crate::db::{CancelOutcome, JobRow, State as JobState};
+use crate::worker::job_dir;
+
+/// The routes of the jobs themselves.
+pub fn router() -> Router<Arc<Shared>> {
+    Router::new()
+        .route("/jobs", post(submit).get(list))
+        .route("/validate", post(validate))
+        .route("/jobs/{id}", get(status).delete(delete))
+        .route("/jobs/{id}/cancel", post(cancel))
+}
+
+/// The `{id}` of a `/jobs/{id}…` route, checked to be one this service
+/// could have made (32 lowercase hex digits), so that nothing else reaches
+/// the store or a path: any other is an unknown job (404).
+pub struct JobId(pub String);
+
+/// The path parameter a [`JobId`] is read from (others are ignored).
+#[derive(Deserialize)]
+struct IdParam {
+    id: String,
+}
+
+impl<S: Send + Sync> FromRequestParts<S> for JobId {
+    type Rejection = Response;
+
+    async fn from_request_parts(parts: &mut Parts, state: &S) -> Result<Self, Response> {
+        let Path(IdParam { id }) = Path::from_request_parts(parts, state)
+            .await
+            .map_err(IntoResponse::into_response)?;
+        let hex = |b: u8| b.is_ascii_digit() || (b'a'..=b'f').contains(&b);
+        if id.len() == 32 && id.bytes().all(hex) {
+            Ok(JobId(id))
+        } else {
+            Err(ApiError::unknown_job(&id).into_response())
+        }
+    }
+}
+
+/// A new job's id: 128 random bits, as hex.
+fn new_id() -> String {
+    let mut bytes = [0u8; 16];
+    rand::rngs::OsRng.fill_bytes(&mut bytes);
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// Where a job's resources are.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct Links {
+    /// The job (`GET`, `DELETE`).
+    #[serde(rename = "self")]
+    this: String,
+    /// Its event stream (SSE).
+    events: String,
+    /// Its files.
+    files: String,
+    /// Cancel it (`POST`).
+    cancel: String,
+}
+
+impl Links {
+    /// Job `id`'s links.
+    fn of(id: &str) -> Self {
+        let base = format!("/api/v1/jobs/{id}");
+        Links {
+            events: format!("{base}/events"),
+            files: format!("{base}/files"),
+            cancel: format!("{base}/cancel"),
+            this: base,
+        }
+    }
+}
+
+/// A job accepted.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct Accepted {
+    /// Its id.
+    id: String,
+    /// Its kind.
+    kind: String,
+    /// `queued`.
+    state: JobState,
+    /// Its seed.
+    seed: u64,
+    /// Where to follow it.
+    urls: Links,
+}
+
+/// Submit a job.
+///
+/// The body is the TOML config (`Content-Type: application/toml`, kind and
+/// seed as query parameters) or JSON (`{kind, config, seed}`).
+#[utoipa::path(post, path = "/api/v1/jobs", params(SubmitQuery),
+    request_body(content = SubmitBody, description = "TOML text (application/toml) or this JSON", content_type = "application/json"),
+    responses(
+        (status = 201, description = "Queued", body = Accepted),
+        (status = 400, description = "Bad query, JSON or job kind", body = ErrorBody),
+        (status = 413, description = "Body over 1 MiB", body = ErrorBody),
+        (status = 415, description = "Neither TOML nor JSON", body = ErrorBody),
+        (status = 422, description = "Bad config, or over the server's ceilings", body = ErrorBody),
+        (status = 503, description = "Queue full or server stopping (Retry-After)", body = ErrorBody),
+    ))]
+async fn submit(State(shared): AppState, s: Submission) -> Result<impl IntoResponse, ApiError> {
+    if shared.stopping.load(std::sync::atomic::Ordering::SeqCst) {
+        return Err(
+            ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the server is stopping")
+                .retry_after(10),
+        );
+    }
+    let id = new_id();
+    let accepted = blocking({
+        let shared = Arc::clone(&shared);
+        let id = id.clone();
+        move || {
+            let (plan, request) = s.plan(&shared)?;
+            shared.db.insert(
+                &id,
+                request.kind.name(),
+                &s.config,
+                s.seed,
+                shared.limits.max_queue,
+            )?;
+            Ok(Accepted {
+                kind: request.kind.name().to_owned(),
+                state: JobState::Queued,
+                seed: plan.seed(),
+                urls: Links::of(&id),
+                id: id.clone(),
+            })
+        }
+    })
+    .await?;
+    shared.wake_worker();
+    tracing::info!(job = %id, kind = %accepted.kind, state = "queued", "job state");
+    let mut response = (StatusCode::CREATED, Json(&accepted)).into_response();
+    if let Ok(value) = HeaderValue::from_str(&accepted.urls.this) {
+        response.headers_mut().insert(header::LOCATION, value);
+    }
+    Ok(response)
+}
+
+/// What a job would do, without running it.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct Validated {
+    /// The job kind.
+    kind: String,
+    /// The seed it would run with.
+    seed: u64,
+    /// The run's identity (config text and seed).
+    identity: String,
+    /// The plan in words, as `gapack validate` prints it.
+    plan: Vec<String>,
+    /// Tables the job would ignore.
+    warnings: Vec<String>,
+    /// Estimates for the first scene.
+    estimates: Estimates,
+}
+
+/// Check a config and return the plan and estimates, without running it.
+#[utoipa::path(post, path = "/api/v1/validate", params(SubmitQuery),
+    request_body(content = SubmitBody, description = "as for POST /jobs", content_type = "application/json"),
+    responses(
+        (status = 200, description = "Valid", body = Validated),
+        (status = 422, description = "Bad config", body = ErrorBody),
+    ))]
+async fn validate(State(shared): AppState, s: Submission) -> Result<Json<Validated>, ApiError> {
+    let validated = blocking(move || {
+        let (plan, request) = s.plan(&shared)?;
+        Ok(Validated {
+            kind: request.kind.name().to_owned(),
+            seed: plan.seed(),
+            identity: plan.identity.clone(),
+            plan: plan.describe("jobs/<id>"),
+            warnings: plan.warnings.iter().map(|w| w.message.clone()).collect(),
+            estimates: Estimates::of(&plan),
+        })
+    })
+    .await?;
+    Ok(Json(validated))
+}
+
+/// A job.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct JobView {
+    /// Its id.
+    id: String,
+    /// Its kind.
+    kind: String,
+    /// The seed asked for (the config's own when absent).
+    seed: Option<u64>,
+    /// The config it runs, as submitted.
+    config: String,
+    /// Its state.
+    state: JobState,
+    /// Attempts started (more than one after a restart).
+    attempts: i64,
+    /// Whether a cancel was asked for while it ran.
+    cancel_requested: bool,
+    /// Submitted (ms since the Unix epoch).
+    created_ms: i64,
+    /// Last attempt started.
+    started_ms: Option<i64>,
+    /// Finished.
+    finished_ms: Option<i64>,
+    /// The last progress event (stage, generation with best and mean porosity).
+    #[schema(value_type = Option<Object>)]
+    progress: Option<Value>,
+    /// When finished: the result in words, its files, particles, porosity.
+    #[schema(value_type = Option<Object>)]
+    summary: Option<Value>,
+    /// Why it failed.
+    error: Option<String>,
+    /// Where its resources are.
+    urls: Links,
+}
+
+impl From<JobRow> for JobView {
+    fn from(row: JobRow) -> Self {
+        let json = |s: Option<String>| s.and_then(|s| serde_json::from_str(&s).ok());
+        JobView {
+            urls: Links::of(&row.id),
+            id: row.id,
+            kind: row.kind,
+            seed: row.seed,
+            config: row.config,
+            state: row.state,
+            attempts: row.attempts,
+            cancel_requested: row.cancel_requested,
+            created_ms: row.created_ms,
+            started_ms: row.started_ms,
+            finished_ms: row.finished_ms,
+            progress: json(row.progress),
+            summary: json(row.summary),
+            error: row.error,
+        }
+    }
+}
+
+/// A job's state, progress, timings, and its summary or error.
+#[utoipa::path(get, path = "/api/v1/jobs/{id}", params(("id" = String, Path, description = "Job id")),
+    responses((status = 200, body = JobView), (status = 404, body = ErrorBody)))]
+async fn status(State(shared): AppState, JobId(id): JobId) -> Result<Json<JobView>, ApiError> {
+    let row = blocking(move || {
+        shared
+            .db
+            .get(&id)?
+            .ok_or_else(|| ApiError::unknown_job(&id))
+    })
+    .await?;
+    Ok(Json(row.into()))
+}
+
+/// Paging and filter of the job list.
+#[derive(Debug, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
+pub struct ListQuery {
+    /// Only jobs in this state.
+    state: Option<String>,
+    /// Jobs per page, 1 to 500 [default 50].
+    limit: Option<usize>,
+    /// The `next` cursor of the previous page.
+    before: Option<i64>,
+}
+
+/// A page of jobs, newest first.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct JobPage {
+    /// The jobs.
+    jobs: Vec<JobView>,
+    /// The next page's URL, if there may be one.
+    next: Option<String>,
+}
+
+/// The jobs, newest first, paged, filtered by state.
+#[utoipa::path(get, path = "/api/v1/jobs", params(ListQuery),
+    responses((status = 200, body = JobPage), (status = 400, body = ErrorBody)))]
+async fn list(
+    State(shared): AppState,
+    query: Result<Query<ListQuery>, QueryRejection>,
+) -> Result<Json<JobPage>, ApiError> {
+    let Query(q) = query.map_err(bad_query)?;
+    let state = match q.state.as_deref() {
+        None => None,
+        Some(name) => Some(JobState::parse(name).ok_or_else(|| {
+            ApiError::bad_request(format!(
+                "unknown state {name:?}; valid: queued, running, succeeded, failed, cancelled"
+            ))
+        })?),
+    };
+    let limit = q.limit.unwrap_or(50);
+    if !(1..=500).contains(&limit) {
+        return Err(ApiError::bad_request(format!(
+            "limit must be 1 to 500, got {limit}"
+        )));
+    }
+    let rows = blocking(move || Ok(shared.db.list(state, q.before, limit)?)).await?;
+    let next = (rows.len() == limit).then(|| {
+        let last = rows.last().map_or(0, |r| r.seq);
+        let mut url = format!("/api/v1/jobs?limit={limit}&before={last}");
+        if let Some(state) = state {
+            url += &format!("&state={}", state.name());
+        }
+        url
+    });
+    Ok(Json(JobPage {
+        jobs: rows.into_iter().map(JobView::from).collect(),
+        next,
+    }))
+}
+
+/// Cancel a job (idempotent): a queued one at once; a running one stops
+/// at its next check and keeps what it finished (an optimise its best packing).
+#[utoipa::path(post, path = "/api/v1/jobs/{id}/cancel", params(("id" = String, Path, description = "Job id")),
+    responses((status = 202, description = "Stopping", body = JobView), (status = 200, description = "Cancelled or already finished", body = JobView), (status = 404, body = ErrorBody)))]
+async fn cancel(State(shared): AppState, JobId(id): JobId) -> Result<impl IntoResponse, ApiError> {
+    let (outcome, row) = blocking({
+        let shared = Arc::clone(&shared);
+        let id = id.clone();
+        move || {
+            let outcome = shared
+                .db
+                .cancel(&id)?
+                .ok_or_else(|| ApiError::unknown_job(&id))?;
+            if outcome == CancelOutcome::Stopping {
+                shared.cancel_running(&id);
+            }
+            let row = shared
+                .db
+                .get(&id)?
+                .ok_or_else(|| ApiError::unknown_job(&id))?;
+            Ok((outcome, row))
+        }
+    })
+    .await?;
+    let status = match outcome {
+        CancelOutcome::Stopping => StatusCode::ACCEPTED,
+        CancelOutcome::Dequeued => {
+            tracing::info!(job = %id, state = "cancelled", "job state");
+            shared.notify(&id);
+            StatusCode::OK
+        }
+        CancelOutcome::Finished(_) => StatusCode::OK,
+    };
+    Ok((status, Json(JobView::from(row))))
+}
+
+/// Delete a finished job and its files.
+#[utoipa::path(delete, path = "/api/v1/jobs/{id}", params(("id" = String, Path, description = "Job id")),
+    responses((status = 204, description = "Deleted"), (status = 404, body = ErrorBody), (status = 409, description = "Not finished", body = ErrorBody)))]
+async fn delete(State(shared): AppState, JobId(id): JobId) -> Result<StatusCode, ApiError> {
+    let dir = job_dir(&shared, &id);
+    blocking(move || match shared.db.delete(&id)? {
+        None => Err(ApiError::unknown_job(&id)),
+        Some(Err(state)) => Err(ApiError::new(
+            StatusCode::CONFLICT,
+            format!(
+                "job {id} is {}: cancel it, then delete it once it has stopped",
+                state.name()
+            ),
+        )),
+        Some(Ok(())) => {
+            if let Err(e) = std::fs::remove_dir_all(&dir)
+                && e.kind() != std::io::ErrorKind::NotFound
+            {
+                tracing::warn!(job = %id, error = %e, "cannot remove the job's files");
+            }
+            tracing::info!(job = %id, state = "deleted", "job state");
+            Ok(())
+        }
+    })
+    .await?;
+    Ok(StatusCode::NO_CONTENT)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::atomic::Ordering;
+
+    use axum::http::{Method, StatusCode};
+    use serde_json::json;
+
+    use crate::api::testing::{NO_JOB, SQUARE, TestServer};
+
+    #[tokio::test]
+    async fn malformed_submissions_are_refused_and_nothing_is_queued() {
+        let server = TestServer::new();
+        let toml = "application/toml";
+        let json = "application/json";
+        let huge = format!("{SQUARE}#{}\n", "x".repeat(1 << 20));
+        let cases: Vec<(&str, &str, Vec<u8>, StatusCode, &str)> = vec![
+            (
+                "",
+                "text/html",
+                SQUARE.into(),
+                StatusCode::UNSUPPORTED_MEDIA_TYPE,
+                "Content-Type \"text/html\": send the config as application/toml",
+            ),
+            (
+                "",
+                "",
+                SQUARE.into(),
+                StatusCode::UNSUPPORTED_MEDIA_TYPE,
+                "Content-Type missing: send",
+            ),
+            (
+                "",
+                json,
+                b"{\"kind\": \"pack\"".to_vec(),
+                StatusCode::BAD_REQUEST,
+                "bad JSON body: ",
+            ),
+            (
+                "",
+                json,
+                json!({"kind": "bake", "config": SQUARE}).to_string().into(),
+                StatusCode::BAD_REQUEST,
+                "unknown job kind \"bake\"; valid: ",
+            ),
+            (
+                "?kind=bake",
+                toml,
+                SQUARE.into(),
+                StatusCode::BAD_REQUEST,
+                "unknown job kind \"bake\"; valid: ",
+            ),
+            (
+                "?seed=abc",
+                toml,
+                SQUARE.into(),
+                StatusCode::BAD_REQUEST,
+                "bad query: ",
+            ),
+            (
+                "",
+                toml,
+                vec![0xff, 0xfe, b'a'],
+                StatusCode::BAD_REQUEST,
+                "the config is not UTF-8 text",
+            ),
+            (
+                "?kind=pack",
+                toml,
+                huge.into(),
+                StatusCode::PAYLOAD_TOO_LARGE,
+                "the request body is over the limit of 1048576 bytes (1 MiB)",
+            ),
+        ];
+        for (query, content_type, body, status, start) in cases {
+            let r = server
+                .post(&format!("/api/v1/jobs{query}"), content_type, body)
+                .await;
+            assert_eq!(r.status, status, "{query} {content_type}: {}", r.text());
+            assert!(r.error().starts_with(start), "{}", r.error());
+            assert_eq!(r.header("content-type"), Some("application/json"));
+        }
+        assert_eq!(server.get("/api/v1/jobs").await.json()["jobs"], json!([]));
+    }
+
+    #[tokio::test]
+    async fn a_json_submission_takes_its_kind_and_seed_from_the_body() {
+        let server = TestServer::new();
+        let body = json!({"kind": "pack", "config": SQUARE, "seed": 4}).to_string();
+        let r = server
+            .post("/api/v1/jobs?seed=9", "application/json", body)
+            .await;
+        assert_eq!(r.status, StatusCode::CREATED, "{}", r.text());
+        assert_eq!(
+            (&r.json()["kind"], &r.json()["seed"]),
+            (&"pack".into(), &4.into())
+        );
+        // Without a kind: the config's natural one; without a seed: its own.
+        let r = server
+            .post("/api/v1/jobs", "application/toml", SQUARE)
+            .await;
+        assert_eq!(
+            (&r.json()["kind"], &r.json()["seed"]),
+            (&"pack".into(), &3.into())
+        );
+    }
+
+    #[tokio::test]
+    async fn unknown_and_malformed_ids_are_unknown_jobs() {
+        let server = TestServer::new();
+        for id in [
+            NO_JOB,
+            "nope",
+            "0123456789ABCDEF0123456789ABCDEF",
+            "..",
+            "0123456789abcdef0123456789abcdef0",
+        ] {
+            for (method, tail) in [
+                (Method::GET, ""),
+                (Method::DELETE, ""),
+                (Method::POST, "/cancel"),
+                (Method::GET, "/files"),
+                (Method::GET, "/files/packing.csv"),
+                (Method::GET, "/packing"),
+            ] {
+                let r = server
+                    .call(method.clone(), &format!("/api/v1/jobs/{id}{tail}"), &[])
+                    .await;
+                assert_eq!(r.status, StatusCode::NOT_FOUND, "{method} {id}{tail}");
+                assert_eq!(r.error(), format!("no job {id:?}"));
+            }
+        }
+        // Not UTF-8 once decoded: the path extractor's 400.
+        assert_eq!(
+            server.get("/api/v1/jobs/%FF").await.status,
+            StatusCode::BAD_REQUEST
+        );
+    }
+
+    #[tokio::test]
+    async fn the_list_pages_newest_first_and_filters_by_state() {
+        let server = TestServer::new();
+        let mut ids = Vec::new();
+        for _ in 0..3 {
+            ids.push(server.submit("?kind=pack", SQUARE).await);
+        }
+        let r = server
+            .call(
+                Method::POST,
+                &format!("/api/v1/jobs/{}/cancel", ids[0]),
+                &[],
+            )
+            .await;
+        assert_eq!(r.json()["state"], "cancelled");
+        let page = server.get("/api/v1/jobs?limit=2").await.json();
+        let listed: Vec<&str> = page["jobs"]
+            .as_array()
+            .expect("jobs")
+            .iter()
+            .filter_map(|j| j["id"].as_str())
+            .collect();
+        assert_eq!(listed, [ids[2].as_str(), ids[1].as_str()]);
+        let next = page["next"].as_str().expect("a next page");
+        assert!(next.starts_with("/api/v1/jobs?limit=2&before="), "{next}");
+        let page = server.get(next).await.json();
+        assert_eq!(page["jobs"][0]["id"], ids[0].as_str());
+        assert_eq!(page["jobs"].as_array().map(Vec::len), Some(1));
+        assert_eq!(page["next"], json!(null));
+        let queued = server.get("/api/v1/jobs?state=queued&limit=1").await.json();
+        assert_eq!(queued["jobs"][0]["id"], ids[2].as_str());
+        assert!(
+            queued["next"]
+                .as_str()
+                .expect("next")
+                .ends_with("&state=queued")
+        );
+        let cancelled = server.get("/api/v1/jobs?state=cancelled").await.json();
+        assert_eq!(cancelled["jobs"].as_array().map(Vec::len), Some(1));
+        for (query, error) in [
+            (
+                "state=sleeping",
+                "unknown state \"sleeping\"; valid: queued, running, succeeded, failed, cancelled",
+            ),
+            ("limit=0", "limit must be 1 to 500, got 0"),
+            ("limit=501", "limit must be 1 to 500, got 501"),
+        ] {
+            let r = server.get(&format!("/api/v1/jobs?{query}")).await;
+            assert_eq!(r.status, StatusCode::BAD_REQUEST, "{query}");
+            assert_eq!(r.error(), error);
+        }
+        let r = server.get("/api/v1/jobs?limit=abc").await;
+        assert_eq!(r.status, StatusCode::BAD_REQUEST);
+        assert!(r.error().starts_with("bad query: "), "{}", r.error());
+    }
+
+    #[tokio::test]
+    async fn a_full_queue_and_a_stopping_server_say_when_to_retry() {
+        let server = TestServer::with(|o| o.max_queue = 1, None);
+        server.submit("?kind=pack", SQUARE).await;
+        let r = server
+            .post("/api/v1/jobs", "application/toml", SQUARE)
+            .await;
+        assert_eq!(r.status, StatusCode::SERVICE_UNAVAILABLE);
+        assert_eq!(r.header("retry-after"), Some("5"));
+        assert!(r.error().contains("queue is full"), "{}", r.error());
+        server.shared.stopping.store(true, Ordering::SeqCst);
+        let r = server
+            .post("/api/v1/jobs", "application/toml", SQUARE)
+            .await;
+        assert_eq!(r.status, StatusCode::SERVICE_UNAVAILABLE);
+        assert_eq!(r.header("retry-after"), Some("10"));
+        assert_eq!(r.error(), "the server is stopping");
+    }
+}

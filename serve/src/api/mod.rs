@@ -1,0 +1,278 @@
+//! The HTTP API: one module per route group, each with its `router()`,
+//! merged here into the service's router with its layers (the token in
+//! front of the API and `/metrics`, the body limit, a log line per
+//! request) and the JSON fallbacks.
+//!
+//! - [`jobs`]: submit, validate, list, get, cancel, delete ([`submission`]
+//!   reads and plans what a submission asks);
+//! - [`events`]: a job's events as Server-Sent Events;
+//! - [`files`]: a finished job's files, as its manifest lists them;
+//! - [`page`]: the web page, its assets and the data it draws;
+//! - [`service`]: health and metrics;
+//! - [`openapi`]: the OpenAPI document of the API;
+//! - [`error`]: the one error type; [`auth`]: the bearer token.
+
+mod auth;
+mod error;
+mod events;
+mod files;
+mod jobs;
+mod openapi;
+mod page;
+mod service;
+mod submission;
+#[cfg(test)]
+mod testing;
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use axum::Router;
+use axum::extract::{DefaultBodyLimit, Request, State};
+use axum::middleware::{self, Next};
+use axum::response::Response;
+
+use super::Shared;
+use error::ApiError;
+
+/// Largest request body (bytes): 1 MiB.
+pub const MAX_BODY: usize = 1 << 20;
+
+/// The state every handler reads.
+type AppState = State<Arc<Shared>>;
+
+/// The service's routes.
+pub fn router(shared: Arc<Shared>) -> Router {
+    let api = Router::new()
+        .merge(jobs::router())
+        .merge(events::router())
+        .merge(files::router())
+        .merge(page::data())
+        .merge(openapi::router());
+    Router::new()
+        .nest("/api/v1", api)
+        .merge(service::metrics())
+        .layer(middleware::from_fn_with_state(
+            Arc::clone(&shared),
+            auth::require_token,
+        ))
+        .merge(service::health())
+        // The page and its assets hold no data: a server with a token
+        // serves them to anyone, and the page asks for the token.
+        .merge(page::web())
+        .fallback(error::not_found)
+        .method_not_allowed_fallback(error::method_not_allowed)
+        .layer(DefaultBodyLimit::max(MAX_BODY))
+        .layer(middleware::from_fn(log))
+        .with_state(shared)
+}
+
+/// Run a blocking store or file call off the async threads.
+async fn blocking<T: Send + 'static>(
+    f: impl FnOnce() -> Result<T, ApiError> + Send + 'static,
+) -> Result<T, ApiError> {
+    tokio::task::spawn_blocking(f)
+        .await
+        .map_err(ApiError::internal)?
+}
+
+/// One log line per request: method, path, status, time.
+async fn log(request: Request, next: Next) -> Response {
+    let method = request.method().clone();
+    let path = request.uri().path().to_owned();
+    let start = Instant::now();
+    let response = next.run(request).await;
+    tracing::info!(
+        %method,
+        path = %path,
+        status = response.status().as_u16(),
+        ms = start.elapsed().as_secs_f64() * 1e3,
+        "request"
+    );
+    response
+}
+
+#[cfg(test)]
+mod tests {
+    use axum::http::{Method, StatusCode};
+
+    use super::testing::{SQUARE, TestServer, sse_events};
+
+    #[tokio::test]
+    async fn a_job_from_submission_to_its_files_then_deleted() {
+        let server = TestServer::new();
+        let r = server
+            .post("/api/v1/jobs?kind=pack&seed=1", "application/toml", SQUARE)
+            .await;
+        assert_eq!(r.status, StatusCode::CREATED, "{}", r.text());
+        let accepted = r.json();
+        let id = accepted["id"].as_str().expect("id").to_owned();
+        let base = format!("/api/v1/jobs/{id}");
+        assert_eq!(r.header("location"), Some(base.as_str()));
+        assert_eq!(
+            (&accepted["kind"], &accepted["state"], &accepted["seed"]),
+            (&"pack".into(), &"queued".into(), &1.into())
+        );
+        assert_eq!(accepted["urls"]["events"], format!("{base}/events"));
+
+        let job = server.get(&base).await;
+        assert_eq!(job.status, StatusCode::OK);
+        assert_eq!(job.json()["state"], "queued");
+        assert_eq!(job.json()["config"], SQUARE);
+        let early = server.get(&format!("{base}/files")).await;
+        assert_eq!(early.status, StatusCode::CONFLICT);
+        assert!(early.error().contains("is queued"), "{}", early.error());
+
+        server.run_queued().await;
+        let job = server.get(&base).await.json();
+        assert_eq!(job["state"], "succeeded", "{job}");
+        let particles = job["summary"]["particles"].as_u64().expect("particles");
+        assert!(particles > 100, "{particles}");
+
+        // Events: the whole story in order, ending at the final state.
+        let r = server.get(&format!("{base}/events")).await;
+        assert_eq!(r.status, StatusCode::OK);
+        assert_eq!(r.header("content-type"), Some("text/event-stream"));
+        let events = sse_events(r.text());
+        assert!(events.len() >= 3, "{events:?}");
+        assert!(events.windows(2).all(|w| w[0].0 < w[1].0), "{events:?}");
+        assert_eq!(events[0].2["state"], "queued");
+        let (last_id, last_name, last) = events.last().expect("events");
+        assert_eq!(
+            (last_name.as_str(), &last["state"]),
+            ("state", &"succeeded".into())
+        );
+        for (_, name, data) in &events {
+            assert_eq!(data["event"], name.as_str());
+        }
+        // Resumed after the one before last: only the last.
+        let previous = events[events.len() - 2].0.to_string();
+        let resumed = server
+            .call(
+                Method::GET,
+                &format!("{base}/events"),
+                &[("last-event-id", &previous)],
+            )
+            .await;
+        let resumed = sse_events(resumed.text());
+        assert_eq!(resumed.len(), 1);
+        assert_eq!(resumed[0].0, *last_id);
+
+        // Files: as the manifest lists them, sized as on disk.
+        let dir = server.data().join("jobs").join(&id);
+        let list = server.get(&format!("{base}/files")).await.json();
+        assert_eq!(list["interrupted"], false);
+        let files = list["files"].as_array().expect("files");
+        let names: Vec<&str> = files.iter().filter_map(|f| f["name"].as_str()).collect();
+        assert!(
+            names.contains(&"packing.csv") && names.contains(&"manifest.json"),
+            "{names:?}"
+        );
+        assert_eq!(
+            list["manifest"]["files"].as_array().map(Vec::len),
+            Some(files.len())
+        );
+        for f in files {
+            let name = f["name"].as_str().expect("name");
+            let size = std::fs::metadata(dir.join(name)).expect("on disk").len();
+            assert_eq!(f["bytes"], size, "{name}");
+            assert_eq!(f["url"], format!("{base}/files/{name}"));
+        }
+        let csv = server.get(&format!("{base}/files/packing.csv")).await;
+        assert_eq!(csv.status, StatusCode::OK);
+        assert_eq!(csv.header("content-type"), Some("text/csv; charset=utf-8"));
+        assert_eq!(
+            csv.body,
+            std::fs::read(dir.join("packing.csv")).expect("csv")
+        );
+
+        // The page's data: one column entry per disk, the square's bounds.
+        let packing = server.get(&format!("{base}/packing")).await.json();
+        for column in ["x", "y", "r"] {
+            assert_eq!(
+                packing[column].as_array().map(Vec::len),
+                Some(particles as usize)
+            );
+        }
+        assert_eq!(
+            packing["bounds"],
+            serde_json::json!([[0.0, 0.0], [20.0, 20.0]])
+        );
+
+        // A finished job's cancel changes nothing; a delete removes it all.
+        let r = server
+            .call(Method::POST, &format!("{base}/cancel"), &[])
+            .await;
+        assert_eq!(r.status, StatusCode::OK);
+        assert_eq!(r.json()["state"], "succeeded");
+        let r = server.call(Method::DELETE, &base, &[]).await;
+        assert_eq!(r.status, StatusCode::NO_CONTENT);
+        assert!(r.body.is_empty());
+        assert!(!dir.exists());
+        let r = server.get(&base).await;
+        assert_eq!(r.status, StatusCode::NOT_FOUND);
+        assert_eq!(r.error(), format!("no job {id:?}"));
+        let r = server.call(Method::DELETE, &base, &[]).await;
+        assert_eq!(r.status, StatusCode::NOT_FOUND);
+    }
+
+    #[tokio::test]
+    async fn a_queued_job_is_cancelled_at_once_then_deleted() {
+        let server = TestServer::new();
+        let id = server.submit("?kind=pack", SQUARE).await;
+        let base = format!("/api/v1/jobs/{id}");
+        let r = server.call(Method::DELETE, &base, &[]).await;
+        assert_eq!(r.status, StatusCode::CONFLICT);
+        assert_eq!(
+            r.error(),
+            format!("job {id} is queued: cancel it, then delete it once it has stopped")
+        );
+        let r = server
+            .call(Method::POST, &format!("{base}/cancel"), &[])
+            .await;
+        assert_eq!(r.status, StatusCode::OK);
+        assert_eq!(r.json()["state"], "cancelled");
+        let events = sse_events(server.get(&format!("{base}/events")).await.text());
+        let states: Vec<&str> = events
+            .iter()
+            .filter_map(|e| e.2["state"].as_str())
+            .collect();
+        assert_eq!(states, ["queued", "cancelled"]);
+        // Cancelled before it ran: nothing to serve, nothing left to run.
+        let r = server.get(&format!("{base}/files")).await;
+        assert_eq!(r.status, StatusCode::NOT_FOUND);
+        assert_eq!(r.error(), format!("job {id} wrote no files"));
+        server.run_queued().await;
+        assert_eq!(server.get(&base).await.json()["state"], "cancelled");
+        assert_eq!(
+            server.call(Method::DELETE, &base, &[]).await.status,
+            StatusCode::NO_CONTENT
+        );
+        assert_eq!(server.get(&base).await.status, StatusCode::NOT_FOUND);
+    }
+
+    #[tokio::test]
+    async fn unknown_routes_and_methods_answer_json() {
+        let server = TestServer::new();
+        for path in ["/api/v1/nothing", "/nothing", "/api/v1", "/api/v1/jobs/"] {
+            let r = server.get(path).await;
+            assert_eq!(r.status, StatusCode::NOT_FOUND, "{path}");
+            assert_eq!(r.error(), "no such endpoint; see /api/v1/openapi.json");
+        }
+        for (method, path) in [
+            (Method::PUT, "/api/v1/jobs"),
+            (Method::GET, "/api/v1/validate"),
+            (Method::POST, "/healthz"),
+            (Method::PUT, "/metrics"),
+            (Method::POST, "/"),
+        ] {
+            let r = server.call(method.clone(), path, &[]).await;
+            assert_eq!(r.status, StatusCode::METHOD_NOT_ALLOWED, "{method} {path}");
+            assert_eq!(
+                r.error(),
+                "method not allowed on this endpoint; see /api/v1/openapi.json"
+            );
+            assert_eq!(r.header("content-type"), Some("application/json"));
+        }
+    }
+}

@@ -1,0 +1,190 @@
+//! The API's OpenAPI document (`GET /openapi.json`), generated from the
+//! handlers' `#[utoipa::path]` annotations and the response types.
+
+use std::sync::Arc;
+
+use axum::Router;
+use axum::http::header;
+use axum::response::{IntoResponse, Response};
+use axum::routing::get;
+use utoipa::OpenApi;
+
+use super::error::{ApiError, ErrorBody};
+use super::files::{FileEntry, FileList};
+use super::jobs::{Accepted, JobPage, JobView, Links, Validated};
+use super::page::{Example, PackingView};
+use super::submission::{Estimates, SubmitBody};
+use crate::Shared;
+use crate::db::State as JobState;
+// The handlers' path descriptions, named without their module: utoipa
+// would take a module prefix (`jobs::submit`) for the operation's tag.
+use super::events::__path_events;
+use super::files::{__path_file, __path_files};
+use super::jobs::{
+    __path_cancel, __path_delete, __path_list, __path_status, __path_submit, __path_validate,
+};
+use super::page::{__path_examples, __path_packing};
+
+/// The document's route.
+pub fn router() -> Router<Arc<Shared>> {
+    Router::new().route("/openapi.json", get(openapi))
+}
+
+/// The API's OpenAPI document.
+#[derive(OpenApi)]
+#[openapi(
+    info(
+        title = "gapack service",
+        description = "Dense 2D disk packings and their genetic-algorithm optimisation, as jobs."
+    ),
+    paths(
+        submit, validate, list, status, events, cancel, delete, files, file, packing, examples
+    ),
+    components(schemas(
+        ErrorBody,
+        Accepted,
+        Links,
+        Validated,
+        Estimates,
+        JobView,
+        JobPage,
+        FileList,
+        FileEntry,
+        JobState,
+        SubmitBody,
+        PackingView,
+        Example
+    ))
+)]
+struct ApiDoc;
+
+/// This API's OpenAPI document.
+async fn openapi() -> Response {
+    match ApiDoc::openapi().to_json() {
+        Ok(json) => ([(header::CONTENT_TYPE, "application/json")], json).into_response(),
+        Err(e) => ApiError::internal(e).into_response(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::BTreeSet;
+
+    use axum::http::{Method, StatusCode};
+    use serde_json::Value;
+
+    use crate::api::testing::{NO_JOB, TestServer};
+
+    /// Every operation the API's routers serve under `/api/v1` but the
+    /// document's own route.
+    const SERVED: [(&str, &str); 11] = [
+        ("get", "/api/v1/examples"),
+        ("get", "/api/v1/jobs"),
+        ("post", "/api/v1/jobs"),
+        ("delete", "/api/v1/jobs/{id}"),
+        ("get", "/api/v1/jobs/{id}"),
+        ("post", "/api/v1/jobs/{id}/cancel"),
+        ("get", "/api/v1/jobs/{id}/events"),
+        ("get", "/api/v1/jobs/{id}/files"),
+        ("get", "/api/v1/jobs/{id}/files/{name}"),
+        ("get", "/api/v1/jobs/{id}/packing"),
+        ("post", "/api/v1/validate"),
+    ];
+
+    const FALLBACKS: [&str; 2] = [
+        "no such endpoint; see /api/v1/openapi.json",
+        "method not allowed on this endpoint; see /api/v1/openapi.json",
+    ];
+
+    fn documented(doc: &Value) -> BTreeSet<(String, String)> {
+        doc["paths"]
+            .as_object()
+            .expect("paths")
+            .iter()
+            .flat_map(|(path, item)| {
+                item.as_object()
+                    .expect("a path item")
+                    .keys()
+                    .map(move |method| (method.clone(), path.clone()))
+            })
+            .collect()
+    }
+
+    fn refs<'a>(value: &'a Value, out: &mut Vec<&'a str>) {
+        match value {
+            Value::Object(map) => {
+                for (key, v) in map {
+                    match (key.as_str(), v) {
+                        ("$ref", Value::String(r)) => out.push(r),
+                        _ => refs(v, out),
+                    }
+                }
+            }
+            Value::Array(items) => items.iter().for_each(|v| refs(v, out)),
+            _ => {}
+        }
+    }
+
+    #[tokio::test]
+    async fn the_document_lists_every_route_the_router_serves() {
+        let server = TestServer::new();
+        let r = server.get("/api/v1/openapi.json").await;
+        assert_eq!(r.status, StatusCode::OK);
+        assert_eq!(r.header("content-type"), Some("application/json"));
+        let doc = r.json();
+        assert_eq!(doc["openapi"], "3.1.0");
+        assert_eq!(doc["info"]["title"], "gapack service");
+        let expected: BTreeSet<(String, String)> = SERVED
+            .iter()
+            .map(|(m, p)| ((*m).to_owned(), (*p).to_owned()))
+            .collect();
+        assert_eq!(documented(&doc), expected);
+        // Each is served (not a fallback), and its other methods are not.
+        for (method, path) in &expected {
+            let uri = path
+                .replace("{id}", NO_JOB)
+                .replace("{name}", "packing.csv");
+            let method: Method = method.to_uppercase().parse().expect("a method");
+            let r = server.call(method.clone(), &uri, &[]).await;
+            assert_ne!(r.status, StatusCode::METHOD_NOT_ALLOWED, "{method} {uri}");
+            let error = serde_json::from_slice::<Value>(&r.body)
+                .ok()
+                .and_then(|v| v["error"].as_str().map(str::to_owned));
+            assert!(
+                !error.as_deref().is_some_and(|e| FALLBACKS.contains(&e)),
+                "{method} {uri}: {error:?}"
+            );
+            for other in [
+                Method::GET,
+                Method::POST,
+                Method::PUT,
+                Method::DELETE,
+                Method::PATCH,
+            ] {
+                let name = other.as_str().to_lowercase();
+                if !expected.contains(&(name, path.clone())) {
+                    let r = server.call(other.clone(), &uri, &[]).await;
+                    assert_eq!(r.status, StatusCode::METHOD_NOT_ALLOWED, "{other} {uri}");
+                }
+            }
+        }
+        // Each operation is named once; each schema it refers to exists.
+        let ids: BTreeSet<&str> = doc["paths"]
+            .as_object()
+            .expect("paths")
+            .values()
+            .flat_map(|item| item.as_object().expect("item").values())
+            .map(|op| op["operationId"].as_str().expect("operationId"))
+            .collect();
+        assert_eq!(ids.len(), SERVED.len());
+        let mut found = Vec::new();
+        refs(&doc, &mut found);
+        assert!(!found.is_empty());
+        for r in found {
+            let name = r
+                .strip_prefix("#/components/schemas/")
+                .expect("a schema ref");
+            assert!(doc["components"]["schemas"][name].is_object(), "{r}");
+        }
+    }
+}

@@ -1,0 +1,443 @@
+//! What a submission asks (`POST /jobs`, `POST /validate`): a
+//! [`Submission`] extracted from a TOML body with query parameters or from
+//! a JSON body, planned as a worker will plan it and checked against the
+//! server's rules and ceilings; and the [`Estimates`] a validation reports.
+
+use axum::body::Bytes;
+use axum::extract::rejection::{BytesRejection, QueryRejection};
+use axum::extract::{FromRequest, FromRequestParts, Query, Request};
+use axum::http::{HeaderMap, StatusCode, header};
+use gapack::jobs::{JobError, JobKind, Plan, Request as JobRequest};
+use serde::{Deserialize, Serialize};
+use utoipa::{IntoParams, ToSchema};
+
+use super::MAX_BODY;
+use super::error::ApiError;
+use crate::Shared;
+use crate::worker::ORIGIN;
+
+/// Query parameters of a submission (with a TOML body).
+#[derive(Debug, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
+pub struct SubmitQuery {
+    /// `pack`, `optimise`, `layer`, `compare`, `stability` or `sweep`
+    /// [default: sweep with a [sweep] table, else optimise with an
+    /// [optimise] one, else layer with a [layering] one, else pack].
+    kind: Option<String>,
+    /// Overrides the config's seed.
+    seed: Option<u64>,
+    /// Run over the config's and the server's limits (only if the server
+    /// was started with `--force`).
+    force: Option<bool>,
+}
+
+/// A submission as JSON.
+#[derive(Debug, Deserialize, ToSchema)]
+pub struct SubmitBody {
+    /// The job kind (see the query parameter).
+    kind: Option<String>,
+    /// The config, TOML text.
+    config: String,
+    /// Overrides the config's seed.
+    seed: Option<u64>,
+    /// See the query parameter.
+    force: Option<bool>,
+}
+
+/// A submission, whichever way it came.
+pub struct Submission {
+    /// The kind asked for (`None`: the config's natural kind).
+    kind: Option<JobKind>,
+    /// The config, TOML text.
+    pub config: String,
+    /// The seed asked for (`None`: the config's).
+    pub seed: Option<u64>,
+    /// Whether to run over the limits.
+    force: bool,
+}
+
+impl<S: Send + Sync> FromRequest<S> for Submission {
+    type Rejection = ApiError;
+
+    /// A TOML body with query parameters, or a JSON body. The body's
+    /// fault (too large) is told first, then the query's, then the media
+    /// type's, then the content's.
+    async fn from_request(request: Request, state: &S) -> Result<Self, ApiError> {
+        let (mut parts, body) = request.into_parts();
+        let query = Query::<SubmitQuery>::from_request_parts(&mut parts, state).await;
+        let headers = parts.headers.clone();
+        let body = Bytes::from_request(Request::from_parts(parts, body), state).await;
+        Submission::read(&headers, query, body)
+    }
+}
+
+impl Submission {
+    fn read(
+        headers: &HeaderMap,
+        query: Result<Query<SubmitQuery>, QueryRejection>,
+        body: Result<Bytes, BytesRejection>,
+    ) -> Result<Submission, ApiError> {
+        let body = body.map_err(|e| {
+            let message = if e.status() == StatusCode::PAYLOAD_TOO_LARGE {
+                format!("the request body is over the limit of {MAX_BODY} bytes (1 MiB)")
+            } else {
+                e.body_text()
+            };
+            ApiError::new(e.status(), message)
+        })?;
+        let Query(query) = query.map_err(bad_query)?;
+        let media = headers
+            .get(header::CONTENT_TYPE)
+            .and_then(|v| v.to_str().ok())
+            .map(|v| {
+                v.split(';')
+                    .next()
+                    .unwrap_or("")
+                    .trim()
+                    .to_ascii_lowercase()
+            });
+        let text = |bytes: Bytes| {
+            String::from_utf8(bytes.to_vec())
+                .map_err(|_| ApiError::bad_request("the config is not UTF-8 text"))
+        };
+        match media.as_deref() {
+            Some("application/toml") => Ok(Submission {
+                kind: query.kind.as_deref().map(job_kind).transpose()?,
+                config: text(body)?,
+                seed: query.seed,
+                force: query.force.unwrap_or(false),
+            }),
+            Some("application/json") => {
+                let json: SubmitBody = serde_json::from_slice(&body)
+                    .map_err(|e| ApiError::bad_request(format!("bad JSON body: {e}")))?;
+                Ok(Submission {
+                    kind: json
+                        .kind
+                        .or(query.kind)
+                        .as_deref()
+                        .map(job_kind)
+                        .transpose()?,
+                    config: json.config,
+                    seed: json.seed.or(query.seed),
+                    force: json.force.or(query.force).unwrap_or(false),
+                })
+            }
+            other => Err(ApiError::new(
+                StatusCode::UNSUPPORTED_MEDIA_TYPE,
+                format!(
+                    "Content-Type {}: send the config as application/toml (kind and seed as query parameters) or application/json ({{\"kind\", \"config\", \"seed\"}})",
+                    other.map_or_else(|| "missing".to_owned(), |m| format!("{m:?}"))
+                ),
+            )),
+        }
+    }
+
+    /// Plan the submission as a worker will, and check it against the
+    /// server's rules.
+    pub fn plan(&self, shared: &Shared) -> Result<(Plan, JobRequest), ApiError> {
+        if self.force && !shared.limits.force {
+            return Err(ApiError::new(
+                StatusCode::FORBIDDEN,
+                "force is refused: this server was not started with --force",
+            ));
+        }
+        let kind = match self.kind {
+            Some(kind) => kind,
+            None => {
+                let options = gapack::config::ParseOptions { force: self.force };
+                let config = gapack::config::parse_with(&self.config, ORIGIN, options)
+                    .map_err(|e| ApiError::from(JobError::from(e)))?;
+                JobKind::natural(&config)
+            }
+        };
+        let request = JobRequest {
+            seed: self.seed,
+            force: self.force,
+            ..JobRequest::new(kind)
+        };
+        let plan = Plan::load(&self.config, ORIGIN, &request)?;
+        if plan.config.output.dir.is_some() {
+            return Err(ApiError::config(
+                "output.dir",
+                "the server chooses where a job's files go; remove dir from [output]".to_owned(),
+                gapack::config::key_location(&self.config, ORIGIN, "output.dir"),
+            ));
+        }
+        if !self.force {
+            ceilings(shared, &plan)?;
+        }
+        Ok((plan, request))
+    }
+}
+
+/// A refused query string.
+pub fn bad_query(e: QueryRejection) -> ApiError {
+    ApiError::bad_request(format!("bad query: {}", e.body_text()))
+}
+
+/// The job kind `name` names.
+fn job_kind(name: &str) -> Result<JobKind, ApiError> {
+    JobKind::named(name).ok_or_else(|| {
+        ApiError::bad_request(format!(
+            "unknown job kind {name:?}; valid: {}",
+            JobKind::names()
+        ))
+    })
+}
+
+/// The server's ceilings, which no config can raise.
+fn ceilings(shared: &Shared, plan: &Plan) -> Result<(), ApiError> {
+    let limits = &shared.limits;
+    let mut scenes = vec![&plan.config.scene];
+    if let Some(run) = &plan.config.fracture {
+        scenes.extend(run.wells.iter().map(|w| &w.scene));
+    }
+    let mb = |bytes: f64| bytes / (1024.0 * 1024.0);
+    for scene in scenes {
+        let disks = scene.max_disks();
+        if disks > limits.max_particles as f64 {
+            return Err(ApiError::config(
+                "limits.max_particles",
+                format!(
+                    "the scene could hold {disks:.0} disks, over this server's ceiling of {}",
+                    limits.max_particles
+                ),
+                None,
+            ));
+        }
+        let mut bytes = gapack::estimated_peak_bytes(scene);
+        if let (JobKind::Optimise, Some(o)) = (plan.kind, &plan.config.optimise) {
+            bytes = bytes.max(o.peak_bytes(scene));
+        }
+        if bytes > limits.max_memory_bytes {
+            return Err(ApiError::config(
+                "limits.max_memory_mb",
+                format!(
+                    "the run would need about {:.0} MB, over this server's ceiling of {:.0} MB",
+                    mb(bytes),
+                    mb(limits.max_memory_bytes)
+                ),
+                None,
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A scene's estimates.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct Estimates {
+    /// Disks a packing is expected to hold.
+    disks: f64,
+    /// The most disks it could hold.
+    max_disks: f64,
+    /// Peak memory of a packing (bytes, an upper bound).
+    peak_bytes: f64,
+    /// Packings the job makes at most: 1 for a pack; for a search the
+    /// initial population and, per generation, under three per member
+    /// (offspring and immigrants); absent for batches and sweeps.
+    packings: Option<u64>,
+    /// A guide to the run time (s), not a bound: `disks × packings` at
+    /// 10⁶ disks a second, the packer's speed on one core.
+    seconds: Option<f64>,
+}
+
+/// The packer's speed the time guide assumes (disks per second, one core).
+const GUIDE_DISKS_PER_SECOND: f64 = 1e6;
+
+impl Estimates {
+    /// The estimates of `plan`'s first scene.
+    pub fn of(plan: &Plan) -> Self {
+        let scene = &plan.config.scene;
+        let search = |population: usize, generations: usize| {
+            let per_generation = 3 * population.max(2) as u64;
+            Some(
+                (population as u64)
+                    .saturating_add(per_generation.saturating_mul(generations as u64)),
+            )
+        };
+        let packings = match plan.kind {
+            JobKind::Pack if plan.config.fracture.is_none() => Some(1),
+            JobKind::Optimise => plan
+                .config
+                .optimise
+                .as_ref()
+                .and_then(|o| search(o.population, o.generations)),
+            JobKind::Layer => plan
+                .config
+                .layering
+                .as_ref()
+                .and_then(|l| search(l.population, l.generations)),
+            _ => None,
+        };
+        let disks = scene.estimated_disks();
+        Estimates {
+            disks,
+            max_disks: scene.max_disks(),
+            peak_bytes: gapack::estimated_peak_bytes(scene),
+            packings,
+            seconds: packings.map(|n| disks * n as f64 / GUIDE_DISKS_PER_SECOND),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use axum::http::StatusCode;
+
+    use crate::api::testing::{SQUARE, TestServer};
+
+    #[tokio::test]
+    async fn config_faults_are_located_as_the_cli_locates_them() {
+        let server = TestServer::new();
+        let toml = "application/toml";
+        let r = server
+            .post(
+                "/api/v1/jobs?kind=pack",
+                toml,
+                SQUARE.replace("width = 20", "width = 20 mm"),
+            )
+            .await;
+        assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY);
+        let v = r.json();
+        assert!(r.error().starts_with("config.toml:4:9: "), "{}", r.error());
+        assert_eq!(
+            (&v["line"], &v["column"], &v["key"]),
+            (&4.into(), &9.into(), &"domain.width".into())
+        );
+        assert!(
+            v["message"]
+                .as_str()
+                .expect("message")
+                .contains("TOML syntax error")
+        );
+        let r = server
+            .post(
+                "/api/v1/jobs",
+                toml,
+                SQUARE.replace("width = 20", "width = -1"),
+            )
+            .await;
+        assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY);
+        assert_eq!(r.json()["key"], "domain.width");
+        let r = server
+            .post("/api/v1/jobs?kind=optimise", toml, SQUARE)
+            .await;
+        assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY);
+        assert!(
+            r.error().contains("missing table [optimise]"),
+            "{}",
+            r.error()
+        );
+        // The server chooses where files go.
+        let r = server
+            .post(
+                "/api/v1/jobs?kind=pack",
+                toml,
+                format!("{SQUARE}[output]\ndir = \"/tmp/elsewhere\"\n"),
+            )
+            .await;
+        assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY);
+        let v = r.json();
+        assert_eq!(
+            r.error(),
+            "config.toml:9:1: output.dir: the server chooses where a job's files go; remove dir from [output]"
+        );
+        assert_eq!(
+            (&v["line"], &v["column"], &v["key"]),
+            (&9.into(), &1.into(), &"output.dir".into())
+        );
+        assert_eq!(
+            v["message"],
+            "the server chooses where a job's files go; remove dir from [output]"
+        );
+        assert_eq!(
+            server.get("/api/v1/jobs").await.json()["jobs"],
+            serde_json::json!([])
+        );
+    }
+
+    #[tokio::test]
+    async fn the_servers_ceilings_hold_unless_it_allows_force() {
+        let big = "[domain]\nshape = \"rectangle\"\nwidth = 10000\nheight = 10000\n[grading]\nconstant = 1.0\n[limits]\nmax_particles = 1000000000\nmax_memory_mb = 100000\n";
+        let server = TestServer::new();
+        let r = server
+            .post("/api/v1/jobs?kind=pack", "application/toml", big)
+            .await;
+        assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY);
+        let v = r.json();
+        assert_eq!(v["key"], "limits.max_particles");
+        assert!(
+            r.error()
+                .starts_with("config.toml: limits.max_particles: the scene could hold "),
+            "{}",
+            r.error()
+        );
+        assert!(
+            r.error().ends_with("over this server's ceiling of 2000000"),
+            "{}",
+            r.error()
+        );
+        assert_eq!(v.get("line"), None);
+        let r = server
+            .post(
+                "/api/v1/jobs?kind=pack&force=true",
+                "application/toml",
+                SQUARE,
+            )
+            .await;
+        assert_eq!(r.status, StatusCode::FORBIDDEN);
+        assert_eq!(
+            r.error(),
+            "force is refused: this server was not started with --force"
+        );
+        // A lower memory ceiling, then a server that allows force.
+        let server = TestServer::with(|o| o.max_memory_mb = 0, None);
+        let r = server
+            .post("/api/v1/validate", "application/toml", SQUARE)
+            .await;
+        assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY);
+        assert_eq!(r.json()["key"], "limits.max_memory_mb");
+        let server = TestServer::with(
+            |o| {
+                o.force = true;
+                o.max_memory_mb = 0;
+            },
+            None,
+        );
+        let r = server
+            .post("/api/v1/validate?force=true", "application/toml", SQUARE)
+            .await;
+        assert_eq!(r.status, StatusCode::OK, "{}", r.text());
+    }
+
+    #[tokio::test]
+    async fn validate_plans_and_estimates_without_queueing() {
+        let server = TestServer::new();
+        let config = format!(
+            "{SQUARE}[optimise]\ntarget_porosity = 0.95\npopulation = 8\ngenerations = 4\nstagnation = 100\n"
+        );
+        let r = server
+            .post("/api/v1/validate", "application/toml", config)
+            .await;
+        assert_eq!(r.status, StatusCode::OK, "{}", r.text());
+        let v = r.json();
+        assert_eq!((&v["kind"], &v["seed"]), (&"optimise".into(), &3.into()));
+        assert!(!v["plan"].as_array().expect("plan").is_empty());
+        assert!(!v["identity"].as_str().expect("identity").is_empty());
+        let e = &v["estimates"];
+        // 8 initial members, then under 3 × 8 packings per generation for 4.
+        assert_eq!(e["packings"], 8 + 3 * 8 * 4);
+        let disks = e["disks"].as_f64().expect("disks");
+        assert!(disks > 10.0 && disks <= e["max_disks"].as_f64().expect("max"));
+        assert!((e["seconds"].as_f64().expect("seconds") - disks * 104.0 / 1e6).abs() < 1e-9);
+        let r = server
+            .post("/api/v1/validate?kind=pack", "application/toml", SQUARE)
+            .await;
+        assert_eq!(r.json()["estimates"]["packings"], 1);
+        assert_eq!(
+            server.get("/api/v1/jobs").await.json()["jobs"],
+            serde_json::json!([])
+        );
+    }
+}
