@@ -12,21 +12,19 @@ use crate::geometry::{Domain, Point};
 use crate::packer::index::SpatialIndex;
 
 impl<I: SpatialIndex> Front<'_, I> {
-    /// The rank of a candidate at `p`, lower first (then lowest, then
-    /// leftmost: [`first_of`]): 0 everywhere with walls, so the lowest
-    /// goes first and the pack deposits layer on layer from the bottom. In a
+    /// The rank of a candidate at `p`, lower first (then lowest, then leftmost:
+    /// `candidates::first_of`): 0 everywhere with walls, so the lowest goes
+    /// first and the pack deposits layer on layer from the bottom. In a
     /// periodic cell, the squared distance from the first disk's centre (the
-    /// cell's centre) to the nearest image of `p`: the pack grows out from
-    /// its first disk as a round cluster and closes on its own images along
-    /// the cell's edges, two rough fronts meeting (the 1 mm bands along the
-    /// edges: porosity 0.27 to 0.32, against 0.18 to 0.20 inside; 50 × 100
-    /// mm, 1–1.66 mm, 20 seeds). Filled lowest first, the cell grew from a
-    /// row of disks centred on its bottom edge, which the last layers met
-    /// like a wall of disks: the band below the top edge reached 0.50.
-    /// Grown as a horizontal band (nearest in y only), a row formed along
-    /// the middle (two bands of 0.13 flanked by 0.22).
-    ///
-    /// [`first_of`]: super::candidates::first_of
+    /// cell's centre) to the nearest image of `p`: the pack grows out from its
+    /// first disk as a round cluster and closes on its own images along the
+    /// cell's edges, two rough fronts meeting (the 1 mm bands along the edges:
+    /// porosity 0.27 to 0.32, against 0.18 to 0.20 inside; 50 × 100 mm, 1–1.66
+    /// mm, 20 seeds). Filled lowest first, the cell grew from a row of disks
+    /// centred on its bottom edge, which the last layers met like a wall of
+    /// disks: the band below the top edge reached 0.50. Grown as a horizontal
+    /// band (nearest in y only), a row formed along the middle (two bands of
+    /// 0.13 flanked by 0.22).
     #[inline]
     pub(super) fn rank(&self, p: Point) -> f64 {
         match self.origin {
