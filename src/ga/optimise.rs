@@ -591,3 +591,110 @@ fn verdict_warning<O>(
     };
     Some(TargetWarning { kind, message })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::farm::Local;
+    use crate::grading::Basis;
+    use crate::{Domain, Grading};
+
+    fn scene() -> Scene {
+        Scene::new(
+            Domain::rectangle(10.0, 10.0).expect("a domain"),
+            Grading::uniform(1.0, 2.0, Basis::Number).expect("a grading"),
+        )
+    }
+
+    /// Records what the search tells.
+    #[derive(Default)]
+    struct Told {
+        warnings: Vec<TargetWarning>,
+        started: Option<u64>,
+        generations: usize,
+    }
+
+    impl OptimiseObserver for Told {
+        fn warning(&mut self, warning: TargetWarning) {
+            self.warnings.push(warning);
+        }
+        fn started(&mut self, generations: u64) {
+            self.started = Some(generations);
+        }
+        fn generation(&mut self, _: &Generation) {
+            self.generations += 1;
+        }
+        fn checkpoint(&mut self, _: &Checkpoint) {}
+    }
+
+    fn settings(target: f64) -> OptimiseSettings {
+        OptimiseSettings {
+            population: 4,
+            generations: 2,
+            ..OptimiseSettings::new(target)
+        }
+    }
+
+    #[test]
+    fn a_target_below_the_front_takes_the_densify_route_and_says_so_first() {
+        let mut told = Told::default();
+        let found = optimise(
+            &scene(),
+            &settings(0.02),
+            Start::Seed(1),
+            0,
+            &Local,
+            &Cancel::new(),
+            &mut told,
+        )
+        .expect("packs");
+        assert_eq!(found.stop, StopReason::Densified);
+        assert_eq!(told.started, Some(0), "no generation is searched");
+        assert_eq!(told.generations, found.history.len());
+        assert_eq!(
+            told.warnings[0].kind,
+            TargetWarningKind::OutsideInitialRange
+        );
+        assert!(told.warnings[0].message.contains("densify"));
+        // Far below any packing of these sizes: not reached, said after.
+        assert_ne!(found.verdict, Verdict::Reached);
+        assert!(found.warning.is_some());
+        assert!(found.window.is_none());
+    }
+
+    #[test]
+    fn the_plain_route_searches_its_generations_and_gives_a_verdict() {
+        let mut told = Told::default();
+        let found = optimise(
+            &scene(),
+            &settings(0.25),
+            Start::Seed(1),
+            0,
+            &Local,
+            &Cancel::new(),
+            &mut told,
+        )
+        .expect("packs");
+        assert_eq!(told.started, Some(2));
+        assert_ne!(found.stop, StopReason::Densified);
+        assert_eq!(told.generations, found.history.len());
+        assert!(found.evaluations >= 4);
+        assert_eq!(found.verdict == Verdict::Reached, found.warning.is_none());
+    }
+
+    #[test]
+    fn a_search_stopped_before_generation_0_is_cancelled() {
+        let stop = Cancel::new();
+        stop.cancel();
+        let got = optimise(
+            &scene(),
+            &settings(0.25),
+            Start::Seed(1),
+            0,
+            &Local,
+            &stop,
+            &mut Told::default(),
+        );
+        assert!(matches!(got, Err(OptimiseError::Cancelled)), "{got:?}");
+    }
+}
