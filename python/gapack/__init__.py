@@ -173,8 +173,12 @@ def run(
     straight into the folder ``out`` as the command line does, wells of a
     ``[fracture]`` batch and parameter studies included; ``resume`` goes on
     from the folder's checkpoint or ``sweep.csv``. Returns a dict: ``job``,
-    ``dir``, ``files``, ``interrupted``, ``notes`` and ``lines`` (the command
-    line's result lines). A ``KeyboardInterrupt`` keeps what was finished
+    ``location``, ``dir``, ``files``, ``interrupted``, ``notes`` and
+    ``lines`` (the command line's result lines), and the job summary's
+    figures where the job has them: ``particles`` and ``porosity`` (pack,
+    layer, optimise; ``particles`` of every well of a ``[fracture]`` run),
+    ``generations``, ``evaluations``, ``best_porosity`` and
+    ``target_porosity`` (optimise). A ``KeyboardInterrupt`` keeps what was finished
     (written, as the command line does) and raises :class:`Interrupted` with
     this dict as ``result`` (or returns it, ``on_interrupt="return"``)."""
     _check_on_interrupt(on_interrupt)

@@ -21,12 +21,12 @@ mod runner;
 use std::path::PathBuf;
 
 use gapack::config::{self, ParseOptions};
-use gapack::jobs::{self, DirStore, Job, JobKind, MemoryStore, Plan, Request};
+use gapack::jobs::{self, DirStore, Job, JobKind, MemoryStore, Plan, Request, Summary};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use errors::{input_error, job_error};
+use errors::{gapack_error, input_error, job_error};
 use packing::Packing;
 use runner::{Finished, run_plan};
 
@@ -42,7 +42,14 @@ fn job_kind(name: &str, allowed: &[JobKind]) -> PyResult<JobKind> {
         })
 }
 
-/// Plan `kind` on the config `text` (named `origin`).
+/// The request for the job named `job` among every job, or for the
+/// config's own job ([`Request::natural`]) when `None`.
+fn request_for(job: Option<&str>) -> PyResult<Request> {
+    let kind = job.map(|name| job_kind(name, &JobKind::ALL)).transpose()?;
+    Ok(Request::asking(kind))
+}
+
+/// Plan the job `request` asks for on the config `text` (named `origin`).
 fn plan(py: Python<'_>, text: &str, origin: &str, request: &Request) -> PyResult<Plan> {
     Plan::load(text, origin, request).map_err(|e| job_error(py, e))
 }
@@ -120,20 +127,13 @@ fn run_to(
     resume: bool,
     on_event: Option<Bound<'_, PyAny>>,
 ) -> PyResult<(Py<PyAny>, bool)> {
-    let options = ParseOptions { force };
-    let parsed = config::parse_with(text, origin, options)
-        .map_err(|e| job_error(py, jobs::JobError::from(e)))?;
-    let kind = match job {
-        Some(name) => job_kind(name, &JobKind::ALL)?,
-        None => JobKind::natural(&parsed),
-    };
     let request = Request {
         seed,
         force,
         resume,
-        ..Request::new(kind)
+        ..request_for(job)?
     };
-    let plan = Plan::new(parsed, text, origin, &request).map_err(|e| job_error(py, e))?;
+    let plan = plan(py, text, origin, &request)?;
     let dir = jobs::output_dir(out.as_deref(), &plan.config, path.as_deref());
     let Finished {
         result, interrupt, ..
@@ -142,14 +142,20 @@ fn run_to(
         Ok(outcome) => outcome,
         Err(e) => return Err(interrupt.unwrap_or_else(|| job_error(py, e))),
     };
-    let told = PyDict::new(py);
+    // The job's summary (its files, lines and figures), as `json.loads`
+    // reads its JSON, with where it went and its notes.
+    let summary = Summary::of(&outcome, &outcome.location)
+        .to_json()
+        .map_err(|e| gapack_error(py, &format!("cannot read the summary: {e}")))?;
+    let told = py
+        .import("json")?
+        .getattr("loads")?
+        .call1((summary,))?
+        .cast_into::<PyDict>()?;
     told.set_item("job", outcome.kind.name())?;
     told.set_item("location", &outcome.location)?;
     told.set_item("dir", dir.display().to_string())?;
-    told.set_item("files", &outcome.files)?;
-    told.set_item("interrupted", outcome.interrupted)?;
     told.set_item("notes", &outcome.notes)?;
-    told.set_item("lines", outcome.lines())?;
     Ok((told.into_any().unbind(), interrupt.is_some()))
 }
 
@@ -166,19 +172,12 @@ fn validate(
     seed: Option<u64>,
     force: bool,
 ) -> PyResult<Py<PyAny>> {
-    let options = ParseOptions { force };
-    let parsed = config::parse_with(text, origin, options)
-        .map_err(|e| job_error(py, jobs::JobError::from(e)))?;
-    let kind = match job {
-        Some(name) => job_kind(name, &JobKind::ALL)?,
-        None => JobKind::natural(&parsed),
-    };
     let request = Request {
         seed,
         force,
-        ..Request::new(kind)
+        ..request_for(job)?
     };
-    let plan = Plan::new(parsed, text, origin, &request).map_err(|e| job_error(py, e))?;
+    let plan = plan(py, text, origin, &request)?;
     let out = jobs::output_dir(None, &plan.config, path.as_deref());
     let told = PyDict::new(py);
     told.set_item("valid", true)?;

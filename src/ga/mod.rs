@@ -7,6 +7,7 @@ mod checkpoint;
 mod engine;
 mod layering;
 mod operators;
+mod optimise;
 mod porosity;
 mod score;
 mod settings;
@@ -17,6 +18,9 @@ pub use engine::{
     Evaluation, Evolution, Generation, Limits, Problem, Search, StopReason, Variation,
 };
 pub use layering::{Layered, LayeringProblem, lay_out};
+pub use optimise::{
+    OptimiseError, OptimiseObserver, Optimised, Start, TargetWarning, TargetWarningKind, optimise,
+};
 pub use porosity::{CONCLUSIVE_POPULATION, PorosityProblem, RULE_GENES, Verdict};
 pub use score::Score;
 pub use settings::OptimiseSettings;

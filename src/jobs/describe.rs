@@ -1,19 +1,41 @@
 //! Plans and outcomes in words, the same for every front end: what
 //! `gapack validate` prints, the CLI's result lines, the service's log.
+//! The words of each job are in its own file ([`Words`] for its plan, its
+//! report's lines); here what they share.
 
-use super::plan::{Job, Plan};
-use super::run::{Outcome, Report};
-use super::sweep::Study;
+use super::plan::Plan;
+use super::run::Outcome;
 use crate::check::{grading_kept, ks_limit};
 use crate::compare::Variant;
 use crate::config::ConfigName;
-use crate::fracture::{Extent, MM_PER_M};
-use crate::ga::{Layered, StopReason, Verdict};
+use crate::fracture::MM_PER_M;
 use crate::metrics::Metrics;
 use crate::packer::{PEAK_BYTES_PER_DISK, estimated_peak_bytes};
-use crate::stability;
-use crate::study::{Keep, Measure, Row, Status};
 use crate::{Scene, Shape};
+
+/// What `gapack validate` says of a job besides its scene: its lines
+/// (the job line first), its memory, and its files when not the
+/// config's `[output]` formats.
+pub(super) struct Words {
+    /// The job line, and any under it (a study's points).
+    pub head: Vec<String>,
+    /// The job's memory, after the scene's.
+    pub memory: Option<String>,
+    /// The files it writes, and those it always writes; `None`: the
+    /// config's formats, and `summary.json` and `manifest.json`.
+    pub files: Option<(&'static str, &'static str)>,
+}
+
+impl Words {
+    /// The job line alone.
+    pub fn new(line: String) -> Words {
+        Words {
+            head: vec![line],
+            memory: None,
+            files: None,
+        }
+    }
+}
 
 impl Plan {
     /// What the job will do, a line each: the job, the grading, the packer,
@@ -22,64 +44,8 @@ impl Plan {
     pub fn describe(&self, location: &str) -> Vec<String> {
         let config = &self.config;
         let scene = &config.scene;
-        let mut lines = Vec::new();
-        let job = match &self.job {
-            Job::Pack => "job: pack".to_owned(),
-            Job::Wells { batch } => {
-                let n = config.fracture.as_ref().map_or(0, |f| f.wells.len());
-                format!(
-                    "job: pack: {n} fracture{}{}, {}",
-                    if n == 1 { "" } else { "s" },
-                    if *batch {
-                        " (a folder each, and wells.csv)"
-                    } else {
-                        ""
-                    },
-                    match self.extent() {
-                        Some(Extent::Window { tolerance }) =>
-                            format!("representative windows (porosity tolerance {tolerance})"),
-                        _ => "packed whole".to_owned(),
-                    }
-                )
-            }
-            Job::Optimise {
-                settings: o,
-                resume,
-                ..
-            } => format!(
-                "job: optimise{}: target porosity {} ± {}, population {}, at most {} generations{}, {} s",
-                if *resume {
-                    " (resumed from the checkpoint)"
-                } else {
-                    ""
-                },
-                o.target_porosity,
-                o.tolerance,
-                o.population,
-                o.generations,
-                o.max_evaluations
-                    .map(|n| format!(" or {n} evaluations"))
-                    .unwrap_or_default(),
-                o.time_limit_s
-            ),
-            Job::Layer { .. } => "job: layer: pack once, then lay the materials out".to_owned(),
-            Job::Compare { .. } => format!(
-                "job: compare: {} method variants × {} seeds",
-                crate::compare::Variant::expand(&config.compare.methods).len(),
-                config.compare.repeats
-            ),
-            Job::Stability { time_cap } => format!(
-                "job: stability: {} cases × {} method variants, each capped at {} s",
-                stability::Case::all().len(),
-                stability::variants(&config.compare.methods).len(),
-                time_cap.as_secs_f64()
-            ),
-            Job::Sweep { study } => study_line(study),
-        };
-        lines.push(job);
-        if let Job::Sweep { study } = &self.job {
-            lines.extend(point_lines(study));
-        }
+        let words = self.job.words(self);
+        let mut lines = words.head;
         if let Some(l) = &config.layering {
             lines.push(format!(
                 "layering: {} material(s), {} along {}, {} bins",
@@ -129,45 +95,18 @@ impl Plan {
             }
             None => lines.push(format!("domain: {}", scene_line(scene))),
         }
-        if let (Job::Wells { batch: true }, Some(run)) = (&self.job, &config.fracture) {
-            // The wells of a batch are packed a few at a time, one per thread.
-            let at_once = rayon::current_num_threads().min(run.wells.len());
-            let mut peaks: Vec<f64> = run
-                .wells
-                .iter()
-                .map(|w| estimated_peak_bytes(&w.scene))
-                .collect();
-            peaks.sort_by(|a, b| b.total_cmp(a));
-            lines.push(format!(
-                "batch memory: about {} ({at_once} wells at once, one per thread)",
-                memory(peaks.iter().take(at_once).sum())
-            ));
-        }
-        if let Job::Optimise { settings: o, .. } = &self.job {
-            lines.push(format!(
-                "search memory: about {} ({} genomes)",
-                memory(o.peak_bytes(scene)),
-                o.population
-            ));
-        }
-        let formats: Vec<&str> = match &self.job {
-            Job::Compare { .. } => vec!["compare.csv, .svg, .png"],
-            Job::Stability { .. } => vec!["stability.csv, .svg, .png"],
-            Job::Sweep { study } => vec![match study.settings.keep {
-                Keep::None => "sweep.csv, .svg, .png",
-                Keep::Summary => "sweep.csv, .svg, .png, and runs/<run>/summary.json",
-                Keep::All => "sweep.csv, .svg, .png, and every file of each run in runs/<run>/",
-            }],
-            _ => config
-                .output
-                .formats
-                .iter()
-                .map(|f| f.config_name())
-                .collect(),
-        };
-        let always = match self.job {
-            Job::Sweep { .. } => "manifest.json",
-            _ => "summary.json and manifest.json",
+        lines.extend(words.memory);
+        let (formats, always) = match words.files {
+            Some((files, always)) => (vec![files], always),
+            None => (
+                config
+                    .output
+                    .formats
+                    .iter()
+                    .map(|f| f.config_name())
+                    .collect(),
+                "summary.json and manifest.json",
+            ),
         };
         lines.push(format!(
             "output: {location} ({}; {always} always)",
@@ -188,196 +127,7 @@ impl Outcome {
     /// The result in a line or a few: what was made, where, how well, how fast.
     pub fn lines(&self) -> Vec<String> {
         let at = &self.location;
-        let mut lines = Vec::new();
-        match &self.report {
-            Report::Pack {
-                metrics, seconds, ..
-            } => lines.push(pack_line(at, metrics, *seconds)),
-            Report::Wells {
-                wells,
-                batch,
-                total,
-            } => {
-                for w in wells {
-                    let dir = format!("{at}/{}", w.folder.trim_end_matches('/'));
-                    let dir = dir.trim_end_matches('/');
-                    lines.push(match &w.window {
-                        Some((steps, settled)) if !steps.is_empty() => {
-                            let last = &steps[steps.len() - 1];
-                            format!(
-                                "{dir}: window {:.1} mm of {:.0} mm ({:.1}%), porosity {:.4} ± {:.4}, coordination {:.2}, {} disks, {} windows in {}{}{}",
-                                last.length,
-                                w.length,
-                                100.0 * last.length / w.length,
-                                last.porosity,
-                                last.spread,
-                                last.coordination,
-                                last.particles,
-                                steps.len(),
-                                duration(w.row.seconds),
-                                if *settled {
-                                    ""
-                                } else {
-                                    " (not settled: the whole fracture was packed)"
-                                },
-                                grading_note(&w.metrics)
-                            )
-                        }
-                        _ => pack_line(dir, &w.metrics, w.row.seconds),
-                    });
-                }
-                if *batch {
-                    lines.push(format!(
-                        "{at}/wells.csv: {} wells in {}{}",
-                        wells.len(),
-                        duration(wells.iter().map(|w| w.row.seconds).sum()),
-                        if wells.len() < *total {
-                            format!(" (interrupted: {} of {total} wells)", wells.len())
-                        } else {
-                            String::new()
-                        }
-                    ));
-                }
-            }
-            Report::Optimise {
-                metrics,
-                summary,
-                layered,
-                ..
-            } => {
-                let layering = layered
-                    .as_ref()
-                    .map_or(String::new(), |l| format!("; {}", layering_line(l)));
-                // The stop says `target reached` or `interrupted`; otherwise the verdict.
-                let said = [Verdict::Reached, Verdict::Interrupted].map(Verdict::describe);
-                let verdict = if said.contains(&summary.verdict) {
-                    String::new()
-                } else if summary.achievable_range.is_none() {
-                    format!(
-                        "; target {}, no packing honoured the grading (max_psd_ks {})",
-                        summary.verdict, summary.max_psd_ks
-                    )
-                } else {
-                    format!("; target {}", summary.verdict)
-                };
-                let window = summary.window.as_ref().map_or(String::new(), |w| {
-                    format!(
-                        "; searched on a {:.0} × {:.0} mm window ({:.1}% of the domain{}), the whole packed {}",
-                        w.size[0],
-                        w.size[1],
-                        100.0 * w.share,
-                        if w.settled { "" } else { ", not settled" },
-                        match w.whole_packs {
-                            1 => "once".to_owned(),
-                            n => format!("{n} times"),
-                        }
-                    )
-                });
-                lines.push(format!(
-                    "{at}: porosity {:.4} (target {}, error {:.4}), psd_ks {:.3}, {} disks, {} evaluations in {} generations, {} ({}{verdict}{window}){layering}{}",
-                    metrics.porosity,
-                    summary.target_porosity,
-                    summary.error,
-                    metrics.psd_ks,
-                    metrics.particles,
-                    summary.evaluations,
-                    summary.generations,
-                    duration(self.seconds()),
-                    summary.stop,
-                    grading_note(metrics),
-                ));
-                if !summary.reproducible && !summary.interrupted {
-                    lines.push(TIME_LIMIT_NOTE.to_owned());
-                }
-            }
-            Report::Layer {
-                metrics, layered, ..
-            } => {
-                lines.push(format!(
-                    "{at}: {} disks, porosity {:.4}, {}{}",
-                    metrics.particles,
-                    metrics.porosity,
-                    layering_line(layered),
-                    grading_note(metrics)
-                ));
-                if layered.stop == Some(StopReason::TimeLimit) {
-                    lines.push(TIME_LIMIT_NOTE.to_owned());
-                }
-            }
-            Report::Compare {
-                runs,
-                variants,
-                total,
-            } => {
-                for (variant, mine) in by_variant(runs, variants, |r| &r.variant) {
-                    let n = mine.len() as f64;
-                    let mean = |f: &dyn Fn(&crate::compare::CompareRun) -> f64| {
-                        mine.iter().map(|r| f(r)).sum::<f64>() / n
-                    };
-                    let worst_overlap = mine.iter().map(|r| r.max_overlap).fold(0.0, f64::max);
-                    lines.push(format!(
-                        "{:<40} {} runs: {} disks, porosity {:.4}, psd_ks {:.3}, max overlap {}, coordination {:.2}, {} each",
-                        crate::output::variant_label(variant),
-                        mine.len(),
-                        mean(&|r| r.particles as f64).round(),
-                        mean(&|r| r.porosity),
-                        mean(&|r| r.psd_ks),
-                        overlap(worst_overlap),
-                        mean(&|r| r.coordination),
-                        duration(mean(&|r| r.seconds)),
-                    ));
-                }
-                lines.push(format!(
-                    "{at}: compare.csv, compare.svg, compare.png{}",
-                    interrupted_runs(runs.len(), *total)
-                ));
-            }
-            Report::Stability {
-                runs,
-                variants,
-                total,
-            } => {
-                for (variant, mine) in by_variant(runs, variants, |r| &r.variant) {
-                    let tally = stability::Tally::of(mine.iter().copied());
-                    lines.push(format!(
-                        "{:<40} pass {:>3}, fail {:>3} ({}), refused {:>3}, timed out {:>3}",
-                        crate::output::variant_label(variant),
-                        tally.pass,
-                        tally.fail,
-                        fail_reasons(&tally),
-                        tally.refused,
-                        tally.timed_out,
-                    ));
-                    lines.extend(seed_spread(&mine));
-                }
-                lines.push(format!(
-                    "{at}: stability.csv, stability.svg, stability.png{}",
-                    interrupted_runs(runs.len(), *total)
-                ));
-            }
-            Report::Sweep {
-                rows,
-                seeds,
-                resumed,
-                ..
-            } => {
-                lines.extend(study_result(rows, *seeds));
-                let count = |f: fn(&Status) -> bool| rows.iter().filter(|r| f(&r.status)).count();
-                let finished = count(|s| matches!(s, Status::Finished(_)));
-                let failed = count(|s| matches!(s, Status::Failed(_)));
-                let done = finished + failed;
-                lines.push(format!(
-                    "{at}: sweep.csv, sweep.svg, sweep.png: {} runs, {finished} finished, {failed} failed{}{}",
-                    rows.len(),
-                    if *resumed > 0 {
-                        format!(" ({resumed} kept from the earlier sweep.csv)")
-                    } else {
-                        String::new()
-                    },
-                    interrupted_runs(done, rows.len())
-                ));
-            }
-        }
+        let mut lines = self.report.lines(at);
         for note in &self.notes {
             lines.push(format!("  {at}/{note}"));
         }
@@ -386,184 +136,12 @@ impl Outcome {
 
     /// Wall-clock time of the job's main work (s): the packing, or the whole search.
     pub fn seconds(&self) -> f64 {
-        match &self.report {
-            Report::Pack { seconds, .. } | Report::Layer { seconds, .. } => *seconds,
-            Report::Optimise { seconds, .. } => *seconds,
-            Report::Wells { wells, .. } => wells.iter().map(|w| w.row.seconds).sum(),
-            Report::Compare { runs, .. } => runs.iter().map(|r| r.seconds).sum(),
-            Report::Stability { runs, .. } => runs.iter().map(|r| r.seconds).sum(),
-            Report::Sweep { rows, .. } => rows
-                .iter()
-                .map(|r| match &r.status {
-                    Status::Finished(m) => m.seconds,
-                    _ => 0.0,
-                })
-                .sum(),
-        }
+        self.report.seconds()
     }
-}
-
-/// Points of a study listed by `gapack validate`, before `and N more`.
-const LISTED_POINTS: usize = 40;
-
-/// `job: sweep: 3 values of fracture.width_mm × 2 of grading.preset × 5 seeds = 30 pack runs, porosity charted`.
-fn study_line(study: &Study) -> String {
-    let s = &study.settings;
-    let keys: Vec<String> = s
-        .keys
-        .iter()
-        .enumerate()
-        .map(|(i, k)| {
-            let n = k.values.len();
-            if i == 0 {
-                format!("{n} value{} of {}", plural(n), k.path)
-            } else {
-                format!("{n} of {}", k.path)
-            }
-        })
-        .collect();
-    format!(
-        "job: sweep{}: {} × {} seed{} = {} {} runs, {} charted against {}",
-        if study.resume {
-            " (resumed: the finished rows of sweep.csv are kept)"
-        } else {
-            ""
-        },
-        keys.join(" × "),
-        s.seeds,
-        plural(s.seeds),
-        study.runs.len(),
-        study.kind.name(),
-        s.measure.config_name(),
-        s.keys.first().map_or("", |k| k.path.as_str()),
-    )
-}
-
-/// One line per point of a study: its disks (estimated, per run), or why it cannot run.
-fn point_lines(study: &Study) -> Vec<String> {
-    let mut lines: Vec<String> = study
-        .points
-        .iter()
-        .take(LISTED_POINTS)
-        .map(|point| {
-            let name = &point.name;
-            match &point.config {
-                Ok(config) => {
-                    let (disks, window) = match &config.fracture {
-                        Some(f) => (
-                            f.wells
-                                .iter()
-                                .map(|w| w.scene.estimated_disks())
-                                .sum::<f64>(),
-                            matches!(f.extent, Extent::Window { .. }),
-                        ),
-                        None => (config.scene.estimated_disks(), false),
-                    };
-                    format!(
-                        "point {name}: about {disks:.0} disks a run{}",
-                        if window {
-                            " if packed whole (a window packs fewer)"
-                        } else {
-                            ""
-                        }
-                    )
-                }
-                Err(why) => format!("point {name}: its runs fail: {why}"),
-            }
-        })
-        .collect();
-    let points = study.points.len();
-    if points > LISTED_POINTS {
-        lines.push(format!("… and {} more points", points - LISTED_POINTS));
-    }
-    lines
-}
-
-/// One line per point of a study's rows: its measures over the seeds
-/// that finished (porosity with its range), or why its runs failed.
-fn study_result(rows: &[Row], seeds: usize) -> Vec<String> {
-    let spreads = crate::study::spreads(rows, seeds, Measure::Porosity);
-    rows.chunks(seeds.max(1))
-        .zip(spreads)
-        .filter_map(|(point, porosity)| {
-            let first = point.first()?;
-            let name = first
-                .run
-                .rsplit_once(",seed=")
-                .map_or(first.run.as_str(), |(p, _)| p);
-            let done: Vec<&crate::study::Measures> = point
-                .iter()
-                .filter_map(|r| match &r.status {
-                    Status::Finished(m) => Some(m),
-                    _ => None,
-                })
-                .collect();
-            let Some(p) = porosity else {
-                let failed = point.iter().find_map(|r| match &r.status {
-                    Status::Failed(why) => Some(why.as_str()),
-                    _ => None,
-                });
-                return failed.map(|why| format!("{name:<40} failed: {why}"));
-            };
-            let n = done.len() as f64;
-            let mean = |f: fn(&crate::study::Measures) -> f64| done.iter().map(|m| f(m)).sum::<f64>() / n;
-            let errors: Vec<f64> = done.iter().filter_map(|m| m.target_error).collect();
-            Some(format!(
-                "{name:<40} porosity {:.4} ({:.4}–{:.4}), {:.0} disks, psd_ks {:.3}, coordination {:.2}{}, {} of {} runs, {} each",
-                p.mean,
-                p.min,
-                p.max,
-                mean(|m| m.particles as f64),
-                mean(|m| m.psd_ks),
-                mean(|m| m.coordination),
-                if errors.is_empty() {
-                    String::new()
-                } else {
-                    format!(
-                        ", target error {:.4}",
-                        errors.iter().sum::<f64>() / errors.len() as f64
-                    )
-                },
-                done.len(),
-                point.len(),
-                duration(mean(|m| m.seconds)),
-            ))
-        })
-        .collect()
-}
-
-fn plural(n: usize) -> &'static str {
-    if n == 1 { "" } else { "s" }
-}
-
-/// The failing runs of `tally`, each counted once: `overlap 0, empty 2, KS 43, empty + KS 1`
-/// (every single reason, then each pair or triple that occurs).
-fn fail_reasons(tally: &stability::Tally) -> String {
-    let single = stability::Reason::ALL.map(|reason| {
-        let n = tally
-            .by_reasons
-            .iter()
-            .find(|(r, _)| r[..] == [reason])
-            .map_or(0, |(_, n)| *n);
-        format!("{} {n}", reason.name())
-    });
-    let several = tally
-        .by_reasons
-        .iter()
-        .filter(|(r, _)| r.len() > 1)
-        .map(|(r, n)| {
-            let names: Vec<&str> = r.iter().map(|x| x.name()).collect();
-            format!("{} {n}", names.join(" + "))
-        });
-    single
-        .into_iter()
-        .chain(several)
-        .collect::<Vec<_>>()
-        .join(", ")
 }
 
 /// ` (interrupted: 12 of 144 runs)` when cut short.
-fn interrupted_runs(done: usize, total: usize) -> String {
+pub(super) fn interrupted_runs(done: usize, total: usize) -> String {
     if done < total {
         format!(" (interrupted: {done} of {total} runs)")
     } else {
@@ -572,7 +150,7 @@ fn interrupted_runs(done: usize, total: usize) -> String {
 }
 
 /// `out/x: 345 disks, porosity 0.2139, psd_ks 0.061, max overlap 0, coordination 3.69, packed in 0.3 ms`.
-fn pack_line(at: &str, metrics: &Metrics, seconds: f64) -> String {
+pub(super) fn pack_line(at: &str, metrics: &Metrics, seconds: f64) -> String {
     format!(
         "{at}: {} disks, porosity {:.4}, psd_ks {:.3}, max overlap {}, coordination {:.2}, packed in {}{}",
         metrics.particles,
@@ -587,7 +165,7 @@ fn pack_line(at: &str, metrics: &Metrics, seconds: f64) -> String {
 
 /// ` (grading bent: psd_ks 0.278 > 0.217)` when the packing's sizes lie
 /// beyond the sampling noise `gapack verify` allows ([`grading_kept`]); empty otherwise.
-fn grading_note(metrics: &Metrics) -> String {
+pub(super) fn grading_note(metrics: &Metrics) -> String {
     if grading_kept(metrics.particles, metrics.psd_ks) {
         String::new()
     } else {
@@ -600,23 +178,7 @@ fn grading_note(metrics: &Metrics) -> String {
 }
 
 /// The line under a result that a time limit stopped.
-const TIME_LIMIT_NOTE: &str = "  stopped by the time limit: another machine or load stops elsewhere, so this result is not reproducible; max_evaluations stops at the same place everywhere";
-
-/// `profile RMS 0.0123 (baseline 0.0187), GA 1.20 s, baseline 2.1 ms`.
-fn layering_line(l: &Layered) -> String {
-    if l.stop.is_none() {
-        format!("profile RMS {:.4} (size-graded)", l.rms)
-    } else {
-        format!(
-            "profile RMS {:.4} (baseline {:.4}), GA {} ({} evaluations), baseline {}",
-            l.rms,
-            l.baseline_rms,
-            duration(l.seconds),
-            l.evaluations,
-            duration(l.baseline_seconds)
-        )
-    }
-}
+pub(super) const TIME_LIMIT_NOTE: &str = "  stopped by the time limit: another machine or load stops elsewhere, so this result is not reproducible; max_evaluations stops at the same place everywhere";
 
 /// `rectangle 8.6 × 62.5 mm, area 537.5 mm², walls exact: about 340 disks (at most 430), peak memory about 41 kB`.
 fn scene_line(scene: &Scene) -> String {
@@ -650,7 +212,7 @@ fn scene_line(scene: &Scene) -> String {
 }
 
 /// `12 kB`, `1.6 MB`, `2.3 GB` (powers of 1024).
-fn memory(bytes: f64) -> String {
+pub(super) fn memory(bytes: f64) -> String {
     let kb = bytes / 1024.0;
     if kb < 1024.0 {
         format!("{kb:.0} kB")
@@ -672,7 +234,7 @@ fn tidy(v: f64) -> String {
 }
 
 /// `0` for no overlap, else 2 significant digits.
-fn overlap(v: f64) -> String {
+pub(super) fn overlap(v: f64) -> String {
     if v == 0.0 {
         "0".to_owned()
     } else {
@@ -691,7 +253,7 @@ pub fn duration(seconds: f64) -> String {
 
 /// The runs of each variant, in the variants' order; variants without a
 /// run (an interrupted comparison or sweep) are left out.
-fn by_variant<'r, R>(
+pub(super) fn by_variant<'r, R>(
     runs: &'r [R],
     variants: &'r [Variant],
     variant_of: impl Fn(&R) -> &Variant,
@@ -702,65 +264,11 @@ fn by_variant<'r, R>(
     })
 }
 
-/// The pass rates of one method's stability runs over their seeds: per
-/// seed (lowest–highest), and by domain width, each with its spread over
-/// the seeds — the lines under the method's counts.
-fn seed_spread(runs: &[&stability::StabilityRun]) -> Vec<String> {
-    let mut seeds: Vec<u64> = runs.iter().map(|r| r.seed).collect();
-    seeds.sort_unstable();
-    seeds.dedup();
-    // Passes and runs among `runs` that `keep` selects, per seed.
-    let rates = |keep: &dyn Fn(&stability::StabilityRun) -> bool| -> Vec<(usize, usize)> {
-        seeds
-            .iter()
-            .map(|&seed| {
-                let mine = runs.iter().filter(|r| r.seed == seed && keep(r));
-                mine.fold((0, 0), |(p, n), r| (p + usize::from(r.passed()), n + 1))
-            })
-            .collect()
-    };
-    let spread = |per_seed: &[(usize, usize)]| {
-        let share = |(p, n): (usize, usize)| if n == 0 { 0.0 } else { p as f64 / n as f64 };
-        let (lo, hi) = per_seed
-            .iter()
-            .map(|&c| share(c))
-            .fold((1.0f64, 0.0f64), |(lo, hi), v| (lo.min(v), hi.max(v)));
-        let (p, n) = per_seed
-            .iter()
-            .fold((0, 0), |(p, n), &(a, b)| (p + a, n + b));
-        format!(
-            "{:.0}% ({:.0}–{:.0}%)",
-            100.0 * share((p, n)),
-            100.0 * lo,
-            100.0 * hi
-        )
-    };
-    let all = rates(&|_| true);
-    let per_seed = all.iter().map(|(p, _)| *p);
-    let (lo, hi) = per_seed.fold((usize::MAX, 0), |(lo, hi), p| (lo.min(p), hi.max(p)));
-    let cases = all.first().map_or(0, |c| c.1);
-    let mut widths: Vec<f64> = runs.iter().map(|r| r.case.width).collect();
-    widths.sort_by(f64::total_cmp);
-    widths.dedup();
-    let by_width: Vec<String> = widths
-        .iter()
-        .map(|&w| format!("{w} {}", spread(&rates(&|r| r.case.width == w))))
-        .collect();
-    vec![
-        format!(
-            "    {} seeds: pass {} of all runs, per seed {lo}–{hi} of {cases}",
-            seeds.len(),
-            spread(&all)
-        ),
-        format!("    by width (d_max): {}", by_width.join(", ")),
-    ]
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::geometry::{Disk, Domain};
-    use crate::jobs::JobKind;
+    use crate::jobs::{JobKind, Report};
     use crate::packer::Packing;
 
     /// A run whose `packing.svg` holds an image says so under its line.

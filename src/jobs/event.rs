@@ -4,7 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::plan::JobKind;
+use super::registry::JobKind;
 
 /// A part of a job that reports progress.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

@@ -1,102 +1,27 @@
-//! From a config to the job that will run: one function, [`Plan::new`],
-//! holds every rule about which tables a job needs and which it ignores.
+//! From a config to the job that will run: [`Plan::load`] and
+//! [`Plan::new`] resolve the job (the config's own when the request names
+//! none), apply the request, and hand the job's own rules about which
+//! tables it needs and which it ignores to its file ([`Job`]).
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use serde::Serialize;
-
 use super::error::JobError;
 use super::event::{Warning, WarningKind};
-use super::sweep::{self as study, Study};
+use super::registry::{Job, JobKind};
 use crate::config::{self, Config, ParseOptions};
-use crate::fracture::{Extent, FIRST_DIAMETERS, FractureRun, MM_PER_M};
-use crate::ga::OptimiseSettings;
-use crate::layering::{LayeringMode, LayeringSettings};
+use crate::fracture::Extent;
+use crate::layering::LayeringMode;
 use crate::output::Format;
-
-/// The jobs gapack runs, as a front end names them.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, serde::Deserialize)]
-#[serde(rename_all = "snake_case")]
-#[non_exhaustive]
-pub enum JobKind {
-    /// Pack the scene (or each fracture of a `[fracture]` config).
-    Pack,
-    /// Search for the `[optimise]` target porosity.
-    Optimise,
-    /// Lay the `[[materials]]` out along the `[layering]` profile.
-    Layer,
-    /// Run every generator of `[compare]` on the scene.
-    Compare,
-    /// Sweep the `[compare]` methods over gradings, widths and shapes.
-    Stability,
-    /// Run the parameter study of `[sweep]`: the config's job at every
-    /// combination of the swept values, over seeds.
-    Sweep,
-}
-
-impl JobKind {
-    /// Every job, in the order front ends list them.
-    pub const ALL: [JobKind; 6] = [
-        JobKind::Pack,
-        JobKind::Optimise,
-        JobKind::Layer,
-        JobKind::Compare,
-        JobKind::Stability,
-        JobKind::Sweep,
-    ];
-
-    /// The job's name (`pack`, `optimise`, …).
-    pub fn name(self) -> &'static str {
-        match self {
-            JobKind::Pack => "pack",
-            JobKind::Optimise => "optimise",
-            JobKind::Layer => "layer",
-            JobKind::Compare => "compare",
-            JobKind::Stability => "stability",
-            JobKind::Sweep => "sweep",
-        }
-    }
-
-    /// The job called `name` (`pack`, `optimise`, …), if there is one.
-    pub fn named(name: &str) -> Option<JobKind> {
-        JobKind::ALL.into_iter().find(|k| k.name() == name)
-    }
-
-    /// Every job's name, for a message that lists them: `pack, optimise, …`.
-    pub fn names() -> String {
-        JobKind::ALL.map(JobKind::name).join(", ")
-    }
-
-    /// The job a config is written for: `sweep` with a `[sweep]` table,
-    /// else `optimise` with an `[optimise]` one, else `layer` with a
-    /// `[layering]` one, else `pack`.
-    pub fn natural(config: &Config) -> JobKind {
-        if config.sweep.is_some() {
-            JobKind::Sweep
-        } else {
-            JobKind::single(config)
-        }
-    }
-
-    /// The job one run of the config is, `[sweep]` aside: `optimise` with
-    /// an `[optimise]` table, else `layer` with a `[layering]` one, else `pack`.
-    pub fn single(config: &Config) -> JobKind {
-        if config.optimise.is_some() {
-            JobKind::Optimise
-        } else if config.layering.is_some() {
-            JobKind::Layer
-        } else {
-            JobKind::Pack
-        }
-    }
-}
 
 /// What a front end asks for besides the config.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Request {
-    /// Which job.
+    /// Which job (unless `natural`).
     pub kind: JobKind,
+    /// Plan the config's own job ([`JobKind::natural`]) in place of `kind`,
+    /// resolved by [`Plan::new`] from the config's tables.
+    pub natural: bool,
     /// Overrides the config's `seed`.
     pub seed: Option<u64>,
     /// Skip the `[limits]` refusals.
@@ -117,6 +42,7 @@ impl Request {
     pub fn new(kind: JobKind) -> Self {
         Request {
             kind,
+            natural: false,
             seed: None,
             force: false,
             resume: false,
@@ -124,56 +50,27 @@ impl Request {
             time_cap: Duration::from_secs(10),
         }
     }
-}
 
-/// The job-specific part of a plan.
-#[derive(Debug, Clone)]
-#[non_exhaustive]
-pub enum Job {
-    /// Pack one scene.
-    Pack,
-    /// Pack each fracture of `[fracture]`: whole or as a window, a batch
-    /// writing one folder per well and `wells.csv`.
-    Wells {
-        /// Whether the wells go to folders of their own (a `wells` list).
-        batch: bool,
-    },
-    /// The target-porosity search, then the layering if the config has one.
-    Optimise {
-        /// `[optimise]`.
-        settings: OptimiseSettings,
-        /// Go on from the store's checkpoint.
-        resume: bool,
-        /// Checkpoint every this many generations (0: only when cancelled).
-        checkpoint_every: usize,
-    },
-    /// Pack once, then lay the materials out.
-    Layer {
-        /// `[layering]`.
-        settings: LayeringSettings,
-    },
-    /// Every `[compare]` method variant on the scene.
-    Compare {
-        /// `[optimise] target_porosity`, which gives each run's error.
-        target: Option<f64>,
-    },
-    /// The stability sweep.
-    Stability {
-        /// Time cap of one run.
-        time_cap: Duration,
-    },
-    /// A parameter study: every run planned.
-    Sweep {
-        /// The study.
-        study: Box<Study>,
-    },
+    /// A request for the config's own job ([`JobKind::natural`]), with
+    /// the defaults of [`Request::new`].
+    pub fn natural() -> Self {
+        Request {
+            natural: true,
+            ..Request::new(JobKind::Pack)
+        }
+    }
+
+    /// A request for `kind` if given, else for the config's own job.
+    pub fn asking(kind: Option<JobKind>) -> Self {
+        kind.map_or_else(Request::natural, Request::new)
+    }
 }
 
 /// A job ready to run: the validated config (seed applied), what to do with
 /// it, and the warnings about tables it ignores.
 #[derive(Debug, Clone)]
 pub struct Plan {
-    /// Which job was asked for.
+    /// Which job: the one asked for, or the config's own for a natural request.
     pub kind: JobKind,
     /// What it does.
     pub job: Job,
@@ -189,7 +86,8 @@ pub struct Plan {
 }
 
 impl Plan {
-    /// Parse `text` (named `origin` in messages) and plan the job `request` asks for.
+    /// Parse `text` (named `origin` in messages) and plan the job `request`
+    /// asks for: the config's own ([`JobKind::natural`]) when it names none.
     ///
     /// # Errors
     /// [`JobError::Config`] for a bad config, [`JobError::Input`] when the
@@ -203,7 +101,7 @@ impl Plan {
     }
 
     /// Plan the job `request` asks for on a parsed `config` (of the text
-    /// `text`, named `origin`).
+    /// `text`, named `origin`): the config's own when it names none.
     ///
     /// # Errors
     /// [`JobError::Input`] when the job needs a table the config lacks or
@@ -220,116 +118,38 @@ impl Plan {
                 run.wells.iter_mut().for_each(|w| w.scene.seed = seed);
             }
         }
-        let mut warnings = Vec::new();
-        let mut ignore = |table: &str, used: &str| {
+        let kind = if request.natural {
+            JobKind::natural(&config)
+        } else {
+            request.kind
+        };
+        let mut planning = Planning {
+            kind,
+            config: &config,
+            text,
+            origin,
+            request,
+            ignored: Vec::new(),
+            more: Vec::new(),
+        };
+        let job = Job::plan(&mut planning)?;
+        let Planning {
+            ignored: mut warnings,
+            more,
+            ..
+        } = planning;
+        if config.sweep.is_some() && kind != JobKind::Sweep {
             warnings.push(Warning {
                 kind: WarningKind::IgnoredTable,
                 message: format!(
-                    "{origin}: [{table}] is not used by the {} job ({used})",
-                    request.kind.name()
-                ),
-            });
-        };
-        let lays_out = config
-            .layering
-            .as_ref()
-            .is_some_and(|l| l.mode != LayeringMode::Sizes);
-        let job = match request.kind {
-            JobKind::Pack => {
-                if config.optimise.is_some() {
-                    ignore(
-                        "optimise",
-                        "the optimise job searches for its target porosity",
-                    );
-                }
-                if lays_out {
-                    ignore(
-                        "layering",
-                        "the layer and optimise jobs lay the materials out",
-                    );
-                }
-                match &config.fracture {
-                    Some(run) => Job::Wells { batch: run.batch },
-                    None => Job::Pack,
-                }
-            }
-            JobKind::Optimise => {
-                let Some(settings) = config.optimise else {
-                    return Err(JobError::Input(format!(
-                        "{origin}:1:1: optimise: missing table [optimise]; the optimise job needs one with at least target_porosity"
-                    )));
-                };
-                Job::Optimise {
-                    settings,
-                    resume: request.resume,
-                    checkpoint_every: request.checkpoint_every,
-                }
-            }
-            JobKind::Layer => {
-                let Some(settings) = config.layering.clone() else {
-                    return Err(JobError::Input(format!(
-                        "{origin}:1:1: layering: missing table [layering]; the layer job needs one with at least profile, and [[materials]]"
-                    )));
-                };
-                if config.optimise.is_some() {
-                    ignore(
-                        "optimise",
-                        "the layer job packs the scene once; the optimise job searches and then lays out",
-                    );
-                }
-                Job::Layer { settings }
-            }
-            JobKind::Compare => {
-                if lays_out {
-                    ignore("layering", "every generator packs the scene alone");
-                }
-                Job::Compare {
-                    target: config.optimise.map(|o| o.target_porosity),
-                }
-            }
-            JobKind::Stability => {
-                if config.optimise.is_some() {
-                    ignore("optimise", "the sweep packs its own cases");
-                }
-                if lays_out {
-                    ignore("layering", "the sweep packs its own cases");
-                }
-                if config.fracture.is_some() {
-                    ignore(
-                        "fracture",
-                        "the sweep takes the grading, packer settings and seed, and packs its own shapes",
-                    );
-                }
-                if request.time_cap.is_zero() {
-                    return Err(JobError::Input(
-                        "the time cap of a stability run must be a positive number of seconds"
-                            .to_owned(),
-                    ));
-                }
-                Job::Stability {
-                    time_cap: request.time_cap,
-                }
-            }
-            JobKind::Sweep => Job::Sweep {
-                study: Box::new(study::plan(&config, text, origin, request, &mut warnings)?),
-            },
-        };
-        if config.sweep.is_some() && request.kind != JobKind::Sweep {
-            warnings.push(Warning {
-                kind: WarningKind::IgnoredTable,
-                message: format!(
-                    "{origin}: [sweep] is not used by the {} job (gapack sweep runs the study)",
-                    request.kind.name()
+                    "{origin}: [sweep] is not used by the {} job (the sweep job runs the study)",
+                    kind.name()
                 ),
             });
         }
-        if request.kind == JobKind::Compare
-            && let Some(run) = &config.fracture
-        {
-            compare_fracture(run, origin, &mut warnings)?;
-        }
+        warnings.extend(more);
         // A study's runs are sized (and warned of) one by one when planned.
-        if request.kind != JobKind::Sweep {
+        if kind != JobKind::Sweep {
             warnings.extend(size_warning(&config, origin));
         }
         if let Some(w) = density_warning(&config, origin)
@@ -339,7 +159,7 @@ impl Plan {
         }
         let identity = identity(text, config.scene.seed);
         Ok(Plan {
-            kind: request.kind,
+            kind,
             job,
             config,
             origin: origin.to_owned(),
@@ -359,44 +179,47 @@ impl Plan {
     }
 }
 
-/// The compare job on a `[fracture]` config runs every generator on the
-/// first well's scene, packed whole. A window (`fracture.extent =
-/// "window"`) is refused: the user asked not to pack the whole fracture,
-/// and a comparison of generators on it would pack it whole every run. A
-/// batch of full wells is compared on its first well, with a warning
-/// naming `fracture.wells`.
-fn compare_fracture(
-    run: &FractureRun,
-    origin: &str,
-    warnings: &mut Vec<Warning>,
-) -> Result<(), JobError> {
-    let Some(first) = run.wells.first() else {
-        return Ok(());
-    };
-    let others = run.wells.len() - 1;
-    if let Extent::Window { .. } = run.extent {
-        return Err(JobError::Input(format!(
-            "{origin}: fracture.extent = \"window\": the compare job packs one scene whole with every generator and grows no windows, so it would pack all {} m of well \"{}\"{} instead of a window; set fracture.extent = \"full\" to compare on the whole fracture, or give a [domain] the size of a window (its first is {FIRST_DIAMETERS}·d_max = {} mm long) to compare on one",
-            first.fracture.length / MM_PER_M,
-            first.name,
-            if others > 0 {
-                format!(" (and none of the other {others} of fracture.wells)")
-            } else {
-                String::new()
-            },
-            FIRST_DIAMETERS * first.scene.d_max(),
-        )));
-    }
-    if others > 0 {
-        warnings.push(Warning {
-            kind: WarningKind::IgnoredWells,
+/// A job being planned: the job, its config and request, and the
+/// warnings its rules give — each job's file reads it and says what it
+/// ignores ([`Planning::ignore`]).
+pub(super) struct Planning<'a> {
+    /// The job planned.
+    pub kind: JobKind,
+    /// The config, its seed overridden as asked.
+    pub config: &'a Config,
+    /// The config's text.
+    pub text: &'a str,
+    /// Names the config in messages.
+    pub origin: &'a str,
+    /// What the front end asked for.
+    pub request: &'a Request,
+    /// The tables the job does not use, said first.
+    ignored: Vec<Warning>,
+    /// The job's other warnings, said after those.
+    pub more: Vec<Warning>,
+}
+
+impl Planning<'_> {
+    /// Say that the job does not use `[table]`, and what it does (`used`).
+    pub fn ignore(&mut self, table: &str, used: &str) {
+        self.ignored.push(Warning {
+            kind: WarningKind::IgnoredTable,
             message: format!(
-                "{origin}: fracture.wells: the compare job compares the generators on the first well, \"{}\", packed whole; the other {others} wells are not packed",
-                first.name
+                "{}: [{table}] is not used by the {} job ({used})",
+                self.origin,
+                self.kind.name()
             ),
         });
     }
-    Ok(())
+
+    /// Whether the config lays its materials out (a `[layering]` table
+    /// whose mode is not size-graded packing).
+    pub fn lays_out(&self) -> bool {
+        self.config
+            .layering
+            .as_ref()
+            .is_some_and(|l| l.mode != LayeringMode::Sizes)
+    }
 }
 
 /// Where a run of the config at `path` writes: `out` if given, else the

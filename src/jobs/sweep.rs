@@ -19,14 +19,20 @@ use std::error::Error;
 
 use serde::{Deserialize, Serialize};
 
+use super::contract::Manifest;
+use super::describe::{Words, duration, interrupted_runs};
 use super::error::JobError;
 use super::event::{Event, Observer, Stage, Warning, WarningKind};
-use super::plan::{JobKind, Plan, Request};
-use super::run::{MANIFEST_JSON, Report, run_on};
+use super::plan::{Plan, Planning, Request};
+use super::registry::{Job, JobKind, Report};
+use super::run::{MANIFEST_JSON, Running, run_on};
 use super::store::{MemoryStore, Store, StoreError};
 use crate::cancel::Cancel;
-use crate::config::{Config, ConfigError, Location, ParseOptions, key_location, sweep_points};
+use crate::config::{
+    Config, ConfigError, ConfigName, Location, ParseOptions, key_location, sweep_points,
+};
 use crate::farm::{self, Farm, Local};
+use crate::fracture::Extent;
 use crate::output::{SUMMARY_JSON, SWEEP_CSV, read_sweep_csv, render_sweep};
 use crate::study::{
     Keep, Measure, Measures, Row, RunJob, Status, SweepSettings, SweptKey, point_names, run_name,
@@ -61,7 +67,7 @@ pub struct Study {
     pub resume: bool,
     /// The config's origin, which the runs' messages and files name.
     origin: String,
-    /// Skip the `[limits]` refusals (`--force`).
+    /// Skip the `[limits]` refusals (the request's `force`).
     force: bool,
     /// The request's time cap, passed on to each run's.
     time_cap: std::time::Duration,
@@ -89,7 +95,7 @@ pub struct StudyRun {
     pub name: String,
     /// Its point, an index into [`Study::points`].
     pub point: usize,
-    /// Its seed: the config's (or `--seed`) plus its place among the point's seeds.
+    /// Its seed: the config's (or the request's) plus its place among the point's seeds.
     pub seed: u64,
 }
 
@@ -105,6 +111,7 @@ impl Study {
         let config = point.config.as_ref().map_err(Clone::clone)?;
         let request = Request {
             kind: self.kind,
+            natural: false,
             seed: Some(run.seed),
             force: self.force,
             resume: false,
@@ -121,6 +128,15 @@ impl Study {
     }
 }
 
+/// The sweep job's rules: it needs a `[sweep]` table, and plans every
+/// point and run of the study ([`study`]).
+pub(super) fn plan(p: &mut Planning<'_>) -> Result<Job, JobError> {
+    let study = study(p.config, p.text, p.origin, p.request, &mut p.more)?;
+    Ok(Job::Sweep {
+        study: Box::new(study),
+    })
+}
+
 /// Plan the study of `config` (of `text`, named `origin`): every point's
 /// config, checked by planning its first run; each run's warnings once in
 /// `warnings`.
@@ -129,7 +145,7 @@ impl Study {
 /// [`JobError::Input`] without a `[sweep]` table; [`JobError::Config`]
 /// for a key or value of `[sweep]` at fault, placed at its entry, or a
 /// measure the runs do not give; what [`Plan::new`] refuses of a run.
-pub(super) fn plan(
+fn study(
     config: &Config,
     text: &str,
     origin: &str,
@@ -207,6 +223,7 @@ pub(super) fn plan(
         };
         let request = Request {
             kind,
+            natural: false,
             seed: Some(run.seed),
             force: request.force,
             resume: false,
@@ -239,11 +256,24 @@ struct Ran {
 
 /// A study run: its report, whether it was cut short, the files it made,
 /// and the files of runs resumed, which stay as the earlier study wrote them.
-pub(super) struct Finished {
-    pub report: Report,
-    pub interrupted: bool,
-    pub files: Vec<(String, Vec<u8>)>,
-    pub kept: Vec<String>,
+struct Finished {
+    report: Report,
+    interrupted: bool,
+    files: Vec<(String, Vec<u8>)>,
+    kept: Vec<String>,
+}
+
+/// Run a parameter study: its own files, each run's that it keeps, and
+/// those of the runs it resumed (left in place).
+pub(super) fn run(
+    job: &mut Running<'_>,
+    study: &Study,
+    cancel: &Cancel,
+) -> Result<(Report, bool), JobError> {
+    let done = run_study(job.plan, study, job.observer, cancel, job.store, job.farm)?;
+    job.files.extend(done.kept);
+    job.write("", done.files);
+    Ok((done.report, done.interrupted))
 }
 
 /// Run `study` (of `plan`): events to `observer`, stopped by `cancel`,
@@ -252,7 +282,7 @@ pub(super) struct Finished {
 /// # Errors
 /// [`JobError::Input`] when a resume finds no study of this plan to go on
 /// from; [`JobError::Cancelled`] when no run was finished; an output error.
-pub(super) fn run(
+fn run_study(
     plan: &Plan,
     study: &Study,
     observer: &mut dyn Observer,
@@ -507,16 +537,6 @@ struct Earlier {
     files: Vec<String>,
 }
 
-/// `manifest.json` as a resume reads it.
-#[derive(Deserialize)]
-struct EarlierManifest {
-    job: JobKind,
-    config: String,
-    identity: String,
-    seed: u64,
-    files: Vec<String>,
-}
-
 /// The store's `sweep.csv` and `manifest.json`, read by the leading
 /// process and shared, if they belong to this plan.
 fn earlier(
@@ -545,7 +565,7 @@ fn earlier(
             "there is no study to resume in {location}: it needs the {SWEEP_CSV} and {MANIFEST_JSON} of a stopped gapack sweep"
         )));
     };
-    let manifest: EarlierManifest = serde_json::from_slice(&manifest).map_err(|e| {
+    let manifest = Manifest::from_bytes(&manifest).map_err(|e| {
         JobError::Input(format!(
             "{MANIFEST_JSON} in {location} is not a gapack manifest: {e}"
         ))
@@ -568,6 +588,184 @@ fn earlier(
         rows,
         files: manifest.files,
     })
+}
+
+/// The study's lines for `gapack validate`: its runs, then each point; its own files.
+pub(super) fn words(study: &Study) -> Words {
+    let mut words = Words::new(study_line(study));
+    words.head.extend(point_lines(study));
+    words.files = Some((
+        match study.settings.keep {
+            Keep::None => "sweep.csv, .svg, .png",
+            Keep::Summary => "sweep.csv, .svg, .png, and runs/<run>/summary.json",
+            Keep::All => "sweep.csv, .svg, .png, and every file of each run in runs/<run>/",
+        },
+        "manifest.json",
+    ));
+    words
+}
+
+/// A line per point (its measures over the seeds), then the files and counts.
+pub(super) fn lines(at: &str, rows: &[Row], seeds: usize, resumed: usize) -> Vec<String> {
+    let mut lines = study_result(rows, seeds);
+    let count = |f: fn(&Status) -> bool| rows.iter().filter(|r| f(&r.status)).count();
+    let finished = count(|s| matches!(s, Status::Finished(_)));
+    let failed = count(|s| matches!(s, Status::Failed(_)));
+    let done = finished + failed;
+    lines.push(format!(
+        "{at}: sweep.csv, sweep.svg, sweep.png: {} runs, {finished} finished, {failed} failed{}{}",
+        rows.len(),
+        if resumed > 0 {
+            format!(" ({resumed} kept from the earlier sweep.csv)")
+        } else {
+            String::new()
+        },
+        interrupted_runs(done, rows.len())
+    ));
+    lines
+}
+
+/// The time of the runs finished (s).
+pub(super) fn seconds(rows: &[Row]) -> f64 {
+    rows.iter()
+        .map(|r| match &r.status {
+            Status::Finished(m) => m.seconds,
+            _ => 0.0,
+        })
+        .sum()
+}
+
+/// Points of a study listed by `gapack validate`, before `and N more`.
+const LISTED_POINTS: usize = 40;
+
+/// `job: sweep: 3 values of fracture.width_mm × 2 of grading.preset × 5 seeds = 30 pack runs, porosity charted`.
+fn study_line(study: &Study) -> String {
+    let s = &study.settings;
+    let keys: Vec<String> = s
+        .keys
+        .iter()
+        .enumerate()
+        .map(|(i, k)| {
+            let n = k.values.len();
+            if i == 0 {
+                format!("{n} value{} of {}", plural(n), k.path)
+            } else {
+                format!("{n} of {}", k.path)
+            }
+        })
+        .collect();
+    format!(
+        "job: sweep{}: {} × {} seed{} = {} {} runs, {} charted against {}",
+        if study.resume {
+            " (resumed: the finished rows of sweep.csv are kept)"
+        } else {
+            ""
+        },
+        keys.join(" × "),
+        s.seeds,
+        plural(s.seeds),
+        study.runs.len(),
+        study.kind.name(),
+        s.measure.config_name(),
+        s.keys.first().map_or("", |k| k.path.as_str()),
+    )
+}
+
+/// One line per point of a study: its disks (estimated, per run), or why it cannot run.
+fn point_lines(study: &Study) -> Vec<String> {
+    let mut lines: Vec<String> = study
+        .points
+        .iter()
+        .take(LISTED_POINTS)
+        .map(|point| {
+            let name = &point.name;
+            match &point.config {
+                Ok(config) => {
+                    let (disks, window) = match &config.fracture {
+                        Some(f) => (
+                            f.wells
+                                .iter()
+                                .map(|w| w.scene.estimated_disks())
+                                .sum::<f64>(),
+                            matches!(f.extent, Extent::Window { .. }),
+                        ),
+                        None => (config.scene.estimated_disks(), false),
+                    };
+                    format!(
+                        "point {name}: about {disks:.0} disks a run{}",
+                        if window {
+                            " if packed whole (a window packs fewer)"
+                        } else {
+                            ""
+                        }
+                    )
+                }
+                Err(why) => format!("point {name}: its runs fail: {why}"),
+            }
+        })
+        .collect();
+    let points = study.points.len();
+    if points > LISTED_POINTS {
+        lines.push(format!("… and {} more points", points - LISTED_POINTS));
+    }
+    lines
+}
+
+/// One line per point of a study's rows: its measures over the seeds
+/// that finished (porosity with its range), or why its runs failed.
+fn study_result(rows: &[Row], seeds: usize) -> Vec<String> {
+    let spreads = crate::study::spreads(rows, seeds, Measure::Porosity);
+    rows.chunks(seeds.max(1))
+        .zip(spreads)
+        .filter_map(|(point, porosity)| {
+            let first = point.first()?;
+            let name = first
+                .run
+                .rsplit_once(",seed=")
+                .map_or(first.run.as_str(), |(p, _)| p);
+            let done: Vec<&crate::study::Measures> = point
+                .iter()
+                .filter_map(|r| match &r.status {
+                    Status::Finished(m) => Some(m),
+                    _ => None,
+                })
+                .collect();
+            let Some(p) = porosity else {
+                let failed = point.iter().find_map(|r| match &r.status {
+                    Status::Failed(why) => Some(why.as_str()),
+                    _ => None,
+                });
+                return failed.map(|why| format!("{name:<40} failed: {why}"));
+            };
+            let n = done.len() as f64;
+            let mean = |f: fn(&crate::study::Measures) -> f64| done.iter().map(|m| f(m)).sum::<f64>() / n;
+            let errors: Vec<f64> = done.iter().filter_map(|m| m.target_error).collect();
+            Some(format!(
+                "{name:<40} porosity {:.4} ({:.4}–{:.4}), {:.0} disks, psd_ks {:.3}, coordination {:.2}{}, {} of {} runs, {} each",
+                p.mean,
+                p.min,
+                p.max,
+                mean(|m| m.particles as f64),
+                mean(|m| m.psd_ks),
+                mean(|m| m.coordination),
+                if errors.is_empty() {
+                    String::new()
+                } else {
+                    format!(
+                        ", target error {:.4}",
+                        errors.iter().sum::<f64>() / errors.len() as f64
+                    )
+                },
+                done.len(),
+                point.len(),
+                duration(mean(|m| m.seconds)),
+            ))
+        })
+        .collect()
+}
+
+fn plural(n: usize) -> &'static str {
+    if n == 1 { "" } else { "s" }
 }
 
 #[cfg(test)]

@@ -9,8 +9,8 @@ use std::time::{Duration, Instant};
 
 use gapack::check;
 use gapack::jobs::{
-    self, Cancel, DirStore, Event, JobError, JobKind, MemoryStore, Outcome, Plan, Report, Request,
-    Stage, WarningKind,
+    self, Cancel, DirStore, Event, JobError, JobKind, Manifest, MemoryStore, Outcome, Plan, Report,
+    Request, Stage, Summary, WarningKind,
 };
 use gapack::output::read_packing_csv;
 
@@ -105,6 +105,88 @@ fn a_pack_reports_its_stage_progress_and_files_in_order() {
     assert_eq!(manifest(&store)["interrupted"], false);
     assert!(!outcome.interrupted);
     valid_packing(&store, "", &plan);
+}
+
+/// `manifest.json` read back as a [`Manifest`] says what the run was, and
+/// written again gives the same bytes.
+#[test]
+fn a_manifest_reads_back_and_writes_the_same_bytes() {
+    let plan = plan(SQUARE, JobKind::Pack);
+    let mut store = MemoryStore::default();
+    let (outcome, _) = recorded(&plan, &mut store, |_| false);
+    let outcome = outcome.expect("packs");
+    let bytes = &store.files["manifest.json"];
+    let read = Manifest::from_bytes(bytes).expect("a manifest");
+    assert_eq!(read.job, JobKind::Pack);
+    assert_eq!(read.seed, 3);
+    assert_eq!(read.identity, plan.identity);
+    assert_eq!(read.files, outcome.files);
+    assert!(!read.interrupted);
+    assert_eq!(&read.to_bytes().expect("json"), bytes);
+    assert!(Manifest::from_bytes(b"{}").is_err());
+}
+
+/// A request that names no job plans the config's own: sweep with a
+/// `[sweep]` table, else optimise with an `[optimise]` one, else pack.
+#[test]
+fn a_request_without_a_job_plans_the_config_s_own() {
+    let own = |text: &str| {
+        Plan::load(text, "t.toml", &Request::natural())
+            .expect("plans")
+            .kind
+    };
+    assert_eq!(own(SQUARE), JobKind::Pack);
+    let search = format!("{SQUARE}[optimise]\ntarget_porosity = 0.2\n");
+    assert_eq!(own(&search), JobKind::Optimise);
+    let study = format!("{search}[sweep]\n\"domain.width\" = [20.0, 22.0]\n");
+    assert_eq!(own(&study), JobKind::Sweep);
+    // A job asked for is planned as asked.
+    let asked = Plan::load(&study, "t.toml", &Request::new(JobKind::Pack)).expect("plans");
+    assert_eq!(asked.kind, JobKind::Pack);
+}
+
+/// The summary of a finished job holds its lines, its files and the
+/// figures of its packing; a search's, its effort too.
+#[test]
+fn a_summary_holds_the_figures_of_its_job() {
+    let plan = plan(SQUARE, JobKind::Pack);
+    let mut store = MemoryStore::default();
+    let outcome = recorded(&plan, &mut store, |_| false).0.expect("packs");
+    let summary = Summary::of(&outcome, "jobs/x");
+    let Report::Pack { metrics, .. } = &outcome.report else {
+        panic!("a pack report");
+    };
+    assert_eq!(summary.particles, Some(metrics.particles));
+    assert_eq!(summary.porosity, Some(metrics.porosity));
+    assert_eq!(summary.generations, None);
+    assert_eq!(summary.files, outcome.files);
+    assert!(
+        summary.lines[0].starts_with("jobs/x: "),
+        "{:?}",
+        summary.lines
+    );
+    let json = summary.to_json().expect("json");
+    assert!(!json.contains("generations"), "{json}");
+    let read = Summary::from_json(&json).expect("reads");
+    assert_eq!(
+        (read.particles, &read.files, &read.lines),
+        (summary.particles, &summary.files, &summary.lines)
+    );
+    assert!((read.porosity.unwrap() - metrics.porosity).abs() < 1e-12);
+    let search =
+        format!("{SQUARE}[optimise]\ntarget_porosity = 0.2\npopulation = 4\ngenerations = 1\n");
+    let plan = self::plan(&search, JobKind::Optimise);
+    let outcome = recorded(&plan, &mut MemoryStore::default(), |_| false)
+        .0
+        .expect("searches");
+    let summary = Summary::of(&outcome, &outcome.location);
+    let Report::Optimise { summary: s, .. } = &outcome.report else {
+        panic!("an optimise report");
+    };
+    assert_eq!(summary.generations, Some(s.generations));
+    assert_eq!(summary.evaluations, Some(s.evaluations));
+    assert_eq!(summary.target_porosity, Some(0.2));
+    assert_eq!(summary.lines, outcome.lines());
 }
 
 #[test]

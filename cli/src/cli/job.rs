@@ -9,7 +9,7 @@ use std::time::Duration;
 use clap::Args;
 #[cfg(feature = "mpi")]
 use gapack::farm::Farm;
-use gapack::jobs::{self, Cancel, DirStore, JobError, JobKind, Outcome, Plan, Request};
+use gapack::jobs::{self, Cancel, DirStore, JobError, JobKind, Outcome, Plan, Request, Summary};
 
 use super::{Failure, ProgressObserver, load_text, report};
 
@@ -53,8 +53,9 @@ pub struct JobArgs {
 pub struct ValidateArgs {
     /// Config (TOML) to check.
     config: PathBuf,
-    /// The job to plan [default: optimise with an [optimise] table, else
-    /// layer with a [layering] one, else pack].
+    /// The job to plan [default: the config's own: sweep with a [sweep]
+    /// table, else optimise with an [optimise] one, else layer with a
+    /// [layering] one, else pack].
     #[arg(long, value_name = "JOB", value_parser = job_kind)]
     job: Option<JobKind>,
     /// The output directory the run would use.
@@ -143,7 +144,7 @@ fn tell(outcome: Result<Outcome, JobError>, args: &JobArgs) -> Result<(), Failur
         JobError::Cancelled => Failure::Stopped(e.into()),
         e => super::failure(e),
     })?;
-    for line in outcome.lines() {
+    for line in Summary::of(&outcome, &outcome.location).lines {
         report(args.quiet, || line);
     }
     if !args.quiet {
@@ -194,15 +195,12 @@ fn run_ranks(plan: &Plan, args: &JobArgs, ranks: &super::ranks::Ranks) -> Result
 /// `gapack validate`: the plan the run would execute, without running it.
 pub fn run_validate(args: &ValidateArgs) -> Result<(), Failure> {
     let (text, origin) = load_text(Some(&args.config))?;
-    let options = gapack::config::ParseOptions { force: args.force };
-    let config = gapack::config::parse_with(&text, &origin, options)
-        .map_err(|e| Failure::Input(e.into()))?;
     let request = Request {
         seed: args.seed,
         force: args.force,
-        ..Request::new(args.job.unwrap_or_else(|| JobKind::natural(&config)))
+        ..Request::asking(args.job)
     };
-    let plan = Plan::new(config, &text, &origin, &request).map_err(super::failure)?;
+    let plan = Plan::load(&text, &origin, &request).map_err(super::failure)?;
     let out = jobs::output_dir(args.out.as_deref(), &plan.config, Some(&args.config));
     report(false, || format!("{origin}: valid"));
     for line in plan.describe(&out.display().to_string()) {
