@@ -10,9 +10,8 @@ use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 use gapack::jobs::{
-    self, Cancel, DirStore, Event, JobError, JobKind, Observer, Outcome, Plan, Report, Store,
+    self, Cancel, DirStore, Event, JobError, JobKind, Observer, Outcome, Plan, Store, Summary,
 };
-use serde_json::{Value, json};
 
 use super::Shared;
 use super::db::{Ending, JobRow, State};
@@ -71,12 +70,12 @@ pub fn run_one(shared: &Arc<Shared>, job: JobRow) {
     let ending = match result {
         Ok(Ok(outcome)) if !outcome.interrupted => Ending::Final {
             state: State::Succeeded,
-            summary: Some(summary(&outcome).to_string()),
+            summary: Some(summary(&outcome)),
             error: None,
         },
         Ok(result) => {
             // Interrupted or cancelled: by whom?
-            let kept = result.as_ref().ok().map(|o| summary(o).to_string());
+            let kept = result.as_ref().ok().map(summary);
             if user_cancel {
                 Ending::Final {
                     state: State::Cancelled,
@@ -118,15 +117,13 @@ pub fn run_one(shared: &Arc<Shared>, job: JobRow) {
         tracing::error!(job = %id, error = %e, "cannot record the job's end");
     }
     if let Ending::Final { error, summary, .. } = &ending {
-        let summary: Value = summary
-            .as_deref()
-            .and_then(|s| serde_json::from_str(s).ok())
-            .unwrap_or(Value::Null);
+        let summary = summary.as_deref().and_then(|s| Summary::from_json(s).ok());
+        let figure = |f: fn(&Summary) -> Option<u64>| summary.as_ref().and_then(f).unwrap_or(0);
         shared.metrics.finished(
             state,
             seconds,
-            summary["particles"].as_u64().unwrap_or(0),
-            summary["evaluations"].as_u64().unwrap_or(0),
+            figure(|s| s.particles.map(|n| n as u64)),
+            figure(|s| s.evaluations),
         );
         tracing::info!(job = %id, state = state.name(), seconds, error = error.as_deref().unwrap_or(""), "job state");
     } else {
@@ -163,49 +160,16 @@ fn execute(shared: &Shared, job: &JobRow, cancel: &Cancel) -> Result<Outcome, Jo
     jobs::run(&plan, &mut observer, cancel, &mut store)
 }
 
-/// A finished job's summary: its result in words, its files, and the
-/// figures of its packing.
-fn summary(outcome: &Outcome) -> Value {
-    // The lines name the job's folder as `jobs/<id>`, never by the
-    // server's own path.
+/// A finished job's summary ([`Summary`]) as stored: its lines name the
+/// job's folder as `jobs/<id>`, never by the server's own path.
+fn summary(outcome: &Outcome) -> String {
     let shown = format!(
         "jobs/{}",
         outcome.location.rsplit('/').next().unwrap_or_default()
     );
-    let lines: Vec<String> = outcome
-        .lines()
-        .iter()
-        .map(|l| l.replace(&outcome.location, &shown))
-        .collect();
-    let mut summary = json!({
-        "interrupted": outcome.interrupted,
-        "files": outcome.files,
-        "lines": lines,
-    });
-    let metrics = match &outcome.report {
-        Report::Pack { metrics, .. } | Report::Layer { metrics, .. } => Some(metrics),
-        Report::Optimise {
-            metrics,
-            summary: s,
-            ..
-        } => {
-            summary["generations"] = json!(s.generations);
-            summary["evaluations"] = json!(s.evaluations);
-            summary["best_porosity"] = json!(s.best_porosity);
-            summary["target_porosity"] = json!(s.target_porosity);
-            Some(metrics)
-        }
-        Report::Wells { wells, .. } => {
-            summary["particles"] = json!(wells.iter().map(|w| w.row.particles).sum::<usize>());
-            None
-        }
-        _ => None,
-    };
-    if let Some(m) = metrics {
-        summary["particles"] = json!(m.particles);
-        summary["porosity"] = json!(m.porosity);
-    }
-    summary
+    Summary::of(outcome, &shown)
+        .to_json()
+        .unwrap_or_else(|e| format!("{{\"error\": \"summary not written: {e}\"}}"))
 }
 
 /// The observer of a job run by the service: each event appended to the

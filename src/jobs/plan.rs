@@ -17,11 +17,9 @@ use crate::output::Format;
 /// What a front end asks for besides the config.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Request {
-    /// Which job (unless `natural`).
-    pub kind: JobKind,
-    /// Plan the config's own job ([`JobKind::natural`]) in place of `kind`,
+    /// Which job; `None`: the config's own ([`JobKind::natural`]),
     /// resolved by [`Plan::new`] from the config's tables.
-    pub natural: bool,
+    pub kind: Option<JobKind>,
     /// Overrides the config's `seed`.
     pub seed: Option<u64>,
     /// Skip the `[limits]` refusals.
@@ -41,8 +39,7 @@ impl Request {
     /// enforced, no resume, a checkpoint every 10 generations, a 10 s cap.
     pub fn new(kind: JobKind) -> Self {
         Request {
-            kind,
-            natural: false,
+            kind: Some(kind),
             seed: None,
             force: false,
             resume: false,
@@ -55,14 +52,17 @@ impl Request {
     /// the defaults of [`Request::new`].
     pub fn natural() -> Self {
         Request {
-            natural: true,
+            kind: None,
             ..Request::new(JobKind::Pack)
         }
     }
 
     /// A request for `kind` if given, else for the config's own job.
     pub fn asking(kind: Option<JobKind>) -> Self {
-        kind.map_or_else(Request::natural, Request::new)
+        Request {
+            kind,
+            ..Request::natural()
+        }
     }
 }
 
@@ -118,11 +118,7 @@ impl Plan {
                 run.wells.iter_mut().for_each(|w| w.scene.seed = seed);
             }
         }
-        let kind = if request.natural {
-            JobKind::natural(&config)
-        } else {
-            request.kind
-        };
+        let kind = request.kind.unwrap_or_else(|| JobKind::natural(&config));
         let mut planning = Planning {
             kind,
             config: &config,

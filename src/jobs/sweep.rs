@@ -110,8 +110,7 @@ impl Study {
         let point = self.points.get(run.point).ok_or("no such point")?;
         let config = point.config.as_ref().map_err(Clone::clone)?;
         let request = Request {
-            kind: self.kind,
-            natural: false,
+            kind: Some(self.kind),
             seed: Some(run.seed),
             force: self.force,
             resume: false,
@@ -222,8 +221,7 @@ fn study(
             continue;
         };
         let request = Request {
-            kind,
-            natural: false,
+            kind: Some(kind),
             seed: Some(run.seed),
             force: request.force,
             resume: false,

@@ -10,8 +10,8 @@ use axum::http::{StatusCode, header};
 use axum::response::IntoResponse;
 use axum::routing::get;
 use axum::{Json, Router};
+use gapack::jobs::Manifest;
 use serde::{Deserialize, Serialize};
-use serde_json::Value;
 use utoipa::ToSchema;
 
 use super::error::{ApiError, ErrorBody};
@@ -45,13 +45,13 @@ pub struct FileList {
     interrupted: bool,
     /// The files, as `manifest.json` lists them.
     files: Vec<FileEntry>,
-    /// The manifest itself.
+    /// The manifest itself (`manifest.json`).
     #[schema(value_type = Object)]
-    manifest: Value,
+    manifest: Manifest,
 }
 
 /// The manifest of a finished job, or why there is none to serve.
-pub fn manifest(shared: &Shared, id: &str) -> Result<Value, ApiError> {
+pub fn manifest(shared: &Shared, id: &str) -> Result<Manifest, ApiError> {
     let row = shared
         .db
         .get(id)?
@@ -81,20 +81,7 @@ pub fn manifest(shared: &Shared, id: &str) -> Result<Value, ApiError> {
         }
         Err(e) => return Err(ApiError::internal(e)),
     };
-    serde_json::from_slice(&bytes).map_err(ApiError::internal)
-}
-
-/// The file names a manifest lists.
-pub fn listed(manifest: &Value) -> Vec<String> {
-    manifest["files"]
-        .as_array()
-        .map(|files| {
-            files
-                .iter()
-                .filter_map(|f| f.as_str().map(str::to_owned))
-                .collect()
-        })
-        .unwrap_or_default()
+    Manifest::from_bytes(&bytes).map_err(ApiError::internal)
 }
 
 /// A finished job's files, as its `manifest.json` lists them.
@@ -104,8 +91,10 @@ async fn files(State(shared): AppState, JobId(id): JobId) -> Result<Json<FileLis
     let list = blocking(move || {
         let manifest = manifest(&shared, &id)?;
         let dir = job_dir(&shared, &id);
-        let files = listed(&manifest)
-            .into_iter()
+        let files = manifest
+            .files
+            .iter()
+            .cloned()
             .map(|name| FileEntry {
                 bytes: std::fs::metadata(dir.join(&name)).map_or(0, |m| m.len()),
                 url: format!("/api/v1/jobs/{id}/files/{name}"),
@@ -113,7 +102,7 @@ async fn files(State(shared): AppState, JobId(id): JobId) -> Result<Json<FileLis
             })
             .collect();
         Ok(FileList {
-            interrupted: manifest["interrupted"].as_bool().unwrap_or(false),
+            interrupted: manifest.interrupted,
             files,
             manifest,
         })
@@ -163,7 +152,7 @@ async fn file(
         let name = name.clone();
         move || {
             let manifest = manifest(&shared, &id)?;
-            let known = name == gapack::jobs::MANIFEST_JSON || listed(&manifest).contains(&name);
+            let known = name == gapack::jobs::MANIFEST_JSON || manifest.files.contains(&name);
             if !known || !inside(&name) {
                 return Err(ApiError::new(
                     StatusCode::NOT_FOUND,

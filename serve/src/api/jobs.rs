@@ -12,6 +12,7 @@ use axum::http::{HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
 use axum::{Json, Router};
+use gapack::jobs::Summary;
 use rand::RngCore;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -135,16 +136,16 @@ async fn submit(State(shared): AppState, s: Submission) -> Result<impl IntoRespo
         let shared = Arc::clone(&shared);
         let id = id.clone();
         move || {
-            let (plan, request) = s.plan(&shared)?;
+            let plan = s.plan(&shared)?;
             shared.db.insert(
                 &id,
-                request.kind.name(),
+                plan.kind.name(),
                 &s.config,
                 s.seed,
                 shared.limits.max_queue,
             )?;
             Ok(Accepted {
-                kind: request.kind.name().to_owned(),
+                kind: plan.kind.name().to_owned(),
                 state: JobState::Queued,
                 seed: plan.seed(),
                 urls: Links::of(&id),
@@ -188,9 +189,9 @@ pub struct Validated {
     ))]
 async fn validate(State(shared): AppState, s: Submission) -> Result<Json<Validated>, ApiError> {
     let validated = blocking(move || {
-        let (plan, request) = s.plan(&shared)?;
+        let plan = s.plan(&shared)?;
         Ok(Validated {
-            kind: request.kind.name().to_owned(),
+            kind: plan.kind.name().to_owned(),
             seed: plan.seed(),
             identity: plan.identity.clone(),
             plan: plan.describe("jobs/<id>"),
@@ -228,9 +229,10 @@ pub struct JobView {
     /// The last progress event (stage, generation with best and mean porosity).
     #[schema(value_type = Option<Object>)]
     progress: Option<Value>,
-    /// When finished: the result in words, its files, particles, porosity.
+    /// When finished: the result in words, its files, particles, porosity
+    /// (the library's `jobs::Summary`).
     #[schema(value_type = Option<Object>)]
-    summary: Option<Value>,
+    summary: Option<Summary>,
     /// Why it failed.
     error: Option<String>,
     /// Where its resources are.
@@ -253,7 +255,7 @@ impl From<JobRow> for JobView {
             started_ms: row.started_ms,
             finished_ms: row.finished_ms,
             progress: json(row.progress),
-            summary: json(row.summary),
+            summary: row.summary.and_then(|s| Summary::from_json(&s).ok()),
             error: row.error,
         }
     }

@@ -14,7 +14,7 @@ use serde::Serialize;
 use utoipa::ToSchema;
 
 use super::error::{ApiError, ErrorBody};
-use super::files::{listed, manifest};
+use super::files::manifest;
 use super::jobs::JobId;
 use super::{AppState, blocking};
 use crate::Shared;
@@ -63,7 +63,7 @@ const OUTLINE_SEGMENTS: usize = 256;
 async fn packing(State(shared): AppState, JobId(id): JobId) -> Result<Json<PackingView>, ApiError> {
     let view = blocking(move || {
         let manifest = manifest(&shared, &id)?;
-        if !listed(&manifest).iter().any(|f| f == "packing.csv") {
+        if !manifest.files.iter().any(|f| f == "packing.csv") {
             return Err(ApiError::new(
                 StatusCode::NOT_FOUND,
                 format!("job {id} wrote no packing.csv"),

@@ -7,7 +7,7 @@ use axum::body::Bytes;
 use axum::extract::rejection::{BytesRejection, QueryRejection};
 use axum::extract::{FromRequest, FromRequestParts, Query, Request};
 use axum::http::{HeaderMap, StatusCode, header};
-use gapack::jobs::{JobError, JobKind, Plan, Request as JobRequest};
+use gapack::jobs::{JobKind, Plan, Request as JobRequest};
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
@@ -134,26 +134,17 @@ impl Submission {
 
     /// Plan the submission as a worker will, and check it against the
     /// server's rules.
-    pub fn plan(&self, shared: &Shared) -> Result<(Plan, JobRequest), ApiError> {
+    pub fn plan(&self, shared: &Shared) -> Result<Plan, ApiError> {
         if self.force && !shared.limits.force {
             return Err(ApiError::new(
                 StatusCode::FORBIDDEN,
                 "force is refused: this server was not started with --force",
             ));
         }
-        let kind = match self.kind {
-            Some(kind) => kind,
-            None => {
-                let options = gapack::config::ParseOptions { force: self.force };
-                let config = gapack::config::parse_with(&self.config, ORIGIN, options)
-                    .map_err(|e| ApiError::from(JobError::from(e)))?;
-                JobKind::natural(&config)
-            }
-        };
         let request = JobRequest {
             seed: self.seed,
             force: self.force,
-            ..JobRequest::new(kind)
+            ..JobRequest::asking(self.kind)
         };
         let plan = Plan::load(&self.config, ORIGIN, &request)?;
         if plan.config.output.dir.is_some() {
@@ -166,7 +157,7 @@ impl Submission {
         if !self.force {
             ceilings(shared, &plan)?;
         }
-        Ok((plan, request))
+        Ok(plan)
     }
 }
 
