@@ -22,5 +22,5 @@ pub use error::JobError;
 pub use event::{Event, Observer, Silent, Stage, Warning, WarningKind};
 pub use plan::{Job, JobKind, Plan, Request, output_dir};
 pub use run::{CHECKPOINT_JSON, MANIFEST_JSON, Outcome, Report, WellOutcome, run, run_on, write};
-pub use store::{DirStore, MemoryStore, Staged, Store, StoreError};
+pub use store::{DirStore, MemoryStore, Staged, Store, StoreError, check_file_name};
 pub use sweep::{Study, StudyPoint, StudyRun};
