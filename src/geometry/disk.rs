@@ -66,7 +66,7 @@ mod tests {
         let disks = [Disk::new(1.0, 2.0, 0.5), Disk::new(-3.0, 4.0, 1.0)];
         let start = (Point::new(0.0, 0.0), Point::new(1.0, 1.0));
         assert_eq!(
-            bounds_of_disks(start, &disks),
+            bounds_of_disks(start, disks),
             (Point::new(-4.0, 0.0), Point::new(1.5, 5.0))
         );
         assert_eq!(bounds_of_disks(start, &[] as &[Disk]), start);
