@@ -1,5 +1,5 @@
 //! Renderers: every output file of a run made in memory (or streamed), for
-//! a [`crate::jobs::Store`] to write.
+//! the job's store to write.
 //!
 //! One file per format; a job renders its run's whole set after an
 //! independent check of the packing.
