@@ -243,21 +243,7 @@ fn symlink_refused() -> io::Error {
 mod tests {
     use super::*;
 
-    fn scratch(name: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("gapack-atomic-{name}-{}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).expect("create scratch dir");
-        dir
-    }
-
-    fn listing(dir: &Path) -> Vec<String> {
-        let mut names: Vec<String> = fs::read_dir(dir)
-            .expect("read scratch dir")
-            .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
-            .collect();
-        names.sort();
-        names
-    }
+    use crate::jobs::store::tests::{listing, scratch};
 
     /// Commit `files`, nothing written ahead and nothing removed.
     fn write_all(files: &[(PathBuf, &[u8])]) -> Result<(), OutputError> {
@@ -266,7 +252,7 @@ mod tests {
 
     #[test]
     fn writes_and_replaces() {
-        let dir = scratch("replace");
+        let dir = scratch("atomic-replace");
         let path = dir.join("a.txt");
         write_all(&[(path.clone(), b"one")]).expect("first write");
         write_all(&[(path.clone(), b"two")]).expect("second write");
@@ -279,7 +265,7 @@ mod tests {
     #[test]
     fn files_are_as_readable_as_files_created_in_place() {
         use std::os::unix::fs::PermissionsExt;
-        let dir = scratch("mode");
+        let dir = scratch("atomic-mode");
         let (path, there) = (dir.join("a.txt"), dir.join("b.txt"));
         write_all(&[(path.clone(), b"a")]).expect("written");
         fs::write(&there, b"b").expect("created in place");
@@ -290,7 +276,7 @@ mod tests {
 
     #[test]
     fn failed_set_leaves_nothing() {
-        let dir = scratch("failure");
+        let dir = scratch("atomic-failure");
         fs::write(dir.join("a.txt"), b"old").expect("seed old file");
         let files = [
             (dir.join("a.txt"), &b"new"[..]),
@@ -305,7 +291,7 @@ mod tests {
 
     #[test]
     fn failed_rename_restores_the_files_replaced_before_it() {
-        let dir = scratch("rename");
+        let dir = scratch("atomic-rename");
         fs::write(dir.join("a.txt"), b"old a").expect("seed a");
         fs::create_dir_all(dir.join("c.txt")).expect("a directory in the way");
         let files = [
@@ -323,7 +309,7 @@ mod tests {
 
     #[test]
     fn failed_removal_puts_back_what_was_removed_and_replaced() {
-        let dir = scratch("remove");
+        let dir = scratch("atomic-remove");
         fs::write(dir.join("a.txt"), b"old a").expect("seed a");
         fs::write(dir.join("s.txt"), b"stale").expect("seed s");
         fs::create_dir_all(dir.join("d")).expect("a directory to remove");

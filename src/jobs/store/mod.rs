@@ -577,14 +577,16 @@ mod tests {
         let _ = fs::remove_dir_all(&dir);
     }
 
-    fn scratch(name: &str) -> PathBuf {
+    /// A fresh, empty folder for one test (its tests' and `atomic`'s).
+    pub(super) fn scratch(name: &str) -> PathBuf {
         let dir = std::env::temp_dir().join(format!("gapack-store-{name}-{}", std::process::id()));
         let _ = fs::remove_dir_all(&dir);
         fs::create_dir_all(&dir).expect("scratch dir");
         dir
     }
 
-    fn listing(dir: &Path) -> Vec<String> {
+    /// The names in `dir`, sorted.
+    pub(super) fn listing(dir: &Path) -> Vec<String> {
         let mut names: Vec<String> = fs::read_dir(dir)
             .expect("listed")
             .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
