@@ -15,7 +15,7 @@
 use crate::geometry::predicates::OVERLAP_REL;
 use nalgebra::Vector2;
 
-use crate::geometry::{Disk, Domain, Point};
+use crate::geometry::{Disk, Domain};
 use crate::grading::Grading;
 use crate::metrics::near::ByRadius;
 use crate::metrics::{porosity, solid_area};
@@ -227,11 +227,8 @@ fn overlapping_pairs(
     let mut worst: Option<(usize, usize, f64)> = None;
     for a in ids() {
         let p = &disks[a];
-        let reach = p.r + r_max;
-        let (lo, hi) = (
-            Point::new(p.c.x - reach, p.c.y - reach),
-            Point::new(p.c.x + reach, p.c.y + reach),
-        );
+        // The box of every centre within reach of an overlap with `p`.
+        let (lo, hi) = Disk::new(p.c.x, p.c.y, p.r + r_max).bounds();
         for v in domain.image_shifts(lo, hi) {
             let zero = v == Vector2::zeros();
             near.visit(p.c - v, p.r, |b| {

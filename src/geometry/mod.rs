@@ -6,5 +6,5 @@ mod inscribed;
 mod polygon;
 pub mod predicates;
 
-pub use disk::{Disk, Point};
+pub use disk::{Disk, Point, bounds_of_disks};
 pub use domain::{Domain, GeometryError, ImageShifts, Shape, Wall, WallMode};

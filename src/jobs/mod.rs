@@ -39,5 +39,5 @@ pub use event::{Event, Observer, Silent, Stage, Warning, WarningKind};
 pub use plan::{Plan, Request, output_dir};
 pub use registry::{Job, JobKind, Report};
 pub use run::{CHECKPOINT_JSON, MANIFEST_JSON, Outcome, WellOutcome, run, run_on, write};
-pub use store::{DirStore, MemoryStore, Staged, Store, StoreError};
+pub use store::{DirStore, MemoryStore, Staged, Store, StoreError, check_file_name};
 pub use sweep::{Study, StudyPoint, StudyRun};

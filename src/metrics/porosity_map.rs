@@ -140,10 +140,7 @@ fn map_with_areas(packing: &Packing) -> (PorosityMap, Vec<f64>, Vec<f64>) {
     for d in &packing.disks {
         // A periodic cell: each image of the disk that crosses into the
         // cell, clipped to it, so that the disk counts once, whole.
-        let (dlo, dhi) = (
-            Point::new(d.c.x - d.r, d.c.y - d.r),
-            Point::new(d.c.x + d.r, d.c.y + d.r),
-        );
+        let (dlo, dhi) = d.bounds();
         for v in domain.image_shifts(dlo, dhi) {
             let c = if periodic { d.c - v } else { d.c };
             let (c0, c1) = (

@@ -289,16 +289,8 @@ pub fn convergence_csv(history: &[Generation]) -> Result<Vec<u8>, OutputError> {
 /// Numbers use Rust's shortest round-trip formatting, so they read back
 /// exactly and the same packing always gives the same bytes.
 ///
-/// # Errors
-/// [`OutputError::Csv`] if the CSV writer fails (it does not on memory).
-pub fn packing_csv(packing: &Packing, materials: &[Material]) -> Result<Vec<u8>, OutputError> {
-    let mut bytes = Vec::new();
-    write_packing_csv(packing, materials, &mut bytes).map_err(::csv::Error::from)?;
-    Ok(bytes)
-}
-
-/// [`packing_csv`], streamed to `out` row by row: the table is never held
-/// whole in memory (a few kilobytes of buffer).
+/// Streamed to `out` row by row: the table is never held whole in memory
+/// (a few kilobytes of buffer).
 ///
 /// # Errors
 /// The first I/O error of `out`.
@@ -356,7 +348,9 @@ mod tests {
                 vec![Disk::new(1.0, 2.0, 0.5), Disk::new(0.1 + 0.2, 7.25, 1e-7)],
             )
         };
-        let text = String::from_utf8(packing_csv(&packing, &[]).expect("csv")).expect("utf-8");
+        let mut bytes = Vec::new();
+        write_packing_csv(&packing, &[], &mut bytes).expect("csv");
+        let text = String::from_utf8(bytes).expect("utf-8");
         assert_eq!(
             text,
             "id,x,y,r\n0,1,2,0.5\n1,0.30000000000000004,7.25,0.0000001\n"

@@ -5,7 +5,7 @@ use std::fmt::Write;
 use super::OutputError;
 use super::palette;
 use super::plot::packing_png;
-use crate::geometry::{Disk, Point};
+use crate::geometry::{Disk, Point, bounds_of_disks};
 use crate::layering::Material;
 use crate::packer::Packing;
 
@@ -508,10 +508,7 @@ fn base64(bytes: &[u8]) -> String {
 pub(super) fn drawn_images(packing: &Packing, disk: &Disk) -> impl Iterator<Item = Disk> {
     let domain = &packing.domain;
     let shifts: Vec<_> = if domain.is_periodic() {
-        let (lo, hi) = (
-            Point::new(disk.c.x - disk.r, disk.c.y - disk.r),
-            Point::new(disk.c.x + disk.r, disk.c.y + disk.r),
-        );
+        let (lo, hi) = disk.bounds();
         let mut shifts: Vec<_> = domain.image_shifts(lo, hi).collect();
         shifts.sort_by_key(|v| *v != nalgebra::Vector2::zeros());
         shifts
@@ -575,21 +572,11 @@ pub(super) fn frame(outline: &[Point], packing: &Packing) -> (Point, Point) {
 /// Bounding box of the outline and of every disk.
 fn extent(outline: &[Point], packing: &Packing) -> (Point, Point) {
     let (mut lo, mut hi) = packing.domain.bounds();
-    let boxes =
-        outline
-            .iter()
-            .map(|p| (*p, *p))
-            .chain(packing.boundary.iter().chain(&packing.disks).map(|d| {
-                (
-                    Point::new(d.c.x - d.r, d.c.y - d.r),
-                    Point::new(d.c.x + d.r, d.c.y + d.r),
-                )
-            }));
-    for (a, b) in boxes {
-        lo = Point::new(lo.x.min(a.x), lo.y.min(a.y));
-        hi = Point::new(hi.x.max(b.x), hi.y.max(b.y));
+    for p in outline {
+        lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
+        hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
     }
-    (lo, hi)
+    bounds_of_disks((lo, hi), packing.boundary.iter().chain(&packing.disks))
 }
 
 /// `<circle cx=".." cy=".." r=".."` (unclosed, for attributes to follow).

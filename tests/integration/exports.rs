@@ -107,6 +107,9 @@ fn packed(text: &str) -> (Config, Packing) {
     (config, packing)
 }
 
+/// An export: the packing, the materials, the options to the file's bytes.
+type Writer = fn(&Packing, &[Material], &ExportOptions) -> Result<Vec<u8>, OutputError>;
+
 fn text(bytes: Result<Vec<u8>, OutputError>) -> String {
     String::from_utf8(bytes.expect("export renders")).expect("utf-8")
 }
@@ -157,6 +160,43 @@ fn expected_type(config: &Config, packing: &Packing, i: usize) -> usize {
         1
     } else {
         usize::from(packing.materials[i]) + 1
+    }
+}
+
+/// Every scene of [`scenes`] exported by `write` in metres, then in
+/// millimetres, handed to `check` with the unit and the file's text.
+fn each_export(
+    write: Writer,
+    mut check: impl FnMut((&'static str, Config, Packing, LengthUnit, String)),
+) {
+    for units in [LengthUnit::Metre, LengthUnit::Millimetre] {
+        for (name, config, packing) in scenes() {
+            let raw = text(write(&packing, &config.materials, &opts(units)));
+            check((name, config, packing, units, raw));
+        }
+    }
+}
+
+/// `packing.json` of `packing` for the run of `config`: its metrics
+/// measured, `origin` as the config's path, `seconds` as the time taken.
+fn json_of(
+    config: &Config,
+    packing: &Packing,
+    origin: &str,
+    seconds: f64,
+) -> Result<Vec<u8>, OutputError> {
+    packing_json(
+        packing,
+        &measure(packing, &config.scene),
+        &run_of(config, origin, seconds),
+    )
+}
+
+/// The run of `config` with its materials.
+fn run_of<'a>(config: &'a Config, origin: &'a str, seconds: f64) -> RunInfo<'a> {
+    RunInfo {
+        materials: &config.materials,
+        ..RunInfo::new(&config.scene, origin, seconds, &config.output)
     }
 }
 
@@ -360,205 +400,196 @@ fn parse_lammps(text: &str) -> Lammps {
 
 #[test]
 fn lammps_header_counts_box_and_atoms_match_the_packing() {
-    for units in [LengthUnit::Metre, LengthUnit::Millimetre] {
+    each_export(lammps_data, |(name, config, packing, units, raw)| {
         let s = units.per_mm();
-        for (name, config, packing) in scenes() {
-            let raw = text(lammps_data(&packing, &config.materials, &opts(units)));
-            let first = raw.lines().next().expect("comment line");
-            let unit_note = match units {
-                LengthUnit::Metre => "units si",
-                LengthUnit::Millimetre => "lengths in mm",
-            };
-            assert!(first.contains(unit_note), "{name}: {first}");
-            // LIGGGHTS with dimension 2 makes a disc's mass of the density,
-            // LAMMPS a sphere's: the file says which.
-            assert!(
-                raw.lines().any(|l| l.starts_with("# mass from density:")
-                    && l.contains("LIGGGHTS with dimension 2, a disc of unit thickness")),
-                "{name}"
+        let first = raw.lines().next().expect("comment line");
+        let unit_note = match units {
+            LengthUnit::Metre => "units si",
+            LengthUnit::Millimetre => "lengths in mm",
+        };
+        assert!(first.contains(unit_note), "{name}: {first}");
+        // LIGGGHTS with dimension 2 makes a disc's mass of the density,
+        // LAMMPS a sphere's: the file says which.
+        assert!(
+            raw.lines().any(|l| l.starts_with("# mass from density:")
+                && l.contains("LIGGGHTS with dimension 2, a disc of unit thickness")),
+            "{name}"
+        );
+        let data = parse_lammps(&raw);
+        let n = packing.disks.len();
+        assert_eq!(data.header["atoms"], [n as f64], "{name}");
+        let types = config.materials.len().max(1);
+        assert_eq!(data.header["atom types"], [types as f64], "{name}");
+        assert_eq!(data.atoms.len(), n, "{name}");
+        let (xlo, xhi) = (data.header["xlo xhi"][0], data.header["xlo xhi"][1]);
+        let (ylo, yhi) = (data.header["ylo yhi"][0], data.header["ylo yhi"][1]);
+        let (zlo, zhi) = (data.header["zlo zhi"][0], data.header["zlo zhi"][1]);
+        assert!(zlo < 0.0 && zhi > 0.0, "{name}: z range must straddle 0");
+        let ids: BTreeSet<u64> = data.atoms.iter().map(|a| a[0] as u64).collect();
+        assert_eq!(ids, (1..=n as u64).collect(), "{name}: ids 1..=N");
+        for (i, (a, d)) in data.atoms.iter().zip(&packing.disks).enumerate() {
+            assert_eq!(a.len(), 7, "{name}: id type diameter density x y z");
+            assert_eq!(a[0], (i + 1) as f64);
+            assert_eq!(a[1], expected_type(&config, &packing, i) as f64);
+            assert!(a[1] >= 1.0 && a[1] <= types as f64);
+            same_length(a[2], 2.0 * d.r, s);
+            let per_cubic_unit = (0.001 / s).powi(3);
+            same(
+                a[3],
+                expected_density(&config, &packing, i) * per_cubic_unit,
             );
-            let data = parse_lammps(&raw);
-            let n = packing.disks.len();
-            assert_eq!(data.header["atoms"], [n as f64], "{name}");
-            let types = config.materials.len().max(1);
-            assert_eq!(data.header["atom types"], [types as f64], "{name}");
-            assert_eq!(data.atoms.len(), n, "{name}");
-            let (xlo, xhi) = (data.header["xlo xhi"][0], data.header["xlo xhi"][1]);
-            let (ylo, yhi) = (data.header["ylo yhi"][0], data.header["ylo yhi"][1]);
-            let (zlo, zhi) = (data.header["zlo zhi"][0], data.header["zlo zhi"][1]);
-            assert!(zlo < 0.0 && zhi > 0.0, "{name}: z range must straddle 0");
-            let ids: BTreeSet<u64> = data.atoms.iter().map(|a| a[0] as u64).collect();
-            assert_eq!(ids, (1..=n as u64).collect(), "{name}: ids 1..=N");
-            for (i, (a, d)) in data.atoms.iter().zip(&packing.disks).enumerate() {
-                assert_eq!(a.len(), 7, "{name}: id type diameter density x y z");
-                assert_eq!(a[0], (i + 1) as f64);
-                assert_eq!(a[1], expected_type(&config, &packing, i) as f64);
-                assert!(a[1] >= 1.0 && a[1] <= types as f64);
-                same_length(a[2], 2.0 * d.r, s);
-                let per_cubic_unit = (0.001 / s).powi(3);
-                same(
-                    a[3],
-                    expected_density(&config, &packing, i) * per_cubic_unit,
-                );
-                same_length(a[4], d.c.x, s);
-                same_length(a[5], d.c.y, s);
-                assert_eq!(a[6], 0.0);
-                // Strictly inside in x and y (LAMMPS wants x < xhi with fixed walls).
-                assert!(xlo <= a[4] && a[4] < xhi, "{name}: atom {i} outside x");
-                assert!(ylo <= a[5] && a[5] < yhi, "{name}: atom {i} outside y");
-                assert!(zlo <= a[6] && a[6] <= zhi);
-                assert!(zhi >= 0.5 * a[2] - 1e-15, "{name}: z range under a radius");
-            }
+            same_length(a[4], d.c.x, s);
+            same_length(a[5], d.c.y, s);
+            assert_eq!(a[6], 0.0);
+            // Strictly inside in x and y (LAMMPS wants x < xhi with fixed walls).
+            assert!(xlo <= a[4] && a[4] < xhi, "{name}: atom {i} outside x");
+            assert!(ylo <= a[5] && a[5] < yhi, "{name}: atom {i} outside y");
+            assert!(zlo <= a[6] && a[6] <= zhi);
+            assert!(zhi >= 0.5 * a[2] - 1e-15, "{name}: z range under a radius");
         }
-    }
+    });
 }
 
 // ---------------------------------------------------------------- YADE
 
 #[test]
 fn yade_lines_follow_the_format_line() {
-    for units in [LengthUnit::Metre, LengthUnit::Millimetre] {
+    each_export(yade_text, |(name, config, packing, units, raw)| {
         let s = units.per_mm();
-        for (name, config, packing) in scenes() {
-            let raw = text(yade_text(&packing, &config.materials, &opts(units)));
-            let mut lines = raw.lines();
-            let format = lines.next().expect("format line");
-            let columns = if config.materials.is_empty() {
-                assert_eq!(format, "#format x_y_z_r", "{name}");
-                4
-            } else {
-                assert_eq!(format, "#format x_y_z_r_matId", "{name}");
-                // Loading it without the materials fails in YADE ("Material
-                // id out of range"): the file says what to do first.
-                assert!(
-                    raw.contains(&format!(
-                        "# append {} materials to O.materials in that order before ymport.text",
-                        config.materials.len()
-                    )),
-                    "{name}"
-                );
-                5
-            };
-            let rows: Vec<Vec<f64>> = lines
-                .filter(|l| {
-                    assert!(!l.trim().is_empty(), "{name}: blank line");
-                    !l.starts_with('#')
-                })
-                .map(|l| l.split(' ').map(num).collect())
-                .collect();
-            assert_eq!(rows.len(), packing.disks.len(), "{name}");
-            for (i, (row, d)) in rows.iter().zip(&packing.disks).enumerate() {
-                assert_eq!(row.len(), columns, "{name}: row {i}");
-                same_length(row[0], d.c.x, s);
-                same_length(row[1], d.c.y, s);
-                assert_eq!(row[2], 0.0);
-                same_length(row[3], d.r, s);
-                if columns == 5 {
-                    // YADE's matId: the material's index from 0.
-                    assert_eq!(row[4], f64::from(packing.materials[i]), "{name}");
-                }
+        let mut lines = raw.lines();
+        let format = lines.next().expect("format line");
+        let columns = if config.materials.is_empty() {
+            assert_eq!(format, "#format x_y_z_r", "{name}");
+            4
+        } else {
+            assert_eq!(format, "#format x_y_z_r_matId", "{name}");
+            // Loading it without the materials fails in YADE ("Material
+            // id out of range"): the file says what to do first.
+            assert!(
+                raw.contains(&format!(
+                    "# append {} materials to O.materials in that order before ymport.text",
+                    config.materials.len()
+                )),
+                "{name}"
+            );
+            5
+        };
+        let rows: Vec<Vec<f64>> = lines
+            .filter(|l| {
+                assert!(!l.trim().is_empty(), "{name}: blank line");
+                !l.starts_with('#')
+            })
+            .map(|l| l.split(' ').map(num).collect())
+            .collect();
+        assert_eq!(rows.len(), packing.disks.len(), "{name}");
+        for (i, (row, d)) in rows.iter().zip(&packing.disks).enumerate() {
+            assert_eq!(row.len(), columns, "{name}: row {i}");
+            same_length(row[0], d.c.x, s);
+            same_length(row[1], d.c.y, s);
+            assert_eq!(row[2], 0.0);
+            same_length(row[3], d.r, s);
+            if columns == 5 {
+                // YADE's matId: the material's index from 0.
+                assert_eq!(row[4], f64::from(packing.materials[i]), "{name}");
             }
         }
-    }
+    });
 }
 
 // ---------------------------------------------------------------- PFC
 
 #[test]
 fn pfc_creates_one_ball_per_disk_inside_the_domain_extent() {
-    for units in [LengthUnit::Metre, LengthUnit::Millimetre] {
+    each_export(pfc_commands, |(name, config, packing, units, raw)| {
         let s = units.per_mm();
-        for (name, config, packing) in scenes() {
-            let raw = text(pfc_commands(&packing, &config.materials, &opts(units)));
-            let mut extent = None;
-            let mut balls = Vec::new();
-            let mut densities = BTreeMap::new();
-            let mut walls = Vec::new();
-            let mut commands = Vec::new();
-            for line in raw.lines() {
-                if line.starts_with(';') {
-                    continue;
-                }
-                let w: Vec<&str> = line.split(' ').collect();
-                commands.push(format!("{} {}", w[0], w.get(1).unwrap_or(&"")));
-                match (w[0], w.get(1).copied()) {
-                    ("model", Some("domain")) => {
-                        assert_eq!(w[2], "extent");
-                        assert!(extent.is_none(), "{name}: two domain extents");
-                        extent = Some([num(w[3]), num(w[4]), num(w[5]), num(w[6])]);
-                    }
-                    ("ball", Some("create")) => {
-                        assert_eq!(
-                            (w[2], w[4], w[6], w[8], w[10]),
-                            ("id", "position-x", "position-y", "radius", "group"),
-                            "{line}"
-                        );
-                        let group = w[11].trim_matches('\'').to_owned();
-                        assert_eq!(w[11], format!("'{group}'"));
-                        balls.push((
-                            w[3].parse::<u64>().expect("id"),
-                            num(w[5]),
-                            num(w[7]),
-                            num(w[9]),
-                            group,
-                        ));
-                    }
-                    ("ball", Some("attribute")) => {
-                        assert_eq!((w[2], w[4], w[5]), ("density", "range", "group"), "{line}");
-                        densities.insert(w[6].trim_matches('\'').to_owned(), num(w[3]));
-                    }
-                    ("wall", _) => walls.push(line.to_owned()),
-                    ("model", Some("new")) => {}
-                    _ => panic!("{name}: unexpected command {line}"),
-                }
+        let mut extent = None;
+        let mut balls = Vec::new();
+        let mut densities = BTreeMap::new();
+        let mut walls = Vec::new();
+        let mut commands = Vec::new();
+        for line in raw.lines() {
+            if line.starts_with(';') {
+                continue;
             }
-            assert_eq!(commands[0], "model new", "{name}");
-            assert_eq!(commands[1], "model domain", "{name}: domain before balls");
-            let [xmin, xmax, ymin, ymax] = extent.expect("domain extent");
-            assert_eq!(balls.len(), packing.disks.len(), "{name}");
-            let ids: BTreeSet<u64> = balls.iter().map(|b| b.0).collect();
-            assert_eq!(ids.len(), balls.len(), "{name}: ids not unique");
-            let min_extent = (xmax - xmin).min(ymax - ymin);
-            for (i, ((_, x, y, r, group), d)) in balls.iter().zip(&packing.disks).enumerate() {
-                same_length(*x, d.c.x, s);
-                same_length(*y, d.c.y, s);
-                same_length(*r, d.r, s);
-                assert!(xmin < x - r && x + r < xmax, "{name}: ball {i} outside x");
-                assert!(ymin < y - r && y + r < ymax, "{name}: ball {i} outside y");
-                assert!(*r < 0.25 * min_extent, "{name}: PFC refuses r ≥ extent/4");
-                let want = if config.materials.is_empty() {
-                    "gapack"
-                } else if packing.materials[i] == 0 {
-                    "ceramic"
-                } else {
-                    "hard_metal"
-                };
-                assert_eq!(group, want, "{name}");
-                same(
-                    densities[group],
-                    expected_density(&config, &packing, i) * ((0.001 / s).powi(3)),
-                );
-            }
-            let (lo, hi) = packing.domain.bounds();
-            assert!(xmin < lo.x * s && hi.x * s < xmax && ymin < lo.y * s && hi.y * s < ymax);
-            if name == "circle" {
-                assert_eq!(walls.len(), 1, "{name}");
-                assert!(walls[0].starts_with("wall generate name 'domain' circle position ("));
-            } else {
-                assert_eq!(
-                    walls.len(),
-                    packing.domain.outline(0).len(),
-                    "{name}: one facet per edge"
-                );
-                assert!(walls[0].starts_with("wall create name 'domain' vertices ("));
-                assert!(
-                    walls[1..]
-                        .iter()
-                        .all(|w| w.starts_with("wall addfacet name 'domain' vertex ("))
-                );
+            let w: Vec<&str> = line.split(' ').collect();
+            commands.push(format!("{} {}", w[0], w.get(1).unwrap_or(&"")));
+            match (w[0], w.get(1).copied()) {
+                ("model", Some("domain")) => {
+                    assert_eq!(w[2], "extent");
+                    assert!(extent.is_none(), "{name}: two domain extents");
+                    extent = Some([num(w[3]), num(w[4]), num(w[5]), num(w[6])]);
+                }
+                ("ball", Some("create")) => {
+                    assert_eq!(
+                        (w[2], w[4], w[6], w[8], w[10]),
+                        ("id", "position-x", "position-y", "radius", "group"),
+                        "{line}"
+                    );
+                    let group = w[11].trim_matches('\'').to_owned();
+                    assert_eq!(w[11], format!("'{group}'"));
+                    balls.push((
+                        w[3].parse::<u64>().expect("id"),
+                        num(w[5]),
+                        num(w[7]),
+                        num(w[9]),
+                        group,
+                    ));
+                }
+                ("ball", Some("attribute")) => {
+                    assert_eq!((w[2], w[4], w[5]), ("density", "range", "group"), "{line}");
+                    densities.insert(w[6].trim_matches('\'').to_owned(), num(w[3]));
+                }
+                ("wall", _) => walls.push(line.to_owned()),
+                ("model", Some("new")) => {}
+                _ => panic!("{name}: unexpected command {line}"),
             }
         }
-    }
+        assert_eq!(commands[0], "model new", "{name}");
+        assert_eq!(commands[1], "model domain", "{name}: domain before balls");
+        let [xmin, xmax, ymin, ymax] = extent.expect("domain extent");
+        assert_eq!(balls.len(), packing.disks.len(), "{name}");
+        let ids: BTreeSet<u64> = balls.iter().map(|b| b.0).collect();
+        assert_eq!(ids.len(), balls.len(), "{name}: ids not unique");
+        let min_extent = (xmax - xmin).min(ymax - ymin);
+        for (i, ((_, x, y, r, group), d)) in balls.iter().zip(&packing.disks).enumerate() {
+            same_length(*x, d.c.x, s);
+            same_length(*y, d.c.y, s);
+            same_length(*r, d.r, s);
+            assert!(xmin < x - r && x + r < xmax, "{name}: ball {i} outside x");
+            assert!(ymin < y - r && y + r < ymax, "{name}: ball {i} outside y");
+            assert!(*r < 0.25 * min_extent, "{name}: PFC refuses r ≥ extent/4");
+            let want = if config.materials.is_empty() {
+                "gapack"
+            } else if packing.materials[i] == 0 {
+                "ceramic"
+            } else {
+                "hard_metal"
+            };
+            assert_eq!(group, want, "{name}");
+            same(
+                densities[group],
+                expected_density(&config, &packing, i) * ((0.001 / s).powi(3)),
+            );
+        }
+        let (lo, hi) = packing.domain.bounds();
+        assert!(xmin < lo.x * s && hi.x * s < xmax && ymin < lo.y * s && hi.y * s < ymax);
+        if name == "circle" {
+            assert_eq!(walls.len(), 1, "{name}");
+            assert!(walls[0].starts_with("wall generate name 'domain' circle position ("));
+        } else {
+            assert_eq!(
+                walls.len(),
+                packing.domain.outline(0).len(),
+                "{name}: one facet per edge"
+            );
+            assert!(walls[0].starts_with("wall create name 'domain' vertices ("));
+            assert!(
+                walls[1..]
+                    .iter()
+                    .all(|w| w.starts_with("wall addfacet name 'domain' vertex ("))
+            );
+        }
+    });
 }
 
 /// The PFC wall of a packing with wall disks stands where the balls touch
@@ -643,92 +674,86 @@ fn pfc_walls_of_wall_disks_touch_the_nearest_ball() {
 
 #[test]
 fn mercury_count_bounds_and_eight_columns() {
-    for units in [LengthUnit::Metre, LengthUnit::Millimetre] {
+    each_export(mercury_data, |(name, config, packing, units, raw)| {
         let s = units.per_mm();
-        for (name, config, packing) in scenes() {
-            let raw = text(mercury_data(&packing, &config.materials, &opts(units)));
-            let mut lines = raw.lines();
-            let head: Vec<f64> = lines.next().expect("header").split(' ').map(num).collect();
-            assert_eq!(head.len(), 6, "{name}: N time xmin ymin xmax ymax");
-            assert_eq!(head[0], packing.disks.len() as f64, "{name}");
-            assert_eq!(head[1], 0.0);
-            let (xmin, ymin, xmax, ymax) = (head[2], head[3], head[4], head[5]);
-            let rows: Vec<Vec<f64>> = lines.map(|l| l.split(' ').map(num).collect()).collect();
-            assert_eq!(rows.len(), packing.disks.len(), "{name}");
-            for (i, (row, d)) in rows.iter().zip(&packing.disks).enumerate() {
-                assert_eq!(row.len(), 8, "{name}: x y vx vy r angle omega species");
-                same_length(row[0], d.c.x, s);
-                same_length(row[1], d.c.y, s);
-                same_length(row[4], d.r, s);
-                assert_eq!([row[2], row[3], row[5], row[6]], [0.0; 4]);
-                let species = if config.materials.is_empty() {
-                    0.0
-                } else {
-                    f64::from(packing.materials[i])
-                };
-                assert_eq!(row[7], species, "{name}");
-                let eps = 1e-12 * (xmax - xmin).max(ymax - ymin);
-                assert!(
-                    xmin <= row[0] - row[4] + eps && row[0] + row[4] <= xmax + eps,
-                    "{name}: {i}"
-                );
-                assert!(
-                    ymin <= row[1] - row[4] + eps && row[1] + row[4] <= ymax + eps,
-                    "{name}: {i}"
-                );
-            }
+        let mut lines = raw.lines();
+        let head: Vec<f64> = lines.next().expect("header").split(' ').map(num).collect();
+        assert_eq!(head.len(), 6, "{name}: N time xmin ymin xmax ymax");
+        assert_eq!(head[0], packing.disks.len() as f64, "{name}");
+        assert_eq!(head[1], 0.0);
+        let (xmin, ymin, xmax, ymax) = (head[2], head[3], head[4], head[5]);
+        let rows: Vec<Vec<f64>> = lines.map(|l| l.split(' ').map(num).collect()).collect();
+        assert_eq!(rows.len(), packing.disks.len(), "{name}");
+        for (i, (row, d)) in rows.iter().zip(&packing.disks).enumerate() {
+            assert_eq!(row.len(), 8, "{name}: x y vx vy r angle omega species");
+            same_length(row[0], d.c.x, s);
+            same_length(row[1], d.c.y, s);
+            same_length(row[4], d.r, s);
+            assert_eq!([row[2], row[3], row[5], row[6]], [0.0; 4]);
+            let species = if config.materials.is_empty() {
+                0.0
+            } else {
+                f64::from(packing.materials[i])
+            };
+            assert_eq!(row[7], species, "{name}");
+            let eps = 1e-12 * (xmax - xmin).max(ymax - ymin);
+            assert!(
+                xmin <= row[0] - row[4] + eps && row[0] + row[4] <= xmax + eps,
+                "{name}: {i}"
+            );
+            assert!(
+                ymin <= row[1] - row[4] + eps && row[1] + row[4] <= ymax + eps,
+                "{name}: {i}"
+            );
         }
-    }
+    });
 }
 
 // ---------------------------------------------------------------- ESyS-Particle
 
 #[test]
 fn esys_sections_in_order_with_counts_and_box() {
-    for units in [LengthUnit::Metre, LengthUnit::Millimetre] {
+    each_export(esys_geometry, |(name, config, packing, units, raw)| {
         let s = units.per_mm();
-        for (name, config, packing) in scenes() {
-            let raw = text(esys_geometry(&packing, &config.materials, &opts(units)));
-            let lines: Vec<&str> = raw.lines().collect();
-            let n = packing.disks.len();
-            assert_eq!(lines.len(), n + 11, "{name}");
-            assert_eq!(lines[0], "LSMGeometry 1.2");
-            let bbox: Vec<&str> = lines[1].split(' ').collect();
-            assert_eq!((bbox[0], bbox.len()), ("BoundingBox", 7), "{name}");
-            let b: Vec<f64> = bbox[1..].iter().map(|v| num(v)).collect();
-            assert_eq!(lines[2], "PeriodicBoundaries 0 0 0");
-            assert_eq!(lines[3], "Dimension 2D");
-            assert_eq!(lines[4], "BeginParticles");
-            assert_eq!(lines[5], "Simple");
-            assert_eq!(lines[6], n.to_string());
-            assert_eq!(
-                lines[7 + n..],
-                ["EndParticles", "BeginConnect", "0", "EndConnect"]
+        let lines: Vec<&str> = raw.lines().collect();
+        let n = packing.disks.len();
+        assert_eq!(lines.len(), n + 11, "{name}");
+        assert_eq!(lines[0], "LSMGeometry 1.2");
+        let bbox: Vec<&str> = lines[1].split(' ').collect();
+        assert_eq!((bbox[0], bbox.len()), ("BoundingBox", 7), "{name}");
+        let b: Vec<f64> = bbox[1..].iter().map(|v| num(v)).collect();
+        assert_eq!(lines[2], "PeriodicBoundaries 0 0 0");
+        assert_eq!(lines[3], "Dimension 2D");
+        assert_eq!(lines[4], "BeginParticles");
+        assert_eq!(lines[5], "Simple");
+        assert_eq!(lines[6], n.to_string());
+        assert_eq!(
+            lines[7 + n..],
+            ["EndParticles", "BeginConnect", "0", "EndConnect"]
+        );
+        assert!(b[2] < 0.0 && b[5] > 0.0, "{name}: z range");
+        let mut ids = BTreeSet::new();
+        for (i, (line, d)) in lines[7..7 + n].iter().zip(&packing.disks).enumerate() {
+            let v: Vec<f64> = line.split(' ').map(num).collect();
+            assert_eq!(v.len(), 6, "{name}: x y z r id tag");
+            same_length(v[0], d.c.x, s);
+            same_length(v[1], d.c.y, s);
+            assert_eq!(v[2], 0.0);
+            same_length(v[3], d.r, s);
+            assert!(ids.insert(v[4] as u64), "{name}: repeated id");
+            assert_eq!(v[4], i as f64);
+            assert_eq!(v[5], expected_type(&config, &packing, i) as f64, "{name}");
+            let eps = 1e-12 * (b[3] - b[0]).max(b[4] - b[1]);
+            assert!(
+                b[0] <= v[0] - v[3] + eps && v[0] + v[3] <= b[3] + eps,
+                "{name}: {i} outside x"
             );
-            assert!(b[2] < 0.0 && b[5] > 0.0, "{name}: z range");
-            let mut ids = BTreeSet::new();
-            for (i, (line, d)) in lines[7..7 + n].iter().zip(&packing.disks).enumerate() {
-                let v: Vec<f64> = line.split(' ').map(num).collect();
-                assert_eq!(v.len(), 6, "{name}: x y z r id tag");
-                same_length(v[0], d.c.x, s);
-                same_length(v[1], d.c.y, s);
-                assert_eq!(v[2], 0.0);
-                same_length(v[3], d.r, s);
-                assert!(ids.insert(v[4] as u64), "{name}: repeated id");
-                assert_eq!(v[4], i as f64);
-                assert_eq!(v[5], expected_type(&config, &packing, i) as f64, "{name}");
-                let eps = 1e-12 * (b[3] - b[0]).max(b[4] - b[1]);
-                assert!(
-                    b[0] <= v[0] - v[3] + eps && v[0] + v[3] <= b[3] + eps,
-                    "{name}: {i} outside x"
-                );
-                assert!(
-                    b[1] <= v[1] - v[3] + eps && v[1] + v[3] <= b[4] + eps,
-                    "{name}: {i} outside y"
-                );
-            }
+            assert!(
+                b[1] <= v[1] - v[3] + eps && v[1] + v[3] <= b[4] + eps,
+                "{name}: {i} outside y"
+            );
         }
-    }
+    });
 }
 
 // ---------------------------------------------------------------- JSON
@@ -737,10 +762,7 @@ fn esys_sections_in_order_with_counts_and_box() {
 fn json_holds_domain_disks_and_the_summary() {
     for (name, config, packing) in scenes() {
         let metrics = measure(&packing, &config.scene);
-        let run = RunInfo {
-            materials: &config.materials,
-            ..RunInfo::new(&config.scene, "test.toml", 0.25, &config.output)
-        };
+        let run = run_of(&config, "test.toml", 0.25);
         let raw = packing_json(&packing, &metrics, &run).expect("renders");
         let doc: serde_json::Value = serde_json::from_slice(&raw).expect("valid JSON");
         assert_eq!(doc["units"], "mm");
@@ -807,8 +829,6 @@ fn json_holds_domain_disks_and_the_summary() {
 
 // ---------------------------------------------------------------- all formats
 
-type Writer = fn(&Packing, &[Material], &ExportOptions) -> Result<Vec<u8>, OutputError>;
-
 const WRITERS: [(&str, Writer); 6] = [
     ("vtk", packing_vtk),
     ("lammps", lammps_data),
@@ -832,14 +852,9 @@ fn same_packing_gives_the_same_bytes() {
         }
     }
     assert_eq!(boundary_vtk(&first), boundary_vtk(&second));
-    let metrics = measure(&first, &config.scene);
-    let run = RunInfo {
-        materials: &config.materials,
-        ..RunInfo::new(&config.scene, "test", 0.0, &config.output)
-    };
     assert_eq!(
-        packing_json(&first, &metrics, &run).expect("json"),
-        packing_json(&second, &metrics, &run).expect("json")
+        json_of(&config, &first, "test", 0.0).expect("json"),
+        json_of(&config, &second, "test", 0.0).expect("json")
     );
 }
 
@@ -885,13 +900,8 @@ fn a_material_outside_the_list_is_refused() {
             other => panic!("{name}: {:?}", other.map(|b| b.len())),
         }
     }
-    let metrics = measure(&packing, &config.scene);
-    let run = RunInfo {
-        materials: &config.materials,
-        ..RunInfo::new(&config.scene, "test", 0.0, &config.output)
-    };
     assert!(matches!(
-        packing_json(&packing, &metrics, &run),
+        json_of(&config, &packing, "test", 0.0),
         Err(OutputError::UnknownMaterial { disk: 3, .. })
     ));
     // Without a list of materials the indices are not used.
@@ -927,13 +937,8 @@ fn an_empty_packing_gives_valid_empty_files() {
     let esys = text(esys_geometry(&packing, m, &o));
     assert_eq!(esys.lines().nth(6), Some("0"));
     assert_eq!(esys.lines().count(), 11);
-    let metrics = measure(&packing, &config.scene);
-    let run = RunInfo {
-        materials: m,
-        ..RunInfo::new(&config.scene, "test", 0.0, &config.output)
-    };
     let doc: serde_json::Value =
-        serde_json::from_slice(&packing_json(&packing, &metrics, &run).expect("json"))
+        serde_json::from_slice(&json_of(&config, &packing, "test", 0.0).expect("json"))
             .expect("valid JSON");
     assert_eq!(doc["disks"], serde_json::json!([]));
 }

@@ -1,10 +1,11 @@
 //! What the export writers share: text building, number formatting, the
-//! material of each disk, densities, bounds and safe material labels.
+//! set-up of an export (each disk's material and its row in the file's
+//! unit, densities, the extent) and safe material labels.
 
 use std::collections::BTreeSet;
 use std::fmt::{self, Write};
 
-use crate::geometry::Point;
+use crate::geometry::{Point, bounds_of_disks};
 use crate::layering::Material;
 use crate::output::OutputError;
 use crate::output::format::ExportOptions;
@@ -53,35 +54,119 @@ impl fmt::Display for Num {
     }
 }
 
-/// The material index of every packed disk, or `None` for all of them when
-/// `materials` is empty. A disk beyond `packing.materials` has material 0
-/// (as in `packing.csv`).
-///
-/// # Errors
-/// [`OutputError::UnknownMaterial`] for the first disk whose index is not in
-/// `materials`.
-pub(super) fn disk_materials(
-    packing: &Packing,
-    materials: &[Material],
-) -> Result<Vec<Option<usize>>, OutputError> {
-    if materials.is_empty() {
-        return Ok(vec![None; packing.disks.len()]);
-    }
-    (0..packing.disks.len())
-        .map(|disk| {
-            let material = packing.materials.get(disk).copied().unwrap_or(0);
-            let index = usize::from(material);
-            if index < materials.len() {
-                Ok(Some(index))
-            } else {
-                Err(OutputError::UnknownMaterial {
-                    disk,
-                    material,
-                    count: materials.len(),
+/// What every export starts from: the packing, each disk's material
+/// (checked against the materials given) and the length scale, with the
+/// disks as rows ([`Export::rows`]) and the packing's extent and largest
+/// radius.
+pub(super) struct Export<'a> {
+    /// The packing exported.
+    pub(super) packing: &'a Packing,
+    /// The export's length unit per mm (1 for files in mm).
+    pub(super) s: f64,
+    /// Per packed disk, its index in `materials` (`None` without materials).
+    kinds: Vec<Option<usize>>,
+}
+
+/// One packed disk as an export writes it: lengths in the export's unit.
+pub(super) struct Row {
+    /// Index in placement order (`packing.csv`'s id, from 0).
+    pub(super) id: usize,
+    /// Centre, x.
+    pub(super) x: Num,
+    /// Centre, y.
+    pub(super) y: Num,
+    /// Radius.
+    pub(super) r: Num,
+    /// Diameter.
+    pub(super) d: Num,
+    /// Index into the materials (`None` without materials).
+    pub(super) material: Option<usize>,
+}
+
+impl<'a> Export<'a> {
+    /// The export of `packing` with `materials`, lengths times `s` (the
+    /// unit's length for one mm).
+    ///
+    /// A disk beyond `packing.materials` has material 0 (as in
+    /// `packing.csv`).
+    ///
+    /// # Errors
+    /// [`OutputError::UnknownMaterial`] for the first disk whose index is
+    /// not in a non-empty `materials`.
+    pub(super) fn new(
+        packing: &'a Packing,
+        materials: &'a [Material],
+        s: f64,
+    ) -> Result<Self, OutputError> {
+        let kinds = if materials.is_empty() {
+            vec![None; packing.disks.len()]
+        } else {
+            (0..packing.disks.len())
+                .map(|disk| {
+                    let material = packing.materials.get(disk).copied().unwrap_or(0);
+                    let index = usize::from(material);
+                    if index < materials.len() {
+                        Ok(Some(index))
+                    } else {
+                        Err(OutputError::UnknownMaterial {
+                            disk,
+                            material,
+                            count: materials.len(),
+                        })
+                    }
                 })
-            }
-        })
-        .collect()
+                .collect::<Result<_, _>>()?
+        };
+        Ok(Export { packing, s, kinds })
+    }
+
+    /// The DEM export of `packing`: lengths in `opts.units`.
+    ///
+    /// # Errors
+    /// As [`Export::new`].
+    pub(super) fn dem(
+        packing: &'a Packing,
+        materials: &'a [Material],
+        opts: &ExportOptions,
+    ) -> Result<Self, OutputError> {
+        Export::new(packing, materials, opts.units.per_mm())
+    }
+
+    /// How many disks.
+    pub(super) fn len(&self) -> usize {
+        self.packing.disks.len()
+    }
+
+    /// The packed disks in placement order, lengths scaled.
+    pub(super) fn rows(&self) -> impl Iterator<Item = Row> + '_ {
+        let s = self.s;
+        self.packing.disks.iter().zip(&self.kinds).enumerate().map(
+            move |(id, (disk, &material))| Row {
+                id,
+                x: Num(disk.c.x * s),
+                y: Num(disk.c.y * s),
+                r: Num(disk.r * s),
+                d: Num(2.0 * disk.r * s),
+                material,
+            },
+        )
+    }
+
+    /// Axis-aligned box (mm) holding the domain and every packed disk
+    /// whole; a periodic cell's own bounds (its disks cross them, as
+    /// periodic images).
+    pub(super) fn extent(&self) -> (Point, Point) {
+        let bounds = self.packing.domain.bounds();
+        if self.packing.domain.is_periodic() {
+            return bounds;
+        }
+        bounds_of_disks(bounds, &self.packing.disks)
+    }
+
+    /// Largest packed radius (mm), 0 without disks.
+    pub(super) fn r_max(&self) -> f64 {
+        self.packing.disks.iter().map(|d| d.r).fold(0.0, f64::max)
+    }
 }
 
 /// Density (kg/m³) of material `m`: its `density` property, else the
@@ -101,27 +186,6 @@ pub(super) fn type_id(m: Option<usize>) -> usize {
 /// Number of types: one per material, at least one.
 pub(super) fn type_count(materials: &[Material]) -> usize {
     materials.len().max(1)
-}
-
-/// Axis-aligned box (mm) holding the domain and every packed disk whole;
-/// a periodic cell's own bounds (its disks cross them, as periodic images).
-pub(super) fn extent(packing: &Packing) -> (Point, Point) {
-    let (mut lo, mut hi) = packing.domain.bounds();
-    if packing.domain.is_periodic() {
-        return (lo, hi);
-    }
-    for d in &packing.disks {
-        lo.x = lo.x.min(d.c.x - d.r);
-        lo.y = lo.y.min(d.c.y - d.r);
-        hi.x = hi.x.max(d.c.x + d.r);
-        hi.y = hi.y.max(d.c.y + d.r);
-    }
-    (lo, hi)
-}
-
-/// Largest packed radius (mm), 0 without disks.
-pub(super) fn r_max(packing: &Packing) -> f64 {
-    packing.disks.iter().map(|d| d.r).fold(0.0, f64::max)
 }
 
 /// One label per material that any reader takes as a single word: its name

@@ -1,6 +1,6 @@
 //! `packing.geo`: an ESyS-Particle geometry file, 2D.
 
-use super::common::{Num, Text, disk_materials, extent, r_max, type_id};
+use super::common::{Export, Num, Text, type_id};
 use crate::layering::Material;
 use crate::output::OutputError;
 use crate::output::format::ExportOptions;
@@ -48,11 +48,10 @@ pub fn esys_geometry(
     materials: &[Material],
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
-    let kinds = disk_materials(packing, materials)?;
-    let s = opts.units.per_mm();
-    let n = packing.disks.len();
-    let (lo, hi) = extent(packing);
-    let z = r_max(packing) * s;
+    let e = Export::dem(packing, materials, opts)?;
+    let (s, n) = (e.s, e.len());
+    let (lo, hi) = e.extent();
+    let z = e.r_max() * s;
     let mut t = Text::with_lines(n + 12);
     t.line(format_args!("LSMGeometry 1.2"));
     t.line(format_args!(
@@ -70,13 +69,14 @@ pub fn esys_geometry(
     t.line(format_args!("BeginParticles"));
     t.line(format_args!("Simple"));
     t.line(format_args!("{n}"));
-    for (i, (d, m)) in packing.disks.iter().zip(&kinds).enumerate() {
+    for d in e.rows() {
         t.line(format_args!(
-            "{} {} 0 {} {i} {}",
-            Num(d.c.x * s),
-            Num(d.c.y * s),
-            Num(d.r * s),
-            type_id(*m)
+            "{} {} 0 {} {} {}",
+            d.x,
+            d.y,
+            d.r,
+            d.id,
+            type_id(d.material)
         ));
     }
     t.line(format_args!("EndParticles"));

@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 
-use super::common::{Text, disk_materials};
+use super::common::{Export, Text};
 use crate::geometry::{Domain, Point, Shape};
 use crate::metrics::Metrics;
 use crate::names::ConfigName;
@@ -158,8 +158,9 @@ pub fn packing_json(
     metrics: &Metrics,
     run: &RunInfo<'_>,
 ) -> Result<Vec<u8>, OutputError> {
-    let kinds = disk_materials(packing, run.materials)?;
-    let n = packing.disks.len();
+    // Lengths in mm: rows unscaled.
+    let e = Export::new(packing, run.materials, 1.0)?;
+    let n = e.len();
     let mut t = Text::with_lines(n + 64);
     t.line(format_args!("{{"));
     t.line(format_args!("  \"units\": \"mm\","));
@@ -168,17 +169,18 @@ pub fn packing_json(
         t.line(format_args!("  \"disks\": [],"));
     } else {
         t.line(format_args!("  \"disks\": ["));
-        for (id, (d, m)) in packing.disks.iter().zip(&kinds).enumerate() {
+        for d in e.rows() {
             let disk = DiskJson {
-                id,
-                x: d.c.x,
-                y: d.c.y,
-                r: d.r,
-                material: m
+                id: d.id,
+                x: d.x.0,
+                y: d.y.0,
+                r: d.r.0,
+                material: d
+                    .material
                     .and_then(|m| run.materials.get(m))
                     .map(|m| m.name.as_str()),
             };
-            let comma = if id + 1 < n { "," } else { "" };
+            let comma = if d.id + 1 < n { "," } else { "" };
             t.line(format_args!("    {}{comma}", compact(&disk)?));
         }
         t.line(format_args!("  ],"));

@@ -1,8 +1,6 @@
 //! `packing.lammps`: a LAMMPS / LIGGGHTS data file (`atom_style sphere`).
 
-use super::common::{
-    Num, Text, VERSION, density, disk_materials, extent, labels, r_max, type_count, type_id,
-};
+use super::common::{Export, Num, Text, VERSION, density, labels, type_count, type_id};
 use crate::layering::Material;
 use crate::names::ConfigName;
 use crate::output::OutputError;
@@ -58,12 +56,11 @@ pub fn lammps_data(
     materials: &[Material],
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
-    let kinds = disk_materials(packing, materials)?;
-    let s = opts.units.per_mm();
+    let e = Export::dem(packing, materials, opts)?;
+    let (s, n) = (e.s, e.len());
     let rho = opts.units.density_per_kg_m3();
-    let n = packing.disks.len();
-    let (lo, hi) = extent(packing);
-    let r = r_max(packing);
+    let (lo, hi) = e.extent();
+    let r = e.r_max();
     let z = if r > 0.0 { r * s } else { 0.5 };
     let units = match opts.units {
         LengthUnit::Metre => "units si",
@@ -97,15 +94,15 @@ pub fn lammps_data(
         t.line(format_args!(""));
         t.line(format_args!("Atoms # sphere"));
         t.line(format_args!(""));
-        for (i, (d, m)) in packing.disks.iter().zip(&kinds).enumerate() {
+        for d in e.rows() {
             t.line(format_args!(
                 "{} {} {} {} {} {} 0",
-                i + 1,
-                type_id(*m),
-                Num(2.0 * d.r * s),
-                Num(density(materials, *m, opts) * rho),
-                Num(d.c.x * s),
-                Num(d.c.y * s)
+                d.id + 1,
+                type_id(d.material),
+                d.d,
+                Num(density(materials, d.material, opts) * rho),
+                d.x,
+                d.y
             ));
         }
     }

@@ -1,6 +1,6 @@
 //! `packing.mercury.data`: a MercuryDPM 2D data file.
 
-use super::common::{Num, Text, disk_materials, extent};
+use super::common::{Export, Num, Text};
 use crate::layering::Material;
 use crate::output::OutputError;
 use crate::output::format::ExportOptions;
@@ -50,10 +50,9 @@ pub fn mercury_data(
     materials: &[Material],
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
-    let kinds = disk_materials(packing, materials)?;
-    let s = opts.units.per_mm();
-    let n = packing.disks.len();
-    let (lo, hi) = extent(packing);
+    let e = Export::dem(packing, materials, opts)?;
+    let (s, n) = (e.s, e.len());
+    let (lo, hi) = e.extent();
     let mut t = Text::with_lines(n + 1);
     t.line(format_args!(
         "{n} 0 {} {} {} {}",
@@ -62,13 +61,13 @@ pub fn mercury_data(
         Num(hi.x * s),
         Num(hi.y * s)
     ));
-    for (d, m) in packing.disks.iter().zip(&kinds) {
+    for d in e.rows() {
         t.line(format_args!(
             "{} {} 0 0 {} 0 0 {}",
-            Num(d.c.x * s),
-            Num(d.c.y * s),
-            Num(d.r * s),
-            m.unwrap_or(0)
+            d.x,
+            d.y,
+            d.r,
+            d.material.unwrap_or(0)
         ));
     }
     Ok(t.into_bytes())

@@ -1,6 +1,6 @@
 //! `packing.p2dat`: a PFC2D command file (PFC 6 / 7 syntax).
 
-use super::common::{Num, Text, VERSION, density, disk_materials, extent, labels, r_max};
+use super::common::{Export, Num, Text, VERSION, density, labels};
 use nalgebra::Vector2;
 
 use crate::geometry::{Point, Shape};
@@ -61,17 +61,16 @@ pub fn pfc_commands(
     materials: &[Material],
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
-    let kinds = disk_materials(packing, materials)?;
-    let s = opts.units.per_mm();
+    let e = Export::dem(packing, materials, opts)?;
+    let (s, n) = (e.s, e.len());
     let rho = opts.units.density_per_kg_m3();
-    let n = packing.disks.len();
     let groups = if materials.is_empty() {
         vec![DEFAULT_GROUP.to_owned()]
     } else {
         labels(materials)
     };
-    let (lo, hi) = extent(packing);
-    let r = r_max(packing);
+    let (lo, hi) = e.extent();
+    let r = e.r_max();
     let periodic = packing.domain.is_periodic();
     let (mx, my) = if periodic {
         (0.0, 0.0)
@@ -101,15 +100,15 @@ pub fn pfc_commands(
             ""
         }
     ));
-    for (i, (d, m)) in packing.disks.iter().zip(&kinds).enumerate() {
+    for d in e.rows() {
         t.line(format_args!(
             "ball create id {} position-x {} position-y {} radius {} group '{}'",
-            i + 1,
-            Num(d.c.x * s),
-            Num(d.c.y * s),
-            Num(d.r * s),
+            d.id + 1,
+            d.x,
+            d.y,
+            d.r,
             groups
-                .get(m.unwrap_or(0))
+                .get(d.material.unwrap_or(0))
                 .map_or(DEFAULT_GROUP, String::as_str)
         ));
     }

@@ -1,7 +1,7 @@
 //! `packing.vtk` and `boundary.vtk`: the packing and its domain for ParaView
 //! (legacy VTK, ASCII POLYDATA).
 
-use super::common::{Num, Text, VERSION, density, disk_materials};
+use super::common::{Export, Num, Text, VERSION, density};
 use crate::layering::Material;
 use crate::names::ConfigName;
 use crate::output::OutputError;
@@ -45,8 +45,9 @@ pub fn packing_vtk(
     materials: &[Material],
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
-    let kinds = disk_materials(packing, materials)?;
-    let n = packing.disks.len();
+    // Lengths in mm: rows unscaled.
+    let e = Export::new(packing, materials, 1.0)?;
+    let n = e.len();
     let mut t = Text::with_lines(6 * n + 16);
     t.line(format_args!("# vtk DataFile Version 3.0"));
     let (lo, hi) = packing.domain.bounds();
@@ -70,37 +71,27 @@ pub fn packing_vtk(
         t.line(format_args!("{cell}"));
     }
     t.line(format_args!("POINTS {n} double"));
-    for d in &packing.disks {
-        t.line(format_args!("{} {} 0", Num(d.c.x), Num(d.c.y)));
+    for d in e.rows() {
+        t.line(format_args!("{} {} 0", d.x, d.y));
     }
     t.line(format_args!("VERTICES {n} {}", 2 * n));
     for i in 0..n {
         t.line(format_args!("1 {i}"));
     }
     t.line(format_args!("POINT_DATA {n}"));
-    scalars(
-        &mut t,
-        "radius",
-        "double",
-        packing.disks.iter().map(|d| Num(d.r)),
-    );
-    scalars(
-        &mut t,
-        "diameter",
-        "double",
-        packing.disks.iter().map(|d| Num(2.0 * d.r)),
-    );
+    scalars(&mut t, "radius", "double", e.rows().map(|d| d.r));
+    scalars(&mut t, "diameter", "double", e.rows().map(|d| d.d));
     scalars(
         &mut t,
         "material_id",
         "int",
-        kinds.iter().map(|m| m.map_or(0, |m| m + 1)),
+        e.rows().map(|d| d.material.map_or(0, |m| m + 1)),
     );
     scalars(
         &mut t,
         "density",
         "double",
-        kinds.iter().map(|&m| Num(density(materials, m, opts))),
+        e.rows().map(|d| Num(density(materials, d.material, opts))),
     );
     Ok(t.into_bytes())
 }

@@ -1,6 +1,6 @@
 //! `packing.yade.txt`: spheres for YADE's `ymport.text` / `ymport.textExt`.
 
-use super::common::{Num, Text, VERSION, disk_materials, labels, r_max};
+use super::common::{Export, Num, Text, VERSION, labels};
 use crate::layering::Material;
 use crate::names::ConfigName;
 use crate::output::OutputError;
@@ -50,9 +50,8 @@ pub fn yade_text(
     materials: &[Material],
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
-    let kinds = disk_materials(packing, materials)?;
-    let s = opts.units.per_mm();
-    let n = packing.disks.len();
+    let e = Export::dem(packing, materials, opts)?;
+    let (s, n) = (e.s, e.len());
     let mut t = Text::with_lines(n + 3);
     let ids: Vec<String> = labels(materials)
         .iter()
@@ -78,7 +77,7 @@ pub fn yade_text(
         ));
     }
     if let Some(cell) = packing.domain.period() {
-        let depth = 8.0 * r_max(packing);
+        let depth = 8.0 * e.r_max();
         t.line(format_args!(
             "# periodic cell: O.periodic = True; O.cell.setBox({}, {}, {})",
             Num(cell.x * s),
@@ -86,9 +85,9 @@ pub fn yade_text(
             Num(if depth > 0.0 { depth * s } else { 1.0 })
         ));
     }
-    for (d, m) in packing.disks.iter().zip(&kinds) {
-        let (x, y, r) = (Num(d.c.x * s), Num(d.c.y * s), Num(d.r * s));
-        match m {
+    for d in e.rows() {
+        let (x, y, r) = (d.x, d.y, d.r);
+        match d.material {
             Some(m) => t.line(format_args!("{x} {y} 0 {r} {m}")),
             None => t.line(format_args!("{x} {y} 0 {r}")),
         }

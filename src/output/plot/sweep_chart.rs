@@ -132,11 +132,6 @@ impl SweepChart {
         }
     }
 
-    /// The names of the series, in legend order.
-    pub fn series_names(&self) -> &[String] {
-        &self.series
-    }
-
     /// How many places along x.
     fn places(&self) -> usize {
         match &self.xs {
@@ -369,7 +364,7 @@ mod tests {
             3,
         );
         let chart = SweepChart::new(&s, &rows(3, 2, 3));
-        assert_eq!(chart.series_names(), ["preset 20/40", "preset 30/50"]);
+        assert_eq!(chart.series, ["preset 20/40", "preset 30/50"]);
         // Series 1 is the second mesh at every width, in the widths' order.
         let second = chart.series_points(1);
         let xs: Vec<f64> = second.iter().map(|p| p.0).collect();
@@ -382,7 +377,7 @@ mod tests {
             svg.contains("fracture.width_mm (mm)"),
             "the x axis names the key and its unit"
         );
-        assert_legend_hides_nothing(&svg, chart.series_names());
+        assert_legend_hides_nothing(&svg, &chart.series);
         assert_eq!(&chart.to_png().expect("png")[..4], b"\x89PNG");
     }
 
@@ -393,7 +388,7 @@ mod tests {
             2,
         );
         let chart = SweepChart::new(&s, &rows(3, 1, 2));
-        assert_eq!(chart.series_names(), ["mean over 2 seeds"]);
+        assert_eq!(chart.series, ["mean over 2 seeds"]);
         let svg = chart.to_svg().expect("svg");
         let texts: Vec<String> = svg_texts(&svg).into_iter().map(|t| t.text).collect();
         for preset in ["20/40", "30/50", "40/70"] {

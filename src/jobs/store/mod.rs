@@ -9,12 +9,15 @@
 //! held whole in memory, and put in place by that one commit
 //! ([`Store::commit_staged`]).
 
+mod atomic;
+
 use std::collections::BTreeMap;
 use std::fs;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
-use crate::output::{OutputError, TempFile, commit_with_temps};
+use crate::output::OutputError;
+use atomic::TempFile;
 
 /// Why a store could not read or write.
 #[derive(Debug, thiserror::Error)]
@@ -96,7 +99,7 @@ pub trait Store {
         name: &str,
         write: &mut dyn FnMut(&mut dyn Write) -> io::Result<()>,
     ) -> Result<Staged, StoreError> {
-        checked(name)?;
+        check_file_name(name)?;
         let mut bytes = Vec::new();
         write(&mut bytes).map_err(|source| OutputError::Write {
             path: PathBuf::from(name),
@@ -139,8 +142,14 @@ pub trait Store {
     fn location(&self) -> String;
 }
 
-/// Refuse names that are empty, absolute or climb out of the folder.
-fn checked(name: &str) -> Result<&str, StoreError> {
+/// The rule for the names of a job's files, which every store applies and
+/// a front end serving them can apply too: relative to the run's folder,
+/// `/`-separated (`well_a/packing.csv`); never empty nor absolute, with no
+/// backslash and no part empty, `.` or `..`, so that none leaves the folder.
+///
+/// # Errors
+/// [`StoreError::Name`] for a name that breaks the rule.
+pub fn check_file_name(name: &str) -> Result<&str, StoreError> {
     let bad = name.is_empty()
         || name.starts_with('/')
         || name.contains('\\')
@@ -232,7 +241,7 @@ impl DirStore {
     fn unlinked(&self, name: &str, action: &'static str) -> Result<PathBuf, StoreError> {
         let mut path = self.dir.clone();
         let mut exists = true;
-        for part in checked(name)?.split('/') {
+        for part in check_file_name(name)?.split('/') {
             path.push(part);
             if exists {
                 match fs::symlink_metadata(&path) {
@@ -315,7 +324,7 @@ impl Drop for Folders {
 
 impl DirStore {
     /// Put `files` (names and bytes) and the files written ahead in place,
-    /// and remove `stale`, as one step ([`commit_with_temps`]): on failure
+    /// and remove `stale`, as one step ([`atomic::commit`]): on failure
     /// every folder made for them (now and when they were staged) goes.
     fn put(
         &mut self,
@@ -347,7 +356,7 @@ impl DirStore {
         }
         // On failure the temporary files go first (inside), then the
         // folders left empty (`made` dropped).
-        commit_with_temps(&writes, temps, &removals)?;
+        atomic::commit(&writes, temps, &removals)?;
         made.keep();
         for path in &removals {
             // A well's folder left empty goes too; one still holding files stays.
@@ -418,7 +427,7 @@ impl Store for DirStore {
     }
 
     fn read(&self, name: &str) -> Result<Option<Vec<u8>>, StoreError> {
-        let path = self.dir.join(checked(name)?);
+        let path = self.dir.join(check_file_name(name)?);
         match fs::read(&path) {
             Ok(bytes) => Ok(Some(bytes)),
             // Nothing there: no file, or a file where a folder on the way
@@ -471,7 +480,7 @@ pub struct MemoryStore {
 impl Store for MemoryStore {
     fn write(&mut self, files: &[(String, Vec<u8>)]) -> Result<(), StoreError> {
         for (name, _) in files {
-            checked(name)?;
+            check_file_name(name)?;
         }
         for (name, bytes) in files {
             self.files.insert(name.clone(), bytes.clone());
@@ -480,17 +489,17 @@ impl Store for MemoryStore {
     }
 
     fn read(&self, name: &str) -> Result<Option<Vec<u8>>, StoreError> {
-        Ok(self.files.get(checked(name)?).cloned())
+        Ok(self.files.get(check_file_name(name)?).cloned())
     }
 
     fn remove(&mut self, name: &str) -> Result<(), StoreError> {
-        self.files.remove(checked(name)?);
+        self.files.remove(check_file_name(name)?);
         Ok(())
     }
 
     fn commit(&mut self, files: &[(String, Vec<u8>)], stale: &[String]) -> Result<(), StoreError> {
         for name in files.iter().map(|(name, _)| name).chain(stale) {
-            checked(name)?;
+            check_file_name(name)?;
         }
         for name in stale {
             self.files.remove(name);
@@ -507,7 +516,7 @@ impl Store for MemoryStore {
             .map(Staged::name)
             .chain(stale.iter().map(String::as_str))
         {
-            checked(name)?;
+            check_file_name(name)?;
         }
         // Every file's bytes first (one staged elsewhere is read back):
         // an error leaves the store as it was.
@@ -542,9 +551,12 @@ mod tests {
             "a\\b",
             "./a",
         ] {
-            assert!(matches!(checked(bad), Err(StoreError::Name(_))), "{bad}");
+            assert!(
+                matches!(check_file_name(bad), Err(StoreError::Name(_))),
+                "{bad}"
+            );
         }
-        assert!(checked("well_1/packing.csv").is_ok());
+        assert!(check_file_name("well_1/packing.csv").is_ok());
     }
 
     #[test]
@@ -565,14 +577,16 @@ mod tests {
         let _ = fs::remove_dir_all(&dir);
     }
 
-    fn scratch(name: &str) -> PathBuf {
+    /// A fresh, empty folder for one test (its tests' and `atomic`'s).
+    pub(super) fn scratch(name: &str) -> PathBuf {
         let dir = std::env::temp_dir().join(format!("gapack-store-{name}-{}", std::process::id()));
         let _ = fs::remove_dir_all(&dir);
         fs::create_dir_all(&dir).expect("scratch dir");
         dir
     }
 
-    fn listing(dir: &Path) -> Vec<String> {
+    /// The names in `dir`, sorted.
+    pub(super) fn listing(dir: &Path) -> Vec<String> {
         let mut names: Vec<String> = fs::read_dir(dir)
             .expect("listed")
             .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
