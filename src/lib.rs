@@ -45,7 +45,9 @@ pub mod study;
 pub use cancel::{Cancel, Cancelled};
 pub use check::{Check, GradingCheck, KS_MARGIN, MIN_GRADING_DISKS, check, grading_kept, ks_limit};
 pub use geometry::predicates::OVERLAP_REL;
-pub use geometry::{Disk, Domain, GeometryError, ImageShifts, Point, Shape, Wall, WallMode};
+pub use geometry::{
+    Disk, Domain, GeometryError, ImageShifts, Point, Shape, Wall, WallMode, bounds_of_disks,
+};
 pub use grading::{
     Basis, Grading, GradingError, Interpolation, THESIS_TABLE_3_1, THESIS_TABLE_3_4,
 };

@@ -33,7 +33,7 @@ pub use plot::{
     psd_chart,
 };
 pub use read::{PackingTable, ReadError, read_packing_csv};
-pub use run::{Files, LayeringReport, RunInfo, render_outputs, render_pictures};
+pub use run::{Files, LayeringReport, RunInfo, render_pictures};
 pub use svg::{diameter_range, packing_svg};
 pub use sweep_table::SWEEP_CSV;
 

@@ -214,7 +214,8 @@ impl<'a> RunInfo<'a> {
 /// # Errors
 /// [`OutputError::Invalid`] when the packing fails the check, or another
 /// [`OutputError`] when a file cannot be made.
-pub fn render_outputs(
+#[cfg(test)]
+pub(crate) fn render_outputs(
     packing: &Packing,
     metrics: &Metrics,
     run: &RunInfo<'_>,
@@ -228,13 +229,14 @@ pub fn render_outputs(
         .collect()
 }
 
-/// [`render_outputs`], but the files as large as the packing
+/// Every file of a run ([`RunInfo`]), but the files as large as the packing
 /// (`packing.csv`) come as [`Body::Stream`]s that write them from the
 /// packing where they go: the store streams them to disk, and no copy of
 /// the table is held in memory. The others are made, on all cores.
 ///
 /// # Errors
-/// As [`render_outputs`].
+/// [`OutputError::Invalid`] when the packing fails the check, or another
+/// [`OutputError`] when a file cannot be made.
 pub fn render_output_bodies<'a>(
     packing: &'a Packing,
     metrics: &'a Metrics,

@@ -13,7 +13,7 @@ use gapack::output::{
     PackingTable, SUMMARY_JSON, diameter_range, read_packing_csv, render_pictures,
 };
 use gapack::{Check, GradingCheck, MIN_GRADING_DISKS, OVERLAP_REL, check};
-use gapack::{Domain, Packing, Point, Scene, psd_ks};
+use gapack::{Domain, Packing, Point, Scene, bounds_of_disks, psd_ks};
 
 use super::{Failure, load_config, print_line, report};
 use gapack::jobs::{DirStore, Store};
@@ -193,14 +193,11 @@ fn own_materials(table: &PackingTable) -> Vec<Material> {
 
 /// The disks' bounding box as the domain, when no config gives one.
 fn bounding_box(table: &PackingTable) -> Result<Domain, Failure> {
-    let (mut lo, mut hi) = (
+    let empty = (
         Point::new(f64::INFINITY, f64::INFINITY),
         Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
     );
-    for d in &table.disks {
-        lo = Point::new(lo.x.min(d.c.x - d.r), lo.y.min(d.c.y - d.r));
-        hi = Point::new(hi.x.max(d.c.x + d.r), hi.y.max(d.c.y + d.r));
-    }
+    let (lo, hi) = bounds_of_disks(empty, &table.disks);
     let corners = [lo, Point::new(hi.x, lo.y), hi, Point::new(lo.x, hi.y)];
     Domain::polygon(&corners)
         .context("cannot frame the disks")

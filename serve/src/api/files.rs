@@ -123,15 +123,10 @@ fn content_type(name: &str) -> &'static str {
     }
 }
 
-/// Whether `name` is a plain relative path inside a job's folder: no
-/// root, no backslash, no empty, `.` or `..` part.
+/// Whether `name` is a plain relative path inside a job's folder: the
+/// jobs' own rule ([`gapack::jobs::check_file_name`]).
 fn inside(name: &str) -> bool {
-    !name.is_empty()
-        && !name.starts_with('/')
-        && !name.contains('\\')
-        && name
-            .split('/')
-            .all(|p| !p.is_empty() && p != "." && p != "..")
+    gapack::jobs::check_file_name(name).is_ok()
 }
 
 /// The `{name}` of a file's route (its `{id}` is read as a [`JobId`]).
