@@ -37,6 +37,7 @@ mod output;
 mod packer;
 mod periodic;
 mod scene;
+mod stop_rules;
 mod study;
 mod values;
 

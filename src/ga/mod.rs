@@ -12,6 +12,7 @@ mod score;
 mod settings;
 pub mod window;
 
+pub use crate::layering::StopRules;
 pub use checkpoint::{Checkpoint, ResumeError};
 pub use engine::{
     Evaluation, Evolution, Generation, Limits, Problem, Search, StopReason, Variation,

@@ -277,7 +277,7 @@ impl Problem for PorosityProblem<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ga::Generation;
+    use crate::ga::{Generation, StopRules};
     use crate::grading::Basis;
     use crate::{Domain, Grading};
 
@@ -315,8 +315,11 @@ mod tests {
     fn out_of_reach_only_after_a_conclusive_search() {
         let scene = scene();
         let settings = |population: usize| OptimiseSettings {
-            population,
-            stagnation: 10,
+            stop: StopRules {
+                population,
+                stagnation: 10,
+                ..StopRules::default()
+            },
             ..OptimiseSettings::new(0.4)
         };
         let wide = PorosityProblem::new(&scene, settings(16));

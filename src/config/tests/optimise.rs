@@ -83,3 +83,55 @@ fn optimise_and_optimize_together_are_both_named() {
     assert_eq!(e.key(), Some("optimise"));
     assert!(e.to_string().contains("[optimize] is given too"), "{e}");
 }
+
+#[test]
+fn ga_tables_read_the_shared_keys_and_refuse_unknown_ones_at_their_place() {
+    let layering = "[[materials]]\nname = \"a\"\n[[materials]]\nname = \"b\"\n[layering]\naxis = \"y\"\nprofile = \"linear\"\n";
+    let stop =
+        "population = 8\ngenerations = 5\nstagnation = 4\ntime_limit_s = 9\nmax_evaluations = 70\n";
+    let expected = crate::ga::StopRules {
+        population: 8,
+        generations: 5,
+        stagnation: 4,
+        time_limit_s: 9.0,
+        max_evaluations: Some(70),
+    };
+    let domain = "width = 10\nheight = 10";
+    let optimise = format!("[optimise]\ntarget_porosity = 0.3\n{stop}window_disks = 3\n");
+    let config = parse(&rect(domain, &optimise), "t.toml").unwrap();
+    let settings = config.optimise.unwrap();
+    assert_eq!((settings.stop, settings.window_disks), (expected, 3));
+    let config = parse(
+        &rect(domain, &format!("{layering}{stop}bins = 2\n")),
+        "t.toml",
+    )
+    .unwrap();
+    let settings = config.layering.unwrap();
+    assert_eq!((settings.stop, settings.bins), (expected, 2));
+
+    // An unknown key among the shared ones: refused at its line and column,
+    // with every key of the table.
+    fails_with(
+        &rect(
+            domain,
+            "[optimise]\ntarget_porosity = 0.3\npopulation = 8\n  populaton = 8\n",
+        ),
+        "t.toml:10:3: optimise.populaton: unknown key `populaton`, expected one of `target_porosity`, `tolerance`, `population`, `generations`, `stagnation`, `time_limit_s`, `max_evaluations`, `window_disks`, `max_psd_ks`",
+    );
+    fails_with(
+        &rect(domain, &format!("{layering}stagnant = 3\n")),
+        "t.toml:14:1: layering.stagnant: unknown key `stagnant`, expected one of `mode`, `axis`, `bins`, `profile`, `exponent`, `layers`, `table`, `tolerance`, `population`, `generations`, `stagnation`, `time_limit_s`, `max_evaluations`",
+    );
+    // A shared key of the wrong type, and one out of range, at the value.
+    fails_with(
+        &rect(domain, &format!("{layering}generations = \"many\"\n")),
+        "t.toml:14:15: layering.generations: invalid type: string \"many\", expected a whole number",
+    );
+    fails_with(
+        &rect(
+            domain,
+            "[optimise]\ntarget_porosity = 0.3\nstagnation = 0\n",
+        ),
+        "t.toml:9:14: optimise.stagnation: must be a whole number ≥ 1, got 0",
+    );
+}

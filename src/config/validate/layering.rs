@@ -8,7 +8,7 @@ use super::materials::MaterialPlan;
 use super::{KeyAt, Validator};
 use crate::Scene;
 use crate::config::error::ConfigError;
-use crate::config::raw::{RawLayering, Table};
+use crate::config::raw::{RawLayering, Table, WithStop};
 use crate::layering::{LayeringError, LayeringMode, LayeringSettings, Profile};
 use crate::names::{AXES, MODES, PROFILES, ProfileKind};
 use crate::packer::{BYTES_PER_MB, estimated_peak_bytes};
@@ -55,9 +55,9 @@ impl LayeringMemory {
     /// 332 MB resident; this bound gives 130 and 523 MB.
     fn of(scene: &Scene, settings: &LayeringSettings) -> Self {
         let genes = scene.max_disks().ceil();
-        let population = settings.population as f64;
+        let population = settings.stop.population as f64;
         let per_generation = population + (population / 8.0).floor();
-        let evaluations = population + settings.generations as f64 * per_generation;
+        let evaluations = population + settings.stop.generations as f64 * per_generation;
         let genomes = GENOME_COPIES * population * (genes * 8.0 + GENOME_OVERHEAD);
         let scores = evaluations * SCORE_BYTES;
         // A disk's area is split among the bins it spans: at most every bin,
@@ -81,7 +81,7 @@ impl Validator<'_> {
     /// `[layering]` for the given materials.
     pub(super) fn layering(
         &self,
-        raw: &Spanned<Table<RawLayering>>,
+        raw: &Spanned<Table<WithStop<RawLayering>>>,
         materials: &[MaterialPlan],
     ) -> Result<LayeringSettings, ConfigError> {
         let l = raw.get_ref();
@@ -233,21 +233,7 @@ impl Validator<'_> {
         if let Some(v) = &l.bins {
             s.bins = self.whole("layering.bins", v, 1, None)?;
         }
-        if let Some(v) = &l.population {
-            s.population = self.whole("layering.population", v, 2, None)?;
-        }
-        if let Some(v) = &l.generations {
-            s.generations = self.whole("layering.generations", v, 1, None)?;
-        }
-        if let Some(v) = &l.stagnation {
-            s.stagnation = self.whole("layering.stagnation", v, 1, None)?;
-        }
-        if let Some(v) = &l.time_limit_s {
-            s.time_limit_s = self.positive("layering.time_limit_s", v)?;
-        }
-        if let Some(v) = &l.max_evaluations {
-            s.max_evaluations = Some(self.whole("layering.max_evaluations", v, 1, None)? as u64);
-        }
+        s.stop = self.stop_rules("layering", &l.stop)?;
         if let Some(v) = &l.tolerance {
             s.tolerance = self.checked("layering.tolerance", v, "a finite number ≥ 0", |v| {
                 v.is_finite() && v >= 0.0
@@ -273,7 +259,7 @@ impl Validator<'_> {
         &self,
         scene: &Scene,
         settings: &LayeringSettings,
-        raw: &Spanned<Table<RawLayering>>,
+        raw: &Spanned<Table<WithStop<RawLayering>>>,
         (limit_mb, limit_key): (f64, Option<KeyAt>),
     ) -> Result<(), ConfigError> {
         if settings.mode == LayeringMode::Sizes {
@@ -288,13 +274,13 @@ impl Validator<'_> {
         // The key that sets the larger share: the genomes (population) or the scores (generations).
         let dominant = if memory.scores > memory.genomes {
             [
-                ("generations", &l.generations),
-                ("population", &l.population),
+                ("generations", &l.stop.generations),
+                ("population", &l.stop.population),
             ]
         } else {
             [
-                ("population", &l.population),
-                ("generations", &l.generations),
+                ("population", &l.stop.population),
+                ("generations", &l.stop.generations),
             ]
         };
         let given = dominant
@@ -326,7 +312,10 @@ impl Validator<'_> {
             key,
             reason: format!(
                 "the layering search ({} genomes of up to {:.0} genes, one per particle, and up to {:.0} scores kept over {} generations) needs up to an estimated {estimate_mb:.0} MB, over the limit of {limit_mb:.0} MB{hint}",
-                settings.population, memory.genes, memory.evaluations, settings.generations
+                settings.stop.population,
+                memory.genes,
+                memory.evaluations,
+                settings.stop.generations
             ),
         })
     }
@@ -336,7 +325,7 @@ impl Validator<'_> {
         &self,
         scene: &Scene,
         settings: &LayeringSettings,
-        raw: &Spanned<Table<RawLayering>>,
+        raw: &Spanned<Table<WithStop<RawLayering>>>,
     ) -> Result<(), ConfigError> {
         // The most particles this domain holds: solid at the densest (0.9).
         let particles = (0.9 * scene.max_disks()).floor();

@@ -6,7 +6,7 @@ use super::limits::{DEFAULT_MAX_MEMORY_MB, FORCE_HINT};
 use super::{KeyAt, Validator};
 use crate::Scene;
 use crate::config::error::ConfigError;
-use crate::config::raw::{RawOptimise, Table};
+use crate::config::raw::{RawOptimise, Table, WithStop};
 use crate::ga::{OptimiseSettings, RULE_GENES};
 use crate::packer::{BYTES_PER_MB, size_count};
 
@@ -14,9 +14,9 @@ impl Validator<'_> {
     /// `[optimise]` or `[optimize]`: one table under either spelling, not both.
     pub(super) fn one_spelling(
         &self,
-        optimise: Option<Spanned<Table<RawOptimise>>>,
-        optimize: Option<Spanned<Table<RawOptimise>>>,
-    ) -> Result<Option<Spanned<Table<RawOptimise>>>, ConfigError> {
+        optimise: Option<Spanned<Table<WithStop<RawOptimise>>>>,
+        optimize: Option<Spanned<Table<WithStop<RawOptimise>>>>,
+    ) -> Result<Option<Spanned<Table<WithStop<RawOptimise>>>>, ConfigError> {
         match (optimise, optimize) {
             (Some(a), Some(b)) => {
                 let (first, second, later) = if a.span().start <= b.span().start {
@@ -39,7 +39,7 @@ impl Validator<'_> {
     /// `[optimise]`: every key checked against its range.
     pub(super) fn optimise(
         &self,
-        raw: &Spanned<Table<RawOptimise>>,
+        raw: &Spanned<Table<WithStop<RawOptimise>>>,
     ) -> Result<OptimiseSettings, ConfigError> {
         let o = raw.get_ref();
         let Some(target) = &o.target_porosity else {
@@ -65,24 +65,10 @@ impl Validator<'_> {
                 v > 0.0 && v <= 1.0
             })?;
         }
-        if let Some(v) = &o.time_limit_s {
-            s.time_limit_s = self.positive("optimise.time_limit_s", v)?;
-        }
-        if let Some(v) = &o.max_evaluations {
-            s.max_evaluations = Some(self.whole("optimise.max_evaluations", v, 1, None)? as u64);
-        }
         if let Some(v) = &o.window_disks {
             s.window_disks = self.whole("optimise.window_disks", v, 0, None)? as u64;
         }
-        if let Some(v) = &o.population {
-            s.population = self.whole("optimise.population", v, 2, None)?;
-        }
-        if let Some(v) = &o.generations {
-            s.generations = self.whole("optimise.generations", v, 1, None)?;
-        }
-        if let Some(v) = &o.stagnation {
-            s.stagnation = self.whole("optimise.stagnation", v, 1, None)?;
-        }
+        s.stop = self.stop_rules("optimise", &o.stop)?;
         Ok(s)
     }
 
@@ -92,7 +78,7 @@ impl Validator<'_> {
         &self,
         scene: &Scene,
         settings: &OptimiseSettings,
-        raw: &Spanned<Table<RawOptimise>>,
+        raw: &Spanned<Table<WithStop<RawOptimise>>>,
         (limit_mb, limit_key): (f64, Option<KeyAt>),
     ) -> Result<(), ConfigError> {
         let estimate_mb = settings.peak_bytes(scene) / BYTES_PER_MB;
@@ -101,7 +87,7 @@ impl Validator<'_> {
         }
         let genes = size_count(&scene.domain, scene.d_min()) as f64 + RULE_GENES as f64;
         let disks = scene.max_disks();
-        let (key, span, hint) = match (limit_key, &raw.get_ref().population) {
+        let (key, span, hint) = match (limit_key, &raw.get_ref().stop.population) {
             (Some(k), _) => (
                 k.key,
                 k.span,
@@ -127,7 +113,7 @@ impl Validator<'_> {
             key,
             reason: format!(
                 "the optimisation ({} genomes of {genes:.0} genes, {disks:.0} disks each) needs an estimated {estimate_mb:.0} MB, over the limit of {limit_mb:.0} MB{hint}",
-                settings.population
+                settings.stop.population
             ),
         })
     }
