@@ -62,7 +62,7 @@ enum Place<'r> {
 pub(crate) struct Validator<'a> {
     pub text: &'a str,
     pub origin: &'a str,
-    /// Skip the `[limits]` checks (particles, memory): `--force`.
+    /// Skip the `[limits]` refusals (particles, memory): [`ParseOptions::force`](super::ParseOptions::force).
     pub force: bool,
 }
 
@@ -113,7 +113,7 @@ impl Validator<'_> {
         let sizes_key = grading.as_ref().map(|g| (g.key.clone(), g.at.clone()));
         let (grading, gradient) = self.curves(grading, &raw, &materials, layering.as_ref())?;
         let seed = raw.seed.as_ref().map_or(0, |s| *s.get_ref());
-        // The limits hold during the run too, `--force` or not: it skips
+        // The limits hold during the run too, forced or not: force skips
         // only the refusals made on the upper bounds before the run.
         let limits = Limits::none()
             .with_max_particles(particles.0)

@@ -196,7 +196,7 @@ pub fn run_validate(args: &ValidateArgs) -> Result<(), Failure> {
     let (text, origin) = load_text(Some(&args.config))?;
     let options = gapack::config::ParseOptions { force: args.force };
     let config = gapack::config::parse_with(&text, &origin, options)
-        .map_err(|e| Failure::Input(e.into()))?;
+        .map_err(|e| Failure::Input(super::hint::config_error(e)))?;
     let request = Request {
         seed: args.seed,
         force: args.force,

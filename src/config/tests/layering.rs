@@ -50,6 +50,7 @@ fn layering_population_is_bounded_by_the_memory_limit() {
     // A million genomes of ~130 genes passed validation and grew past 4 GB.
     let e = err(&layered(10, "population = 1000000\n"));
     assert!(matches!(e, ConfigError::Memory { .. }), "{e}");
+    assert!(e.forceable(), "{e}");
     assert_eq!(e.key(), Some("layering.population"));
     assert_eq!((e.location().line, e.location().column), (13, 14));
     let message = e.to_string();
@@ -85,6 +86,7 @@ fn layering_generations_are_bounded_by_the_scores_they_keep() {
     // 64 genomes is 7 billion scores, blamed on generations.
     let e = err(&layered(10, "generations = 100000000\n"));
     assert!(matches!(e, ConfigError::Memory { .. }), "{e}");
+    assert!(e.forceable(), "{e}");
     assert_eq!(e.key(), Some("layering.generations"));
     // A limit given is the key to act on.
     let e = err(&layered(10, "population = 2000\n").replacen(

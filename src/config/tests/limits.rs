@@ -23,10 +23,12 @@ fn builds_scene_over_the_memory_limit_refused() {
     assert_eq!(e.key(), Some("domain.width"));
     assert!(message.contains("over the limit of 4096 MB"), "{message}");
     assert!(message.contains("limits.max_memory_mb"), "{message}");
+    // The library names the config key; how to force is each front end's to say.
     assert!(
-        message.ends_with("or run with --force to go ahead"),
+        message.ends_with("set limits.max_memory_mb (default 4096) to raise the limit"),
         "{message}"
     );
+    assert!(e.forceable(), "{e}");
     let forced = parse_with(&big, "t", ParseOptions { force: true });
     assert!(forced.is_ok(), "{forced:?}");
     // The same scene with a small explicit limit blames the limit.
@@ -46,8 +48,9 @@ fn builds_scene_over_the_particle_limit_refused_unless_forced() {
     let big = rect("width = 10000\nheight = 10000", "").replace("constant = 1.2", "constant = 0.2");
     fails_with(
         &big,
-        "t.toml:3:9: domain.width: the scene holds up to an estimated 3.183e9 disks (about 7957.7 s to pack at 4.0e5 disks/s), over the limit of 20000000 disks; set limits.max_particles (default 20000000) to raise the limit, or run with --force to go ahead",
+        "t.toml:3:9: domain.width: the scene holds up to an estimated 3.183e9 disks (about 7957.7 s to pack at 4.0e5 disks/s), over the limit of 20000000 disks; set limits.max_particles (default 20000000) to raise the limit",
     );
+    assert!(err(&big).forceable());
     assert!(parse_with(&big, "t", ParseOptions { force: true }).is_ok());
     // An explicit limit is blamed, and checked as a whole number.
     let e = err(&rect(
@@ -66,4 +69,6 @@ fn builds_scene_over_the_particle_limit_refused_unless_forced() {
         "[limits]\nmax_particles = 0\n",
     ));
     assert_eq!(e.key(), Some("limits.max_particles"));
+    // A bad limit is no refusal that force skips.
+    assert!(!e.forceable(), "{e}");
 }

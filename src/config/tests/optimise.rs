@@ -43,6 +43,7 @@ fn builds_optimise_settings_with_defaults_and_refuses_absurd_runs() {
         "[optimise]\ntarget_porosity = 0.3\npopulation = 200\nwindow_disks = 0\n",
     ));
     assert!(matches!(e, ConfigError::Memory { .. }), "{e}");
+    assert!(e.forceable(), "{e}");
     assert_eq!(e.key(), Some("optimise.population"));
     let message = e.to_string();
     assert!(message.contains("needs an estimated"), "{message}");

@@ -3,7 +3,7 @@
 
 use toml::Spanned;
 
-use super::limits::{DEFAULT_MAX_MEMORY_MB, FORCE_HINT};
+use super::limits::DEFAULT_MAX_MEMORY_MB;
 use super::materials::MaterialPlan;
 use super::{KeyAt, Validator};
 use crate::Scene;
@@ -287,23 +287,19 @@ impl Validator<'_> {
             .into_iter()
             .find_map(|(key, v)| v.as_ref().map(|v| (format!("layering.{key}"), v.span())));
         let (key, span, hint) = match (limit_key, given) {
-            (Some(k), _) => (
-                k.key,
-                k.span,
-                format!("; raise it to allow this run{FORCE_HINT}"),
-            ),
+            (Some(k), _) => (k.key, k.span, "; raise it to allow this run".to_owned()),
             (None, Some((key, span))) => (
                 key,
                 span,
                 format!(
-                    "; lower it, or set limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB}){FORCE_HINT}"
+                    "; lower it, or set limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB})"
                 ),
             ),
             (None, None) => (
                 "layering".to_owned(),
                 raw.span(),
                 format!(
-                    "; set a smaller layering.population or layering.generations, or limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB}){FORCE_HINT}"
+                    "; set a smaller layering.population or layering.generations, or limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB})"
                 ),
             ),
         };

@@ -13,9 +13,6 @@ pub const DEFAULT_MAX_MEMORY_MB: f64 = 4096.0;
 /// `limits.max_particles` when not given: about a minute of packing.
 pub const DEFAULT_MAX_PARTICLES: u64 = 20_000_000;
 
-/// Hint of every limit refusal.
-pub(super) const FORCE_HINT: &str = ", or run with --force to go ahead";
-
 impl Validator<'_> {
     /// The memory limit in MB and the key that set it, if given.
     pub(super) fn limit(
@@ -72,11 +69,11 @@ impl Validator<'_> {
             return Ok(());
         }
         let (blame, hint) = match limit_key {
-            Some(k) => (k, format!("; raise it to allow this scene{FORCE_HINT}")),
+            Some(k) => (k, "; raise it to allow this scene".to_owned()),
             None => (
                 width_key.clone(),
                 format!(
-                    "; set limits.max_particles (default {DEFAULT_MAX_PARTICLES}) to raise the limit{FORCE_HINT}"
+                    "; set limits.max_particles (default {DEFAULT_MAX_PARTICLES}) to raise the limit"
                 ),
             ),
         };
@@ -101,14 +98,14 @@ impl Validator<'_> {
             return Ok(());
         }
         let (blame, hint) = match limit_key {
-            Some(k) => (k, format!("; raise it to allow this scene{FORCE_HINT}")),
+            Some(k) => (k, "; raise it to allow this scene".to_owned()),
             None => (
                 KeyAt {
                     key: width_key.key.clone(),
                     span: width_key.span.clone(),
                 },
                 format!(
-                    "; set limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB}) to raise the limit{FORCE_HINT}"
+                    "; set limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB}) to raise the limit"
                 ),
             ),
         };

@@ -2,7 +2,7 @@
 
 use toml::Spanned;
 
-use super::limits::{DEFAULT_MAX_MEMORY_MB, FORCE_HINT};
+use super::limits::DEFAULT_MAX_MEMORY_MB;
 use super::{KeyAt, Validator};
 use crate::Scene;
 use crate::config::error::ConfigError;
@@ -88,23 +88,19 @@ impl Validator<'_> {
         let genes = size_count(&scene.domain, scene.d_min()) as f64 + RULE_GENES as f64;
         let disks = scene.max_disks();
         let (key, span, hint) = match (limit_key, &raw.get_ref().stop.population) {
-            (Some(k), _) => (
-                k.key,
-                k.span,
-                format!("; raise it to allow this run{FORCE_HINT}"),
-            ),
+            (Some(k), _) => (k.key, k.span, "; raise it to allow this run".to_owned()),
             (None, Some(p)) => (
                 "optimise.population".to_owned(),
                 p.span(),
                 format!(
-                    "; lower it, or set limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB}){FORCE_HINT}"
+                    "; lower it, or set limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB})"
                 ),
             ),
             (None, None) => (
                 "optimise".to_owned(),
                 raw.span(),
                 format!(
-                    "; set a smaller optimise.population or limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB}){FORCE_HINT}"
+                    "; set a smaller optimise.population or limits.max_memory_mb (default {DEFAULT_MAX_MEMORY_MB})"
                 ),
             ),
         };
