@@ -226,21 +226,19 @@ pub(crate) struct RawLayering {
 }
 
 impl GaKeys for RawLayering {
-    const KEYS: &'static [&'static str] = &[
-        "mode",
-        "axis",
-        "bins",
-        "profile",
-        "exponent",
-        "layers",
-        "table",
-        "tolerance",
-        "population",
-        "generations",
-        "stagnation",
-        "time_limit_s",
-        "max_evaluations",
-    ];
+    const KEYS: &'static [&'static str] = &with_stop_keys::<8, 0, 13>(
+        [
+            "mode",
+            "axis",
+            "bins",
+            "profile",
+            "exponent",
+            "layers",
+            "table",
+            "tolerance",
+        ],
+        [],
+    );
 }
 
 /// `[fracture]`: one fracture (absolute or normalised form), or a batch of wells.
@@ -340,17 +338,10 @@ pub(crate) struct RawOptimise {
 }
 
 impl GaKeys for RawOptimise {
-    const KEYS: &'static [&'static str] = &[
-        "target_porosity",
-        "tolerance",
-        "population",
-        "generations",
-        "stagnation",
-        "time_limit_s",
-        "max_evaluations",
-        "window_disks",
-        "max_psd_ks",
-    ];
+    const KEYS: &'static [&'static str] = &with_stop_keys::<2, 2, 9>(
+        ["target_porosity", "tolerance"],
+        ["window_disks", "max_psd_ks"],
+    );
 }
 
 /// The keys of a GA search that `[optimise]` and `[layering]` share
@@ -420,6 +411,29 @@ pub(crate) trait GaKeys {
     /// Every key of the table, its own and [`RawStopRules::KEYS`], in the
     /// order an unknown key's message lists them.
     const KEYS: &'static [&'static str];
+}
+
+/// A GA table's key list ([`GaKeys::KEYS`]), `N` keys in all: its own keys
+/// `before` the shared ones, [`RawStopRules::KEYS`], then its own `after`.
+const fn with_stop_keys<const A: usize, const B: usize, const N: usize>(
+    before: [&'static str; A],
+    after: [&'static str; B],
+) -> [&'static str; N] {
+    let shared = RawStopRules::KEYS;
+    assert!(A + shared.len() + B == N, "N counts every key");
+    let mut keys = [""; N];
+    let mut i = 0;
+    while i < N {
+        keys[i] = if i < A {
+            before[i]
+        } else if i < A + shared.len() {
+            shared[i - A]
+        } else {
+            after[i - A - shared.len()]
+        };
+        i += 1;
+    }
+    keys
 }
 
 /// A key of a [`WithStop`] table as read: a shared one (handing back the

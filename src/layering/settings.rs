@@ -8,10 +8,10 @@ use crate::scene::{Axis, Profile};
 /// The population of a GA search and the rules that stop it: the keys
 /// `[optimise]` and `[layering]` share, with the defaults of `docs/config.md`.
 ///
-/// Held by [`LayeringSettings`] and by
-/// [`OptimiseSettings`](crate::ga::OptimiseSettings) (`ga` re-exports it).
-/// It lives here, not in `ga`, because `ga` builds on `layering` (the
-/// layering GA): `layering` naming `ga` would make the two a cycle.
+/// Held by [`LayeringSettings`] and by `ga::OptimiseSettings` (`ga`
+/// re-exports it). It lives here, not in `ga`, because `ga` builds on
+/// `layering` (the layering GA): `layering` naming `ga` would make the two
+/// a cycle.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StopRules {
     /// Genomes per generation, at least 2.
