@@ -14,7 +14,9 @@ class ConfigError(GapackError, ValueError):
     """A config that is not valid, with where it is at fault.
 
     ``str(err)`` is the command line's one-line message,
-    ``origin:line:column: key: reason``; the parts are attributes:
+    ``origin:line:column: key: reason`` (a scene over the ``[limits]`` ends
+    with ``, or pass force=True to go ahead`` where the command line says
+    ``--force``); the parts are attributes:
     ``origin`` (the file's path, ``<string>`` or ``<dict>``), ``line`` and
     ``column`` (from 1, in the TOML text; for a dict, in
     ``gapack.to_toml(config)``) and ``key`` (``domain.width``; ``None`` for

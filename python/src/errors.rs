@@ -53,16 +53,21 @@ fn chain(e: &dyn Error) -> String {
     message
 }
 
+/// What Python adds to a `[limits]` refusal that `force=True` skips (the
+/// library's message ends with the config keys that raise the limit).
+const FORCE: &str = ", or pass force=True to go ahead";
+
 /// A job's error as the exception a Python user catches.
 pub(crate) fn job_error(py: Python<'_>, e: JobError) -> PyErr {
     match e {
         JobError::Config(c) => {
             let at = c.location();
+            let force = if c.forceable() { FORCE } else { "" };
             raise(
                 py,
                 "ConfigError",
                 (
-                    c.to_string(),
+                    format!("{c}{force}"),
                     at.origin.clone(),
                     at.line,
                     at.column,

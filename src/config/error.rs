@@ -118,7 +118,8 @@ pub enum ConfigError {
         /// The area computed (mm²): infinite, zero or NaN.
         area: f64,
     },
-    /// A run that would need more memory than the limit allows.
+    /// A search (optimisation, layering) that would need more memory than
+    /// the limit allows: a [`ConfigError::forceable`] refusal.
     #[error("{at}: {key}: {reason}")]
     Memory {
         /// Where.
@@ -291,6 +292,25 @@ impl ConfigError {
             }
         }
         self
+    }
+
+    /// Whether this is a `[limits]` refusal made before the run on the
+    /// scene's upper bounds (too many particles, too much memory for the
+    /// scene, the optimisation or the layering search), which
+    /// [`ParseOptions::force`](super::ParseOptions::force) skips.
+    ///
+    /// The message ends with the config keys that raise the limit; a
+    /// front end appends how its own users force the run
+    /// (`, or run with --force to go ahead` on the command line).
+    pub fn forceable(&self) -> bool {
+        matches!(
+            self,
+            ConfigError::Memory { .. }
+                | ConfigError::Scene {
+                    error: PackError::TooManyParticles { .. } | PackError::TooLarge { .. },
+                    ..
+                }
+        )
     }
 
     /// The key path at fault (`domain.width`), if known.

@@ -65,10 +65,11 @@ pub fn parse(text: &str, origin: &str) -> Result<Config, ConfigError> {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct ParseOptions {
     /// Skip the `[limits]` refusals made before the run on the scene's
-    /// upper bounds (`max_particles`, `max_memory_mb`): the CLI's `--force`,
-    /// for a scene whose bound is far above what it will hold (a grading
-    /// with a fine tail). The limits still hold during the run: it stops
-    /// with an error if the packing reaches one.
+    /// upper bounds (`max_particles`, `max_memory_mb`), for a scene whose
+    /// bound is far above what it will hold (a grading with a fine tail);
+    /// [`ConfigError::forceable`] tells those refusals, for a front end to
+    /// say how its users ask for this. The limits still hold during the
+    /// run: it stops with an error if the packing reaches one.
     pub force: bool,
 }
 

@@ -9,8 +9,8 @@ use std::marker::PhantomData;
 use std::ops::Deref;
 
 use serde::Deserialize;
-use serde::de::value::MapAccessDeserializer;
-use serde::de::{self, Deserializer, IgnoredAny, MapAccess, SeqAccess, Visitor};
+use serde::de::value::{MapAccessDeserializer, StringDeserializer};
+use serde::de::{self, DeserializeSeed, Deserializer, IgnoredAny, MapAccess, SeqAccess, Visitor};
 use toml::Spanned;
 
 /// A pair of numbers such as `[x, y]` or a grading row `[d, passing]`.
@@ -167,13 +167,13 @@ pub(crate) struct RawConfig {
     /// Required unless `[layering] mode = "sizes"` gives each material its own.
     pub grading: Option<Spanned<Table<RawGrading>>>,
     pub packer: Option<Table<RawPacker>>,
-    pub optimise: Option<Spanned<Table<RawOptimise>>>,
+    pub optimise: Option<Spanned<Table<WithStop<RawOptimise>>>>,
     /// `[optimise]` spelt the American way; one of the two at most. (Not a
     /// serde alias: with both tables given, serde's "duplicate field" error
     /// named neither.)
-    pub optimize: Option<Spanned<Table<RawOptimise>>>,
+    pub optimize: Option<Spanned<Table<WithStop<RawOptimise>>>>,
     pub materials: Option<Vec<Spanned<Table<RawMaterial>>>>,
-    pub layering: Option<Spanned<Table<RawLayering>>>,
+    pub layering: Option<Spanned<Table<WithStop<RawLayering>>>>,
     pub limits: Option<Table<RawLimits>>,
     pub compare: Option<Spanned<Table<RawCompare>>>,
     pub output: Option<Spanned<Table<RawOutput>>>,
@@ -210,7 +210,8 @@ pub(crate) struct RawMaterial {
     pub properties: BTreeMap<String, toml::Value>,
 }
 
-/// `[layering]`: where materials go along an axis.
+/// `[layering]`: where materials go along an axis (read as a
+/// [`WithStop`], which adds the GA's keys).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawLayering {
@@ -222,11 +223,22 @@ pub(crate) struct RawLayering {
     pub layers: Option<Spanned<Vec<Layer>>>,
     pub table: Option<Spanned<Vec<Spanned<Vec<f64>>>>>,
     pub tolerance: Option<Spanned<f64>>,
-    pub population: Option<Spanned<i64>>,
-    pub generations: Option<Spanned<i64>>,
-    pub stagnation: Option<Spanned<i64>>,
-    pub time_limit_s: Option<Spanned<f64>>,
-    pub max_evaluations: Option<Spanned<i64>>,
+}
+
+impl GaKeys for RawLayering {
+    const KEYS: &'static [&'static str] = &with_stop_keys::<8, 0, 13>(
+        [
+            "mode",
+            "axis",
+            "bins",
+            "profile",
+            "exponent",
+            "layers",
+            "table",
+            "tolerance",
+        ],
+        [],
+    );
 }
 
 /// `[fracture]`: one fracture (absolute or normalised form), or a batch of wells.
@@ -314,19 +326,207 @@ pub(crate) enum RawStrips {
     Name(String),
 }
 
-/// `[optimise]` (or `[optimize]`): a target-porosity run.
+/// `[optimise]` (or `[optimize]`): a target-porosity run (read as a
+/// [`WithStop`], which adds the GA's keys).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawOptimise {
     pub target_porosity: Option<Spanned<f64>>,
     pub tolerance: Option<Spanned<f64>>,
+    pub window_disks: Option<Spanned<i64>>,
+    pub max_psd_ks: Option<Spanned<f64>>,
+}
+
+impl GaKeys for RawOptimise {
+    const KEYS: &'static [&'static str] = &with_stop_keys::<2, 2, 9>(
+        ["target_porosity", "tolerance"],
+        ["window_disks", "max_psd_ks"],
+    );
+}
+
+/// The keys of a GA search that `[optimise]` and `[layering]` share
+/// (`ga::StopRules`), read by [`WithStop`] beside each table's own.
+#[derive(Debug, Default)]
+pub(crate) struct RawStopRules {
     pub population: Option<Spanned<i64>>,
     pub generations: Option<Spanned<i64>>,
     pub stagnation: Option<Spanned<i64>>,
     pub time_limit_s: Option<Spanned<f64>>,
     pub max_evaluations: Option<Spanned<i64>>,
-    pub window_disks: Option<Spanned<i64>>,
-    pub max_psd_ks: Option<Spanned<f64>>,
+}
+
+impl RawStopRules {
+    /// The keys, as written in the tables.
+    const KEYS: [&'static str; 5] = [
+        "population",
+        "generations",
+        "stagnation",
+        "time_limit_s",
+        "max_evaluations",
+    ];
+
+    /// Read the value of `key` (one of [`RawStopRules::KEYS`]) from `map`.
+    fn read<'de, A: MapAccess<'de>>(&mut self, key: &str, map: &mut A) -> Result<(), A::Error> {
+        match key {
+            "population" => self.population = map.next_value()?,
+            "generations" => self.generations = map.next_value()?,
+            "stagnation" => self.stagnation = map.next_value()?,
+            "time_limit_s" => self.time_limit_s = map.next_value()?,
+            _ => self.max_evaluations = map.next_value()?,
+        }
+        Ok(())
+    }
+}
+
+/// A table of the GA (`[optimise]`, `[layering]`) that holds the table's own
+/// keys `T` and the [`RawStopRules`] they share.
+///
+/// Not `#[serde(flatten)]`: a flattened struct is read from serde's buffer
+/// of the table, where `toml::Spanned` has no span (toml 1.2 refuses
+/// `b = 2` with "invalid type: integer `2`, expected a spanned value"), and
+/// beside `deny_unknown_fields` an unknown key is refused at the table's
+/// header, not its own line, with no list of the valid keys. Here the
+/// table is read in one pass: each key is told apart while the TOML reader
+/// reads it (so an unknown key is refused at its own line and column,
+/// listing [`GaKeys::KEYS`]), a shared key's value is read into `stop`, and
+/// every other key goes to `T`'s own derived reader, spans and all.
+#[derive(Debug)]
+pub(crate) struct WithStop<T> {
+    /// The table's own keys.
+    pub own: T,
+    /// The keys every GA table has.
+    pub stop: RawStopRules,
+}
+
+impl<T> Deref for WithStop<T> {
+    type Target = T;
+
+    fn deref(&self) -> &T {
+        &self.own
+    }
+}
+
+/// A GA table's own keys ([`WithStop`]'s `T`).
+pub(crate) trait GaKeys {
+    /// Every key of the table, its own and [`RawStopRules::KEYS`], in the
+    /// order an unknown key's message lists them.
+    const KEYS: &'static [&'static str];
+}
+
+/// A GA table's key list ([`GaKeys::KEYS`]), `N` keys in all: its own keys
+/// `before` the shared ones, [`RawStopRules::KEYS`], then its own `after`.
+const fn with_stop_keys<const A: usize, const B: usize, const N: usize>(
+    before: [&'static str; A],
+    after: [&'static str; B],
+) -> [&'static str; N] {
+    let shared = RawStopRules::KEYS;
+    assert!(A + shared.len() + B == N, "N counts every key");
+    let mut keys = [""; N];
+    let mut i = 0;
+    while i < N {
+        keys[i] = if i < A {
+            before[i]
+        } else if i < A + shared.len() {
+            shared[i - A]
+        } else {
+            after[i - A - shared.len()]
+        };
+        i += 1;
+    }
+    keys
+}
+
+/// A key of a [`WithStop`] table as read: a shared one (handing back the
+/// seed the key was meant for), or one of `T`'s.
+enum SplitKey<S, K> {
+    Stop(&'static str, S),
+    Own(K),
+}
+
+/// Reads a key of a [`WithStop`] table: a shared key, or one `T` knows
+/// (through `seed`, `T`'s own key reader), or else an unknown key, refused
+/// while the TOML reader reads it so that the error has the key's place.
+struct SplitSeed<S, T> {
+    seed: S,
+    table: PhantomData<T>,
+}
+
+impl<'de, S: DeserializeSeed<'de>, T: GaKeys> DeserializeSeed<'de> for SplitSeed<S, T> {
+    type Value = SplitKey<S, S::Value>;
+
+    fn deserialize<D: Deserializer<'de>>(self, deserializer: D) -> Result<Self::Value, D::Error> {
+        let key = String::deserialize(deserializer)?;
+        if let Some(stop) = RawStopRules::KEYS.into_iter().find(|k| *k == key) {
+            return Ok(SplitKey::Stop(stop, self.seed));
+        }
+        if !T::KEYS.contains(&key.as_str()) {
+            return Err(de::Error::unknown_field(&key, T::KEYS));
+        }
+        self.seed
+            .deserialize(StringDeserializer::<D::Error>::new(key))
+            .map(SplitKey::Own)
+    }
+}
+
+/// The table as `T` sees it: its own keys only, the shared ones read into `stop` on the way.
+struct Split<'s, A, T> {
+    map: A,
+    stop: &'s mut RawStopRules,
+    table: PhantomData<T>,
+}
+
+impl<'de, A: MapAccess<'de>, T: GaKeys> MapAccess<'de> for Split<'_, A, T> {
+    type Error = A::Error;
+
+    fn next_key_seed<K: DeserializeSeed<'de>>(
+        &mut self,
+        mut seed: K,
+    ) -> Result<Option<K::Value>, A::Error> {
+        loop {
+            let split = SplitSeed::<K, T> {
+                seed,
+                table: PhantomData,
+            };
+            match self.map.next_key_seed(split)? {
+                None => return Ok(None),
+                Some(SplitKey::Own(key)) => return Ok(Some(key)),
+                Some(SplitKey::Stop(key, unused)) => {
+                    self.stop.read(key, &mut self.map)?;
+                    seed = unused;
+                }
+            }
+        }
+    }
+
+    fn next_value_seed<V: DeserializeSeed<'de>>(&mut self, seed: V) -> Result<V::Value, A::Error> {
+        self.map.next_value_seed(seed)
+    }
+}
+
+impl<'de, T: Deserialize<'de> + GaKeys> Deserialize<'de> for WithStop<T> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct WithStopVisitor<T>(PhantomData<T>);
+
+        impl<'de, T: Deserialize<'de> + GaKeys> Visitor<'de> for WithStopVisitor<T> {
+            type Value = WithStop<T>;
+
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a table")
+            }
+
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
+                let mut stop = RawStopRules::default();
+                let own = T::deserialize(MapAccessDeserializer::new(Split::<A, T> {
+                    map,
+                    stop: &mut stop,
+                    table: PhantomData,
+                }))?;
+                Ok(WithStop { own, stop })
+            }
+        }
+
+        deserializer.deserialize_map(WithStopVisitor(PhantomData))
+    }
 }
 
 /// `[limits]`: guards against scenes too large for the machine.
@@ -335,4 +535,61 @@ pub(crate) struct RawOptimise {
 pub(crate) struct RawLimits {
     pub max_memory_mb: Option<Spanned<f64>>,
     pub max_particles: Option<Spanned<i64>>,
+}
+
+#[cfg(test)]
+mod tests {
+    use serde::de::value::Error;
+
+    use super::*;
+
+    /// The keys `T`'s derived reader knows, as it names them to a deserializer.
+    fn own_keys<T: for<'de> Deserialize<'de>>() -> Vec<String> {
+        struct Fields;
+
+        impl<'de> Deserializer<'de> for Fields {
+            type Error = Error;
+
+            fn deserialize_any<V: Visitor<'de>>(self, _: V) -> Result<V::Value, Error> {
+                Err(de::Error::custom("not a struct"))
+            }
+
+            fn deserialize_struct<V: Visitor<'de>>(
+                self,
+                _: &'static str,
+                fields: &'static [&'static str],
+                _: V,
+            ) -> Result<V::Value, Error> {
+                Err(de::Error::custom(fields.join(" ")))
+            }
+
+            serde::forward_to_deserialize_any! {
+                bool i8 i16 i32 i64 i128 u8 u16 u32 u64 u128 f32 f64 char str string
+                bytes byte_buf option unit unit_struct newtype_struct seq tuple
+                tuple_struct map enum identifier ignored_any
+            }
+        }
+
+        let Err(fields) = T::deserialize(Fields) else {
+            unreachable!("Fields gives no value");
+        };
+        fields.to_string().split(' ').map(str::to_owned).collect()
+    }
+
+    /// Each GA table's key list, which unknown-key messages give, is its
+    /// own keys and the shared ones, each once.
+    fn keys_are_own_and_shared<T: GaKeys + for<'de> Deserialize<'de>>() {
+        let mut listed = T::KEYS.to_vec();
+        let mut known = own_keys::<T>();
+        known.extend(RawStopRules::KEYS.map(str::to_owned));
+        listed.sort_unstable();
+        known.sort_unstable();
+        assert_eq!(listed, known);
+    }
+
+    #[test]
+    fn ga_tables_list_their_own_keys_and_the_shared_ones() {
+        keys_are_own_and_shared::<RawOptimise>();
+        keys_are_own_and_shared::<RawLayering>();
+    }
 }

@@ -155,11 +155,11 @@ pub struct Limits {
 impl From<&OptimiseSettings> for Limits {
     fn from(s: &OptimiseSettings) -> Self {
         Limits {
-            population: s.population.max(2),
-            generations: s.generations,
-            stagnation: s.stagnation,
-            time_limit: Duration::from_secs_f64(s.time_limit_s.max(0.0)),
-            max_evaluations: s.max_evaluations,
+            population: s.stop.population.max(2),
+            generations: s.stop.generations,
+            stagnation: s.stop.stagnation,
+            time_limit: Duration::from_secs_f64(s.stop.time_limit_s.max(0.0)),
+            max_evaluations: s.stop.max_evaluations,
         }
     }
 }

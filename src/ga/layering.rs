@@ -221,11 +221,11 @@ pub fn lay_out(
         settings.tolerance,
     );
     let limits = Limits {
-        population: settings.population,
-        generations: settings.generations,
-        stagnation: settings.stagnation,
-        time_limit: Duration::from_secs_f64(settings.time_limit_s),
-        max_evaluations: settings.max_evaluations,
+        population: settings.stop.population,
+        generations: settings.stop.generations,
+        stagnation: settings.stop.stagnation,
+        time_limit: Duration::from_secs_f64(settings.stop.time_limit_s),
+        max_evaluations: settings.stop.max_evaluations,
     };
     let (tags, seconds, evaluations, generations, stopped) =
         match Search::start_on(&problem, limits, seed, stop, farm) {

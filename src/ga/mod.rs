@@ -13,6 +13,7 @@ mod score;
 mod settings;
 pub mod window;
 
+pub use crate::layering::StopRules;
 pub use checkpoint::{Checkpoint, ResumeError};
 pub use engine::{
     Evaluation, Evolution, Generation, Limits, Problem, Search, StopReason, Variation,

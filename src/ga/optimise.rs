@@ -205,7 +205,7 @@ pub fn optimise(
     observer.started(if dense_route {
         0
     } else {
-        settings.generations as u64
+        settings.stop.generations as u64
     });
     let mut dense = None;
     let evolution = if let Some(front) = initial_range.filter(|_| dense_route) {
@@ -547,7 +547,7 @@ fn verdict_warning<O>(
         "{} evaluations in {generations} generation{} of {} genomes ({})",
         evolution.evaluations,
         if generations == 1 { "" } else { "s" },
-        settings.population,
+        settings.stop.population,
         evolution.stop.describe()
     );
     let seen = match range {
@@ -560,7 +560,7 @@ fn verdict_warning<O>(
             settings.max_psd_ks, evolution.best.value
         ),
     };
-    let longer = if settings.population < CONCLUSIVE_POPULATION {
+    let longer = if settings.stop.population < CONCLUSIVE_POPULATION {
         format!(
             "a longer search may reach it (optimise.generations, optimise.stagnation, optimise.time_limit_s), and a population of at least {CONCLUSIVE_POPULATION} tries the loosest packing rules (optimise.population)"
         )
@@ -628,11 +628,10 @@ mod tests {
     }
 
     fn settings(target: f64) -> OptimiseSettings {
-        OptimiseSettings {
-            population: 4,
-            generations: 2,
-            ..OptimiseSettings::new(target)
-        }
+        let mut settings = OptimiseSettings::new(target);
+        settings.stop.population = 4;
+        settings.stop.generations = 2;
+        settings
     }
 
     #[test]

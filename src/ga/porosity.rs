@@ -123,10 +123,10 @@ impl<'a> PorosityProblem<'a> {
         let generations = evolution.history.len().saturating_sub(1);
         let ran = match evolution.stop {
             StopReason::Stagnation => true,
-            StopReason::Generations => generations >= self.settings.stagnation,
+            StopReason::Generations => generations >= self.settings.stop.stagnation,
             _ => false,
         };
-        self.settings.population >= CONCLUSIVE_POPULATION && ran
+        self.settings.stop.population >= CONCLUSIVE_POPULATION && ran
     }
 
     /// What a finished search says of its target (see [`Verdict`]).
@@ -277,7 +277,7 @@ impl Problem for PorosityProblem<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ga::Generation;
+    use crate::ga::{Generation, StopRules};
     use crate::grading::Basis;
     use crate::{Domain, Grading};
 
@@ -315,8 +315,11 @@ mod tests {
     fn out_of_reach_only_after_a_conclusive_search() {
         let scene = scene();
         let settings = |population: usize| OptimiseSettings {
-            population,
-            stagnation: 10,
+            stop: StopRules {
+                population,
+                stagnation: 10,
+                ..StopRules::default()
+            },
             ..OptimiseSettings::new(0.4)
         };
         let wide = PorosityProblem::new(&scene, settings(16));

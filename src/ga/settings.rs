@@ -2,6 +2,7 @@
 
 use super::RULE_GENES;
 use crate::Scene;
+use crate::layering::StopRules;
 use crate::packer::{estimated_peak_bytes, size_count};
 
 /// Settings of a target-porosity run, with the defaults of `docs/config.md`.
@@ -11,19 +12,8 @@ pub struct OptimiseSettings {
     pub target_porosity: f64,
     /// Stop once the best feasible packing is within this of the target (porosity units).
     pub tolerance: f64,
-    /// Genomes per generation, at least 2.
-    pub population: usize,
-    /// Most generations after the initial one.
-    pub generations: usize,
-    /// Stop after this many generations without a better best genome.
-    pub stagnation: usize,
-    /// Stop after this much wall-clock time (s), checked between generations.
-    /// A stop here depends on the machine's speed and load.
-    pub time_limit_s: f64,
-    /// Stop at the first generation boundary with at least this many
-    /// genomes evaluated: a budget that stops at the same place on every
-    /// machine (`None`: no budget).
-    pub max_evaluations: Option<u64>,
+    /// The search's population and stop rules.
+    pub stop: StopRules,
     /// Search a scene estimated at this many disks or more on a window of
     /// it (`ga::window`); 0: always the whole.
     pub window_disks: u64,
@@ -48,7 +38,7 @@ impl OptimiseSettings {
     pub fn peak_bytes(&self, scene: &Scene) -> f64 {
         let genes = size_count(&scene.domain, scene.d_min()) as f64 + RULE_GENES as f64;
         let disks = scene.max_disks();
-        let population = self.population as f64;
+        let population = self.stop.population as f64;
         if super::window::windowed(scene, self.window_disks) {
             let share = super::window::MAX_SHARE;
             return population * share * (4.0 * genes * 8.0 + disks * 24.0)
@@ -63,11 +53,7 @@ impl OptimiseSettings {
         OptimiseSettings {
             target_porosity,
             tolerance: 0.002,
-            population: 64,
-            generations: 200,
-            stagnation: 30,
-            time_limit_s: 60.0,
-            max_evaluations: None,
+            stop: StopRules::default(),
             window_disks: WINDOW_DISKS,
             max_psd_ks: 0.05,
         }

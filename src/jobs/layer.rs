@@ -68,7 +68,7 @@ pub(super) fn lay_out(
 ) -> Layered {
     job.event(Event::Stage {
         stage: Stage::Layering,
-        total: Some(settings.generations as u64),
+        total: Some(settings.stop.generations as u64),
     });
     let plan = job.plan;
     let observer = &mut *job.observer;

@@ -110,7 +110,7 @@ pub(super) fn run(
         max_psd_ks: settings.max_psd_ks,
         evaluations,
         generations: history.len().saturating_sub(1),
-        population: settings.population,
+        population: settings.stop.population,
         feasible: verdict.feasible(),
         verdict: verdict.describe(),
         achievable_range,
@@ -326,17 +326,18 @@ pub(super) fn words(plan: &Plan, o: &OptimiseSettings, resume: bool) -> Words {
         },
         o.target_porosity,
         o.tolerance,
-        o.population,
-        o.generations,
-        o.max_evaluations
+        o.stop.population,
+        o.stop.generations,
+        o.stop
+            .max_evaluations
             .map(|n| format!(" or {n} evaluations"))
             .unwrap_or_default(),
-        o.time_limit_s
+        o.stop.time_limit_s
     ));
     words.memory = Some(format!(
         "search memory: about {} ({} genomes)",
         memory(o.peak_bytes(&plan.config.scene)),
-        o.population
+        o.stop.population
     ));
     words
 }

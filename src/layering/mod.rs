@@ -19,4 +19,4 @@ pub use baseline::baseline;
 pub use bins::{BinAreas, ProfileRow, profile_rows, rms_error};
 pub use error::LayeringError;
 pub use material::Material;
-pub use settings::{LayeringMode, LayeringSettings};
+pub use settings::{LayeringMode, LayeringSettings, StopRules};

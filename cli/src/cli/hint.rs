@@ -1,8 +1,24 @@
-//! What the CLI says after a job was stopped: how to go on from there.
+//! What the CLI adds to the library's words: how to force a run over the
+//! `[limits]`, and how to go on after a job was stopped.
 
 use std::path::Path;
 
+use gapack::config::ConfigError;
 use gapack::jobs::{self, Outcome, Report};
+
+/// What the command line adds to a `[limits]` refusal that `--force` skips
+/// (the library's message ends with the config keys that raise the limit).
+pub const FORCE: &str = ", or run with --force to go ahead";
+
+/// A config error as the command line says it: a refusal that `--force`
+/// skips ([`ConfigError::forceable`]) ends with [`FORCE`].
+pub fn config_error(e: ConfigError) -> anyhow::Error {
+    if e.forceable() {
+        anyhow::anyhow!("{e}{FORCE}")
+    } else {
+        e.into()
+    }
+}
 
 /// After a stop: how to go on (a search) or what was kept (the others).
 pub fn after_stop(outcome: &Outcome, config: Option<&Path>, seed: Option<u64>, force: bool) {

@@ -28,12 +28,13 @@ pub enum Failure {
     Stopped(anyhow::Error),
 }
 
-/// A job's error as a failure: input faults exit 2, the others 1.
+/// A job's error as a failure: input faults exit 2, the others 1; a
+/// config error says how to force a run over the `[limits]`.
 pub fn failure(e: JobError) -> Failure {
-    if e.is_input() {
-        Failure::Input(e.into())
-    } else {
-        Failure::Run(e.into())
+    match e {
+        JobError::Config(c) => Failure::Input(hint::config_error(*c)),
+        e if e.is_input() => Failure::Input(e.into()),
+        e => Failure::Run(e.into()),
     }
 }
 
@@ -54,8 +55,8 @@ pub fn load_text(path: Option<&Path>) -> Result<(String, String), Failure> {
 pub fn load_config(path: &Path, force: bool) -> Result<(Config, String), Failure> {
     let (text, origin) = load_text(Some(path))?;
     let options = config::ParseOptions { force };
-    let config =
-        config::parse_with(&text, &origin, options).map_err(|e| Failure::Input(e.into()))?;
+    let config = config::parse_with(&text, &origin, options)
+        .map_err(|e| Failure::Input(hint::config_error(e)))?;
     Ok((config, origin))
 }
 

@@ -107,7 +107,12 @@ impl From<JobError> for ApiError {
         } else {
             StatusCode::INTERNAL_SERVER_ERROR
         };
-        let mut api = ApiError::new(status, e.to_string());
+        // A `[limits]` refusal says how to go over it in this medium.
+        let hint = match &e {
+            JobError::Config(config) if config.forceable() => FORCE,
+            _ => "",
+        };
+        let mut api = ApiError::new(status, format!("{e}{hint}"));
         if let JobError::Config(config) = &e {
             let at = config.location();
             let full = config.to_string();
@@ -123,11 +128,15 @@ impl From<JobError> for ApiError {
             api.body.line = Some(at.line);
             api.body.column = Some(at.column);
             api.body.key = config.key().map(str::to_owned);
-            api.body.message = Some(message);
+            api.body.message = Some(format!("{message}{hint}"));
         }
         api
     }
 }
+
+/// What a `[limits]` refusal's message ends with over HTTP: the submission's
+/// own way past it (a server started with `--force` allows it).
+const FORCE: &str = ", or submit with \"force\": true to go ahead";
 
 impl From<DbError> for ApiError {
     fn from(e: DbError) -> Self {

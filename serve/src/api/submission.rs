@@ -253,12 +253,12 @@ impl Estimates {
                 .config
                 .optimise
                 .as_ref()
-                .and_then(|o| search(o.population, o.generations)),
+                .and_then(|o| search(o.stop.population, o.stop.generations)),
             JobKind::Layer => plan
                 .config
                 .layering
                 .as_ref()
-                .and_then(|l| search(l.population, l.generations)),
+                .and_then(|l| search(l.stop.population, l.stop.generations)),
             _ => None,
         };
         let disks = scene.estimated_disks();
@@ -346,6 +346,26 @@ mod tests {
             server.get("/api/v1/jobs").await.json()["jobs"],
             serde_json::json!([])
         );
+    }
+
+    #[tokio::test]
+    async fn a_config_over_its_own_limits_is_told_how_to_go_over_them_here() {
+        let big = "[domain]\nshape = \"rectangle\"\nwidth = 10000\nheight = 10000\n[grading]\nconstant = 1.0\n[limits]\nmax_particles = 1000\n";
+        let server = TestServer::new();
+        let r = server
+            .post("/api/v1/jobs?kind=pack", "application/toml", big)
+            .await;
+        assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY);
+        let v = r.json();
+        let hint = ", or submit with \"force\": true to go ahead";
+        assert_eq!(v["key"], "limits.max_particles");
+        for text in [
+            r.error(),
+            v["message"].as_str().expect("message").to_owned(),
+        ] {
+            assert!(text.ends_with(hint), "{text}");
+            assert!(!text.contains("--force"), "{text}");
+        }
     }
 
     #[tokio::test]

@@ -4,7 +4,7 @@ use toml::Spanned;
 
 use super::{KeyAt, Validator};
 use crate::config::error::ConfigError;
-use crate::config::raw::{RawFracture, RawWell, Table};
+use crate::config::raw::{RawConfig, RawFracture, RawWell, Table};
 use crate::fracture::{DEFAULT_WINDOW_TOLERANCE, Extent, Fracture, MM_PER_M};
 use crate::geometry::WallMode;
 use crate::names::{EXTENTS, ExtentKind, FILLS};
@@ -348,6 +348,38 @@ impl Validator<'_> {
             length: height * MM_PER_M,
             tip_width,
         })
+    }
+
+    /// Refuse an `[optimise]` or `[layering]` beside a batch of wells or a
+    /// window: those run with `gapack pack` only.
+    pub(super) fn fracture_runs(
+        &self,
+        plan: &FracturePlan,
+        raw: &RawConfig,
+    ) -> Result<(), ConfigError> {
+        let why = match (plan.batch, plan.extent) {
+            (true, _) => {
+                "a batch of wells runs with gapack pack; give one fracture to optimise or layer"
+            }
+            (false, Extent::Window { .. }) => {
+                "a window (extent = \"window\") runs with gapack pack; use extent = \"full\""
+            }
+            (false, Extent::Full) => return Ok(()),
+        };
+        let table = [
+            ("optimise", raw.optimise.as_ref().map(Spanned::span)),
+            ("layering", raw.layering.as_ref().map(Spanned::span)),
+        ]
+        .into_iter()
+        .find_map(|(key, span)| span.map(|s| (key, s)));
+        match table {
+            None => Ok(()),
+            Some((key, span)) => Err(ConfigError::NotApplicable {
+                at: self.at(&span),
+                key: key.to_owned(),
+                reason: why.to_owned(),
+            }),
+        }
     }
 }
 

@@ -29,7 +29,7 @@ const NOT_SWEPT: [(&str, &str); 4] = [
     ("sweep", "a study does not sweep its own [sweep] table"),
     (
         "seed",
-        "the seeds are the study's own: sweep.seeds = N runs each point on seed, seed + 1, …, seed + N − 1 (--seed sets the first)",
+        "the seeds are the study's own: sweep.seeds = N runs each point on seed, seed + 1, …, seed + N − 1 (the first is the config's seed, or the run's)",
     ),
     (
         "output",

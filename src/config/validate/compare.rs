@@ -1,0 +1,53 @@
+//! `[compare]`: the methods `gapack compare` runs, and how many seeds.
+
+use toml::Spanned;
+
+use super::Validator;
+use crate::compare::CompareSettings;
+use crate::config::error::ConfigError;
+use crate::config::raw::{RawCompare, Table};
+use crate::names::METHODS;
+
+/// Largest `compare.repeats`.
+const MAX_REPEATS: i64 = 1000;
+
+impl Validator<'_> {
+    /// `[compare]`: known method names, given once; at least one repeat.
+    pub(super) fn compare(
+        &self,
+        raw: Option<&Spanned<Table<RawCompare>>>,
+    ) -> Result<CompareSettings, ConfigError> {
+        let mut settings = CompareSettings::default();
+        let Some(raw) = raw else {
+            return Ok(settings);
+        };
+        let c = raw.get_ref();
+        if let Some(methods) = &c.methods {
+            let mut out = Vec::new();
+            for (i, name) in methods.get_ref().iter().enumerate() {
+                let key = format!("compare.methods[{i}]");
+                let method = self.name(&METHODS, &key, Some(name))?;
+                if out.contains(&method) {
+                    return Err(ConfigError::NotApplicable {
+                        at: self.at(&name.span()),
+                        key,
+                        reason: format!("{:?} is given twice", name.get_ref()),
+                    });
+                }
+                out.push(method);
+            }
+            if out.is_empty() {
+                return Err(ConfigError::Missing {
+                    at: self.at(&methods.span()),
+                    key: "compare.methods".to_owned(),
+                    reason: "name at least one method".to_owned(),
+                });
+            }
+            settings.methods = out;
+        }
+        if let Some(v) = &c.repeats {
+            settings.repeats = self.whole("compare.repeats", v, 1, Some(MAX_REPEATS))?;
+        }
+        Ok(settings)
+    }
+}
