@@ -229,14 +229,59 @@ pub struct JobView {
     /// The last progress event (stage, generation with best and mean porosity).
     #[schema(value_type = Option<Object>)]
     progress: Option<Value>,
-    /// When finished: the result in words, its files, particles, porosity
-    /// (the library's `jobs::Summary`).
-    #[schema(value_type = Option<Object>)]
-    summary: Option<Summary>,
+    /// When finished: the result in words, its files, particles, porosity.
+    summary: Option<SummaryView>,
     /// Why it failed.
     error: Option<String>,
     /// Where its resources are.
     urls: Links,
+}
+
+/// A finished job's summary: the library's [`Summary`] (which the workers
+/// store) as the API serves and documents it, field for field.
+#[derive(Debug, Serialize, ToSchema)]
+#[schema(as = Summary)]
+pub struct SummaryView {
+    /// `optimise`: the porosity of the best packing.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    best_porosity: Option<f64>,
+    /// `optimise`: packings made by the search.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    evaluations: Option<u64>,
+    /// Every file of the run, `manifest.json` included.
+    files: Vec<String>,
+    /// `optimise`: generations run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    generations: Option<usize>,
+    /// Whether the job was cancelled and holds only what it finished.
+    interrupted: bool,
+    /// The result in words, the job's folder named `jobs/<id>`.
+    lines: Vec<String>,
+    /// Disks of the packing (of every well, for a `[fracture]` run).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    particles: Option<usize>,
+    /// The packing's porosity (`pack`, `layer`, `optimise`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    porosity: Option<f64>,
+    /// `optimise`: the porosity aimed at.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    target_porosity: Option<f64>,
+}
+
+impl From<Summary> for SummaryView {
+    fn from(s: Summary) -> Self {
+        SummaryView {
+            best_porosity: s.best_porosity,
+            evaluations: s.evaluations,
+            files: s.files,
+            generations: s.generations,
+            interrupted: s.interrupted,
+            lines: s.lines,
+            particles: s.particles,
+            porosity: s.porosity,
+            target_porosity: s.target_porosity,
+        }
+    }
 }
 
 impl From<JobRow> for JobView {
@@ -255,7 +300,10 @@ impl From<JobRow> for JobView {
             started_ms: row.started_ms,
             finished_ms: row.finished_ms,
             progress: json(row.progress),
-            summary: row.summary.and_then(|s| Summary::from_json(&s).ok()),
+            summary: row
+                .summary
+                .and_then(|s| Summary::from_json(&s).ok())
+                .map(SummaryView::from),
             error: row.error,
         }
     }

@@ -11,7 +11,7 @@ use utoipa::OpenApi;
 
 use super::error::{ApiError, ErrorBody};
 use super::files::{FileEntry, FileList};
-use super::jobs::{Accepted, JobPage, JobView, Links, Validated};
+use super::jobs::{Accepted, JobPage, JobView, Links, SummaryView, Validated};
 use super::page::{Example, PackingView};
 use super::submission::{Estimates, SubmitBody};
 use crate::Shared;
@@ -47,6 +47,7 @@ pub fn router() -> Router<Arc<Shared>> {
         Validated,
         Estimates,
         JobView,
+        SummaryView,
         JobPage,
         FileList,
         FileEntry,
@@ -123,6 +124,18 @@ mod tests {
             Value::Array(items) => items.iter().for_each(|v| refs(v, out)),
             _ => {}
         }
+    }
+
+    #[tokio::test]
+    async fn a_jobs_summary_is_described_field_by_field() {
+        let server = TestServer::new();
+        let doc = server.get("/api/v1/openapi.json").await.json();
+        let summary = &doc["components"]["schemas"]["Summary"]["properties"];
+        for field in ["files", "lines", "interrupted", "particles", "porosity"] {
+            assert!(summary.get(field).is_some(), "{field}: {summary}");
+        }
+        let view = doc["components"]["schemas"]["JobView"]["properties"]["summary"].to_string();
+        assert!(view.contains("#/components/schemas/Summary"), "{view}");
     }
 
     #[tokio::test]
