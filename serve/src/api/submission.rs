@@ -276,7 +276,7 @@ impl Estimates {
 mod tests {
     use axum::http::StatusCode;
 
-    use crate::api::testing::{SQUARE, TestServer};
+    use crate::api::testing::{Reply, SQUARE, TestServer};
 
     #[tokio::test]
     async fn config_faults_are_located_as_the_cli_locates_them() {
@@ -348,13 +348,28 @@ mod tests {
         );
     }
 
+    /// A 10 m square of 1 mm disks with the `[limits]` lines given.
+    fn big_square(limits: &str) -> String {
+        format!(
+            "[domain]\nshape = \"rectangle\"\nwidth = 10000\nheight = 10000\n[grading]\nconstant = 1.0\n[limits]\n{limits}"
+        )
+    }
+
+    /// Submit [`big_square`] with `limits` as a pack job.
+    async fn submit_big(server: &TestServer, limits: &str) -> Reply {
+        server
+            .post(
+                "/api/v1/jobs?kind=pack",
+                "application/toml",
+                big_square(limits),
+            )
+            .await
+    }
+
     #[tokio::test]
     async fn a_config_over_its_own_limits_is_told_how_to_go_over_them_here() {
-        let big = "[domain]\nshape = \"rectangle\"\nwidth = 10000\nheight = 10000\n[grading]\nconstant = 1.0\n[limits]\nmax_particles = 1000\n";
         let server = TestServer::new();
-        let r = server
-            .post("/api/v1/jobs?kind=pack", "application/toml", big)
-            .await;
+        let r = submit_big(&server, "max_particles = 1000\n").await;
         assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY);
         let v = r.json();
         let hint = ", or submit with \"force\": true to go ahead";
@@ -370,11 +385,12 @@ mod tests {
 
     #[tokio::test]
     async fn the_servers_ceilings_hold_unless_it_allows_force() {
-        let big = "[domain]\nshape = \"rectangle\"\nwidth = 10000\nheight = 10000\n[grading]\nconstant = 1.0\n[limits]\nmax_particles = 1000000000\nmax_memory_mb = 100000\n";
         let server = TestServer::new();
-        let r = server
-            .post("/api/v1/jobs?kind=pack", "application/toml", big)
-            .await;
+        let r = submit_big(
+            &server,
+            "max_particles = 1000000000\nmax_memory_mb = 100000\n",
+        )
+        .await;
         assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY);
         let v = r.json();
         assert_eq!(v["key"], "limits.max_particles");
