@@ -46,7 +46,8 @@ pub use cancel::{Cancel, Cancelled};
 pub use check::{Check, GradingCheck, KS_MARGIN, MIN_GRADING_DISKS, check, grading_kept, ks_limit};
 pub use geometry::predicates::OVERLAP_REL;
 pub use geometry::{
-    Disk, Domain, GeometryError, ImageShifts, Point, Shape, Wall, WallMode, bounds_of_disks,
+    Disk, Domain, GeometryError, Grain, ImageShifts, Outline, OutlineError, Point, SUPPORT_REL,
+    Separation, Shape, Turned, Wall, WallMode, bounds_of_disks, grain_separation, separation,
 };
 pub use grading::{
     Basis, Grading, GradingError, Interpolation, THESIS_TABLE_3_1, THESIS_TABLE_3_4,
@@ -61,6 +62,7 @@ pub use packer::{
     densify_traced, estimated_peak_bytes, pack, pack_observed, size_count, work_budget,
 };
 pub use scene::{
-    Axis, Densify, Fill, FrontRules, IndexKind, Limits, MAX_DEFERRED, MAX_GAP, Method,
-    PackerSettings, Profile, Relaxation, Scene, SizeGradient, Strips,
+    Axis, Densify, Drawer, Family, Fill, FrontRules, IndexKind, Limits, MAX_DEFERRED, MAX_GAP,
+    Method, Orientation, PackerSettings, Profile, Relaxation, SHAPE_STREAM, Scene, ShapeSpec,
+    SizeGradient, SizeMeasure, Spread, Strips, template_vertices,
 };

@@ -127,6 +127,7 @@ impl Validator<'_> {
             packer,
             seed,
             limits,
+            shape: None,
         };
         let (scene, fracture) = match place {
             Place::Domain(plan, raw_domain) => {

@@ -1,7 +1,7 @@
 //! The one `Packing` type every generator returns and every metric and writer takes.
 
 use crate::geometry::predicates::RESOLUTION_REL;
-use crate::geometry::{Disk, Domain, WallMode};
+use crate::geometry::{Disk, Domain, Grain, WallMode};
 
 /// A packing: the domain, the packed disks and, for `walls = "disks"`, the wall disks.
 #[derive(Debug, Clone, PartialEq)]
@@ -15,6 +15,12 @@ pub struct Packing {
     pub boundary: Vec<Disk>,
     /// The packed disks, in placement order.
     pub disks: Vec<Disk>,
+    /// The outline and orientation of each packed particle, when they are not
+    /// disks (a config's `[shape]`); empty for disks. With grains, each of
+    /// `disks` is the particle's centre and **area-equivalent radius** (so
+    /// that every area, the porosity among them, is exact), and the grain
+    /// is the particle itself.
+    pub grains: Vec<Grain>,
     /// Material of each packed disk, as an index into the scene's materials;
     /// empty when the packing carries none.
     pub materials: Vec<u16>,
@@ -32,6 +38,7 @@ impl Packing {
             walls: WallMode::Exact,
             boundary: Vec::new(),
             disks,
+            grains: Vec::new(),
             materials: Vec::new(),
             stats: PackStats::default(),
         }

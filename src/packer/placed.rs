@@ -219,6 +219,7 @@ impl<'a> Placed<'a> {
             walls: self.walls,
             boundary,
             disks: self.disks,
+            grains: Vec::new(),
             materials: Vec::new(),
             stats: self.stats,
         }

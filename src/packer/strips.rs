@@ -409,6 +409,7 @@ pub(super) fn pack_up(
         walls: scene.walls,
         boundary: Vec::new(),
         disks: all.disks,
+        grains: Vec::new(),
         materials: all.materials,
         stats: all.stats,
     })

@@ -4,11 +4,15 @@
 
 mod profile;
 mod settings;
+mod shape;
 
 pub use profile::{Axis, Frame, Profile, SizeGradient};
 pub use settings::{
     DEFAULT_ATTEMPTS, Densify, Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method,
     PackerSettings, Relaxation, Strips,
+};
+pub use shape::{
+    Drawer, Family, Orientation, SHAPE_STREAM, ShapeSpec, SizeMeasure, Spread, template_vertices,
 };
 
 use crate::geometry::{Domain, WallMode};
@@ -41,6 +45,8 @@ pub struct Scene {
     pub seed: u64,
     /// Ceilings the run stops at (none unless set).
     pub limits: Limits,
+    /// The particles' shape (`[shape]`); `None`: disks.
+    pub shape: Option<ShapeSpec>,
 }
 
 /// Ceilings a run may not pass: it stops with an error when it reaches
@@ -96,6 +102,7 @@ impl Scene {
             packer: PackerSettings::default(),
             seed: 0,
             limits: Limits::none(),
+            shape: None,
         }
     }
 
@@ -148,6 +155,15 @@ impl Scene {
     pub fn with_gradient(self, gradient: SizeGradient) -> Scene {
         Scene {
             gradient: Some(gradient),
+            ..self
+        }
+    }
+
+    /// The same scene with particles of `shape` instead of disks.
+    #[must_use]
+    pub fn with_shape(self, shape: ShapeSpec) -> Scene {
+        Scene {
+            shape: Some(shape),
             ..self
         }
     }

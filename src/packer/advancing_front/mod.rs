@@ -730,6 +730,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 walls: self.scene.walls,
                 boundary,
                 disks: self.obs,
+                grains: Vec::new(),
                 materials: self.tags,
                 stats: self.stats,
             },
