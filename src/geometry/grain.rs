@@ -453,7 +453,7 @@ pub struct Turned<'a> {
 
 impl Turned<'_> {
     /// World direction `u` in the grain's own axes.
-    fn to_local(&self, u: Vector2<f64>) -> Vector2<f64> {
+    fn to_local(self, u: Vector2<f64>) -> Vector2<f64> {
         Vector2::new(
             self.cos * u.x + self.sin * u.y,
             -self.sin * u.x + self.cos * u.y,
@@ -461,7 +461,7 @@ impl Turned<'_> {
     }
 
     /// A point in the grain's own axes, in world axes about its centre.
-    pub fn to_world(&self, p: Point) -> Vector2<f64> {
+    pub fn to_world(self, p: Point) -> Vector2<f64> {
         Vector2::new(
             self.cos * p.x - self.sin * p.y,
             self.sin * p.x + self.cos * p.y,
