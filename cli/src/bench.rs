@@ -1,7 +1,9 @@
 //! `gapack bench`: disks per second and peak memory per disk, MX quadtree
 //! against the grid, in one piece and in strips, on square domains with the
 //! Table 3.4 grading; `--seams`, how the seams of strips compare with the bulk
-//! (Table 3.4 and Table 3.1).
+//! (Table 3.4 and Table 3.1); `--shapes`, particles per second and peak
+//! memory per particle for ellipses and superellipses beside disks of the
+//! same grading and domain, measured in the same run.
 //!
 //! Peak memory comes from [`counting::PeakAlloc`], a counting wrapper around
 //! the system allocator. It is installed only in a binary built with
@@ -11,7 +13,7 @@
 use std::time::Instant;
 
 use gapack::strips;
-use gapack::{Domain, Grading, IndexKind, PackerSettings, Scene, Strips, pack};
+use gapack::{Domain, Grading, IndexKind, PackerSettings, Scene, ShapeSpec, Strips, pack};
 use gapack::{mean_sd, porosity, solid_area};
 
 /// The counting allocator and its two counters.
@@ -304,6 +306,101 @@ pub fn run_seams(side: Option<f64>, seeds: u64) -> anyhow::Result<Vec<SeamRow>> 
     Ok(rows)
 }
 
+/// One measured shape of `gapack bench --shapes`.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ShapeRow {
+    /// Target number of disks the square is sized for.
+    pub target: u64,
+    /// Side of the square (mm).
+    pub side_mm: f64,
+    /// The particles: disks, ellipses or superellipses, with their parameters.
+    pub shape: String,
+    /// Particles packed.
+    pub particles: usize,
+    /// Porosity reached.
+    pub porosity: f64,
+    /// Best wall-clock time over the repeats (s).
+    pub seconds: f64,
+    /// Particles per second (best run).
+    pub particles_per_second: f64,
+    /// Particles per second over the disks' in the same run.
+    pub ratio_to_disks: f64,
+    /// Peak heap bytes during packing, per particle (`None` without `count-alloc`).
+    pub peak_bytes_per_particle: Option<f64>,
+}
+
+/// The shapes `gapack bench --shapes` measures, beside disks.
+fn bench_shapes() -> [(&'static str, Option<ShapeSpec>); 3] {
+    [
+        ("disks", None),
+        ("ellipses aspect 1.5", Some(ShapeSpec::ellipses(1.5))),
+        (
+            "superellipses alpha=beta=4 aspect 2",
+            Some(ShapeSpec::superellipses(2.0, 4.0)),
+        ),
+    ]
+}
+
+/// Measure disks, ellipses and superellipses on one core (in one piece),
+/// the Table 3.4 grading (sieve sizes), squares sized for `targets` disks;
+/// the shapes take turns repeat by repeat and each keeps its fastest.
+pub fn run_shapes(
+    targets: &[u64],
+    repeats: usize,
+    mut progress: impl FnMut(&ShapeRow),
+) -> anyhow::Result<Vec<ShapeRow>> {
+    let grading = Grading::from_table(
+        gapack::THESIS_TABLE_3_4,
+        Default::default(),
+        Default::default(),
+    )?;
+    let shapes = bench_shapes();
+    let mut rows = Vec::new();
+    for &target in targets {
+        let side = side_for(target, &grading);
+        let base = Scene::new(Domain::rectangle(side, side)?, grading.clone()).with_seed(1);
+        let mut best = vec![f64::INFINITY; shapes.len()];
+        let mut peak = vec![Some(0usize); shapes.len()];
+        let mut packed = vec![(0usize, 0.0f64); shapes.len()];
+        for _ in 0..repeats.max(1) {
+            for (k, (_, shape)) in shapes.iter().enumerate() {
+                let scene = match shape {
+                    Some(s) => base.clone().with_shape(s.clone()),
+                    None => base.clone(),
+                };
+                let start_bytes = counting::start();
+                let start = Instant::now();
+                let packing = pack(&scene)?;
+                best[k] = best[k].min(start.elapsed().as_secs_f64());
+                peak[k] = peak[k]
+                    .zip(counting::peak_since(start_bytes))
+                    .map(|(a, b)| a.max(b));
+                let n = packing.disks.len();
+                packed[k] = (n, porosity(solid_area(&packing.disks), side * side));
+            }
+        }
+        let disk_rate = packed[0].0 as f64 / best[0];
+        for (k, (name, _)) in shapes.iter().enumerate() {
+            let (particles, porosity) = packed[k];
+            let rate = particles as f64 / best[k];
+            let row = ShapeRow {
+                target,
+                side_mm: side,
+                shape: (*name).to_owned(),
+                particles,
+                porosity,
+                seconds: best[k],
+                particles_per_second: rate,
+                ratio_to_disks: rate / disk_rate,
+                peak_bytes_per_particle: peak[k].map(|p| p as f64 / particles.max(1) as f64),
+            };
+            progress(&row);
+            rows.push(row);
+        }
+    }
+    Ok(rows)
+}
+
 /// `gapack bench` arguments.
 #[derive(clap::Args)]
 pub struct BenchArgs {
@@ -331,6 +428,11 @@ pub struct BenchArgs {
     /// the strips' seams and away from them (seams.csv).
     #[arg(long, conflicts_with_all = ["densify", "ranks"])]
     seams: bool,
+    /// Instead: particles per second and peak memory per particle of
+    /// ellipses (aspect 1.5) and superellipses (α = β = 4, aspect 2) beside
+    /// disks of the same grading and domain, on one core (shapes.csv).
+    #[arg(long, conflicts_with_all = ["densify", "ranks", "seams"])]
+    shapes: bool,
     /// With --seams: seeds packed (1, 2, …).
     #[arg(long, default_value_t = 3, value_name = "N", requires = "seams")]
     seeds: u64,
@@ -561,6 +663,9 @@ pub fn run_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
     if args.seams {
         return seams_command(args);
     }
+    if args.shapes {
+        return shapes_command(args);
+    }
     let targets: Vec<u64> = [10_000, 100_000, 1_000_000, 10_000_000]
         .into_iter()
         .filter(|&n| n <= args.max)
@@ -622,6 +727,68 @@ pub fn run_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
         .context("cannot write bench.csv")
         .map_err(Failure::Run)?;
     print_line(args.out.join("bench.csv").display());
+    Ok(())
+}
+
+/// `gapack bench --shapes`: print the table, then write shapes.csv.
+fn shapes_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
+    use crate::cli::{Failure, print_line};
+    use anyhow::Context;
+    use gapack::jobs::{DirStore, Store};
+    let targets: Vec<u64> = [10_000, 100_000, 1_000_000]
+        .into_iter()
+        .filter(|&n| n <= args.max)
+        .collect();
+    if targets.is_empty() {
+        return Err(Failure::Input(anyhow::anyhow!(
+            "--max {} is below the smallest benchmark (10000 particles)",
+            args.max
+        )));
+    }
+    print_line(format_args!(
+        "{:>9} {:>9} {:>36} {:>9} {:>9} {:>9} {:>12} {:>9} {:>10}",
+        "target",
+        "side_mm",
+        "shape",
+        "particles",
+        "porosity",
+        "seconds",
+        "particles/s",
+        "of_disks",
+        "bytes/p"
+    ));
+    let rows = run_shapes(&targets, args.repeats, |r| {
+        print_line(format_args!(
+            "{:>9} {:>9.1} {:>36} {:>9} {:>9.4} {:>9.3} {:>12.0} {:>9.4} {:>10}",
+            r.target,
+            r.side_mm,
+            r.shape,
+            r.particles,
+            r.porosity,
+            r.seconds,
+            r.particles_per_second,
+            r.ratio_to_disks,
+            r.peak_bytes_per_particle
+                .map_or_else(|| "-".to_owned(), |b| format!("{b:.1}"))
+        ));
+    })
+    .context("cannot run the benchmark")
+    .map_err(Failure::Run)?;
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for row in &rows {
+        w.serialize(row)
+            .context("cannot format shapes.csv")
+            .map_err(Failure::Run)?;
+    }
+    let bytes = w
+        .into_inner()
+        .context("cannot format shapes.csv")
+        .map_err(Failure::Run)?;
+    DirStore::new(&args.out)
+        .write(&[("shapes.csv".to_owned(), bytes)])
+        .context("cannot write shapes.csv")
+        .map_err(Failure::Run)?;
+    print_line(args.out.join("shapes.csv").display());
     Ok(())
 }
 

@@ -12,5 +12,5 @@ pub use disk::{Disk, Point, bounds_of_disks};
 pub use domain::{Domain, GeometryError, ImageShifts, Shape, Wall, WallMode};
 pub use grain::{
     Grain, Outline, OutlineError, SUPPORT_REL, Separation, Turned, apart, grain_separation,
-    separation,
+    separation, separation_from,
 };

@@ -19,7 +19,7 @@
 use nalgebra::Vector2;
 
 use super::Body;
-use crate::geometry::{Outline, Point, apart, separation};
+use crate::geometry::{Outline, Point, apart, separation_from};
 
 /// Gap between touching particles, relative to the new particle's reach:
 /// far below the contact tolerance of the metrics, far above rounding.
@@ -80,18 +80,20 @@ pub(super) enum Obstacle {
 /// The new particle's signed clearance from `ob` at centre `p` (a certified
 /// lower bound of the distance for particles and straight walls; positive
 /// when apart) and its gradient in `p`. `tol` bounds the error of the value.
+/// `guess` is the gradient of a nearby call (zero: none).
 pub(super) fn clearance(
     bodies: &[Body],
     ob: &Obstacle,
     new: &Newcomer,
     p: Point,
     tol: f64,
+    guess: Vector2<f64>,
 ) -> (f64, Vector2<f64>) {
     match *ob {
         Obstacle::Body(id, shift) => {
             let b = &bodies[id as usize];
             let d = p - (b.c + shift);
-            let s = separation(d, tol, |u| {
+            let s = separation_from(d, guess, tol, |u| {
                 let (hb, pb) = b.support(u);
                 let (hn, pn) = new.support(-u);
                 (hb + hn, pb - pn)
@@ -99,7 +101,7 @@ pub(super) fn clearance(
             (s.lower, s.dir)
         }
         Obstacle::Segment(a, b) => {
-            let s = separation(p.coords, tol, |u| segment_minus(a, b, new, u));
+            let s = separation_from(p.coords, guess, tol, |u| segment_minus(a, b, new, u));
             (s.lower, s.dir)
         }
         Obstacle::Circle(o, radius) => {
@@ -289,16 +291,33 @@ pub(super) fn two_contact(
     work: &mut u64,
 ) -> Option<Point> {
     let eps = GAP_REL * new.reach;
-    let tol = 0.05 * eps;
     let mut p = start;
-    for _ in 0..NEWTON_ITERATIONS {
-        let (fa, ga) = clearance(bodies, a, new, p, tol);
-        let (fb, gb) = clearance(bodies, b, new, p, tol);
+    let (mut ga, mut gb) = (Vector2::zeros(), Vector2::zeros());
+    // The distances need only be as accurate as the step they make.
+    let mut tol = 1e-3 * new.reach;
+    let mut last = f64::INFINITY;
+    for i in 0..NEWTON_ITERATIONS {
+        let (fa, da) = clearance(bodies, a, new, p, tol, ga);
+        let (fb, db) = clearance(bodies, b, new, p, tol, gb);
+        (ga, gb) = (da, db);
         *work += 2;
         let (ra, rb) = (fa - eps, fb - eps);
-        if ra.abs() <= 0.5 * eps && rb.abs() <= 0.5 * eps {
-            return Some(p);
+        let residual = ra.abs().max(rb.abs());
+        if residual <= 0.5 * eps {
+            if tol <= 0.05 * eps {
+                return Some(p);
+            }
+            // Converged on rough distances: measure them finely here.
+            tol = 0.05 * eps;
+            continue;
         }
+        // Newton halves the residual at least once it is near a crossing;
+        // one that stalls is looking for a crossing that is not there.
+        if i >= 3 && residual > 0.5 * last && residual > eps {
+            return None;
+        }
+        last = residual;
+        tol = (0.01 * residual).clamp(0.05 * eps, tol);
         let det = ga.x * gb.y - ga.y * gb.x;
         if det.abs() < 1e-6 {
             return None;

@@ -27,7 +27,7 @@ use super::contact::{
 };
 use super::{Body, PEAK_BYTES_PER_GRAIN, Radii};
 use crate::cancel::Cancel;
-use crate::geometry::{Disk, Grain, Point, Wall};
+use crate::geometry::{Disk, Grain, Outline, Point, Wall};
 use crate::packer::advancing_front::{PROGRESS_STEP, size_count, work_budget};
 use crate::packer::index::{Grid, MxQuadtree, SpatialIndex};
 use crate::packer::{BYTES_PER_MB, IndexKind, PackError, PackStats, Packing};
@@ -53,14 +53,6 @@ pub(super) fn pack(
     }
 }
 
-/// A candidate centre, its rank (lowest first), and the two obstacles it
-/// was solved against (certified already).
-struct Cand {
-    rank: (f64, f64),
-    p: Point,
-    skip: [Obstacle; 2],
-}
-
 /// The generator's state.
 pub(super) struct Front<'a, I> {
     scene: &'a Scene,
@@ -79,6 +71,8 @@ pub(super) struct Front<'a, I> {
     parked: BTreeMap<(u64, u32), ()>,
     /// Smallest equivalent radius drawn so far.
     r_small: f64,
+    /// Smallest inner radius drawn so far.
+    inner_small: f64,
     radii: Radii,
     pub(super) stats: PackStats,
     budget: u64,
@@ -129,6 +123,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             stack: Vec::new(),
             parked: BTreeMap::new(),
             r_small: f64::INFINITY,
+            inner_small: f64::INFINITY,
             radii: Radii::default(),
             stats: PackStats::default(),
             budget: work_budget(scene),
@@ -197,6 +192,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let (sin, cos) = grain.angle.sin_cos();
         let r_eq = grain.outline.equivalent_radius();
         self.r_small = self.r_small.min(r_eq);
+        self.inner_small = self.inner_small.min(inner);
         let one_contact = match self.scene.packer.one_contact_share {
             s if s <= 0.0 => false,
             s if s >= 1.0 => true,
@@ -226,11 +222,29 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                     break;
                 };
                 self.stats.front_attempts += 1;
-                if let Some(p) = self.attempt(front, &new, one_contact) {
+                if let Some(p) = self.attempt(front, &new, one_contact, false) {
                     spot = Some(p);
                 } else {
                     self.stack.pop();
-                    if r_eq > self.r_small * (1.0 + 1e-9) {
+                    // Parked for a smaller size, unless even the smallest
+                    // disk inside any particle finds no spot touching it.
+                    let smallest = self.inner_small;
+                    let probe_outline = Outline::Superellipse {
+                        a: smallest,
+                        b: smallest,
+                        alpha: 2.0,
+                        beta: 2.0,
+                    };
+                    let probe = Newcomer {
+                        outline: &probe_outline,
+                        cos: 1.0,
+                        sin: 0.0,
+                        reach: smallest,
+                        inner: smallest,
+                    };
+                    if r_eq > self.r_small * (1.0 + 1e-9)
+                        && self.attempt(front, &probe, false, true).is_some()
+                    {
                         self.parked.insert((r_eq.to_bits(), front), ());
                     }
                 }
@@ -370,8 +384,15 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
     }
 
     /// The lowest clear spot touching front `front` and one more obstacle
-    /// (with one contact: touching one of them), if any.
-    fn attempt(&mut self, front: u32, new: &Newcomer, one_contact: bool) -> Option<Point> {
+    /// (with one contact: touching one of them), if any; with `any`, the
+    /// first clear spot found.
+    fn attempt(
+        &mut self,
+        front: u32,
+        new: &Newcomer,
+        one_contact: bool,
+        any: bool,
+    ) -> Option<Point> {
         let f = &self.bodies[front as usize];
         let (cf, rf) = (f.c, f.reach);
         let reach = rf + 2.0 * new.reach;
@@ -398,10 +419,21 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             }
         }
         let me = Obstacle::Body(front, Vector2::zeros());
-        let mut cands: Vec<Cand> = Vec::new();
+        // Each obstacle with the least rank a centre touching it and the
+        // front can have (inside both halos): solved lowest bound first,
+        // until the best clear spot ranks below every bound left.
+        let mut order: Vec<((f64, f64), Obstacle)> = obstacles
+            .iter()
+            .map(|ob| (self.rank_bound(cf, rf + new.reach, ob, new), *ob))
+            .collect();
+        order.sort_unstable_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal));
+        let mut best: Option<((f64, f64), Point)> = None;
         let mut begin = Vec::new();
         let mut work = 0u64;
-        for ob in &obstacles {
+        for (bound, ob) in &order {
+            if best.is_some_and(|(rank, _)| *bound > rank) {
+                break;
+            }
             begin.clear();
             starts(&self.bodies, cf, rf, ob, new, &mut begin);
             for &s in &begin {
@@ -411,30 +443,54 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 } else {
                     two_contact(&self.bodies, &me, ob, new, s, &mut work)
                 };
-                if let Some(p) = p
-                    && (self.periodic || self.scene.domain.signed_distance(p) > 0.0)
-                {
-                    cands.push(Cand {
-                        rank: self.rank(p),
-                        p,
-                        skip: [me, *ob],
-                    });
+                let Some(p) = p else { continue };
+                let rank = self.rank(p);
+                if best.is_some_and(|(r, _)| rank >= r) {
+                    continue;
+                }
+                // Certified clear of the two it was solved against already.
+                self.stats.work += work;
+                work = 0;
+                if self.clear(new, p, &[me, *ob]) {
+                    if any {
+                        return Some(p);
+                    }
+                    best = Some((rank, p));
                 }
             }
         }
         self.stats.work += work;
-        cands.sort_unstable_by(|a, b| {
-            a.rank
-                .partial_cmp(&b.rank)
-                .unwrap_or(std::cmp::Ordering::Equal)
-        });
-        for c in &cands {
-            // Certified clear of the two it was solved against already.
-            if self.clear(new, c.p, &c.skip) {
-                return Some(c.p);
+        best.map(|(_, p)| p)
+    }
+
+    /// A lower bound of the rank of a centre within `halo` of the front's
+    /// centre `cf` and touching `ob` (inside its halo too).
+    fn rank_bound(&self, cf: Point, halo: f64, ob: &Obstacle, new: &Newcomer) -> (f64, f64) {
+        // The disk (cf, halo) and the obstacle's own halo: the lowest point
+        // of their lens is at least the lower of their lowest points.
+        let (c2, r2) = match *ob {
+            Obstacle::Body(id, v) => {
+                let g = &self.bodies[id as usize];
+                (g.c + v, g.reach + new.reach)
             }
+            Obstacle::Segment(..) | Obstacle::Circle(..) => (cf, halo),
+        };
+        if self.periodic {
+            let Some(first) = self.bodies.first() else {
+                return (0.0, f64::NEG_INFINITY);
+            };
+            let gap = |c: Point, r: f64| {
+                let mut d = c - first.c;
+                if let Some(period) = self.scene.domain.period() {
+                    d.x -= period.x * (d.x / period.x).round();
+                    d.y -= period.y * (d.y / period.y).round();
+                }
+                (d.norm() - r).max(0.0)
+            };
+            let g = gap(cf, halo).max(gap(c2, r2));
+            return (g * g, f64::NEG_INFINITY);
         }
-        None
+        ((cf.y - halo).max(c2.y - r2), f64::NEG_INFINITY)
     }
 
     /// The order candidates are tried in: lowest then leftmost; in a
