@@ -816,4 +816,46 @@ mod tests {
         let t = read_packing_csv("x,y,d\n-1e9,1e9,1e-6\n0,0,1\n", "p.csv").unwrap();
         assert_eq!(t.disks[0], Disk::new(-1e9, 1e9, 5e-7));
     }
+
+    #[test]
+    fn particle_columns_round_trip_every_bit() {
+        use crate::geometry::{Domain, Grain, Outline};
+        use crate::output::csv::write_packing_csv;
+        use crate::packer::Packing;
+        let se = Outline::superellipse(0.1 + 0.2, 1.0 / 3.0, 2.5, 7.0).expect("valid");
+        let square = [
+            Point::new(-0.5, -0.5),
+            Point::new(0.5, -0.5),
+            Point::new(0.5, 0.5),
+            Point::new(-0.5, 0.5),
+        ];
+        let poly = Outline::polygon(3, &square, 0.125).expect("valid");
+        let grains = vec![Grain::new(se, 0.7), Grain::new(poly, -1.0 / 7.0)];
+        let disks = grains
+            .iter()
+            .zip([1.0, 4.0])
+            .map(|(g, x)| Disk::new(x, 2.0, g.outline.equivalent_radius()))
+            .collect();
+        let packing = Packing {
+            grains: grains.clone(),
+            ..Packing::of_disks(Domain::rectangle(10.0, 10.0).expect("valid"), disks)
+        };
+        let mut bytes = Vec::new();
+        write_packing_csv(&packing, &[], &mut bytes).expect("csv");
+        let text = String::from_utf8(bytes).expect("utf-8");
+        assert!(text.starts_with(
+            "id,x,y,r,angle,a,b,alpha,beta,template,rounding,vertices\n"
+        ));
+        assert!(text.contains(",,,,3,0.125,-0.5 -0.5;0.5 -0.5;0.5 0.5;-0.5 0.5\n"), "{text}");
+        let t = read_packing_csv(&text, "p.csv").expect("reads");
+        assert_eq!(t.grains, grains);
+        assert_eq!(t.disks, packing.disks);
+        // A wrong r, or vertices off the centre, are refused.
+        let bad = text.replacen(",1,2,", ",1,2.5,", 1);
+        assert_eq!(read_packing_csv(&bad, "p.csv").map(|t| t.grains), Ok(grains));
+        let off = "x,y,r,angle,template,rounding,vertices\n0,0,1,0,0,0,1 1;2 1;2 2;1 2\n";
+        assert!(fault(off).contains("centroid at (0, 0); it is at (1.5, 1.5)"), "{}", fault(off));
+        let wrong_r = "x,y,r,angle,a,b,alpha,beta\n0,0,1,0,2,2,2,2\n";
+        assert!(fault(wrong_r).contains("area-equivalent radius"), "{}", fault(wrong_r));
+    }
 }

@@ -67,7 +67,7 @@ pub const LAMMPS_DATA: &str = "packing.lammps";
 /// `Bodies` section gives per particle the line `id 1 M` (one integer, M =
 /// 6 + 3N + 1 doubles), the vertex count N, the inertia tensor `Ixx Iyy
 /// Izz Ixy Ixz Iyz` of that slab (about its centre, world axes), the N
-/// of vertex offsets `x y 0` from the centre (world axes: the particle's
+/// vertex offsets `x y 0` from the centre (world axes: the particle's
 /// angle applied), four a line (`x y 0 x y 0 …`: LAMMPS reads the
 /// numbers as one stream but allows at most 32 lines a body), and the
 /// rounding diameter. See docs/outputs.md for the
