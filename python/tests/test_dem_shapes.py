@@ -196,7 +196,8 @@ def test_liggghts_reads_the_superquadrics(exported):
     assert [float(l.split()[-1]) for l in turns] == [math.degrees(t) for (_, _, t) in placed]
     need(shutil.which("liggghts") is not None, "LIGGGHTS is not installed: apt-get install liggghts")
     probe = subprocess.run(["liggghts", "-h"], capture_output=True, text=True, timeout=60)
-    if "superquadric" not in probe.stdout:
+    styles = re.search(r"\* Atom styles:(.*?)\n\* ", probe.stdout, re.S)
+    if styles is None or "superquadric" not in styles.group(1).split():
         pytest.skip("this LIGGGHTS build has no atom_style superquadric (built without superquadrics)")
     script = f"""\
 atom_style      superquadric
@@ -219,3 +220,20 @@ print           "RESULT $(count(all))"
     )
     assert done.returncode == 0 and "ERROR" not in done.stdout, done.stdout[-3000:] + done.stderr
     assert f"RESULT {len(placed)}" in done.stdout
+
+
+def test_verify_refuses_particles_it_cannot_certify(cli, tmp_path):
+    """A table of superellipses is not checked as if its particles were
+    their equivalent disks: verify says why and exits 2."""
+    write_table(tmp_path / "packing.csv")
+    (tmp_path / "cfg.toml").write_text(CONFIG)
+    done = subprocess.run(
+        [str(cli), "verify", "packing.csv", "--config", "cfg.toml"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 2, done.stdout + done.stderr
+    assert "the particles are not disks" in done.stderr
+    assert "valid" not in done.stdout

@@ -843,19 +843,32 @@ mod tests {
         let mut bytes = Vec::new();
         write_packing_csv(&packing, &[], &mut bytes).expect("csv");
         let text = String::from_utf8(bytes).expect("utf-8");
-        assert!(text.starts_with(
-            "id,x,y,r,angle,a,b,alpha,beta,template,rounding,vertices\n"
-        ));
-        assert!(text.contains(",,,,3,0.125,-0.5 -0.5;0.5 -0.5;0.5 0.5;-0.5 0.5\n"), "{text}");
+        assert!(text.starts_with("id,x,y,r,angle,a,b,alpha,beta,template,rounding,vertices\n"));
+        assert!(
+            text.contains(",,,,3,0.125,-0.5 -0.5;0.5 -0.5;0.5 0.5;-0.5 0.5\n"),
+            "{text}"
+        );
         let t = read_packing_csv(&text, "p.csv").expect("reads");
         assert_eq!(t.grains, grains);
         assert_eq!(t.disks, packing.disks);
-        // A wrong r, or vertices off the centre, are refused.
-        let bad = text.replacen(",1,2,", ",1,2.5,", 1);
-        assert_eq!(read_packing_csv(&bad, "p.csv").map(|t| t.grains), Ok(grains));
+        // Bad vertices, a wrong r, or vertices off the centre, are refused.
+        let bad = text.replacen("0.5 0.5;", "0.5;", 1);
+        assert!(
+            fault(&bad).contains("vertex 3: expected two numbers"),
+            "{}",
+            fault(&bad)
+        );
         let off = "x,y,r,angle,template,rounding,vertices\n0,0,1,0,0,0,1 1;2 1;2 2;1 2\n";
-        assert!(fault(off).contains("centroid at (0, 0); it is at (1.5, 1.5)"), "{}", fault(off));
+        assert!(
+            fault(off).contains("centroid at (0, 0); it is at (1.5, 1.5)"),
+            "{}",
+            fault(off)
+        );
         let wrong_r = "x,y,r,angle,a,b,alpha,beta\n0,0,1,0,2,2,2,2\n";
-        assert!(fault(wrong_r).contains("area-equivalent radius"), "{}", fault(wrong_r));
+        assert!(
+            fault(wrong_r).contains("area-equivalent radius"),
+            "{}",
+            fault(wrong_r)
+        );
     }
 }

@@ -164,13 +164,12 @@ fn body_data(e: &Export<'_>, materials: &[Material], opts: &ExportOptions) -> Ve
     let (lo, hi) = if packing.domain.is_periodic() {
         (lo, hi)
     } else {
-        let extent = packing.disks.iter().fold((lo, hi), |(lo, hi), d| {
+        packing.disks.iter().fold((lo, hi), |(lo, hi), d| {
             (
                 Point::new(lo.x.min(d.c.x - reach), lo.y.min(d.c.y - reach)),
                 Point::new(hi.x.max(d.c.x + reach), hi.y.max(d.c.y + reach)),
             )
-        });
-        extent
+        })
     };
     let z = if reach > 0.0 { reach * s } else { 0.5 };
     let counts = bodies.iter().map(|(_, w)| w.len());

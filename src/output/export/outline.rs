@@ -270,4 +270,43 @@ mod tests {
         let a = Moments::of(&r.fine()).area;
         assert!(a > 0.95 * outline.area() && a < outline.area(), "{a}");
     }
+
+    #[test]
+    fn only_superellipses_with_one_exponent_of_2_or_more_are_superquadrics() {
+        let se = |alpha, beta| {
+            Grain::new(
+                Outline::superellipse(2.0, 1.0, alpha, beta).expect("valid"),
+                0.5,
+            )
+        };
+        let q = superquadrics(&[se(4.0, 4.0)], "mercury").expect("a superquadric");
+        assert_eq!(
+            q,
+            [Superquadric {
+                a: 2.0,
+                b: 1.0,
+                n: 4.0
+            }]
+        );
+        for bad in [se(4.0, 3.0), se(1.5, 1.5)] {
+            let e = superquadrics(&[se(2.0, 2.0), bad], "mercury").expect_err("refused");
+            assert!(
+                e.to_string()
+                    .starts_with("mercury: particle 1 has exponents"),
+                "{e}"
+            );
+        }
+        let square = [
+            Point::new(-1.0, -1.0),
+            Point::new(1.0, -1.0),
+            Point::new(1.0, 1.0),
+            Point::new(-1.0, 1.0),
+        ];
+        let poly = Grain::new(Outline::polygon(0, &square, 0.0).expect("valid"), 0.0);
+        let e = superquadrics(&[poly], "liggghts-superquadric").expect_err("refused");
+        assert!(
+            e.to_string().contains("particle 0 is a rounded polygon"),
+            "{e}"
+        );
+    }
 }
