@@ -69,6 +69,10 @@ enum Command {
     /// Check an existing packing (a CSV from gapack or any tool) against a
     /// config: overlaps, containment, porosity, grading (KS). Exit 1 if it fails.
     Verify(cli::inspect::VerifyArgs),
+    /// Write an existing packing (a CSV from gapack or any tool) in the DEM
+    /// and viewer formats of a config's [output] formats (vtk, lammps,
+    /// liggghts-superquadric, mercury, yade, pfc, esys).
+    Export(cli::inspect::ExportArgs),
     /// Draw an existing packing (a CSV from gapack or any tool): packing,
     /// psd and porosity_map as SVG and PNG; with --config, its domain and target grading.
     Plot(cli::inspect::PlotArgs),
@@ -90,6 +94,7 @@ fn main() -> ExitCode {
         Command::Sweep(args) => run_job(JobKind::Sweep, &args),
         Command::Validate(args) => run_validate(&args),
         Command::Verify(args) => cli::inspect::run_verify(&args),
+        Command::Export(args) => cli::inspect::run_export(&args),
         Command::Plot(args) => cli::inspect::run_plot(&args),
         Command::Bench(args) => bench::run_command(&args),
         Command::Serve(args) => cli::serve::run(&args),

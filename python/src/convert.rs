@@ -15,7 +15,7 @@ use pyo3::types::{PyDict, PyList};
 use crate::errors::input_error;
 
 /// Every output format, in the order `[output] formats` documents them.
-const FORMATS: [Format; 10] = [
+const FORMATS: [Format; 11] = [
     Format::Csv,
     Format::Json,
     Format::Vtk,
@@ -23,6 +23,7 @@ const FORMATS: [Format; 10] = [
     Format::Yade,
     Format::Pfc,
     Format::Mercury,
+    Format::LiggghtsSuperquadric,
     Format::Esys,
     Format::Svg,
     Format::Png,
@@ -38,6 +39,7 @@ const fn listed(format: Format) -> bool {
         | Format::Yade
         | Format::Pfc
         | Format::Mercury
+        | Format::LiggghtsSuperquadric
         | Format::Esys
         | Format::Svg
         | Format::Png => true,

@@ -255,7 +255,7 @@ fn bytes_per_disk(format: Format) -> f64 {
         Format::Csv => 80.0,
         Format::Json => 115.0,
         Format::Vtk => 120.0,
-        Format::Lammps | Format::Mercury => 100.0,
+        Format::Lammps | Format::Mercury | Format::LiggghtsSuperquadric => 100.0,
         Format::Yade | Format::Esys => 95.0,
         Format::Pfc => 170.0,
         Format::Svg => 85.0,

@@ -12,6 +12,7 @@ use super::plot::variant_label;
 use crate::compare::CompareRun;
 use crate::fracture::WindowStep;
 use crate::ga::Generation;
+use crate::geometry::{Grain, Outline, Point};
 use crate::layering::{Material, ProfileRow};
 use crate::packer::Packing;
 use crate::stability::{StabilityRun, Status};
@@ -281,10 +282,105 @@ pub fn convergence_csv(history: &[Generation]) -> Result<Vec<u8>, OutputError> {
         .map_err(|e| OutputError::Csv(e.into_error().into()))
 }
 
+/// Which particle columns a packing's table carries: none for disks; the
+/// superellipse columns, the rounded-polygon columns, or both (a packing
+/// that mixes the two families leaves the other family's cells empty).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct GrainColumns {
+    /// `a, b, alpha, beta` (after `angle`).
+    pub(crate) superellipse: bool,
+    /// `template, rounding, vertices` (after `angle`, and after the
+    /// superellipse columns when both are present).
+    pub(crate) polygon: bool,
+}
+
+impl GrainColumns {
+    /// The columns `grains` need.
+    pub(crate) fn of(grains: &[Grain]) -> Self {
+        let mut c = GrainColumns::default();
+        for g in grains {
+            match g.outline {
+                Outline::Superellipse { .. } => c.superellipse = true,
+                Outline::Polygon { .. } => c.polygon = true,
+            }
+        }
+        c
+    }
+
+    /// The header names after `r`: `angle` and the families' columns.
+    pub(crate) fn names(self) -> Vec<&'static str> {
+        let mut names = Vec::new();
+        if self.superellipse || self.polygon {
+            names.push("angle");
+        }
+        if self.superellipse {
+            names.extend(["a", "b", "alpha", "beta"]);
+        }
+        if self.polygon {
+            names.extend(["template", "rounding", "vertices"]);
+        }
+        names
+    }
+
+    /// The cells of `grain` under [`GrainColumns::names`], in shortest
+    /// round-trip form (empty under the other family's columns).
+    pub(crate) fn cells(self, grain: &Grain) -> Vec<String> {
+        let mut cells = vec![grain.angle.to_string()];
+        match &grain.outline {
+            Outline::Superellipse { a, b, alpha, beta } => {
+                if self.superellipse {
+                    cells.extend([a, b, alpha, beta].map(ToString::to_string));
+                }
+                if self.polygon {
+                    cells.extend(std::iter::repeat_n(String::new(), 3));
+                }
+            }
+            Outline::Polygon {
+                template,
+                vertices,
+                rounding,
+            } => {
+                if self.superellipse {
+                    cells.extend(std::iter::repeat_n(String::new(), 4));
+                }
+                if self.polygon {
+                    cells.extend([
+                        template.to_string(),
+                        rounding.to_string(),
+                        vertex_list(vertices),
+                    ]);
+                }
+            }
+        }
+        cells
+    }
+}
+
+/// A polygon's vertices as one CSV field: `x1 y1;x2 y2;…` (a space
+/// between the coordinates of a vertex, a semicolon between vertices),
+/// each number in shortest round-trip form.
+pub(crate) fn vertex_list(vertices: &[Point]) -> String {
+    vertices
+        .iter()
+        .map(|p| format!("{} {}", p.x, p.y))
+        .collect::<Vec<_>>()
+        .join(";")
+}
+
 /// The packed disks (not the wall disks) as CSV: header `id,x,y,r`, `id` from
 /// 0 in placement order, lengths in mm; with `materials` and disks that
 /// carry one, a last column `material` holds its name (a single material
 /// names every disk).
+///
+/// A packing of other particles (non-empty `packing.grains`) has, after
+/// `r` (then the particle's area-equivalent radius), the column `angle`
+/// (radians, counter-clockwise from the x axis to the particle's own x
+/// axis), then for superellipses `a,b,alpha,beta` (semi-axes in mm along
+/// the particle's own axes and the exponents of |x'/a|^alpha + |y'/b|^beta
+/// ≤ 1) and for rounded polygons `template,rounding,vertices` (the
+/// template's index, the corner radius in mm, and the vertices in the
+/// particle's own axes as `x1 y1;x2 y2;…`, counter-clockwise about the
+/// centroid); `material` comes last as for disks.
 ///
 /// Numbers use Rust's shortest round-trip formatting, so they read back
 /// exactly and the same packing always gives the same bytes.
@@ -301,6 +397,30 @@ pub fn write_packing_csv(
 ) -> io::Result<()> {
     let mut writer = ::csv::Writer::from_writer(out);
     let named = !materials.is_empty();
+    let shapes = GrainColumns::of(&packing.grains);
+    if !packing.grains.is_empty() {
+        let mut header = vec!["id", "x", "y", "r"];
+        header.extend(shapes.names());
+        if named {
+            header.push("material");
+        }
+        writer.write_record(&header)?;
+        for (id, (disk, grain)) in packing.disks.iter().zip(&packing.grains).enumerate() {
+            let mut record = vec![
+                id.to_string(),
+                disk.c.x.to_string(),
+                disk.c.y.to_string(),
+                disk.r.to_string(),
+            ];
+            record.extend(shapes.cells(grain));
+            if named {
+                let m = packing.materials.get(id).map_or(0, |&m| usize::from(m));
+                record.push(materials.get(m).map_or(String::new(), |m| m.name.clone()));
+            }
+            writer.write_record(&record)?;
+        }
+        return writer.flush();
+    }
     if named {
         writer.write_record(["id", "x", "y", "r", "material"])?;
     } else {

@@ -68,4 +68,13 @@ pub enum OutputError {
         /// How many materials were given.
         count: usize,
     },
+    /// A format cannot hold the packing's particles (their family, or
+    /// their shape's parameters, have no counterpart in it).
+    #[error("{format}: {reason}")]
+    Unsupported {
+        /// The file's format, as `[output] formats` names it.
+        format: &'static str,
+        /// Why, and what to use instead.
+        reason: String,
+    },
 }

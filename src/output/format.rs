@@ -19,6 +19,9 @@ pub enum Format {
     Pfc,
     /// `packing.mercury.data`: a MercuryDPM 2D data file.
     Mercury,
+    /// `packing.superquadric.data` and `.in`: superellipses for LIGGGHTS'
+    /// `atom_style superquadric`.
+    LiggghtsSuperquadric,
     /// `packing.geo`: an ESyS-Particle 2D geometry file.
     Esys,
     /// Pictures as SVG: the packing, its grading, its porosity map, the run's charts.
@@ -74,6 +77,7 @@ pub(crate) const FORMATS: Names<Format> = Names {
         ("yade", Format::Yade),
         ("pfc", Format::Pfc),
         ("mercury", Format::Mercury),
+        ("liggghts-superquadric", Format::LiggghtsSuperquadric),
         ("esys", Format::Esys),
         ("svg", Format::Svg),
         ("png", Format::Png),

@@ -20,8 +20,12 @@ mod sweep_table;
 // the types those items name; the rest serves the jobs only.
 pub use error::OutputError;
 pub use export::{
+    BOUNDARY_VTK, ESYS_GEOMETRY, LAMMPS_DATA, MERCURY_DATA, PACKING_VTK, PFC_COMMANDS,
+    SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, YADE_TEXT,
+};
+pub use export::{
     boundary_vtk, esys_geometry, lammps_data, mercury_data, packing_json, packing_vtk,
-    pfc_commands, yade_text,
+    pfc_commands, superquadric_data, superquadric_input, yade_text,
 };
 pub use format::{ExportOptions, Format, LengthUnit, OutputSettings};
 pub use json::{
@@ -41,10 +45,7 @@ pub(crate) use csv::{
     COMPARE_CSV, CONVERGENCE_CSV, PACKING_CSV, PROFILE_CSV, STABILITY_CSV, WELLS_CSV, WINDOW_CSV,
     WellRow, wells_csv,
 };
-pub(crate) use export::{
-    BOUNDARY_VTK, ESYS_GEOMETRY, LAMMPS_DATA, MERCURY_DATA, PACKING_JSON, PACKING_VTK,
-    PFC_COMMANDS, YADE_TEXT,
-};
+pub(crate) use export::PACKING_JSON;
 pub(crate) use format::{FORMATS, UNITS};
 pub(crate) use plot::{
     PACKING_PNG, POROSITY_MAP_PNG, POROSITY_MAP_SVG, PSD_PNG, PSD_SVG, variant_label,
@@ -68,6 +69,8 @@ pub(crate) const FILE_NAMES: &[&str] = &[
     YADE_TEXT,
     PFC_COMMANDS,
     MERCURY_DATA,
+    SUPERQUADRIC_DATA,
+    SUPERQUADRIC_INPUT,
     ESYS_GEOMETRY,
     PACKING_SVG,
     PACKING_PNG,

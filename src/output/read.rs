@@ -5,6 +5,11 @@
 //! Columns are found by header name, case-insensitively: `x`, `y`, and one
 //! of `r`/`radius` or `d`/`diameter`; `material` is optional (a name or a
 //! number); any other column is ignored. Lines starting with `#` are comments.
+//! A table with an `angle` column holds particles that are not disks, as
+//! gapack's `packing.csv` writes them: `a`, `b`, `alpha`, `beta` for a
+//! superellipse, `template`, `rounding`, `vertices` for a rounded polygon
+//! (`x1 y1;x2 y2;…`, in the particle's own axes), `r` the area-equivalent
+//! radius.
 //! Two columns for one part (`r` and `d`, or `x` twice) are refused, not
 //! guessed between.
 //!
@@ -16,7 +21,7 @@
 
 use std::fmt;
 
-use crate::geometry::Disk;
+use crate::geometry::{Disk, Grain, Outline, Point};
 
 /// A packing as read from a table: the disks in file order, and their
 /// materials when the table has a `material` column.
@@ -33,6 +38,10 @@ pub struct PackingTable {
     /// Per disk, its `id` column; empty when the table has none, or one
     /// that is not a whole number on every row.
     pub ids: Vec<u64>,
+    /// Per disk, the particle's outline and angle when the table has an
+    /// `angle` column (particles that are not disks); empty otherwise. Each
+    /// disk is then the particle's centre and area-equivalent radius.
+    pub grains: Vec<Grain>,
 }
 
 impl PackingTable {
@@ -237,6 +246,10 @@ pub fn read_packing_csv(text: &str, origin: &str) -> Result<PackingTable, ReadEr
     let material = find(&["material", "material_id", "mat"], "the material")?;
     let id = find(&["id"], "the id")?;
     let mut ids_whole = id.is_some();
+    let shape = match find(&["angle"], "the angle")? {
+        None => None,
+        Some(angle) => Some(ShapeColumns::find(angle, &find, &missing)?),
+    };
     // Halving is exact: the bounds on the diameter are bounds on twice the radius.
     let (size_min, size_max, size_word) = if halve {
         (MIN_DIAMETER, MAX_DIAMETER, "diameter")
@@ -253,6 +266,7 @@ pub fn read_packing_csv(text: &str, origin: &str) -> Result<PackingTable, ReadEr
         material_names: Vec::new(),
         lines: Vec::new(),
         ids: Vec::new(),
+        grains: Vec::new(),
     };
     let mut record = ::csv::StringRecord::new();
     loop {
@@ -320,6 +334,23 @@ pub fn read_packing_csv(text: &str, origin: &str) -> Result<PackingTable, ReadEr
             largest = (s, line);
         }
         let r = if halve { s / 2.0 } else { s };
+        if let Some(cols) = &shape {
+            let grain = cols.grain(&record, &number, &|field, message| {
+                fail(line, at(field), message)
+            })?;
+            let equivalent = grain.outline.equivalent_radius();
+            if (equivalent - r).abs() > EQUIVALENT_REL * equivalent {
+                return Err(fail(
+                    line,
+                    at(size),
+                    format!(
+                        "column {}: a particle's r must be its area-equivalent radius sqrt(area/pi) = {equivalent}, got {r}",
+                        name_of(size)
+                    ),
+                ));
+            }
+            table.grains.push(grain);
+        }
         table.disks.push(Disk::new(cx, cy, r));
         table.lines.push(line);
         if let Some(field) = id.filter(|_| ids_whole) {
@@ -371,6 +402,188 @@ pub fn read_packing_csv(text: &str, origin: &str) -> Result<PackingTable, ReadEr
         ));
     }
     Ok(table)
+}
+
+/// Largest relative difference between a particle's `r` and the
+/// area-equivalent radius of its outline (a table made elsewhere computes
+/// the area its own way, to a few ulps).
+const EQUIVALENT_REL: f64 = 1e-6;
+
+/// Most vertices of one polygon in a table.
+const MAX_VERTICES: usize = 10_000;
+
+/// The fields of the particle columns of a table with an `angle` column.
+struct ShapeColumns {
+    /// `angle`.
+    angle: usize,
+    /// `a`, `b`, `alpha`, `beta`, when the table has them.
+    superellipse: Option<[usize; 4]>,
+    /// `template`, `rounding`, `vertices`, when the table has them.
+    polygon: Option<[usize; 3]>,
+}
+
+/// A column finder: the one field under any of the names, if any.
+type Find<'a> = dyn Fn(&[&str], &str) -> Result<Option<usize>, ReadError> + 'a;
+
+impl ShapeColumns {
+    /// The particle columns next to `angle`: every column of a family, or
+    /// none of it; at least one family.
+    fn find(
+        angle: usize,
+        find: &Find<'_>,
+        missing: &dyn Fn(&str) -> ReadError,
+    ) -> Result<Self, ReadError> {
+        let mut se = [None; 4];
+        for (slot, name) in se.iter_mut().zip(["a", "b", "alpha", "beta"]) {
+            *slot = find(&[name], name)?;
+        }
+        let mut poly = [None; 3];
+        for (slot, name) in poly.iter_mut().zip(["template", "rounding", "vertices"]) {
+            *slot = find(&[name], name)?;
+        }
+        let whole = |cols: &[Option<usize>], names: &str| -> Result<bool, ReadError> {
+            match cols.iter().filter(|c| c.is_some()).count() {
+                0 => Ok(false),
+                k if k == cols.len() => Ok(true),
+                _ => Err(missing(names)),
+            }
+        };
+        let has_se = whole(&se, "a, b, alpha and beta (a superellipse needs all four)")?;
+        let has_poly = whole(
+            &poly,
+            "template, rounding and vertices (a rounded polygon needs all three)",
+        )?;
+        if !has_se && !has_poly {
+            return Err(missing(
+                "a, b, alpha, beta (superellipses) or template, rounding, vertices (rounded polygons) next to angle",
+            ));
+        }
+        let all = |cols: &[Option<usize>]| cols.iter().copied().collect::<Option<Vec<_>>>();
+        Ok(ShapeColumns {
+            angle,
+            superellipse: if has_se {
+                all(&se).and_then(|v| v.try_into().ok())
+            } else {
+                None
+            },
+            polygon: if has_poly {
+                all(&poly).and_then(|v| v.try_into().ok())
+            } else {
+                None
+            },
+        })
+    }
+
+    /// The particle of one row: a superellipse if its `a` cell is filled,
+    /// else a rounded polygon if its `vertices` cell is.
+    fn grain(
+        &self,
+        record: &::csv::StringRecord,
+        number: &dyn Fn(usize) -> Result<f64, ReadError>,
+        fail: &dyn Fn(usize, String) -> ReadError,
+    ) -> Result<Grain, ReadError> {
+        let filled = |field: usize| record.get(field).is_some_and(|v| !v.is_empty());
+        let angle = number(self.angle)?;
+        if let Some([a, b, alpha, beta]) = self.superellipse.filter(|f| filled(f[0])) {
+            let outline =
+                Outline::superellipse(number(a)?, number(b)?, number(alpha)?, number(beta)?)
+                    .map_err(|e| fail(a, format!("superellipse: {e}")))?;
+            return Ok(Grain::new(outline, angle));
+        }
+        let Some([template, rounding, vertices]) = self.polygon.filter(|f| filled(f[2])) else {
+            return Err(fail(
+                self.angle,
+                "the row gives no particle: fill a, b, alpha, beta (a superellipse) or template, rounding, vertices (a rounded polygon)".to_owned(),
+            ));
+        };
+        let raw = record.get(template).unwrap_or("");
+        let template_index = raw.parse::<u16>().map_err(|_| {
+            fail(
+                template,
+                format!("column template: expected a whole number from 0 to 65535, got {raw:?}"),
+            )
+        })?;
+        let rounding_value = number(rounding)?;
+        let points = parse_vertices(record.get(vertices).unwrap_or(""))
+            .map_err(|message| fail(vertices, format!("column vertices: {message}")))?;
+        let checked = Outline::polygon(template_index, &points, rounding_value)
+            .map_err(|e| fail(vertices, format!("column vertices: {e}")))?;
+        // The particle's centre is (x, y): its vertices must be about their
+        // centroid (the check moved it to the origin).
+        let scale = points.iter().map(|p| p.coords.norm()).fold(0.0, f64::max);
+        let (c, signed) = centroid_of(&points);
+        if c.coords.norm() > 1e-9 * scale {
+            return Err(fail(
+                vertices,
+                format!(
+                    "column vertices: the vertices must be given about the particle's centre, their centroid at (0, 0); it is at ({}, {})",
+                    c.x, c.y
+                ),
+            ));
+        }
+        if signed < 0.0 {
+            // Clockwise: the check's counter-clockwise order.
+            return Ok(Grain::new(checked, angle));
+        }
+        // As written (exactly): the file's own numbers.
+        Ok(Grain::new(
+            Outline::Polygon {
+                template: template_index,
+                vertices: points.into(),
+                rounding: rounding_value,
+            },
+            angle,
+        ))
+    }
+}
+
+/// The vertices of a `vertices` cell, `x1 y1;x2 y2;…`.
+fn parse_vertices(cell: &str) -> Result<Vec<Point>, String> {
+    let mut points = Vec::new();
+    for (k, vertex) in cell.split(';').enumerate() {
+        if k >= MAX_VERTICES {
+            return Err(format!("more than {MAX_VERTICES} vertices"));
+        }
+        let coords: Vec<&str> = vertex.split_whitespace().collect();
+        let [x, y] = coords.as_slice() else {
+            return Err(format!(
+                "vertex {}: expected two numbers \"x y\", got {vertex:?} (vertices are written x1 y1;x2 y2;...)",
+                k + 1
+            ));
+        };
+        let parse = |v: &str| match v.parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            _ => Err(format!(
+                "vertex {}: expected a finite number, got {v:?}",
+                k + 1
+            )),
+        };
+        points.push(Point::new(parse(x)?, parse(y)?));
+    }
+    Ok(points)
+}
+
+/// Area centroid of a simple polygon and its signed area times 2
+/// (positive counter-clockwise); the mean of its vertices if it has no area.
+fn centroid_of(points: &[Point]) -> (Point, f64) {
+    let n = points.len();
+    let (mut a, mut cx, mut cy) = (0.0, 0.0, 0.0);
+    for i in 0..n {
+        let (p, q) = (points[i], points[(i + 1) % n]);
+        let cross = p.x * q.y - q.x * p.y;
+        a += cross;
+        cx += (p.x + q.x) * cross;
+        cy += (p.y + q.y) * cross;
+    }
+    if a == 0.0 {
+        let k = n.max(1) as f64;
+        let mean = Point::new(
+            points.iter().map(|p| p.x).sum::<f64>() / k,
+            points.iter().map(|p| p.y).sum::<f64>() / k,
+        );
+        return (mean, 0.0);
+    }
+    (Point::new(cx / (3.0 * a), cy / (3.0 * a)), a)
 }
 
 /// A fault of the CSV reader itself (bad UTF-8, a row of the wrong
@@ -602,5 +815,60 @@ mod tests {
         // At the limits: read.
         let t = read_packing_csv("x,y,d\n-1e9,1e9,1e-6\n0,0,1\n", "p.csv").unwrap();
         assert_eq!(t.disks[0], Disk::new(-1e9, 1e9, 5e-7));
+    }
+
+    #[test]
+    fn particle_columns_round_trip_every_bit() {
+        use crate::geometry::{Domain, Grain, Outline};
+        use crate::output::csv::write_packing_csv;
+        use crate::packer::Packing;
+        let se = Outline::superellipse(0.1 + 0.2, 1.0 / 3.0, 2.5, 7.0).expect("valid");
+        let square = [
+            Point::new(-0.5, -0.5),
+            Point::new(0.5, -0.5),
+            Point::new(0.5, 0.5),
+            Point::new(-0.5, 0.5),
+        ];
+        let poly = Outline::polygon(3, &square, 0.125).expect("valid");
+        let grains = vec![Grain::new(se, 0.7), Grain::new(poly, -1.0 / 7.0)];
+        let disks = grains
+            .iter()
+            .zip([1.0, 4.0])
+            .map(|(g, x)| Disk::new(x, 2.0, g.outline.equivalent_radius()))
+            .collect();
+        let packing = Packing {
+            grains: grains.clone(),
+            ..Packing::of_disks(Domain::rectangle(10.0, 10.0).expect("valid"), disks)
+        };
+        let mut bytes = Vec::new();
+        write_packing_csv(&packing, &[], &mut bytes).expect("csv");
+        let text = String::from_utf8(bytes).expect("utf-8");
+        assert!(text.starts_with("id,x,y,r,angle,a,b,alpha,beta,template,rounding,vertices\n"));
+        assert!(
+            text.contains(",,,,3,0.125,-0.5 -0.5;0.5 -0.5;0.5 0.5;-0.5 0.5\n"),
+            "{text}"
+        );
+        let t = read_packing_csv(&text, "p.csv").expect("reads");
+        assert_eq!(t.grains, grains);
+        assert_eq!(t.disks, packing.disks);
+        // Bad vertices, a wrong r, or vertices off the centre, are refused.
+        let bad = text.replacen("0.5 0.5;", "0.5;", 1);
+        assert!(
+            fault(&bad).contains("vertex 3: expected two numbers"),
+            "{}",
+            fault(&bad)
+        );
+        let off = "x,y,r,angle,template,rounding,vertices\n0,0,1,0,0,0,1 1;2 1;2 2;1 2\n";
+        assert!(
+            fault(off).contains("centroid at (0, 0); it is at (1.5, 1.5)"),
+            "{}",
+            fault(off)
+        );
+        let wrong_r = "x,y,r,angle,a,b,alpha,beta\n0,0,1,0,2,2,2,2\n";
+        assert!(
+            fault(wrong_r).contains("area-equivalent radius"),
+            "{}",
+            fault(wrong_r)
+        );
     }
 }

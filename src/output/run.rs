@@ -13,8 +13,9 @@ use super::csv::{
 use super::error::OutputError;
 use super::export::{
     BOUNDARY_VTK, ESYS_GEOMETRY, LAMMPS_DATA, MERCURY_DATA, PACKING_JSON, PACKING_VTK,
-    PFC_COMMANDS, YADE_TEXT, boundary_vtk, esys_geometry, lammps_data, mercury_data, packing_json,
-    packing_vtk, pfc_commands, yade_text,
+    PFC_COMMANDS, SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, YADE_TEXT, boundary_vtk, esys_geometry,
+    lammps_data, mercury_data, packing_json, packing_vtk, pfc_commands, superquadric_data,
+    superquadric_input, yade_text,
 };
 use super::format::{Format, OutputSettings};
 use super::json::{FractureSummary, LayeringSummary, OptimiseSummary, SUMMARY_JSON, summary_json};
@@ -271,6 +272,14 @@ pub fn render_output_bodies<'a>(
     }
     if out.wants(Format::Mercury) {
         tasks.add(MERCURY_DATA, || mercury_data(packing, materials, opts));
+    }
+    if out.wants(Format::LiggghtsSuperquadric) {
+        tasks.add(SUPERQUADRIC_DATA, || {
+            superquadric_data(packing, materials, opts)
+        });
+        tasks.add(SUPERQUADRIC_INPUT, || {
+            superquadric_input(packing, materials, opts)
+        });
     }
     if out.wants(Format::Esys) {
         tasks.add(ESYS_GEOMETRY, || esys_geometry(packing, materials, opts));

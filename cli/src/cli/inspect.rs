@@ -7,10 +7,14 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, anyhow};
 use clap::Args;
 use gapack::config::Config;
+use gapack::config::ConfigName;
 use gapack::fracture::{Extent, Well};
 use gapack::layering::Material;
 use gapack::output::{
-    PackingTable, SUMMARY_JSON, diameter_range, read_packing_csv, render_pictures,
+    BOUNDARY_VTK, ESYS_GEOMETRY, Format, LAMMPS_DATA, MERCURY_DATA, PACKING_VTK, PFC_COMMANDS,
+    PackingTable, SUMMARY_JSON, SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, YADE_TEXT, boundary_vtk,
+    diameter_range, esys_geometry, lammps_data, mercury_data, packing_vtk, pfc_commands,
+    read_packing_csv, render_pictures, superquadric_data, superquadric_input, yade_text,
 };
 use gapack::{Check, GradingCheck, MIN_GRADING_DISKS, OVERLAP_REL, check};
 use gapack::{Domain, Packing, Point, Scene, bounds_of_disks, psd_ks};
@@ -32,6 +36,24 @@ pub struct VerifyArgs {
     /// No findings printed: the exit code alone says (0 valid, 1 not).
     #[arg(long)]
     quiet: bool,
+}
+
+/// `gapack export` arguments.
+#[derive(Args)]
+pub struct ExportArgs {
+    /// The packing: a CSV as `gapack verify` reads it (with its particle
+    /// columns when the particles are not disks).
+    packing: PathBuf,
+    /// The config whose domain, materials and [output] formats, density and
+    /// units the files follow.
+    #[arg(long, value_name = "CONFIG")]
+    config: PathBuf,
+    /// In a fracture batch, the well the packing belongs to [default: the only well].
+    #[arg(long, value_name = "NAME")]
+    well: Option<String>,
+    /// Output directory [default: the packing's own directory].
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
 }
 
 /// `gapack plot` arguments.
@@ -61,6 +83,12 @@ pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
     let (scene, domain_note) = packed_scene(&config, args.well.as_deref(), &origin, &args.packing)?;
     let scene = scene.as_ref();
     let table = read_table(&args.packing)?;
+    if !table.grains.is_empty() {
+        return Err(Failure::Input(anyhow!(
+            "{}: the particles are not disks (the table has an angle column): gapack verify cannot certify such particles yet, and checking their equivalent disks instead would give a wrong verdict",
+            args.packing.display()
+        )));
+    }
     let graded = scene.gradient.is_some();
     let mut result = check(
         &table.disks,
@@ -100,6 +128,85 @@ pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
             "{}: the sizes do not follow the config's grading",
             args.packing.display()
         )));
+    }
+    Ok(())
+}
+
+/// `gapack export`: an existing packing in the DEM and viewer formats the
+/// config's `[output] formats` name (vtk, lammps, liggghts-superquadric,
+/// mercury, yade, pfc, esys; csv, json and the pictures belong to a run or
+/// to `gapack plot`, and are skipped with a note).
+pub fn run_export(args: &ExportArgs) -> Result<(), Failure> {
+    let (config, origin) = load_config(&args.config, true)?;
+    let (scene, _) = packed_scene(&config, args.well.as_deref(), &origin, &args.packing)?;
+    let table = read_table(&args.packing)?;
+    let packing = packing_of(&table, scene.as_ref(), &config);
+    let materials = if table.materials.is_empty() {
+        &[][..]
+    } else {
+        &config.materials[..]
+    };
+    let opts = &config.output.export;
+    let dir = match &args.out {
+        Some(dir) => dir.clone(),
+        None => args
+            .packing
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."))
+            .to_path_buf(),
+    };
+    std::fs::create_dir_all(&dir)
+        .with_context(|| format!("cannot create {}", dir.display()))
+        .map_err(Failure::Run)?;
+    let mut files: Vec<(&str, Vec<u8>)> = Vec::new();
+    let run = |r: Result<Vec<u8>, gapack::output::OutputError>| {
+        r.map_err(|e| Failure::Run(anyhow!("{}: {e}", args.packing.display())))
+    };
+    for format in &config.output.formats {
+        match format {
+            Format::Vtk => {
+                files.push((PACKING_VTK, run(packing_vtk(&packing, materials, opts))?));
+                files.push((BOUNDARY_VTK, boundary_vtk(&packing)));
+            }
+            Format::Lammps => {
+                files.push((LAMMPS_DATA, run(lammps_data(&packing, materials, opts))?));
+            }
+            Format::LiggghtsSuperquadric => {
+                files.push((
+                    SUPERQUADRIC_DATA,
+                    run(superquadric_data(&packing, materials, opts))?,
+                ));
+                files.push((
+                    SUPERQUADRIC_INPUT,
+                    run(superquadric_input(&packing, materials, opts))?,
+                ));
+            }
+            Format::Mercury => {
+                files.push((MERCURY_DATA, run(mercury_data(&packing, materials, opts))?));
+            }
+            Format::Yade => files.push((YADE_TEXT, run(yade_text(&packing, materials, opts))?)),
+            Format::Pfc => {
+                files.push((PFC_COMMANDS, run(pfc_commands(&packing, materials, opts))?));
+            }
+            Format::Esys => {
+                files.push((
+                    ESYS_GEOMETRY,
+                    run(esys_geometry(&packing, materials, opts))?,
+                ));
+            }
+            other => print_line(format_args!(
+                "  {}: skipped (a run's file, not an export)",
+                other.config_name()
+            )),
+        }
+    }
+    for (name, bytes) in &files {
+        let path = dir.join(name);
+        std::fs::write(&path, bytes)
+            .with_context(|| format!("cannot write {}", path.display()))
+            .map_err(Failure::Run)?;
+        print_line(format_args!("{}", path.display()));
     }
     Ok(())
 }
@@ -356,6 +463,7 @@ fn packing_of(table: &PackingTable, scene: &Scene, config: &Config) -> Packing {
         .collect();
     let mut packing = Packing::of_disks(scene.domain.clone(), table.disks.clone());
     packing.walls = scene.walls;
+    packing.grains = table.grains.clone();
     packing.materials = table
         .materials
         .iter()

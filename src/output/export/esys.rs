@@ -41,6 +41,8 @@ pub const ESYS_GEOMETRY: &str = "packing.geo";
 /// ```
 ///
 /// # Errors
+/// [`OutputError::Unsupported`] for particles that are not disks
+/// (non-empty `packing.grains`): the file holds spheres only;
 /// [`OutputError::UnknownMaterial`] if a disk's material is not in a
 /// non-empty `materials`.
 pub fn esys_geometry(
@@ -48,6 +50,12 @@ pub fn esys_geometry(
     materials: &[Material],
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
+    if !packing.grains.is_empty() {
+        return Err(OutputError::Unsupported {
+            format: "esys",
+            reason: "ESyS-Particle's geometry files hold spheres only, and these particles are not disks; export them as lammps (body rounded/polygon), liggghts-superquadric, mercury or vtk".to_owned(),
+        });
+    }
     let e = Export::dem(packing, materials, opts)?;
     let (s, n) = (e.s, e.len());
     let (lo, hi) = e.extent();

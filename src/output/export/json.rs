@@ -4,7 +4,7 @@
 use serde::Serialize;
 
 use super::common::{Export, Text};
-use crate::geometry::{Domain, Point, Shape};
+use crate::geometry::{Domain, Grain, Outline, Point, Shape};
 use crate::metrics::Metrics;
 use crate::names::ConfigName;
 use crate::output::json::summary;
@@ -29,8 +29,58 @@ struct DiskJson<'a> {
     x: f64,
     y: f64,
     r: f64,
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    shape: Option<ShapeJson>,
     #[serde(skip_serializing_if = "Option::is_none")]
     material: Option<&'a str>,
+}
+
+/// A particle's outline and angle, after its area-equivalent radius `r`.
+#[derive(Serialize)]
+#[serde(untagged)]
+enum ShapeJson {
+    /// |x'/a|^alpha + |y'/b|^beta <= 1 in the particle's own axes.
+    Superellipse {
+        angle: f64,
+        a: f64,
+        b: f64,
+        alpha: f64,
+        beta: f64,
+    },
+    /// A convex polygon (own axes, counter-clockwise about its centroid)
+    /// with corners rounded by `rounding`.
+    Polygon {
+        angle: f64,
+        template: u16,
+        rounding: f64,
+        vertices: Vec<[f64; 2]>,
+    },
+}
+
+impl ShapeJson {
+    /// The JSON of `grain`.
+    fn of(grain: &Grain) -> Self {
+        let angle = grain.angle;
+        match &grain.outline {
+            Outline::Superellipse { a, b, alpha, beta } => ShapeJson::Superellipse {
+                angle,
+                a: *a,
+                b: *b,
+                alpha: *alpha,
+                beta: *beta,
+            },
+            Outline::Polygon {
+                template,
+                vertices,
+                rounding,
+            } => ShapeJson::Polygon {
+                angle,
+                template: *template,
+                rounding: *rounding,
+                vertices: vertices.iter().map(|&p| xy(p)).collect(),
+            },
+        }
+    }
 }
 
 /// A point as a JSON pair `[x, y]`.
@@ -145,7 +195,13 @@ fn nested(value: &impl Serialize) -> Result<String, OutputError> {
 /// counter-clockwise).
 /// `disks` lists the packed disks (not the wall disks) one per line, `id`
 /// from 0 in placement order as in `packing.csv`, with the material's name
-/// when `run.materials` is not empty. `summary` is exactly what
+/// when `run.materials` is not empty. Particles that are not disks
+/// (non-empty `packing.grains`) add, after `r` (the area-equivalent
+/// radius), `angle` (radians, counter-clockwise) and either `a`, `b`,
+/// `alpha`, `beta` (a superellipse |x'/a|^alpha + |y'/b|^beta <= 1 in its
+/// own axes) or `template`, `rounding` and `vertices` (a rounded polygon:
+/// `[[x, y], …]` in its own axes, counter-clockwise about the centroid).
+/// `summary` is exactly what
 /// [`crate::output::summary_json`] writes. Numbers read back exactly; the
 /// same run always gives the same bytes.
 ///
@@ -175,6 +231,7 @@ pub fn packing_json(
                 x: d.x.0,
                 y: d.y.0,
                 r: d.r.0,
+                shape: packing.grains.get(d.id).map(ShapeJson::of),
                 material: d
                     .material
                     .and_then(|m| run.materials.get(m))

@@ -1,6 +1,9 @@
-//! `packing.lammps`: a LAMMPS / LIGGGHTS data file (`atom_style sphere`).
+//! `packing.lammps`: a LAMMPS / LIGGGHTS data file (`atom_style sphere`;
+//! `atom_style body rounded/polygon` for particles that are not disks).
 
 use super::common::{Export, Num, Text, VERSION, density, labels, type_count, type_id};
+use super::outline::{Moments, Rounded, turned};
+use crate::geometry::Point;
 use crate::layering::Material;
 use crate::names::ConfigName;
 use crate::output::OutputError;
@@ -48,6 +51,28 @@ pub const LAMMPS_DATA: &str = "packing.lammps";
 /// centres lie in `[xlo, xhi) × [ylo, yhi)` and the disks crossing an edge
 /// meet their neighbours across it.
 ///
+/// # Particles that are not disks
+/// With non-empty `packing.grains` the file is for `atom_style body
+/// rounded/polygon` instead: each particle a LAMMPS rounded polygon that
+/// lies **inside** it (so that a packing without overlaps stays without
+/// contacts). A rounded polygon keeps its vertices and corner radius ρ when
+/// ρ is at least 1 % of its least width w; otherwise (sharp corners) its
+/// polygon is shrunk by 0.01·w − ρ and rounded by 0.01·w. A superellipse
+/// becomes the polygon of 48 points on its outline (inscribed), shrunk by
+/// 0.01·w and rounded by 0.01·w. The header adds `N bodies`; the comment
+/// lines give the fewest and most vertices (`atom_style body
+/// rounded/polygon Nmin Nmax` needs them); `Atoms # body` lines are `id
+/// type 1 mass x y z`, the mass that of a slab of the rounded polygon one
+/// length unit thick (ρ·area·1; in metres, per metre of thickness); the
+/// `Bodies` section gives per particle the line `id 1 M` (one integer, M =
+/// 6 + 3N + 1 doubles), the vertex count N, the inertia tensor `Ixx Iyy
+/// Izz Ixy Ixz Iyz` of that slab (about its centre, world axes), the N
+/// vertex offsets `x y 0` from the centre (world axes: the particle's
+/// angle applied), four a line (`x y 0 x y 0 …`: LAMMPS reads the
+/// numbers as one stream but allows at most 32 lines a body), and the
+/// rounding diameter. See docs/outputs.md for the
+/// input script (`pair_style body/rounded/polygon`).
+///
 /// # Errors
 /// [`OutputError::UnknownMaterial`] if a disk's material is not in a
 /// non-empty `materials`.
@@ -57,6 +82,9 @@ pub fn lammps_data(
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
     let e = Export::dem(packing, materials, opts)?;
+    if !packing.grains.is_empty() {
+        return Ok(body_data(&e, materials, opts));
+    }
     let (s, n) = (e.s, e.len());
     let rho = opts.units.density_per_kg_m3();
     let (lo, hi) = e.extent();
@@ -107,4 +135,135 @@ pub fn lammps_data(
         }
     }
     Ok(t.into_bytes())
+}
+
+/// Vertices on one line of a body in the data file.
+const VERTICES_PER_LINE: usize = 4;
+
+/// The `atom_style body rounded/polygon` data file of a packing with grains
+/// (see [`lammps_data`]).
+fn body_data(e: &Export<'_>, materials: &[Material], opts: &ExportOptions) -> Vec<u8> {
+    let packing = e.packing;
+    let (s, n) = (e.s, e.len());
+    let rho = opts.units.density_per_kg_m3();
+    let bodies: Vec<(Rounded, Vec<Point>)> = packing
+        .grains
+        .iter()
+        .map(|g| {
+            let r = Rounded::of(&g.outline);
+            let world = turned(g, &r.core);
+            (r, world)
+        })
+        .collect();
+    let (lo, hi) = packing.domain.bounds();
+    let reach = packing
+        .grains
+        .iter()
+        .map(|g| g.outline.circumradius())
+        .fold(0.0, f64::max);
+    let (lo, hi) = if packing.domain.is_periodic() {
+        (lo, hi)
+    } else {
+        packing.disks.iter().fold((lo, hi), |(lo, hi), d| {
+            (
+                Point::new(lo.x.min(d.c.x - reach), lo.y.min(d.c.y - reach)),
+                Point::new(hi.x.max(d.c.x + reach), hi.y.max(d.c.y + reach)),
+            )
+        })
+    };
+    let z = if reach > 0.0 { reach * s } else { 0.5 };
+    let counts = bodies.iter().map(|(_, w)| w.len());
+    let (nmin, nmax) = (counts.clone().min().unwrap_or(3), counts.max().unwrap_or(3));
+    let units = match opts.units {
+        LengthUnit::Metre => "units si",
+        LengthUnit::Millimetre => "no LAMMPS units style matches mm",
+    };
+    let mut t = Text::with_lines(n * 60 + 32);
+    t.line(format_args!(
+        "gapack {VERSION}: {n} particles, atom_style body rounded/polygon {nmin} {nmax}, lengths in {} ({units}), mass in kg per length unit of thickness",
+        opts.units.config_name()
+    ));
+    t.line(format_args!(""));
+    t.line(format_args!("{n} atoms"));
+    t.line(format_args!("{n} bodies"));
+    t.line(format_args!("{} atom types", type_count(materials)));
+    t.line(format_args!(""));
+    t.line(format_args!("{} {} xlo xhi", Num(lo.x * s), Num(hi.x * s)));
+    t.line(format_args!("{} {} ylo yhi", Num(lo.y * s), Num(hi.y * s)));
+    t.line(format_args!("{} {} zlo zhi", Num(-z), Num(z)));
+    if packing.domain.is_periodic() {
+        t.line(format_args!(
+            "# periodic cell: boundary p p p (x and y periodic: the cell is the box; z periodic as for any 2d run)"
+        ));
+    }
+    t.line(format_args!(
+        "# vertices per body: min {nmin}, max {nmax} (atom_style body rounded/polygon {nmin} {nmax})"
+    ));
+    t.line(format_args!(
+        "# each body a rounded polygon inside the particle; mass and inertia of a slab one length unit thick"
+    ));
+    for (i, label) in labels(materials).iter().enumerate() {
+        t.line(format_args!("# type {} = {label}", i + 1));
+    }
+    if n == 0 {
+        return t.into_bytes();
+    }
+    // Mass and area moments about the centre (world axes), per body.
+    let slabs: Vec<(f64, Moments)> = bodies
+        .iter()
+        .zip(e.rows())
+        .map(|((r, _), d)| {
+            let fine = r.fine();
+            let grain = &packing.grains[d.id];
+            let m = Moments::of(&turned(grain, &fine));
+            let density = density(materials, d.material, opts) * rho;
+            (density * m.area * s * s, m)
+        })
+        .collect();
+    t.line(format_args!(""));
+    t.line(format_args!("Atoms # body"));
+    t.line(format_args!(""));
+    for (d, (mass, _)) in e.rows().zip(&slabs) {
+        t.line(format_args!(
+            "{} {} 1 {} {} {} 0",
+            d.id + 1,
+            type_id(d.material),
+            Num(*mass),
+            d.x,
+            d.y
+        ));
+    }
+    t.line(format_args!(""));
+    t.line(format_args!("Bodies"));
+    t.line(format_args!(""));
+    for ((d, (mass, m)), (r, world)) in e.rows().zip(&slabs).zip(&bodies) {
+        let k = world.len();
+        t.line(format_args!("{} 1 {}", d.id + 1, 6 + 3 * k + 1));
+        t.line(format_args!("{k}"));
+        // Per unit area, times the mass: second moments in the file's unit.
+        let per = if m.area > 0.0 {
+            mass / m.area * s * s
+        } else {
+            0.0
+        };
+        let (ixx, iyy, ixy) = (per * m.yy, per * m.xx, -per * m.xy);
+        t.line(format_args!(
+            "{} {} {} {} 0 0",
+            Num(ixx),
+            Num(iyy),
+            Num(ixx + iyy),
+            Num(ixy)
+        ));
+        // Several vertices a line: LAMMPS reads a body's numbers as one
+        // stream, but refuses bodies of more than 32 lines.
+        for chunk in world.chunks(VERTICES_PER_LINE) {
+            let line: Vec<String> = chunk
+                .iter()
+                .map(|p| format!("{} {} 0", Num(p.x * s), Num(p.y * s)))
+                .collect();
+            t.line(format_args!("{}", line.join(" ")));
+        }
+        t.line(format_args!("{}", Num(2.0 * r.rounding * s)));
+    }
+    t.into_bytes()
 }

@@ -1,6 +1,8 @@
 //! `packing.mercury.data`: a MercuryDPM 2D data file.
 
-use super::common::{Export, Num, Text};
+use super::common::{Export, Num, Text, VERSION};
+use super::liggghts::THICKNESS_REL;
+use super::outline::superquadrics;
 use crate::layering::Material;
 use crate::output::OutputError;
 use crate::output::format::ExportOptions;
@@ -42,7 +44,31 @@ pub const MERCURY_DATA: &str = "packing.mercury.data";
 /// boundaryHandler.copyAndAddObject(by);
 /// ```
 ///
+/// # Particles that are not disks
+/// MercuryDPM's data files (formats 7, 8, 14) hold spheres only. With
+/// non-empty `packing.grains` (superellipses with alpha = beta >= 2) the
+/// file is instead a table for the driver to build `SuperQuadricParticle`s
+/// from: a first line `# gapack <version>: N superquadrics, …` naming the
+/// columns, a second line `N 0 xmin ymin xmax ymax` as above, then per
+/// particle `x y z q0 q1 q2 q3 a b c eps1 eps2 species`: the centre (z =
+/// 0), the orientation quaternion (q0 = cos(θ/2), q3 = sin(θ/2): a turn by
+/// the angle θ about z), the semi-axes a, b and c = 0.5·min(a, b) (a thin
+/// third one), the exponents eps1 = eps2 = 2/n (MercuryDPM's superquadric
+/// (|x/a|^(2/eps2) + |y/b|^(2/eps2))^(eps2/eps1) + |z/c|^(2/eps1) <= 1;
+/// its midplane is gapack's |x/a|^n + |y/b|^n <= 1) and the species index.
+/// In the driver, per line:
+/// ```text
+/// SuperQuadricParticle p;
+/// p.setSpecies(speciesHandler.getObject(species));
+/// p.setAxesAndExponents(a, b, c, eps1, eps2);
+/// p.setPosition(Vec3D(x, y, z));
+/// p.setOrientation(Quaternion(q0, q1, q2, q3));
+/// particleHandler.copyAndAddObject(p);
+/// ```
+///
 /// # Errors
+/// [`OutputError::Unsupported`] for a rounded polygon or a superellipse
+/// whose exponents differ or are below 2 (no superquadric);
 /// [`OutputError::UnknownMaterial`] if a disk's material is not in a
 /// non-empty `materials`.
 pub fn mercury_data(
@@ -51,6 +77,9 @@ pub fn mercury_data(
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
     let e = Export::dem(packing, materials, opts)?;
+    if !packing.grains.is_empty() {
+        return superquadric_table(&e);
+    }
     let (s, n) = (e.s, e.len());
     let (lo, hi) = e.extent();
     let mut t = Text::with_lines(n + 1);
@@ -67,6 +96,58 @@ pub fn mercury_data(
             d.x,
             d.y,
             d.r,
+            d.material.unwrap_or(0)
+        ));
+    }
+    Ok(t.into_bytes())
+}
+
+/// The superquadric table of a packing with grains (see [`mercury_data`]).
+fn superquadric_table(e: &Export<'_>) -> Result<Vec<u8>, OutputError> {
+    let packing = e.packing;
+    let shapes = superquadrics(&packing.grains, "mercury")?;
+    let (s, n) = (e.s, e.len());
+    let reach = packing
+        .grains
+        .iter()
+        .map(|g| g.outline.circumradius())
+        .fold(0.0, f64::max);
+    let (lo, hi) = packing.domain.bounds();
+    let (lo, hi) = if packing.domain.is_periodic() {
+        (lo, hi)
+    } else {
+        packing.disks.iter().fold((lo, hi), |(lo, hi), d| {
+            (
+                crate::geometry::Point::new(lo.x.min(d.c.x - reach), lo.y.min(d.c.y - reach)),
+                crate::geometry::Point::new(hi.x.max(d.c.x + reach), hi.y.max(d.c.y + reach)),
+            )
+        })
+    };
+    let mut t = Text::with_lines(n + 2);
+    t.line(format_args!(
+        "# gapack {VERSION}: {n} superquadrics for SuperQuadricParticle (not a MercuryDPM data file): x y z q0 q1 q2 q3 a b c eps1 eps2 species"
+    ));
+    t.line(format_args!(
+        "{n} 0 {} {} {} {}",
+        Num(lo.x * s),
+        Num(lo.y * s),
+        Num(hi.x * s),
+        Num(hi.y * s)
+    ));
+    for ((d, q), g) in e.rows().zip(&shapes).zip(&packing.grains) {
+        let (sin, cos) = (0.5 * g.angle).sin_cos();
+        let eps = 2.0 / q.n;
+        t.line(format_args!(
+            "{} {} 0 {} 0 0 {} {} {} {} {} {} {}",
+            d.x,
+            d.y,
+            Num(cos),
+            Num(sin),
+            Num(q.a * s),
+            Num(q.b * s),
+            Num(THICKNESS_REL * q.a.min(q.b) * s),
+            Num(eps),
+            Num(eps),
             d.material.unwrap_or(0)
         ));
     }
