@@ -23,7 +23,7 @@ pub use export::{
     boundary_vtk, esys_geometry, lammps_data, mercury_data, packing_json, packing_vtk,
     pfc_commands, yade_text,
 };
-pub use format::{ExportOptions, Format, LengthUnit, OutputSettings};
+pub use format::{ClumpOptions, ExportOptions, Format, LengthUnit, OutputSettings};
 pub use json::{
     FractureSummary, LayeringDetails, LayeringSummary, OptimiseSummary, SUMMARY_JSON, SearchWindow,
     WindowSummary, summary_json,

@@ -2,6 +2,7 @@
 //! memory (the caller writes the set atomically). Only the packed disks are
 //! exported, never the wall disks.
 
+mod clumps;
 mod common;
 mod esys;
 mod json;
