@@ -15,7 +15,7 @@ use pyo3::types::{PyDict, PyList};
 use crate::errors::input_error;
 
 /// Every output format, in the order `[output] formats` documents them.
-const FORMATS: [Format; 10] = [
+const FORMATS: [Format; 11] = [
     Format::Csv,
     Format::Json,
     Format::Vtk,
@@ -24,6 +24,7 @@ const FORMATS: [Format; 10] = [
     Format::Pfc,
     Format::Mercury,
     Format::Esys,
+    Format::LammpsClumps,
     Format::Svg,
     Format::Png,
 ];
@@ -39,6 +40,7 @@ const fn listed(format: Format) -> bool {
         | Format::Pfc
         | Format::Mercury
         | Format::Esys
+        | Format::LammpsClumps
         | Format::Svg
         | Format::Png => true,
     }

@@ -21,6 +21,9 @@ pub enum Format {
     Mercury,
     /// `packing.geo`: an ESyS-Particle 2D geometry file.
     Esys,
+    /// `packing.clumps.lammps`: a LAMMPS data file of rigid clumps of
+    /// disks, one molecule per particle (`fix rigid molecule`).
+    LammpsClumps,
     /// Pictures as SVG: the packing, its grading, its porosity map, the run's charts.
     Svg,
     /// The same pictures as PNG.
@@ -75,6 +78,7 @@ pub(crate) const FORMATS: Names<Format> = Names {
         ("pfc", Format::Pfc),
         ("mercury", Format::Mercury),
         ("esys", Format::Esys),
+        ("lammps-clumps", Format::LammpsClumps),
         ("svg", Format::Svg),
         ("png", Format::Png),
     ],

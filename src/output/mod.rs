@@ -20,8 +20,8 @@ mod sweep_table;
 // the types those items name; the rest serves the jobs only.
 pub use error::OutputError;
 pub use export::{
-    boundary_vtk, esys_geometry, lammps_data, mercury_data, packing_json, packing_vtk,
-    pfc_commands, yade_text,
+    boundary_vtk, esys_geometry, lammps_clumps_data, lammps_data, mercury_data, packing_json,
+    packing_vtk, pfc_commands, yade_script, yade_text,
 };
 pub use format::{ClumpOptions, ExportOptions, Format, LengthUnit, OutputSettings};
 pub use json::{

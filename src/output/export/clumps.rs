@@ -21,8 +21,8 @@
 //! scaled, turned and moved onto each particle, so that a packing of one
 //! shape at many sizes costs one clump.
 
-use std::collections::{BinaryHeap, HashMap};
 use std::cmp::Reverse;
+use std::collections::{BinaryHeap, HashMap};
 
 use nalgebra::Vector2;
 
@@ -382,7 +382,13 @@ fn template(unit: &Outline, opts: &ClumpOptions) -> Template {
         *count += marked.len();
         disks.push((c, r));
     };
-    let share = |count: usize| if total == 0 { 0.0 } else { count as f64 / total as f64 };
+    let share = |count: usize| {
+        if total == 0 {
+            0.0
+        } else {
+            count as f64 / total as f64
+        }
+    };
 
     // The largest inscribed disk first (the first candidate of the largest
     // radius), then lazy greedy: a candidate's gain only falls as disks are
@@ -603,7 +609,11 @@ mod tests {
                 assert!(c.coverage > 0.85, "{name}: {}", c.coverage);
                 // The same share counted independently on a finer grid.
                 let fine = fine_coverage(&packing.grains[0], packing.disks[0].c, &c.disks);
-                assert!((fine - c.coverage).abs() < 0.01, "{name}: {fine} {}", c.coverage);
+                assert!(
+                    (fine - c.coverage).abs() < 0.01,
+                    "{name}: {fine} {}",
+                    c.coverage
+                );
                 assert!(c.coverage >= target || c.disks.len() == cap);
             }
         }
@@ -672,7 +682,10 @@ mod tests {
     #[test]
     fn disks_are_their_own_clumps() {
         let domain = Domain::rectangle(10.0, 10.0).unwrap();
-        let packing = Packing::of_disks(domain, vec![Disk::new(1.0, 1.0, 0.5), Disk::new(3.0, 1.0, 1.0)]);
+        let packing = Packing::of_disks(
+            domain,
+            vec![Disk::new(1.0, 1.0, 0.5), Disk::new(3.0, 1.0, 1.0)],
+        );
         let all = clumps(&packing, &options(0.9, 32));
         assert_eq!(all.clumps[1].disks, [(Point::new(3.0, 1.0), 1.0)]);
         assert_eq!(all.short, 0);
@@ -694,6 +707,10 @@ mod tests {
         let start = std::time::Instant::now();
         let all = clumps(&packing, &options(0.9, 32));
         assert_eq!(all.shapes, 1);
-        assert!(start.elapsed().as_secs_f64() < 20.0, "{:?}", start.elapsed());
+        assert!(
+            start.elapsed().as_secs_f64() < 20.0,
+            "{:?}",
+            start.elapsed()
+        );
     }
 }
