@@ -25,6 +25,7 @@ const FORMATS: [Format; 11] = [
     Format::Mercury,
     Format::LiggghtsSuperquadric,
     Format::Esys,
+    Format::LammpsClumps,
     Format::Svg,
     Format::Png,
 ];
@@ -41,6 +42,7 @@ const fn listed(format: Format) -> bool {
         | Format::Mercury
         | Format::LiggghtsSuperquadric
         | Format::Esys
+        | Format::LammpsClumps
         | Format::Svg
         | Format::Png => true,
     }

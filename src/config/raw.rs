@@ -190,6 +190,8 @@ pub(crate) struct RawOutput {
     pub formats: Option<Spanned<Vec<Spanned<String>>>>,
     pub density: Option<Spanned<f64>>,
     pub units: Option<Spanned<String>>,
+    pub clump_coverage: Option<Spanned<f64>>,
+    pub clump_max_disks: Option<Spanned<i64>>,
 }
 
 /// `[compare]`: the methods `gapack compare` runs, and how many seeds.

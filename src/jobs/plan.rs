@@ -258,6 +258,8 @@ fn bytes_per_disk(format: Format) -> f64 {
         Format::Lammps | Format::Mercury | Format::LiggghtsSuperquadric => 100.0,
         Format::Yade | Format::Esys => 95.0,
         Format::Pfc => 170.0,
+        // Up to clump_max_disks disks per particle; a disk packing's one.
+        Format::LammpsClumps => 110.0,
         Format::Svg => 85.0,
         Format::Png => 0.0,
     }

@@ -24,6 +24,9 @@ pub enum Format {
     LiggghtsSuperquadric,
     /// `packing.geo`: an ESyS-Particle 2D geometry file.
     Esys,
+    /// `packing.clumps.lammps`: a LAMMPS data file of rigid clumps of
+    /// disks, one molecule per particle (`fix rigid molecule`).
+    LammpsClumps,
     /// Pictures as SVG: the packing, its grading, its porosity map, the run's charts.
     Svg,
     /// The same pictures as PNG.
@@ -79,6 +82,7 @@ pub(crate) const FORMATS: Names<Format> = Names {
         ("mercury", Format::Mercury),
         ("liggghts-superquadric", Format::LiggghtsSuperquadric),
         ("esys", Format::Esys),
+        ("lammps-clumps", Format::LammpsClumps),
         ("svg", Format::Svg),
         ("png", Format::Png),
     ],
@@ -109,6 +113,39 @@ pub struct ExportOptions {
     pub density: f64,
     /// Length unit of the DEM exports.
     pub units: LengthUnit,
+    /// How non-disk particles become clumps of disks in the DEM exports.
+    pub clumps: ClumpOptions,
+}
+
+/// How a non-disk particle becomes a clump of overlapping disks, all
+/// inside it (`[output] clump_coverage`, `clump_max_disks`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClumpOptions {
+    /// Share of each particle's area its disks should cover, in (0, 0.99].
+    pub coverage: f64,
+    /// Most disks per particle (at least 1).
+    pub max_disks: usize,
+}
+
+impl ClumpOptions {
+    /// Default coverage target.
+    pub const DEFAULT_COVERAGE: f64 = 0.9;
+    /// Largest coverage target accepted: the last percent needs ever more,
+    /// ever smaller disks in the particle's corners.
+    pub const MAX_COVERAGE: f64 = 0.99;
+    /// Default cap of disks per particle.
+    pub const DEFAULT_MAX_DISKS: usize = 32;
+    /// Largest cap accepted.
+    pub const MOST_DISKS: usize = 1024;
+}
+
+impl Default for ClumpOptions {
+    fn default() -> Self {
+        ClumpOptions {
+            coverage: Self::DEFAULT_COVERAGE,
+            max_disks: Self::DEFAULT_MAX_DISKS,
+        }
+    }
 }
 
 impl ExportOptions {
@@ -121,6 +158,7 @@ impl Default for ExportOptions {
         ExportOptions {
             density: Self::DEFAULT_DENSITY,
             units: LengthUnit::default(),
+            clumps: ClumpOptions::default(),
         }
     }
 }

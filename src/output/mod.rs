@@ -20,14 +20,14 @@ mod sweep_table;
 // the types those items name; the rest serves the jobs only.
 pub use error::OutputError;
 pub use export::{
-    BOUNDARY_VTK, ESYS_GEOMETRY, LAMMPS_DATA, MERCURY_DATA, PACKING_VTK, PFC_COMMANDS,
-    SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, YADE_TEXT,
+    BOUNDARY_VTK, ESYS_GEOMETRY, LAMMPS_CLUMPS_DATA, LAMMPS_DATA, MERCURY_DATA, PACKING_VTK,
+    PFC_COMMANDS, SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, YADE_SCRIPT, YADE_TEXT,
 };
 pub use export::{
-    boundary_vtk, esys_geometry, lammps_data, mercury_data, packing_json, packing_vtk,
-    pfc_commands, superquadric_data, superquadric_input, yade_text,
+    boundary_vtk, esys_geometry, lammps_clumps_data, lammps_data, mercury_data, packing_json,
+    packing_vtk, pfc_commands, superquadric_data, superquadric_input, yade_script, yade_text,
 };
-pub use format::{ExportOptions, Format, LengthUnit, OutputSettings};
+pub use format::{ClumpOptions, ExportOptions, Format, LengthUnit, OutputSettings};
 pub use json::{
     FractureSummary, LayeringDetails, LayeringSummary, OptimiseSummary, SUMMARY_JSON, SearchWindow,
     WindowSummary, summary_json,

@@ -12,10 +12,10 @@ use super::csv::{
 };
 use super::error::OutputError;
 use super::export::{
-    BOUNDARY_VTK, ESYS_GEOMETRY, LAMMPS_DATA, MERCURY_DATA, PACKING_JSON, PACKING_VTK,
-    PFC_COMMANDS, SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, YADE_TEXT, boundary_vtk, esys_geometry,
-    lammps_data, mercury_data, packing_json, packing_vtk, pfc_commands, superquadric_data,
-    superquadric_input, yade_text,
+    BOUNDARY_VTK, ESYS_GEOMETRY, LAMMPS_CLUMPS_DATA, LAMMPS_DATA, MERCURY_DATA, PACKING_JSON,
+    PACKING_VTK, PFC_COMMANDS, SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, YADE_SCRIPT, YADE_TEXT,
+    boundary_vtk, esys_geometry, lammps_clumps_data, lammps_data, mercury_data, packing_json,
+    packing_vtk, pfc_commands, superquadric_data, superquadric_input, yade_script, yade_text,
 };
 use super::format::{Format, OutputSettings};
 use super::json::{FractureSummary, LayeringSummary, OptimiseSummary, SUMMARY_JSON, summary_json};
@@ -265,7 +265,11 @@ pub fn render_output_bodies<'a>(
         tasks.add(LAMMPS_DATA, || lammps_data(packing, materials, opts));
     }
     if out.wants(Format::Yade) {
-        tasks.add(YADE_TEXT, || yade_text(packing, materials, opts));
+        if packing.grains.is_empty() {
+            tasks.add(YADE_TEXT, || yade_text(packing, materials, opts));
+        } else {
+            tasks.add(YADE_SCRIPT, || yade_script(packing, materials, opts));
+        }
     }
     if out.wants(Format::Pfc) {
         tasks.add(PFC_COMMANDS, || pfc_commands(packing, materials, opts));
@@ -283,6 +287,11 @@ pub fn render_output_bodies<'a>(
     }
     if out.wants(Format::Esys) {
         tasks.add(ESYS_GEOMETRY, || esys_geometry(packing, materials, opts));
+    }
+    if out.wants(Format::LammpsClumps) {
+        tasks.add(LAMMPS_CLUMPS_DATA, || {
+            lammps_clumps_data(packing, materials, opts)
+        });
     }
     let diameters = (run.scene.d_min(), run.scene.d_max());
     tasks.packing(packing, materials, diameters, || {

@@ -6,6 +6,7 @@ mod common;
 
 mod browser;
 mod cli;
+mod clumps;
 mod compare;
 mod configs;
 mod densify;

@@ -39,7 +39,7 @@ fn unknown_format_is_named_with_the_valid_ones() {
             "width = 20\nheight = 30",
             "[output]\nformats = [\"csv\", \"stl\"]",
         ),
-        "t.toml:8:19: output.formats[1]: unknown format \"stl\"; valid: csv, json, vtk, lammps, yade, pfc, mercury, liggghts-superquadric, esys, svg, png",
+        "t.toml:8:19: output.formats[1]: unknown format \"stl\"; valid: csv, json, vtk, lammps, yade, pfc, mercury, liggghts-superquadric, esys, lammps-clumps, svg, png",
     );
 }
 
@@ -66,4 +66,45 @@ fn output_density_and_units_are_checked() {
     );
     let e = err(&rect("width = 20\nheight = 30", "[output]\ndir = \" \""));
     assert_eq!(e.key(), Some("output.dir"));
+}
+
+#[test]
+fn clump_keys_are_read_and_checked() {
+    let text = rect(
+        "width = 20\nheight = 30",
+        "[output]\nclump_coverage = 0.95\nclump_max_disks = 64",
+    );
+    let clumps = parse(&text, "t.toml").unwrap().output.export.clumps;
+    assert_eq!(clumps.coverage, 0.95);
+    assert_eq!(clumps.max_disks, 64);
+    let defaults = parse(&rect("width = 20\nheight = 30", ""), "t.toml")
+        .unwrap()
+        .output
+        .export
+        .clumps;
+    assert_eq!(defaults, crate::output::ClumpOptions::default());
+    assert_eq!((defaults.coverage, defaults.max_disks), (0.9, 32));
+    for bad in ["0.0", "0.995", "1.0", "-0.5", "nan"] {
+        let e = err(&rect(
+            "width = 20\nheight = 30",
+            &format!("[output]\nclump_coverage = {bad}"),
+        ));
+        assert_eq!(e.key(), Some("output.clump_coverage"), "{bad}");
+    }
+    fails_with(
+        &rect("width = 20\nheight = 30", "[output]\nclump_coverage = 1.0"),
+        "t.toml:8:18: output.clump_coverage: must be in (0, 0.99], got 1",
+    );
+    for bad in ["0", "-3", "1025"] {
+        let e = err(&rect(
+            "width = 20\nheight = 30",
+            &format!("[output]\nclump_max_disks = {bad}"),
+        ));
+        assert_eq!(e.key(), Some("output.clump_max_disks"), "{bad}");
+    }
+    let e = err(&rect(
+        "width = 20\nheight = 30",
+        "[output]\nclump_max_disks = 2.5",
+    ));
+    assert_eq!(e.key(), Some("output.clump_max_disks"));
 }

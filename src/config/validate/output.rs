@@ -5,7 +5,7 @@ use toml::Spanned;
 use super::Validator;
 use crate::config::error::ConfigError;
 use crate::config::raw::{RawOutput, Table};
-use crate::output::OutputSettings;
+use crate::output::{ClumpOptions, OutputSettings};
 use crate::output::{FORMATS, UNITS};
 
 impl Validator<'_> {
@@ -59,6 +59,22 @@ impl Validator<'_> {
             settings.export.density = self.positive("output.density", v)?;
         }
         settings.export.units = self.name(&UNITS, "output.units", o.units.as_ref())?;
+        if let Some(v) = &o.clump_coverage {
+            settings.export.clumps.coverage = self.checked(
+                "output.clump_coverage",
+                v,
+                &format!("in (0, {}]", ClumpOptions::MAX_COVERAGE),
+                |c| c > 0.0 && c <= ClumpOptions::MAX_COVERAGE,
+            )?;
+        }
+        if let Some(v) = &o.clump_max_disks {
+            settings.export.clumps.max_disks = self.whole(
+                "output.clump_max_disks",
+                v,
+                1,
+                Some(ClumpOptions::MOST_DISKS as i64),
+            )?;
+        }
         Ok(settings)
     }
 }

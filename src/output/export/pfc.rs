@@ -1,5 +1,6 @@
 //! `packing.p2dat`: a PFC2D command file (PFC 6 / 7 syntax).
 
+use super::clumps::clumps;
 use super::common::{Export, Num, Text, VERSION, density, labels};
 use nalgebra::Vector2;
 
@@ -16,6 +17,10 @@ pub const PFC_COMMANDS: &str = "packing.p2dat";
 /// Margin of the model domain around the packing, as a share of its span
 /// along each axis (at least twice the largest radius).
 const MARGIN: f64 = 0.05;
+
+/// Precision of the mass properties PFC computes for each clump from its
+/// pebbles (`clump create … calculate`): its volume within 0.5 %.
+const CLUMP_PRECISION: f64 = 0.005;
 
 /// Group of the balls when there are no materials.
 const DEFAULT_GROUP: &str = "gapack";
@@ -43,6 +48,16 @@ const DEFAULT_GROUP: &str = "gapack";
 /// (by the smallest clearance of a ball from the outline, each edge moved
 /// parallel to itself, so the nearest ball touches it and none crosses it),
 /// said in a comment line.
+///
+/// With non-disk particles (a `[shape]`), each particle is one clump
+/// instead of a ball: `clump create id i group 'name' calculate 0.005
+/// pebbles k r (x,y) … r (x,y)`, its `k` pebbles (every one inside the
+/// particle; see the clumps of `opts.clumps`) one per `...`-continued
+/// line, PFC computing its centroid, area and inertia from them within
+/// 0.5 %; one `clump attribute density ρ range group 'name'` per group;
+/// a comment line under the header saying what the clumps achieved (the
+/// coverage target and cap, the least and mean coverage reached, and how
+/// many particles fall short of the target).
 ///
 /// A periodic cell is PFC's periodic domain instead: `model domain extent
 /// xmin xmax ymin ymax condition periodic periodic` on the cell itself (no
@@ -81,11 +96,23 @@ pub fn pfc_commands(
         )
     };
 
+    let grains = !packing.grains.is_empty();
+    let clumped = grains.then(|| clumps(packing, &opts.clumps));
     let mut t = Text::with_lines(n + groups.len() + 16);
-    t.line(format_args!(
-        "; gapack {VERSION}: {n} disks for PFC2D, lengths in {u}, density in kg/{u}^3",
-        u = opts.units.config_name()
-    ));
+    match &clumped {
+        None => t.line(format_args!(
+            "; gapack {VERSION}: {n} disks for PFC2D, lengths in {u}, density in kg/{u}^3",
+            u = opts.units.config_name()
+        )),
+        Some(all) => {
+            t.line(format_args!(
+                "; gapack {VERSION}: {n} particles as clumps of {} pebbles for PFC2D, lengths in {u}, density in kg/{u}^3",
+                all.disks(),
+                u = opts.units.config_name()
+            ));
+            t.line(format_args!("; clumps: {}", all.summary(&opts.clumps)));
+        }
+    }
     t.line(format_args!("; run with: program call 'packing.p2dat'"));
     t.line(format_args!("model new"));
     t.line(format_args!(
@@ -100,26 +127,53 @@ pub fn pfc_commands(
             ""
         }
     ));
-    for d in e.rows() {
-        t.line(format_args!(
-            "ball create id {} position-x {} position-y {} radius {} group '{}'",
-            d.id + 1,
-            d.x,
-            d.y,
-            d.r,
-            groups
-                .get(d.material.unwrap_or(0))
-                .map_or(DEFAULT_GROUP, String::as_str)
-        ));
+    let point = |x: f64, y: f64| format!("({},{})", Num(x * s), Num(y * s));
+    let group_of = |d: &super::common::Row| {
+        groups
+            .get(d.material.unwrap_or(0))
+            .map_or(DEFAULT_GROUP, String::as_str)
+    };
+    match &clumped {
+        None => {
+            for d in e.rows() {
+                t.line(format_args!(
+                    "ball create id {} position-x {} position-y {} radius {} group '{}'",
+                    d.id + 1,
+                    d.x,
+                    d.y,
+                    d.r,
+                    group_of(&d)
+                ));
+            }
+        }
+        Some(all) => {
+            for (d, clump) in e.rows().zip(&all.clumps) {
+                t.line(format_args!(
+                    "clump create id {} group '{}' calculate {CLUMP_PRECISION} pebbles {} ...",
+                    d.id + 1,
+                    group_of(&d),
+                    clump.disks.len()
+                ));
+                let last = clump.disks.len().saturating_sub(1);
+                for (k, &(c, r)) in clump.disks.iter().enumerate() {
+                    t.line(format_args!(
+                        "  {} {}{}",
+                        Num(r * s),
+                        point(c.x, c.y),
+                        if k < last { " ..." } else { "" }
+                    ));
+                }
+            }
+        }
     }
+    let body = if grains { "clump" } else { "ball" };
     for (i, group) in groups.iter().enumerate() {
         let m = (!materials.is_empty()).then_some(i);
         t.line(format_args!(
-            "ball attribute density {} range group '{group}'",
+            "{body} attribute density {} range group '{group}'",
             Num(density(materials, m, opts) * rho)
         ));
     }
-    let point = |x: f64, y: f64| format!("({},{})", Num(x * s), Num(y * s));
     if periodic {
         t.line(format_args!(
             "; periodic cell: no wall, the balls crossing its edges meet their neighbours across them"

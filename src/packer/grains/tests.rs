@@ -134,4 +134,3 @@ fn refuses_what_shapes_do_not_support() {
     let s = scene(ShapeSpec::ellipses(1.5), 10.0).with_method(Method::Deposition);
     assert!(matches!(pack(&s), Err(PackError::NotForShapes { .. })));
 }
-
