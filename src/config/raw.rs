@@ -190,6 +190,7 @@ pub(crate) struct RawOutput {
     pub formats: Option<Spanned<Vec<Spanned<String>>>>,
     pub density: Option<Spanned<f64>>,
     pub units: Option<Spanned<String>>,
+    pub colour: Option<Spanned<String>>,
 }
 
 /// `[compare]`: the methods `gapack compare` runs, and how many seeds.

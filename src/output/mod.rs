@@ -29,12 +29,12 @@ pub use json::{
     WindowSummary, summary_json,
 };
 pub use plot::{
-    Drawable, LineChart, Mark, PorosityMapChart, PsdChart, Series, packing_png, porosity_map_chart,
-    psd_chart,
+    Colouring, Drawable, LineChart, Mark, PorosityMapChart, PsdChart, Series, packing_png,
+    packing_png_coloured, porosity_map_chart, psd_chart,
 };
 pub use read::{PackingTable, ReadError, read_packing_csv};
 pub use run::{Files, LayeringReport, RunInfo, render_pictures};
-pub use svg::{diameter_range, packing_svg};
+pub use svg::{diameter_range, packing_svg, packing_svg_coloured};
 pub use sweep_table::SWEEP_CSV;
 
 pub(crate) use csv::{
@@ -47,7 +47,7 @@ pub(crate) use export::{
 };
 pub(crate) use format::{FORMATS, UNITS};
 pub(crate) use plot::{
-    PACKING_PNG, POROSITY_MAP_PNG, POROSITY_MAP_SVG, PSD_PNG, PSD_SVG, variant_label,
+    COLOURINGS, PACKING_PNG, POROSITY_MAP_PNG, POROSITY_MAP_SVG, PSD_PNG, PSD_SVG, variant_label,
 };
 pub(crate) use run::{
     Body, COMPARE_PNG, COMPARE_SVG, CONVERGENCE_PNG, CONVERGENCE_SVG, PROFILE_PNG, PROFILE_SVG,
