@@ -29,8 +29,10 @@ pub use json::{
     WindowSummary, summary_json,
 };
 pub use plot::{
-    Colouring, Drawable, LineChart, Mark, PorosityMapChart, PsdChart, Series, packing_png,
-    packing_png_coloured, porosity_map_chart, psd_chart,
+    Asked, AskedShape, Colouring, Drawable, LineChart, Mark, ORIENTATION_PNG, ORIENTATION_SVG,
+    OrientationRose, PorosityMapChart, PsdChart, SHAPE_PNG, SHAPE_SVG, Series, ShapeChart,
+    orientation_rose, packing_png, packing_png_coloured, porosity_map_chart, psd_chart,
+    shape_chart,
 };
 pub use read::{PackingTable, ReadError, read_packing_csv};
 pub use run::{Files, LayeringReport, RunInfo, render_pictures};

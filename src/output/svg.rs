@@ -749,7 +749,7 @@ fn num(v: f64) -> String {
 /// It differs from [`num`] only on a value within an ulp of half a step.
 fn push_num(out: &mut String, v: f64) {
     let steps = (v * 1e4).round();
-    if !(steps.abs() < 1e15) {
+    if steps.is_nan() || steps.abs() >= 1e15 {
         out.push_str(&num(v));
         return;
     }

@@ -10,6 +10,7 @@ mod particles;
 mod porosity_map;
 mod profile;
 mod psd;
+mod shape;
 mod stability;
 mod sweep_chart;
 #[cfg(test)]
@@ -26,6 +27,10 @@ pub(crate) use particles::{COLOURINGS, Fills, boundary_points, bounding_disks, o
 pub use porosity_map::{POROSITY_MAP_PNG, POROSITY_MAP_SVG, PorosityMapChart, porosity_map_chart};
 pub use profile::profile_chart;
 pub use psd::{PSD_PNG, PSD_SVG, PsdChart, psd_chart, psd_chart_of_scene};
+pub use shape::{
+    Asked, AskedShape, ORIENTATION_PNG, ORIENTATION_SVG, OrientationRose, SHAPE_PNG, SHAPE_SVG,
+    ShapeChart, orientation_rose, shape_chart,
+};
 pub use stability::StabilityChart;
 pub use sweep_chart::SweepChart;
 pub use window::window_chart;
