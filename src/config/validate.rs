@@ -221,6 +221,11 @@ impl Validator<'_> {
         }
         let compare = self.compare(raw.compare.as_ref())?;
         let compare = self.periodic_compare(&scene, raw.compare.as_ref(), compare)?;
+        let output = self.output(
+            raw.output.as_ref(),
+            scene.shape.is_some(),
+            !materials.is_empty(),
+        )?;
         Ok(Config {
             scene,
             optimise,
@@ -228,7 +233,7 @@ impl Validator<'_> {
             layering,
             fracture,
             compare,
-            output: self.output(raw.output.as_ref())?,
+            output,
             sweep: raw.sweep.as_ref().map(|s| self.sweep(s)).transpose()?,
         })
     }

@@ -1,5 +1,6 @@
 //! What a run writes: the formats of `[output]`, the export settings, the directory.
 
+use super::plot::Colouring;
 use crate::names::{ConfigName, Names};
 
 /// A file format a run can write, by the name `[output] formats` gives it.
@@ -173,6 +174,9 @@ pub struct OutputSettings {
     pub formats: Vec<Format>,
     /// Settings of the DEM exports.
     pub export: ExportOptions,
+    /// How the packing's pictures colour the particles (`colour`); `None`:
+    /// by material when there are materials, else by size.
+    pub colour: Option<Colouring>,
 }
 
 impl OutputSettings {
@@ -188,6 +192,7 @@ impl Default for OutputSettings {
             dir: None,
             formats: Format::DEFAULT.to_vec(),
             export: ExportOptions::default(),
+            colour: None,
         }
     }
 }

@@ -33,12 +33,14 @@ pub use json::{
     WindowSummary, summary_json,
 };
 pub use plot::{
-    Drawable, LineChart, Mark, PorosityMapChart, PsdChart, Series, packing_png, porosity_map_chart,
-    psd_chart,
+    Asked, AskedShape, Colouring, Drawable, LineChart, Mark, ORIENTATION_PNG, ORIENTATION_SVG,
+    OrientationRose, PorosityMapChart, PsdChart, SHAPE_PNG, SHAPE_SVG, Series, ShapeChart,
+    orientation_rose, packing_png, packing_png_coloured, porosity_map_chart, psd_chart,
+    shape_chart,
 };
 pub use read::{PackingTable, ReadError, read_packing_csv};
 pub use run::{Files, LayeringReport, RunInfo, render_pictures};
-pub use svg::{diameter_range, packing_svg};
+pub use svg::{diameter_range, packing_svg, packing_svg_coloured};
 pub use sweep_table::SWEEP_CSV;
 
 pub(crate) use csv::{
@@ -48,7 +50,7 @@ pub(crate) use csv::{
 pub(crate) use export::PACKING_JSON;
 pub(crate) use format::{FORMATS, UNITS};
 pub(crate) use plot::{
-    PACKING_PNG, POROSITY_MAP_PNG, POROSITY_MAP_SVG, PSD_PNG, PSD_SVG, variant_label,
+    COLOURINGS, PACKING_PNG, POROSITY_MAP_PNG, POROSITY_MAP_SVG, PSD_PNG, PSD_SVG, variant_label,
 };
 pub(crate) use run::{
     Body, COMPARE_PNG, COMPARE_SVG, CONVERGENCE_PNG, CONVERGENCE_SVG, PROFILE_PNG, PROFILE_SVG,

@@ -1,5 +1,6 @@
 //! The colours of materials and chart series (the Okabe–Ito palette, told
-//! apart by colour-blind readers too), of disks by diameter, and of heat maps.
+//! apart by colour-blind readers too), of disks by diameter, of heat maps,
+//! and of particles by orientation (a cyclic scale).
 
 /// Colours in order, as RGB.
 pub(crate) const PALETTE: [[u8; 3]; 8] = [
@@ -65,6 +66,45 @@ pub(crate) fn viridis(t: f64) -> [u8; 3] {
     [0, 1, 2].map(|k| (a[k] + f * (b[k] - a[k])).round() as u8)
 }
 
+/// Lightness and chroma of the cyclic scale (OKLCh): the largest chroma
+/// whose whole hue circle lies inside sRGB at this lightness, light enough
+/// for the near-black edge lines to show on every hue.
+const CYCLIC_L: f64 = 0.72;
+const CYCLIC_C: f64 = 0.12;
+
+/// The cyclic scale at `t` (one turn per unit: `t` and `t + 1` are the
+/// same colour; NaN is the colour of 0): a hue circle at constant
+/// lightness and chroma in OKLab, so that no direction looks heavier than
+/// another and the colours of 0 and 1 meet without a seam. For particle
+/// orientations, `t` is the angle over its period.
+pub(crate) fn cyclic(t: f64) -> [u8; 3] {
+    let t = if t.is_finite() {
+        t.rem_euclid(1.0)
+    } else {
+        0.0
+    };
+    // Hue from red-orange (30°) so that 0 is a warm colour.
+    let h = std::f64::consts::TAU * t + 30f64.to_radians();
+    let (a, b) = (CYCLIC_C * h.cos(), CYCLIC_C * h.sin());
+    let l = (CYCLIC_L + 0.396_337_777_4 * a + 0.215_803_757_3 * b).powi(3);
+    let m = (CYCLIC_L - 0.105_561_345_8 * a - 0.063_854_172_8 * b).powi(3);
+    let s = (CYCLIC_L - 0.089_484_177_5 * a - 1.291_485_548 * b).powi(3);
+    let linear = [
+        4.076_741_662_1 * l - 3.307_711_591_3 * m + 0.230_969_929_2 * s,
+        -1.268_438_004_6 * l + 2.609_757_401_1 * m - 0.341_319_396_5 * s,
+        -0.004_196_086_3 * l - 0.703_418_614_7 * m + 1.707_614_701 * s,
+    ];
+    linear.map(|c| {
+        let c = c.clamp(0.0, 1.0);
+        let srgb = if c <= 0.003_130_8 {
+            12.92 * c
+        } else {
+            1.055 * c.powf(1.0 / 2.4) - 0.055
+        };
+        (255.0 * srgb).round() as u8
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -97,5 +137,33 @@ mod tests {
             let (a, b) = (f64::from(k) / 100.0, f64::from(k + 1) / 100.0);
             assert!(luma(viridis(a)) <= luma(viridis(b)), "{a}");
         }
+    }
+
+    #[test]
+    fn the_cyclic_scale_closes_and_keeps_its_lightness() {
+        assert_eq!(cyclic(0.0), cyclic(1.0));
+        assert_eq!(cyclic(0.25), cyclic(-0.75));
+        assert_eq!(cyclic(f64::NAN), cyclic(0.0));
+        let luma = |[r, g, b]: [u8; 3]| {
+            0.2126 * f64::from(r) + 0.7152 * f64::from(g) + 0.0722 * f64::from(b)
+        };
+        let mut previous = cyclic(0.0);
+        for k in 1..=360 {
+            let c = cyclic(f64::from(k) / 360.0);
+            // Neighbours differ little (no seam), quarters differ much.
+            let step = (0..3)
+                .map(|i| (i32::from(c[i]) - i32::from(previous[i])).abs())
+                .max();
+            assert!(step <= Some(6), "{k}: {previous:?} → {c:?}");
+            assert!((100.0..=200.0).contains(&luma(c)), "{k}: {c:?}");
+            previous = c;
+        }
+        let (a, b) = (cyclic(0.0), cyclic(0.5));
+        assert!(
+            (0..3)
+                .map(|i| (i32::from(a[i]) - i32::from(b[i])).abs())
+                .sum::<i32>()
+                > 120
+        );
     }
 }

@@ -21,8 +21,8 @@ use super::format::{Format, OutputSettings};
 use super::json::{FractureSummary, LayeringSummary, OptimiseSummary, SUMMARY_JSON, summary_json};
 use super::plot::{
     CompareChart, Drawable, PACKING_PNG, POROSITY_MAP_PNG, POROSITY_MAP_SVG, PSD_PNG, PSD_SVG,
-    PsdChart, StabilityChart, convergence_chart, packing_png, porosity_map_chart, profile_chart,
-    psd_chart, psd_chart_of_scene, window_chart,
+    PsdChart, StabilityChart, convergence_chart, packing_png_coloured, porosity_map_chart,
+    profile_chart, psd_chart, psd_chart_of_scene, window_chart,
 };
 use super::svg::{PACKING_SVG, SVG_MAX_BYTES, packing_svg_within};
 use crate::Scene;
@@ -424,7 +424,8 @@ impl<'a> Tasks<'a> {
     }
 
     /// The pictures of a packing, each in the formats asked for: the
-    /// packing coloured by diameter (over `diameters`) or material (over
+    /// packing coloured as `[output] colour` asks (by default by material,
+    /// else by diameter over `diameters`; over
     /// [`SVG_MAX_BYTES`] the SVG holds the PNG as an image), its
     /// grading chart (`psd`), its porosity map.
     fn packing(
@@ -434,15 +435,16 @@ impl<'a> Tasks<'a> {
         diameters: (f64, f64),
         psd: impl FnOnce() -> PsdChart,
     ) {
+        let colour = self.out.colour;
         if self.out.wants(Format::Svg) {
             self.add(PACKING_SVG, move || {
-                packing_svg_within(packing, materials, diameters, SVG_MAX_BYTES)
+                packing_svg_within(packing, materials, diameters, colour, SVG_MAX_BYTES)
                     .map(String::into_bytes)
             });
         }
         if self.out.wants(Format::Png) {
             self.add(PACKING_PNG, move || {
-                packing_png(packing, materials, diameters)
+                packing_png_coloured(packing, materials, diameters, colour)
             });
         }
         self.chart((PSD_SVG, PSD_PNG), psd);

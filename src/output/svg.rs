@@ -4,8 +4,10 @@ use std::fmt::Write;
 
 use super::OutputError;
 use super::palette;
-use super::plot::packing_png;
-use crate::geometry::{Disk, Point, bounds_of_disks};
+use super::plot::{
+    Colouring, Fills, boundary_points, bounding_disks, outline_at, packing_png_coloured,
+};
+use crate::geometry::{Disk, Outline, Point, bounds_of_disks};
 use crate::layering::Material;
 use crate::packer::Packing;
 
@@ -58,7 +60,29 @@ pub fn diameter_range(packing: &Packing) -> (f64, f64) {
 /// A periodic cell is outlined dashed, and a disk crossing its edges is
 /// drawn again at each image that reaches into it, every disk clipped to
 /// the cell (the title says so).
+///
+/// Particles that are not disks ([`Packing::grains`]) are drawn as they
+/// are: see [`packing_svg_coloured`], which also colours them as asked.
 pub fn packing_svg(packing: &Packing, materials: &[Material], diameters: (f64, f64)) -> String {
+    packing_svg_coloured(packing, materials, diameters, None)
+}
+
+/// [`packing_svg`] with the particles filled as `colour` asks
+/// ([`Colouring`]; `None`: by material when the particles carry one and
+/// `materials` name them, else by size, as [`packing_svg`] does).
+///
+/// Each particle that is not a disk is one `<polygon>`: its outline
+/// ([`Outline::boundary`], inscribed in it) turned by its angle, with
+/// more points the larger it is drawn (8 to 128: within 0.1 px of the
+/// outline at four times the drawing's size). Such particles are shaded
+/// by their area-equivalent diameters over their own range (the title
+/// says so), or by orientation with a colour bar left of the scale bar.
+pub fn packing_svg_coloured(
+    packing: &Packing,
+    materials: &[Material],
+    diameters: (f64, f64),
+    colour: Option<Colouring>,
+) -> String {
     let outline = packing.domain.outline(CIRCLE_SEGMENTS);
     let (lo, hi) = frame(&outline, packing);
     let panels = Panels::new(lo, hi);
@@ -84,7 +108,8 @@ pub fn packing_svg(packing: &Packing, materials: &[Material], diameters: (f64, f
         num(w),
         num(h)
     );
-    let by_material = by_material(packing, materials);
+    let fill_rule = Fills::of(packing, materials, diameters, colour);
+    let by_material = matches!(fill_rule, Fills::Materials(_));
     let legend: Vec<String> = if by_material {
         materials
             .iter()
@@ -97,8 +122,8 @@ pub fn packing_svg(packing: &Packing, materials: &[Material], diameters: (f64, f
     let periodic = packing.domain.is_periodic();
     let _ = writeln!(
         svg,
-        "<title>gapack: {} disks, {} wall disks (mm, y up){}{}{}</title>",
-        packing.disks.len(),
+        "<title>gapack: {}, {} wall disks (mm, y up){}{}{}{}</title>",
+        particles_words(packing),
         packing.boundary.len(),
         match panels.note() {
             note if note.is_empty() => note,
@@ -113,7 +138,8 @@ pub fn packing_svg(packing: &Packing, materials: &[Material], diameters: (f64, f
             String::new()
         } else {
             format!("; materials: {}", legend.join(", "))
-        }
+        },
+        fills_words(packing, fill_rule)
     );
     let points: Vec<String> = outline
         .iter()
@@ -144,10 +170,14 @@ pub fn packing_svg(packing: &Packing, materials: &[Material], diameters: (f64, f
         let _ = writeln!(svg, "<defs>{defs}</defs>");
     }
     let walls = panels.sort(&packing.boundary);
-    let disks = panels.sort(&packing.disks);
+    // Particles that are not disks are sorted by their bounding disks.
+    let bounding = bounding_disks(packing);
+    let grains = !packing.grains.is_empty();
+    let disks = panels.sort(if grains { &bounding } else { &packing.disks });
     let fills: Vec<String> = (0..packing.disks.len())
-        .map(|i| hex(disk_fill(packing, i, by_material, diameters)))
+        .map(|i| hex(fill_rule.of_particle(packing, i)))
         .collect();
+    let scale = WIDTH_PX / w;
     for k in 0..panels.count {
         if panels.count > 1 {
             let (a, b) = panels.source(k);
@@ -192,8 +222,24 @@ pub fn packing_svg(packing: &Packing, materials: &[Material], diameters: (f64, f
         );
         for &i in &disks[k] {
             let fill = &fills[i];
-            for at in drawn_images(packing, &packing.disks[i]) {
-                let _ = writeln!(svg, r#"{} fill="{fill}"/>"#, circle(&at, flip(at.c.y)));
+            if let (Some(grain), Some(bound)) = (packing.grains.get(i), bounding.get(i)) {
+                let n = svg_points(bound.r * scale);
+                for at in drawn_images(packing, bound) {
+                    svg.push_str(r#"<polygon points=""#);
+                    for (j, p) in outline_at(grain, at.c, n).iter().enumerate() {
+                        if j > 0 {
+                            svg.push(' ');
+                        }
+                        push_num(&mut svg, p.x);
+                        svg.push(',');
+                        push_num(&mut svg, flip(p.y));
+                    }
+                    let _ = writeln!(svg, r#"" fill="{fill}"/>"#);
+                }
+            } else {
+                for at in drawn_images(packing, &packing.disks[i]) {
+                    let _ = writeln!(svg, r#"{} fill="{fill}"/>"#, circle(&at, flip(at.c.y)));
+                }
             }
         }
         let _ = writeln!(svg, "</g>");
@@ -211,8 +257,104 @@ pub fn packing_svg(packing: &Packing, materials: &[Material], diameters: (f64, f
     }
     let _ = writeln!(svg, "</svg>");
     scale_bar(&mut svg, height_px, WIDTH_PX / w);
+    if let Fills::Orientation { period } = fill_rule {
+        orientation_bar(&mut svg, height_px, period);
+    }
     let _ = writeln!(svg, "</svg>");
     svg
+}
+
+/// `12 disks`, or for particles that are not disks `12 particles
+/// (superellipses)` (or polygons, or both).
+fn particles_words(packing: &Packing) -> String {
+    let n = packing.disks.len();
+    if packing.grains.is_empty() {
+        return format!("{n} disks");
+    }
+    let superellipses = packing
+        .grains
+        .iter()
+        .filter(|g| matches!(g.outline, Outline::Superellipse { .. }))
+        .count();
+    let kind = match superellipses {
+        0 => "polygons",
+        s if s == packing.grains.len() => "superellipses",
+        _ => "superellipses and polygons",
+    };
+    format!("{n} particles ({kind})")
+}
+
+/// What the fills of particles that are not disks mean, for the title
+/// (nothing for disks: their title is as it always was).
+fn fills_words(packing: &Packing, fills: Fills) -> String {
+    if packing.grains.is_empty() {
+        return String::new();
+    }
+    match fills {
+        Fills::Diameters((lo, hi)) => format!(
+            "; shaded light to dark by area-equivalent diameter, {} to {} mm",
+            num(lo),
+            num(hi)
+        ),
+        Fills::Materials(_) => String::new(),
+        Fills::Orientation { period } => format!(
+            "; coloured by orientation, a cyclic scale over 0 to {}°: {}",
+            num(period.to_degrees().round()),
+            if period < 4.0 {
+                "the long axis' angle modulo 180°"
+            } else {
+                "the angle of each polygon's template modulo 360°"
+            }
+        ),
+    }
+}
+
+/// Points of a particle's polygon in `packing.svg`, which a viewer zooms
+/// into: as many as `packing.png` would take at four times the size of
+/// a particle reaching `px` pixels from its centre.
+fn svg_points(px: f64) -> usize {
+    boundary_points(4.0 * px)
+}
+
+/// Width of the orientation colour bar (px) and its stops.
+const ORIENTATION_BAR_PX: f64 = 240.0;
+const ORIENTATION_STOPS: usize = 36;
+
+/// The colour bar of orientations in the strip under the drawing (`top` px
+/// down), at its left: a label, the cyclic scale over 0 to `period`
+/// (radians) in [`ORIENTATION_STOPS`] steps, and ticks at its ends and middle.
+fn orientation_bar(svg: &mut String, top: f64, period: f64) {
+    let (x0, y) = (20.0, top + 0.5 * STRIP_PX);
+    let label_px = 80.0;
+    let _ = write!(
+        svg,
+        r#"<g id="orientation-bar" font-family="sans-serif" font-size="12"><text x="{}" y="{}" dominant-baseline="middle">orientation</text>"#,
+        num(x0),
+        num(y - 5.0)
+    );
+    let step = ORIENTATION_BAR_PX / ORIENTATION_STOPS as f64;
+    for k in 0..ORIENTATION_STOPS {
+        let t = (k as f64 + 0.5) / ORIENTATION_STOPS as f64;
+        let _ = write!(
+            svg,
+            r#"<rect x="{}" y="{}" width="{}" height="10" fill="{}"/>"#,
+            num(x0 + label_px + k as f64 * step),
+            num(y - 10.0),
+            num(step + 0.05),
+            hex(palette::cyclic(t))
+        );
+    }
+    let full = period.to_degrees().round();
+    for (k, value) in [0.0, 0.5 * full, full].into_iter().enumerate() {
+        let _ = write!(
+            svg,
+            r#"<text x="{}" y="{}" text-anchor="middle" dominant-baseline="middle">{}°</text>"#,
+            num(x0 + label_px + 0.5 * ORIENTATION_BAR_PX * k as f64),
+            num(y + 9.0),
+            num(value)
+        );
+    }
+    let _ = writeln!(svg, "</g>");
 }
 
 /// Height of the scale bar's strip under the drawing (px).
@@ -416,11 +558,26 @@ pub const SVG_MAX_BYTES: usize = 20_000_000;
 const SVG_BYTES_PER_DISK: usize = 70;
 const SVG_BYTES_PER_WALL_DISK: usize = 45;
 
-/// What a drawing of every disk of `packing` would weigh (bytes, estimated).
+/// Bytes a point of a particle's `<polygon>` takes (`x,y ` with up to 4
+/// decimals each), and the rest of its line.
+const SVG_BYTES_PER_POINT: usize = 16;
+const SVG_BYTES_PER_POLYGON: usize = 40;
+
+/// What a drawing of every disk of `packing` would weigh (bytes,
+/// estimated); of every particle's polygon, for particles that are not disks.
 fn svg_bytes(packing: &Packing) -> usize {
-    SVG_BYTES_PER_DISK
-        .saturating_mul(packing.disks.len())
-        .saturating_add(SVG_BYTES_PER_WALL_DISK.saturating_mul(packing.boundary.len()))
+    let walls = SVG_BYTES_PER_WALL_DISK.saturating_mul(packing.boundary.len());
+    if packing.grains.is_empty() {
+        return SVG_BYTES_PER_DISK
+            .saturating_mul(packing.disks.len())
+            .saturating_add(walls);
+    }
+    let (lo, hi) = frame(&packing.domain.outline(CIRCLE_SEGMENTS), packing);
+    let scale = WIDTH_PX / Panels::new(lo, hi).size().0.max(1e-12);
+    bounding_disks(packing)
+        .iter()
+        .map(|d| SVG_BYTES_PER_POLYGON + SVG_BYTES_PER_POINT * svg_points(d.r * scale))
+        .fold(walls, usize::saturating_add)
 }
 
 /// Why `packing.svg` holds an image rather than every disk, when a drawing
@@ -429,8 +586,8 @@ pub fn packing_svg_note(packing: &Packing, max_bytes: usize) -> Option<String> {
     let bytes = svg_bytes(packing);
     (bytes > max_bytes).then(|| {
         format!(
-            "packing.svg holds packing.png as an image: {} disks{} drawn one by one would make about {:.0} MB, over the {:.0} MB a viewer opens",
-            packing.disks.len(),
+            "packing.svg holds packing.png as an image: {}{} drawn one by one would make about {:.0} MB, over the {:.0} MB a viewer opens",
+            particles_words(packing),
             match packing.boundary.len() {
                 0 => String::new(),
                 n => format!(" and {n} wall disks"),
@@ -441,7 +598,7 @@ pub fn packing_svg_note(packing: &Packing, max_bytes: usize) -> Option<String> {
     })
 }
 
-/// `packing.svg`: [`packing_svg`], or when that would exceed `max_bytes`
+/// `packing.svg`: [`packing_svg_coloured`], or when that would exceed `max_bytes`
 /// ([`SVG_MAX_BYTES`] in a run) a light SVG holding `packing.png` as an
 /// embedded image, scale bar and legend included, the title saying why.
 ///
@@ -451,12 +608,13 @@ pub fn packing_svg_within(
     packing: &Packing,
     materials: &[Material],
     diameters: (f64, f64),
+    colour: Option<Colouring>,
     max_bytes: usize,
 ) -> Result<String, OutputError> {
     let Some(note) = packing_svg_note(packing, max_bytes) else {
-        return Ok(packing_svg(packing, materials, diameters));
+        return Ok(packing_svg_coloured(packing, materials, diameters, colour));
     };
-    let png = packing_png(packing, materials, diameters)?;
+    let png = packing_png_coloured(packing, materials, diameters, colour)?;
     // The PNG header gives the image's size (bytes 16–23: width, height).
     let side = |at: usize| {
         png.get(at..at + 4)
@@ -533,26 +691,6 @@ pub(super) const WALL_EDGE: [u8; 3] = [0xa6, 0xa6, 0xa6];
 /// Edge of the packed disks (near black).
 pub(super) const DISK_EDGE: [u8; 3] = [0x1a, 0x1a, 0x1a];
 
-/// Whether disks are coloured by material: they carry one and materials are named.
-pub(super) fn by_material(packing: &Packing, materials: &[Material]) -> bool {
-    !materials.is_empty() && !packing.materials.is_empty()
-}
-
-/// Fill of packed disk `i`: its material's palette colour, else its diameter's shade.
-pub(super) fn disk_fill(
-    packing: &Packing,
-    i: usize,
-    by_material: bool,
-    diameters: (f64, f64),
-) -> [u8; 3] {
-    match packing.materials.get(i) {
-        Some(&m) if by_material => palette::colour(usize::from(m)),
-        _ => packing.disks.get(i).map_or(palette::ramp(0.5), |d| {
-            palette::diameter_colour(2.0 * d.r, diameters)
-        }),
-    }
-}
-
 /// The box drawn (mm): the outline and every disk (a periodic cell: the
 /// outline, the disks being clipped to it), plus a margin of [`MARGIN`] of
 /// the shorter side all round.
@@ -602,6 +740,32 @@ fn num(v: f64) -> String {
         "0".to_owned()
     } else {
         s.to_owned()
+    }
+}
+
+/// [`num`] written at the end of `out`, fast (a drawing of particles
+/// writes millions of numbers): `v` rounded to a whole number of 0.1 µm,
+/// written as an integer and its four decimals, trailing zeros dropped.
+/// It differs from [`num`] only on a value within an ulp of half a step.
+fn push_num(out: &mut String, v: f64) {
+    let steps = (v * 1e4).round();
+    if steps.is_nan() || steps.abs() >= 1e15 {
+        out.push_str(&num(v));
+        return;
+    }
+    let steps = steps as i64;
+    if steps < 0 {
+        out.push('-');
+    }
+    let (whole, mut fraction) = (steps.unsigned_abs() / 10_000, steps.unsigned_abs() % 10_000);
+    let _ = write!(out, "{whole}");
+    if fraction > 0 {
+        let mut digits = 4;
+        while fraction % 10 == 0 {
+            fraction /= 10;
+            digits -= 1;
+        }
+        let _ = write!(out, ".{fraction:0digits$}");
     }
 }
 
@@ -801,18 +965,72 @@ mod tests {
             note.starts_with("packing.svg holds packing.png as an image: 2 disks drawn"),
             "{note}"
         );
-        let light = packing_svg_within(&p, &[], (2.0, 4.0), 100).expect("svg");
+        let light = packing_svg_within(&p, &[], (2.0, 4.0), None, 100).expect("svg");
         assert!(light.contains(r#"href="data:image/png;base64,iVBORw0KGgo"#));
         assert!(!light.contains("<circle"));
         assert!(light.contains(&note));
         // Under the limit: every disk drawn.
         assert_eq!(packing_svg_note(&p, SVG_MAX_BYTES), None);
         assert_eq!(
-            packing_svg_within(&p, &[], (2.0, 4.0), SVG_MAX_BYTES).expect("svg"),
+            packing_svg_within(&p, &[], (2.0, 4.0), None, SVG_MAX_BYTES).expect("svg"),
             packing_svg(&p, &[], (2.0, 4.0))
         );
         // 2 million disks are over the real limit.
         const { assert!(SVG_BYTES_PER_DISK * 2_000_000 > SVG_MAX_BYTES) };
+    }
+
+    /// Particles that are not disks: one `<polygon>` each (the domain's
+    /// outline is the one without a fill colour), no circle; the title
+    /// names them and what their colours say.
+    #[test]
+    fn grains_are_one_polygon_each() {
+        use crate::geometry::{Grain, Outline};
+        let ellipse = Outline::superellipse(3.0, 1.0, 2.0, 2.0).expect("ellipse");
+        let r = ellipse.equivalent_radius();
+        let p = Packing {
+            grains: vec![
+                Grain::new(ellipse.clone(), 0.0),
+                Grain::new(ellipse.clone(), 1.0),
+                Grain::new(ellipse, 2.0),
+            ],
+            ..Packing::of_disks(
+                Domain::rectangle(20.0, 10.0).expect("rectangle"),
+                vec![
+                    Disk::new(4.0, 5.0, r),
+                    Disk::new(10.0, 5.0, r),
+                    Disk::new(16.0, 5.0, r),
+                ],
+            )
+        };
+        let svg = packing_svg(&p, &[], (1.0, 2.0));
+        assert_eq!(svg.matches(r##"<polygon points=""##).count(), 4, "{svg}");
+        assert_eq!(svg.matches(r##"" fill="#"##).count(), 3, "{svg}");
+        assert!(!svg.contains("<circle"));
+        assert!(
+            svg.contains("3 particles (superellipses), 0 wall disks")
+                && svg.contains("by area-equivalent diameter"),
+            "{svg}"
+        );
+        // The first ellipse's first point: the end of its long axis, y flipped.
+        assert!(svg.contains(r#"<polygon points="7,5 "#), "{svg}");
+        let by_angle = packing_svg_coloured(&p, &[], (1.0, 2.0), Some(Colouring::Orientation));
+        assert!(by_angle.contains(r#"<g id="orientation-bar""#));
+        assert!(by_angle.contains("cyclic scale over 0 to 180°"));
+        // Three different colours for three angles.
+        let fills: std::collections::BTreeSet<&str> = by_angle
+            .split("<polygon points=")
+            .filter_map(|element| element.split_once(r##"" fill="#"##))
+            .map(|(_, rest)| &rest[..6])
+            .collect();
+        assert_eq!(fills.len(), 3, "{fills:?}");
+        // The estimate of the SVG's size counts the polygons' points.
+        assert!(svg_bytes(&p) >= 3 * (SVG_BYTES_PER_POLYGON + 8 * SVG_BYTES_PER_POINT));
+        assert!(
+            svg_bytes(&p).abs_diff(svg.len()) < svg.len() / 2,
+            "{} {}",
+            svg_bytes(&p),
+            svg.len()
+        );
     }
 
     #[test]
@@ -831,5 +1049,22 @@ mod tests {
         assert_eq!(num(2.50), "2.5");
         assert_eq!(num(1.234_567), "1.2346");
         assert_eq!(num(100.0), "100");
+        for v in [
+            1.0,
+            -0.00001,
+            2.5,
+            1.234_567,
+            100.0,
+            -3.0,
+            0.0,
+            -0.25,
+            0.0503,
+            f64::NAN,
+            1e20,
+        ] {
+            let mut out = "x".to_owned();
+            push_num(&mut out, v);
+            assert_eq!(out, format!("x{}", num(v)), "{v}");
+        }
     }
 }

@@ -108,3 +108,62 @@ fn clump_keys_are_read_and_checked() {
     ));
     assert_eq!(e.key(), Some("output.clump_max_disks"));
 }
+
+#[test]
+fn output_colour_is_read_by_name() {
+    let config = parse(
+        &rect("width = 20\nheight = 30", "[output]\ncolour = \"size\""),
+        "t.toml",
+    )
+    .unwrap();
+    assert_eq!(config.output.colour, Some(crate::output::Colouring::Size));
+    fails_with(
+        &rect("width = 20\nheight = 30", "[output]\ncolour = \"hue\""),
+        "t.toml:8:10: output.colour: unknown colouring \"hue\"; valid: size, material, orientation",
+    );
+}
+
+/// Disks have no orientation, and a config without materials none to
+/// colour by: both refused where the key is, with what to do instead.
+#[test]
+fn output_colour_needs_what_it_shows() {
+    fails_with(
+        &rect(
+            "width = 20\nheight = 30",
+            "[output]\ncolour = \"orientation\"",
+        ),
+        "t.toml:8:10: output.colour: \"orientation\" colours particles by the angle of their long axis, and disks have none: add a [shape] table, or use colour = \"size\" or \"material\"",
+    );
+    fails_with(
+        &rect("width = 20\nheight = 30", "[output]\ncolour = \"material\""),
+        "t.toml:8:10: output.colour: \"material\" colours particles by their material, and the config names none: add [[materials]], or use colour = \"size\"",
+    );
+}
+
+/// With particles that are not disks and with materials, each colouring
+/// is taken (read through the `[output]` check, a `[shape]` table being
+/// read elsewhere).
+#[test]
+fn output_colour_is_taken_when_it_applies() {
+    use crate::output::Colouring;
+    for (name, colour) in [
+        ("size", Colouring::Size),
+        ("material", Colouring::Material),
+        ("orientation", Colouring::Orientation),
+    ] {
+        let text = format!("[output]\ncolour = \"{name}\"\n");
+        let raw: crate::config::raw::RawConfig = toml::from_str(&text).unwrap();
+        let validator = crate::config::validate::Validator {
+            text: &text,
+            origin: "t.toml",
+            force: false,
+        };
+        let settings = validator.output(raw.output.as_ref(), true, true).unwrap();
+        assert_eq!(settings.colour, Some(colour));
+        // Disks without materials: only size.
+        assert_eq!(
+            validator.output(raw.output.as_ref(), false, false).is_ok(),
+            colour == Colouring::Size
+        );
+    }
+}

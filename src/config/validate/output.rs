@@ -1,18 +1,23 @@
-//! `[output]`: the directory, known format names given once, the export settings.
+//! `[output]`: the directory, known format names given once, the export
+//! settings, the pictures' colouring.
 
 use toml::Spanned;
 
 use super::Validator;
 use crate::config::error::ConfigError;
 use crate::config::raw::{RawOutput, Table};
-use crate::output::{ClumpOptions, OutputSettings};
-use crate::output::{FORMATS, UNITS};
+use crate::output::{COLOURINGS, ClumpOptions, Colouring, FORMATS, OutputSettings, UNITS};
 
 impl Validator<'_> {
-    /// `[output]`: its defaults when the table is absent.
-    pub(super) fn output(
+    /// `[output]`: its defaults when the table is absent. `shapes`: the
+    /// particles are not disks (a `[shape]`); `materials`: the config names
+    /// materials. `colour = "orientation"` needs the first, `"material"`
+    /// the second.
+    pub(in crate::config) fn output(
         &self,
         raw: Option<&Spanned<Table<RawOutput>>>,
+        shapes: bool,
+        materials: bool,
     ) -> Result<OutputSettings, ConfigError> {
         let mut settings = OutputSettings::default();
         let Some(raw) = raw else {
@@ -74,6 +79,26 @@ impl Validator<'_> {
                 1,
                 Some(ClumpOptions::MOST_DISKS as i64),
             )?;
+        }
+        if let Some(given) = &o.colour {
+            let colour = self.name(&COLOURINGS, "output.colour", Some(given))?;
+            let refusal = match colour {
+                Colouring::Orientation if !shapes => Some(
+                    "\"orientation\" colours particles by the angle of their long axis, and disks have none: add a [shape] table, or use colour = \"size\" or \"material\"",
+                ),
+                Colouring::Material if !materials => Some(
+                    "\"material\" colours particles by their material, and the config names none: add [[materials]], or use colour = \"size\"",
+                ),
+                _ => None,
+            };
+            if let Some(reason) = refusal {
+                return Err(ConfigError::NotApplicable {
+                    at: self.at(&given.span()),
+                    key: "output.colour".to_owned(),
+                    reason: reason.to_owned(),
+                });
+            }
+            settings.colour = Some(colour);
         }
         Ok(settings)
     }

@@ -6,21 +6,25 @@
 //! draws the domain outline and the legend (text needs its font) on the
 //! same buffer. The legend strip under the drawing carries a scale bar, so
 //! it covers no disk.
+//!
+//! Particles that are not disks are rasterised the same way, as convex
+//! polygons ([`super::particles`]): each pixel's coverage is read from
+//! its distance to the nearest side, so edges are as smooth as a disk's.
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::chart::{FAMILY, encode_png, register_font, tidy};
+use super::particles::{Colouring, Fills, boundary_points, bounding_disks, outline_at};
 use super::text::Glyphs;
 use crate::geometry::{Disk, Point};
 use crate::layering::Material;
 use crate::metrics::{porosity, solid_area};
 use crate::output::OutputError;
-use crate::output::palette::{colour, ramp};
+use crate::output::palette::{colour, cyclic, ramp};
 use crate::output::svg::{
-    CIRCLE_SEGMENTS, DISK_EDGE, Panels, WALL_EDGE, WALL_FILL, by_material, disk_fill, drawn_images,
-    frame, scale_bar_mm,
+    CIRCLE_SEGMENTS, DISK_EDGE, Panels, WALL_EDGE, WALL_FILL, drawn_images, frame, scale_bar_mm,
 };
 use crate::packer::Packing;
 
@@ -139,10 +143,42 @@ fn px(v: f64) -> u32 {
 /// Each disk is drawn straight into the buffer over its bounding box of
 /// pixels: O(disks + pixels). A million disks render in well under a
 /// second; most of the time goes to encoding the PNG.
+///
+/// Particles that are not disks are drawn as they are: see
+/// [`packing_png_coloured`].
 pub fn packing_png(
     packing: &Packing,
     materials: &[Material],
     diameters: (f64, f64),
+) -> Result<Vec<u8>, OutputError> {
+    packing_png_coloured(packing, materials, diameters, None)
+}
+
+/// [`packing_png`] with the particles filled as `colour` asks
+/// ([`Colouring`]; `None`: by material when the particles carry one and
+/// `materials` name them, else by size, as [`packing_png`] does).
+///
+/// A particle that is not a disk is its outline
+/// ([`Outline::boundary`](crate::geometry::Outline::boundary), inscribed
+/// in it) turned by its angle, with 8 to 128 points as it is drawn larger
+/// ([`boundary_points`]: within 0.1 px of the outline), filled and edged as
+/// a disk is. Such particles are shaded by their area-equivalent diameter
+/// over their own range, or coloured by orientation on a cyclic scale
+/// (0–180° for superellipses, 0–360° when there are polygons), the legend
+/// showing the scale.
+///
+/// # Errors
+/// [`OutputError::Plot`] if plotters fails to draw or the PNG cannot be encoded.
+///
+/// # Performance
+/// O(particles · points + pixels · points on the edges): a particle's
+/// inner pixels are filled by spans, only its rim is measured against
+/// its sides.
+pub fn packing_png_coloured(
+    packing: &Packing,
+    materials: &[Material],
+    diameters: (f64, f64),
+    colour: Option<Colouring>,
 ) -> Result<Vec<u8>, OutputError> {
     register_font();
     let outline = packing.domain.outline(CIRCLE_SEGMENTS);
@@ -151,8 +187,14 @@ pub fn packing_png(
     let mut rgb = vec![255u8; w as usize * h as usize * 3];
     let periodic = packing.domain.is_periodic();
     let panels = layout.panels;
-    let (walls, disks) = (panels.sort(&packing.boundary), panels.sort(&packing.disks));
-    let by_material = by_material(packing, materials);
+    // Particles that are not disks are sorted by their bounding disks.
+    let bounding = bounding_disks(packing);
+    let grains = !packing.grains.is_empty();
+    let (walls, disks) = (
+        panels.sort(&packing.boundary),
+        panels.sort(if grains { &bounding } else { &packing.disks }),
+    );
+    let fills = Fills::of(packing, materials, diameters, colour);
     for k in 0..panels.count {
         // Each panel's disks are clipped to it, a periodic cell's to the cell too.
         let (lo, hi) = panels.source(k);
@@ -182,9 +224,17 @@ pub fn packing_png(
             canvas.disk(&layout, &packing.boundary[i], WALL_FILL, WALL_EDGE);
         }
         for &i in disks.get(k).into_iter().flatten() {
-            let fill = disk_fill(packing, i, by_material, diameters);
-            for at in drawn_images(packing, &packing.disks[i]) {
-                canvas.disk(&layout, &at, fill, DISK_EDGE);
+            let fill = fills.of_particle(packing, i);
+            if let (Some(grain), Some(bound)) = (packing.grains.get(i), bounding.get(i)) {
+                let n = boundary_points(bound.r * layout.scale);
+                for at in drawn_images(packing, bound) {
+                    let outline = outline_at(grain, at.c, n);
+                    canvas.polygon(&layout, &outline, fill, DISK_EDGE);
+                }
+            } else {
+                for at in drawn_images(packing, &packing.disks[i]) {
+                    canvas.disk(&layout, &at, fill, DISK_EDGE);
+                }
             }
         }
     }
@@ -215,10 +265,10 @@ pub fn packing_png(
         }
         if layout.legend {
             let strip = root.margin(h - LEGEND_PX, 0, 0, 0);
-            let legend = if by_material {
-                Legend::Materials(materials)
-            } else {
-                Legend::Diameters(diameters)
+            let legend = match fills {
+                Fills::Materials(_) => Legend::Materials(materials),
+                Fills::Diameters(range) => Legend::Diameters(range),
+                Fills::Orientation { period } => Legend::Orientation { period },
             };
             draw_legend(&strip, packing, &legend, layout.scale).map_err(plot)?;
         }
@@ -414,12 +464,140 @@ impl Canvas<'_> {
     }
 }
 
+impl Canvas<'_> {
+    /// Draw the convex polygon `outline` (mm, counter-clockwise) filled
+    /// with `fill`, with an edge line of `edge`, anti-aliased as
+    /// [`Canvas::disk`] is, by the distance of each pixel's centre to the
+    /// outline: the largest of its signed distances to the sides' lines
+    /// (exact inside and along the sides; near a corner a little less).
+    fn polygon(&mut self, layout: &Layout, outline: &[Point], fill: [u8; 3], edge: [u8; 3]) {
+        let points: Vec<(f64, f64)> = outline.iter().map(|&p| layout.map(self.panel, p)).collect();
+        if points.len() < 3
+            || points
+                .iter()
+                .any(|(x, y)| !(x.is_finite() && y.is_finite()))
+        {
+            return;
+        }
+        // Each side as n·p ≤ c inside, n its outward unit normal (pixels,
+        // y down: the outline turns clockwise there, unless reflected).
+        let n_points = points.len();
+        let twice_area: f64 = (0..n_points)
+            .map(|i| {
+                let ((x0, y0), (x1, y1)) = (points[i], points[(i + 1) % n_points]);
+                x0 * y1 - x1 * y0
+            })
+            .sum();
+        let turn = if twice_area < 0.0 { -1.0 } else { 1.0 };
+        let sides: Vec<(f64, f64, f64)> = (0..n_points)
+            .filter_map(|i| {
+                let ((x0, y0), (x1, y1)) = (points[i], points[(i + 1) % n_points]);
+                let (ex, ey) = (x1 - x0, y1 - y0);
+                let len = ex.hypot(ey);
+                (len > 0.0).then(|| {
+                    let (nx, ny) = (turn * ey / len, -turn * ex / len);
+                    (nx, ny, nx * x0 + ny * y0)
+                })
+            })
+            .collect();
+        if sides.len() < 3 {
+            return;
+        }
+        let distance = |x: f64, y: f64| {
+            sides
+                .iter()
+                .map(|&(nx, ny, c)| nx * x + ny * y - c)
+                .fold(f64::NEG_INFINITY, f64::max)
+        };
+        // The edge line thins on small particles so that their fill shows,
+        // as on disks: a quarter of the distance from the centre to the nearest side.
+        let (cx, cy) = points.iter().fold((0.0, 0.0), |(sx, sy), (x, y)| {
+            (sx + x / n_points as f64, sy + y / n_points as f64)
+        });
+        let line = EDGE_PX.min(0.25 * (-distance(cx, cy)).max(0.0));
+        // Pixel centres x with n·(x, y) − c < `reach` for every side: a
+        // span of the row at height y (empty: start ≥ end).
+        let span = |y: f64, reach: f64| {
+            let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+            for &(nx, ny, c) in &sides {
+                let room = c + reach - ny * y;
+                if nx > 1e-12 {
+                    hi = hi.min(room / nx);
+                } else if nx < -1e-12 {
+                    lo = lo.max(room / nx);
+                } else if room < 0.0 {
+                    return (0.0, 0.0);
+                }
+            }
+            (lo, hi)
+        };
+        let clip = |v: f64, n: usize| v.clamp(0.0, n as f64) as usize;
+        let (y_min, y_max) = points
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &(_, y)| {
+                (lo.min(y), hi.max(y))
+            });
+        let (j0, j1) = (
+            clip(y_min - 1.0, self.height).max(self.clip.2),
+            clip(y_max + 2.0, self.height).min(self.clip.3),
+        );
+        // Pixels (i + ½ in the span) of a row, within the clip.
+        let columns = |(lo, hi): (f64, f64)| {
+            if lo >= hi {
+                return (0, 0);
+            }
+            let first = clip((lo - 0.5).ceil(), self.width).max(self.clip.0);
+            let end = clip((hi - 0.5).floor() + 1.0, self.width).min(self.clip.1);
+            (first, end.max(first))
+        };
+        for j in j0..j1 {
+            let y = j as f64 + 0.5;
+            let row = j * self.width;
+            // Touched pixels: d < ½; filled whole: d ≤ −(line + ½).
+            let (a0, a1) = columns(span(y, 0.5));
+            if a0 >= a1 {
+                continue;
+            }
+            let (s0, s1) = columns(span(y, -(line + 0.5)));
+            let (s0, s1) = if s0 < s1 {
+                (s0.clamp(a0, a1), s1.clamp(a0, a1))
+            } else {
+                (a0, a0)
+            };
+            for i in s0..s1 {
+                self.rgb[3 * (row + i)..3 * (row + i) + 3].copy_from_slice(&fill);
+            }
+            for i in (a0..s0).chain(s1..a1) {
+                let d = distance(i as f64 + 0.5, y);
+                let cover = (0.5 - d).clamp(0.0, 1.0);
+                if cover == 0.0 {
+                    continue;
+                }
+                let inner = (0.5 - line - d).clamp(0.0, 1.0);
+                let at = 3 * (row + i);
+                for k in 0..3 {
+                    let old = f64::from(self.rgb[at + k]);
+                    let new = old * (1.0 - cover)
+                        + f64::from(fill[k]) * inner
+                        + f64::from(edge[k]) * (cover - inner);
+                    self.rgb[at + k] = new.round().clamp(0.0, 255.0) as u8;
+                }
+            }
+        }
+    }
+}
+
 /// What the legend strip shows besides the counts.
 enum Legend<'a> {
     /// The colour bar of the diameters (mm).
     Diameters((f64, f64)),
     /// One swatch per material.
     Materials(&'a [Material]),
+    /// The cyclic colour bar of the orientations over 0 to `period` (radians).
+    Orientation {
+        /// The angle the scale spans (radians).
+        period: f64,
+    },
 }
 
 /// The legend strip: a colour bar or material swatches on the left, wall
@@ -440,8 +618,13 @@ fn draw_legend<DB: DrawingBackend>(
         Ok(area.estimate_text_size(s, &text)?.0 as i32)
     };
     let counts = format!(
-        "{} disks, porosity {:.3}",
+        "{} {}, porosity {:.3}",
         packing.disks.len(),
+        if packing.grains.is_empty() {
+            "disks"
+        } else {
+            "particles"
+        },
         porosity(solid_area(&packing.disks), packing.domain.area())
     );
     let end = font.color(&BLACK).pos(Pos::new(HPos::Right, VPos::Center));
@@ -474,42 +657,63 @@ fn draw_legend<DB: DrawingBackend>(
         Ok(SWATCH + 8 + text_width(s)? + GAP)
     };
     let mut x = GAP;
-    match legend {
-        Legend::Diameters((d_min, d_max)) if d_max > d_min => {
-            let label = "diameter (mm)";
-            let ticks = ticks(*d_min, *d_max);
-            let overhang = text_width(ticks.last().map_or("", String::as_str))? / 2;
-            let label_width = text_width(label)? + 12;
-            if x + label_width + BAR + overhang <= room {
-                let (top, bottom) = (mid - SWATCH, mid);
-                area.draw(&Text::new(label, (x, mid - half), text.clone()))?;
-                x += label_width;
-                for k in 0..BAR {
-                    let [r, g, b] = ramp(f64::from(k) / f64::from(BAR - 1));
-                    area.draw(&Rectangle::new(
-                        [(x + k, top), (x + k + 1, bottom)],
-                        RGBColor(r, g, b).filled(),
-                    ))?;
-                }
+    // A colour bar: its label, `shade` over 0–1, and its tick labels below.
+    let bar = |x: &mut i32,
+               label: &str,
+               ticks: &[String],
+               shade: &dyn Fn(f64) -> [u8; 3]|
+     -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        let overhang = text_width(ticks.last().map_or("", String::as_str))? / 2;
+        let label_width = text_width(label)? + 12;
+        if *x + label_width + BAR + overhang <= room {
+            let (top, bottom) = (mid - SWATCH, mid);
+            area.draw(&Text::new(label, (*x, mid - half), text.clone()))?;
+            *x += label_width;
+            for k in 0..BAR {
+                let [r, g, b] = shade(f64::from(k) / f64::from(BAR - 1));
                 area.draw(&Rectangle::new(
-                    [(x, top), (x + BAR, bottom)],
+                    [(*x + k, top), (*x + k + 1, bottom)],
+                    RGBColor(r, g, b).filled(),
+                ))?;
+            }
+            area.draw(&Rectangle::new(
+                [(*x, top), (*x + BAR, bottom)],
+                BLACK.stroke_width(1),
+            ))?;
+            let below = font.color(&BLACK).pos(Pos::new(HPos::Center, VPos::Top));
+            let last = ticks.len().saturating_sub(1).max(1) as i32;
+            for (k, tick) in ticks.iter().enumerate() {
+                let at = *x + (BAR - 1) * k as i32 / last;
+                area.draw(&PathElement::new(
+                    vec![(at, bottom), (at, bottom + 4)],
                     BLACK.stroke_width(1),
                 ))?;
-                let below = font.color(&BLACK).pos(Pos::new(HPos::Center, VPos::Top));
-                let last = ticks.len().saturating_sub(1).max(1) as i32;
-                for (k, tick) in ticks.iter().enumerate() {
-                    let at = x + (BAR - 1) * k as i32 / last;
-                    area.draw(&PathElement::new(
-                        vec![(at, bottom), (at, bottom + 4)],
-                        BLACK.stroke_width(1),
-                    ))?;
-                    area.draw(&Text::new(tick.clone(), (at, bottom + 6), below.clone()))?;
-                }
-                x += BAR + overhang + GAP;
+                area.draw(&Text::new(tick.clone(), (at, bottom + 6), below.clone()))?;
             }
+            *x += BAR + overhang + GAP;
+        }
+        Ok(())
+    };
+    let diameter = if packing.grains.is_empty() {
+        "diameter"
+    } else {
+        "equivalent diameter"
+    };
+    match legend {
+        Legend::Diameters((d_min, d_max)) if d_max > d_min => {
+            let label = format!("{diameter} (mm)");
+            bar(&mut x, &label, &ticks(*d_min, *d_max), &ramp)?;
+        }
+        Legend::Orientation { period } => {
+            let full = period.to_degrees().round();
+            let ticks: Vec<String> = [0.0, 0.25, 0.5, 0.75, 1.0]
+                .iter()
+                .map(|t| format!("{}°", tidy(&(t * full))))
+                .collect();
+            bar(&mut x, "orientation", &ticks, &cyclic)?;
         }
         Legend::Diameters((d, _)) => {
-            let label = format!("diameter {} mm", tidy(d));
+            let label = format!("{diameter} {} mm", tidy(d));
             if x + item(&label)? <= room {
                 area.draw(&swatch(x, ramp(0.5)))?;
                 area.draw(&Text::new(
@@ -638,7 +842,12 @@ mod tests {
             panel: 0,
         };
         for (i, d) in p.disks.iter().enumerate() {
-            canvas.disk(&layout, d, disk_fill(&p, i, false, (4.0, 6.0)), DISK_EDGE);
+            canvas.disk(
+                &layout,
+                d,
+                Fills::Diameters((4.0, 6.0)).of_particle(&p, i),
+                DISK_EDGE,
+            );
         }
         let pixel = |q: Point| {
             let (x, y) = layout.map(0, q);
@@ -705,6 +914,118 @@ mod tests {
             }
             let png = packing_png(&p, &[], (1.2, 1.2)).expect("png");
             assert_eq!(png_size(&png), layout.size);
+        }
+    }
+
+    /// Four ellipses 12 × 4 mm, at 0°, 90°, 45° and 0°: each particle's
+    /// centre and along its long axis.
+    fn ellipses() -> Packing {
+        use crate::geometry::{Grain, Outline};
+        let ellipse = Outline::superellipse(6.0, 2.0, 2.0, 2.0).expect("ellipse");
+        let r = ellipse.equivalent_radius();
+        let placed = [
+            (10.0, 10.0, 0.0),
+            (28.0, 10.0, 90.0f64),
+            (10.0, 22.0, 45.0),
+            (28.0, 22.0, 0.0),
+        ];
+        Packing {
+            grains: placed
+                .iter()
+                .map(|&(_, _, deg)| Grain::new(ellipse.clone(), deg.to_radians()))
+                .collect(),
+            ..Packing::of_disks(
+                Domain::rectangle(40.0, 32.0).expect("rectangle"),
+                placed.iter().map(|&(x, y, _)| Disk::new(x, y, r)).collect(),
+            )
+        }
+    }
+
+    /// The pixel of `rgb` (an image laid out as `layout`) at `q` (mm).
+    fn pixel_at(rgb: &[u8], layout: &Layout, q: Point) -> [u8; 3] {
+        let (x, y) = layout.map(0, q);
+        let at = 3 * (y as usize * layout.size.0 as usize + x as usize);
+        [rgb[at], rgb[at + 1], rgb[at + 2]]
+    }
+
+    /// Particles that are not disks are drawn as they are, not as their
+    /// disks: inside each outline its fill, just outside it (well inside
+    /// its bounding circle, and its area-equivalent disk) the background.
+    #[test]
+    fn ellipses_are_drawn_as_ellipses() {
+        let p = ellipses();
+        let layout = Layout::new(&p, &p.domain.outline(CIRCLE_SEGMENTS));
+        let png = packing_png_coloured(&p, &[], (0.0, 0.0), None).expect("png");
+        let (rgb, size) = png_rgb(&png);
+        assert_eq!(size, layout.size);
+        let fill = Fills::of(&p, &[], (0.0, 0.0), None).of_particle(&p, 0);
+        let white = [255, 255, 255];
+        // 0.15 mm is over 5 px at this scale.
+        assert!(0.15 * layout.scale > 5.0, "{}", layout.scale);
+        for (g, d) in p.grains.iter().zip(&p.disks) {
+            let (s, c) = g.angle.sin_cos();
+            let (long, short) = (Point::new(c, s).coords, Point::new(-s, c).coords);
+            for inside in [d.c, d.c + 5.7 * long, d.c - 5.7 * long, d.c + 1.8 * short] {
+                assert_eq!(pixel_at(&rgb, &layout, inside), fill, "{inside:?}");
+            }
+            // Outside the ellipse, inside its disk of the same area (r ≈ 3.46 mm).
+            for outside in [
+                d.c + 2.15 * short,
+                d.c - 2.15 * short,
+                d.c + 3.0 * short,
+                d.c + 6.15 * long,
+                // On the diagonal of its box, 0.15 mm beyond the outline.
+                d.c + (4.5 * long + 1.323 * short) * 1.0
+                    + 0.15 * (0.5 * long + 1.5 * short).normalize(),
+            ] {
+                assert_eq!(pixel_at(&rgb, &layout, outside), white, "{outside:?}");
+            }
+        }
+    }
+
+    /// Coloured by orientation, particles at 0° and 90° differ, two at 0°
+    /// are alike; the legend strip carries the cyclic colour bar.
+    #[test]
+    fn ellipses_are_coloured_by_orientation() {
+        let p = ellipses();
+        let layout = Layout::new(&p, &p.domain.outline(CIRCLE_SEGMENTS));
+        let png =
+            packing_png_coloured(&p, &[], (0.0, 0.0), Some(Colouring::Orientation)).expect("png");
+        let (rgb, _) = png_rgb(&png);
+        let centre = |i: usize| pixel_at(&rgb, &layout, p.disks[i].c);
+        assert_eq!(centre(0), cyclic(0.0));
+        assert_eq!(centre(1), cyclic(0.5));
+        assert_eq!(centre(2), cyclic(0.25));
+        assert_eq!(centre(3), centre(0));
+        assert_ne!(centre(0), centre(1));
+        // The strip shows the scale's colour a quarter along: 45°.
+        let quarter = cyclic(0.25);
+        let (w, h) = layout.size;
+        let strip = (h - LEGEND_PX..h)
+            .flat_map(|y| (0..w).map(move |x| (x, y)))
+            .filter(|&(x, y)| {
+                let at = 3 * (y * w + x) as usize;
+                rgb[at..at + 3] == quarter
+            })
+            .count();
+        assert!(strip >= 10, "{strip}");
+    }
+
+    /// Disks are drawn as they always were, whatever the colouring asked
+    /// for (orientation is refused for disks by the config; here it falls
+    /// back), byte for byte.
+    #[test]
+    fn disks_stay_as_they_were() {
+        let p = Packing::of_disks(
+            Domain::rectangle(15.0, 20.0).expect("rectangle"),
+            vec![Disk::new(2.0, 2.0, 1.0), Disk::new(5.0, 15.0, 2.0)],
+        );
+        let png = packing_png(&p, &[], (2.0, 4.0)).expect("png");
+        for colour in [Some(Colouring::Size), Some(Colouring::Orientation), None] {
+            assert_eq!(
+                packing_png_coloured(&p, &[], (2.0, 4.0), colour).expect("png"),
+                png
+            );
         }
     }
 
