@@ -15,12 +15,17 @@ mod contacts;
 mod grading;
 pub(crate) mod near;
 mod porosity_map;
+mod shapes;
 
 pub use bands::{Zone, zones};
 pub use contacts::coordination;
 pub(crate) use contacts::visit_near;
 pub use grading::{Blend, curve_diameters, psd_ks, psd_ks_blend, psd_ks_by_curve};
 pub use porosity_map::{PorosityMap, porosity_map};
+pub use shapes::{
+    AskedFamily, AskedOrientation, Fabric, Figures, ShapeAsked, ShapeStats, enclosing_radius,
+    inscribed_radius, long_axis, roundness, sampled_roundness, shape_stats, sphericity,
+};
 
 use std::borrow::Cow;
 use std::ops::ControlFlow;
