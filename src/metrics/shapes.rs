@@ -109,7 +109,7 @@ pub fn roundness(outline: &Outline) -> f64 {
 /// that stays put while its normal turns: radius 0). The outline must be
 /// symmetric about both its axes (a superellipse): one quadrant of normals
 /// is evaluated and mirrored.
-pub fn sampled_roundness(outline: &Outline) -> f64 {
+fn sampled_roundness(outline: &Outline) -> f64 {
     let r_in = inscribed_radius(outline);
     let q = CORNER_SAMPLES / 4;
     let step = TAU / CORNER_SAMPLES as f64;
@@ -685,7 +685,16 @@ pub(crate) fn stats_with(grains: &[Grain], memo: &mut ShapeMemo) -> Option<Shape
 /// The shape measures of `grains` (a packing's), with what `spec` asked
 /// when given; `None` for no grain.
 pub fn shape_stats(grains: &[Grain], spec: Option<&ShapeSpec>) -> Option<ShapeStats> {
-    let mut stats = stats_with(grains, &mut ShapeMemo::default())?;
+    stats_for(grains, spec, &mut ShapeMemo::default())
+}
+
+/// [`shape_stats`] through `memo`.
+pub(crate) fn stats_for(
+    grains: &[Grain],
+    spec: Option<&ShapeSpec>,
+    memo: &mut ShapeMemo,
+) -> Option<ShapeStats> {
+    let mut stats = stats_with(grains, memo)?;
     stats.size_measure = spec.map(|s| s.size);
     stats.asked = spec.map(ShapeAsked::of);
     Some(stats)
