@@ -141,9 +141,13 @@ fn depth(a: &Turned, b: &Turned, d: Vector2<f64>) -> f64 {
         a.support_both(u).0 + b.support_both(-u).0 - u.dot(&d)
     };
     let step = std::f64::consts::TAU / DIRECTIONS as f64;
-    let (k, _) = (0..DIRECTIONS)
-        .map(|k| (k, f(k as f64 * step)))
-        .fold((0, f64::INFINITY), |best, x| if x.1 < best.1 { x } else { best });
+    let (k, _) =
+        (0..DIRECTIONS)
+            .map(|k| (k, f(k as f64 * step)))
+            .fold(
+                (0, f64::INFINITY),
+                |best, x| if x.1 < best.1 { x } else { best },
+            );
     let best = f(k as f64 * step);
     golden(f, k as f64 * step, step, 1.0).min(best).max(0.0)
 }
@@ -322,7 +326,10 @@ mod tests {
         // 5 × 5, each touching its row and column neighbours, the outer
         // ones the walls: 2·(4·5 + 5·4) contact ends over 25.
         let touching = measure(&lattice(5, 5, 1.0, 0.0), &s);
-        assert!((touching.coordination - 80.0 / 25.0).abs() < 1e-12, "{touching:?}");
+        assert!(
+            (touching.coordination - 80.0 / 25.0).abs() < 1e-12,
+            "{touching:?}"
+        );
         assert_eq!(touching.isolated, 0);
         assert!(touching.max_overlap <= crate::OVERLAP_REL, "{touching:?}");
         assert!(touching.min_wall_clearance.abs() < 1e-9, "{touching:?}");
@@ -364,7 +371,12 @@ mod tests {
             .map(|&w| Grain::new(Outline::superellipse(w, w / 2.0, 2.0, 2.0).unwrap(), 0.3))
             .collect();
         let centres: Vec<Point> = (0..n)
-            .map(|k| Point::new(-180.0 + 20.0 * (k % 19) as f64, -180.0 + 20.0 * (k / 19) as f64))
+            .map(|k| {
+                Point::new(
+                    -180.0 + 20.0 * (k % 19) as f64,
+                    -180.0 + 20.0 * (k / 19) as f64,
+                )
+            })
             .collect();
         let p = packing(s.domain.clone(), grains, &centres);
         let sieve = measure(&p, &s);

@@ -241,11 +241,7 @@ pub fn measure_cancellable(
 /// and the grading's fidelity on the size the grading gives. The local
 /// porosity windows and the largest hole, which need the exact area or
 /// clearance of each particle, are not measured (NaN, no window).
-fn measure_grains(
-    packing: &Packing,
-    scene: &Scene,
-    cancel: &Cancel,
-) -> Result<Metrics, Cancelled> {
+fn measure_grains(packing: &Packing, scene: &Scene, cancel: &Cancel) -> Result<Metrics, Cancelled> {
     let disks = &packing.disks;
     let domain_area = packing.domain.area();
     let solid_area = solid_area(disks);

@@ -227,10 +227,7 @@ fn chebyshev_radius(v: &[Point]) -> f64 {
                 if !(r.is_finite() && r > best) {
                     continue;
                 }
-                if edges
-                    .iter()
-                    .all(|(n, c)| n.dot(&p) - c >= r - 1e-12 * size)
-                {
+                if edges.iter().all(|(n, c)| n.dot(&p) - c >= r - 1e-12 * size) {
                     best = r;
                 }
             }
@@ -287,17 +284,18 @@ fn circumcircle(a: Point, b: Point, c: Point) -> (Point, f64) {
 }
 
 /// Mean, sample standard deviation, least and greatest of one measure
-/// over a packing's particles.
+/// over a packing's particles (fields in alphabetical order, as every
+/// object of a job's summary).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Figures {
-    /// Mean.
-    pub mean: f64,
-    /// Sample standard deviation (n − 1; 0 for one particle).
-    pub sd: f64,
-    /// Least value.
-    pub min: f64,
     /// Greatest value.
     pub max: f64,
+    /// Mean.
+    pub mean: f64,
+    /// Least value.
+    pub min: f64,
+    /// Sample standard deviation (n − 1; 0 for one particle).
+    pub sd: f64,
 }
 
 /// Running mean and variance (Welford), least and greatest.
@@ -346,15 +344,15 @@ impl Running {
 /// The fabric tensor of a set of directions and what it says.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Fabric {
-    /// F = mean of n⊗n: [F_xx, F_xy, F_yy] (F_xx + F_yy = 1).
-    pub tensor: [f64; 3],
-    /// Its eigenvalues, greatest first.
-    pub eigenvalues: [f64; 2],
     /// λ1 − λ2: 0 with no preferred direction, 1 all aligned.
     pub anisotropy: f64,
     /// Direction of the eigenvector of λ1 (degrees counter-clockwise from
     /// the x axis, in [0, 180)); 0 when isotropic.
     pub direction: f64,
+    /// Its eigenvalues, greatest first.
+    pub eigenvalues: [f64; 2],
+    /// F = mean of n⊗n: [F_xx, F_xy, F_yy] (F_xx + F_yy = 1).
+    pub tensor: [f64; 3],
 }
 
 impl Fabric {
@@ -380,7 +378,9 @@ impl Fabric {
         let direction = if root == 0.0 {
             0.0
         } else {
-            (0.5 * (2.0 * xy).atan2(xx - yy)).to_degrees().rem_euclid(180.0)
+            (0.5 * (2.0 * xy).atan2(xx - yy))
+                .to_degrees()
+                .rem_euclid(180.0)
         };
         Fabric {
             tensor: t,
@@ -396,20 +396,21 @@ impl Fabric {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[non_exhaustive]
 pub struct ShapeStats {
-    /// Particles measured.
-    pub particles: usize,
+    /// What the scene's `[shape]` asked (`None`: not measured against a scene).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub asked: Option<ShapeAsked>,
     /// Aspect ratio: greatest over least width (≥ 1).
     pub aspect: Figures,
-    /// Riley's sphericity √(D_inscribed / D_enclosing), in (0, 1].
-    pub sphericity: Figures,
-    /// Wadell's roundness: mean corner radius over the inscribed radius, in [0, 1].
-    pub roundness: Figures,
     /// Orientation of the particles' long axes.
     pub fabric: Fabric,
-    /// Mean least width (mm): the sieve size.
-    pub mean_least_width: f64,
     /// Mean diameter of the disk of the same area (mm), as DEM codes size.
     pub mean_equivalent_diameter: f64,
+    /// Mean least width (mm): the sieve size.
+    pub mean_least_width: f64,
+    /// Particles measured.
+    pub particles: usize,
+    /// Wadell's roundness: mean corner radius over the inscribed radius, in [0, 1].
+    pub roundness: Figures,
     /// The size of a particle the grading gives (`None`: not measured
     /// against a scene).
     #[serde(
@@ -418,9 +419,8 @@ pub struct ShapeStats {
         skip_serializing_if = "Option::is_none"
     )]
     pub size_measure: Option<SizeMeasure>,
-    /// What the scene's `[shape]` asked (`None`: not measured against a scene).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub asked: Option<ShapeAsked>,
+    /// Riley's sphericity √(D_inscribed / D_enclosing), in (0, 1].
+    pub sphericity: Figures,
 }
 
 /// What a `[shape]` asked, as a summary records it: the ranges of its
@@ -428,20 +428,17 @@ pub struct ShapeStats {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[non_exhaustive]
 pub struct ShapeAsked {
-    /// `superellipse` or `polygons`.
-    pub family: AskedFamily,
-    /// Superellipses: least and greatest aspect a/b.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub aspect: Option<[f64; 2]>,
     /// Superellipses: least and greatest exponent α.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub alpha: Option<[f64; 2]>,
+    /// Superellipses: least and greatest aspect a/b.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub aspect: Option<[f64; 2]>,
     /// Superellipses: least and greatest exponent β.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub beta: Option<[f64; 2]>,
-    /// Polygons: how many templates.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub templates: Option<usize>,
+    /// `superellipse` or `polygons`.
+    pub family: AskedFamily,
     /// `random` or `aligned`.
     pub orientation: AskedOrientation,
     /// Aligned: the mean angle (degrees counter-clockwise from the x axis).
@@ -450,6 +447,9 @@ pub struct ShapeAsked {
     /// Aligned: the standard deviation of the angle (degrees).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub orientation_spread: Option<f64>,
+    /// Polygons: how many templates.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub templates: Option<usize>,
 }
 
 /// The outline family a `[shape]` asked.
@@ -754,7 +754,11 @@ mod tests {
         assert!((roundness(&s) - 0.25 / 1.25).abs() < 1e-12);
         assert!((sphericity(&s) - (1.25 / (2f64.sqrt() + 0.25)).sqrt()).abs() < 1e-12);
         // The walk along the outline finds the same corners.
-        assert!((sampled_roundness(&s) - 0.2).abs() < 1e-3, "{}", sampled_roundness(&s));
+        assert!(
+            (sampled_roundness(&s) - 0.2).abs() < 1e-3,
+            "{}",
+            sampled_roundness(&s)
+        );
         // Sharp corners: 0.
         assert_eq!(roundness(&square(2.0, 0.0)), 0.0);
     }
@@ -784,7 +788,10 @@ mod tests {
         assert!((smallest_enclosing_radius(&o) - 5.0).abs() < 1e-12);
         // The long axis is the hypotenuse's direction.
         let axis = long_axis(&t);
-        assert!((axis - (PI - (3.0f64 / 4.0).atan())).abs() < 1e-12, "{axis}");
+        assert!(
+            (axis - (PI - (3.0f64 / 4.0).atan())).abs() < 1e-12,
+            "{axis}"
+        );
     }
 
     #[test]

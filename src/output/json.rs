@@ -7,7 +7,7 @@ use serde::Serialize;
 use super::error::OutputError;
 use super::run::RunInfo;
 use crate::fracture::WindowStep;
-use crate::metrics::{Metrics, psd_ks_blend, psd_ks_by_curve};
+use crate::metrics::{Metrics, ShapeStats, psd_ks_blend, psd_ks_by_curve};
 use crate::names::ConfigName;
 use crate::packer::{PackStats, Packing};
 
@@ -42,6 +42,10 @@ pub(super) struct Summary<'a> {
     /// Size-graded: the KS distance of all disks to the blend of the curves.
     #[serde(skip_serializing_if = "Option::is_none")]
     psd_ks_blend: Option<f64>,
+    /// Particles that are not disks: their shape measures, both mean
+    /// sizes, the size the grading gave and what the `[shape]` asked.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    particle_shape: Option<&'a ShapeStats>,
     seconds: f64,
     stats: StatsSummary,
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
@@ -313,6 +317,7 @@ pub(super) fn summary<'a>(
             Vec::new()
         },
         psd_ks_blend: psd_ks_blend(packing, scene),
+        particle_shape: metrics.shapes.as_ref(),
         seconds: run.seconds,
         stats: packing.stats.into(),
         optimise: run.optimise.map(|(summary, _)| summary),
