@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 use super::plan::Plan;
 use super::registry::{JobKind, Report};
 use super::run::Outcome;
+use crate::metrics::ShapeStats;
 
 /// `manifest.json`: the files of the run in a folder, and what run it was.
 /// Written by every run ([`super::run`]); read back with
@@ -95,6 +96,10 @@ pub struct Summary {
     pub interrupted: bool,
     /// The result in words ([`Outcome::lines`]).
     pub lines: Vec<String>,
+    /// Particles that are not disks (`pack`, `layer`, `optimise`): their
+    /// shape measures, as `summary.json`'s `particle_shape`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub particle_shape: Option<ShapeStats>,
     /// Disks of the packing (of every well, for a `[fracture]` run).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub particles: Option<usize>,
@@ -123,6 +128,7 @@ impl Summary {
             generations: None,
             interrupted: outcome.interrupted,
             lines,
+            particle_shape: None,
             particles: None,
             porosity: None,
             target_porosity: None,
@@ -149,6 +155,7 @@ impl Summary {
         if let Some(m) = metrics {
             summary.particles = Some(m.particles);
             summary.porosity = Some(m.porosity);
+            summary.particle_shape = m.shapes;
         }
         summary
     }

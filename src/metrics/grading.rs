@@ -2,40 +2,77 @@
 //! per grading curve (in size-graded mode, each material against its own
 //! curve) and, for a size-graded packing, against the blend of the curves.
 
+use super::shapes::ShapeMemo;
 use crate::Scene;
 use crate::grading::{Basis, Grading};
 use crate::packer::Packing;
+use crate::scene::SizeMeasure;
 
-/// The diameters of the disks grading curve `curve` of `scene` sized: in
-/// size-graded mode those of material `curve`, otherwise every disk.
+/// The size of each packed particle that the grading gives, in packing
+/// order: a disk's diameter; a grain's least width or area-equivalent
+/// diameter, as the scene's `[shape]` measures it
+/// ([`crate::scene::ShapeSpec::measure`]; the area-equivalent diameter, each
+/// disk's, when the scene has none). Every grading fidelity in the crate
+/// is measured on these sizes.
+///
+/// # Performance
+/// A grain's size is measured once per distinct outline up to scale.
+pub fn grading_sizes(packing: &Packing, scene: &Scene) -> Vec<f64> {
+    sizes_with(packing, scene, &mut ShapeMemo::default())
+}
+
+/// [`grading_sizes`] through `memo`.
+fn sizes_with(packing: &Packing, scene: &Scene, memo: &mut ShapeMemo) -> Vec<f64> {
+    let measure = scene.shape.as_ref().map(|s| s.size);
+    match measure {
+        Some(m) if !packing.grains.is_empty() => packing
+            .grains
+            .iter()
+            .map(|g| memo.size(&g.outline, m))
+            .collect(),
+        _ if !packing.grains.is_empty() => packing
+            .grains
+            .iter()
+            .map(|g| memo.size(&g.outline, SizeMeasure::Equivalent))
+            .collect(),
+        _ => packing.disks.iter().map(|d| 2.0 * d.r).collect(),
+    }
+}
+
+/// The sizes ([`grading_sizes`]) of the particles grading curve `curve` of
+/// `scene` sized: in size-graded mode those of material `curve`, otherwise
+/// every particle.
 pub fn curve_diameters(packing: &Packing, scene: &Scene, curve: usize) -> Vec<f64> {
+    of_curve(packing, scene, curve, grading_sizes(packing, scene))
+}
+
+/// Of `sizes` (one per particle), those of curve `curve`.
+fn of_curve(packing: &Packing, scene: &Scene, curve: usize, mut sizes: Vec<f64>) -> Vec<f64> {
     // Only size-graded scenes tie a material to a curve; materials laid
     // out on a finished packing all share the one grading.
-    let graded = scene.gradient.is_some();
-    // Every disk when not size-graded: room for all of them at once, no
-    // slack from growing.
-    let mut diameters = Vec::with_capacity(if graded { 0 } else { packing.disks.len() });
-    diameters.extend(
-        packing
-            .disks
-            .iter()
-            .zip(packing.materials.iter().chain(std::iter::repeat(&0)))
-            .filter(|&(_, &m)| !graded || usize::from(m) == curve)
-            .map(|(d, _)| 2.0 * d.r),
-    );
-    diameters
+    if scene.gradient.is_some() {
+        let mut materials = packing.materials.iter().chain(std::iter::repeat(&0));
+        sizes.retain(|_| materials.next().is_some_and(|&m| usize::from(m) == curve));
+    }
+    sizes
 }
 
 /// Kolmogorov–Smirnov distance of each of `scene`'s grading curves to the
-/// disks it sized, in curve order (one curve unless size-graded; a
-/// material without disks counts 0).
+/// particles it sized, in curve order (one curve unless size-graded; a
+/// material without particles counts 0).
 pub fn psd_ks_by_curve(packing: &Packing, scene: &Scene) -> Vec<f64> {
+    by_curve_with(packing, scene, &mut ShapeMemo::default())
+}
+
+/// [`psd_ks_by_curve`] through `memo`.
+fn by_curve_with(packing: &Packing, scene: &Scene, memo: &mut ShapeMemo) -> Vec<f64> {
     let graded = scene.gradient.is_some();
+    let sizes = sizes_with(packing, scene, memo);
     scene
         .curves()
         .enumerate()
         .map(|(m, curve)| {
-            let mut own = curve_diameters(packing, scene, m);
+            let mut own = of_curve(packing, scene, m, sizes.clone());
             if own.is_empty() && graded {
                 0.0
             } else {
@@ -48,7 +85,12 @@ pub fn psd_ks_by_curve(packing: &Packing, scene: &Scene) -> Vec<f64> {
 /// Kolmogorov–Smirnov distance of a packing's sizes to `scene`'s grading; in
 /// size-graded mode, the larger of each material's distance to its own curve.
 pub fn psd_ks(packing: &Packing, scene: &Scene) -> f64 {
-    psd_ks_by_curve(packing, scene)
+    psd_ks_with(packing, scene, &mut ShapeMemo::default())
+}
+
+/// [`psd_ks`] through `memo`.
+pub(super) fn psd_ks_with(packing: &Packing, scene: &Scene, memo: &mut ShapeMemo) -> f64 {
+    by_curve_with(packing, scene, memo)
         .into_iter()
         .fold(0.0, f64::max)
 }
@@ -75,9 +117,10 @@ impl Blend {
             return None;
         }
         let k = basis.exponent();
+        let sizes = grading_sizes(packing, scene);
         let weights: Vec<f64> = (0..scene.curves().count())
             .map(|m| {
-                curve_diameters(packing, scene, m)
+                of_curve(packing, scene, m, sizes.clone())
                     .iter()
                     .map(|d| d.powi(k))
                     .sum()
@@ -135,6 +178,6 @@ impl Blend {
 /// Kolmogorov–Smirnov distance of all of a size-graded packing's disks to
 /// the [`Blend`] of its curves; `None` where [`Blend::of`] is.
 pub fn psd_ks_blend(packing: &Packing, scene: &Scene) -> Option<f64> {
-    let diameters: Vec<f64> = packing.disks.iter().map(|d| 2.0 * d.r).collect();
+    let diameters = grading_sizes(packing, scene);
     Blend::of(packing, scene).map(|b| b.ks_distance(&diameters))
 }

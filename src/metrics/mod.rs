@@ -13,14 +13,20 @@
 mod bands;
 mod contacts;
 mod grading;
+mod grains;
 pub(crate) mod near;
 mod porosity_map;
+mod shapes;
 
 pub use bands::{Zone, zones};
 pub use contacts::coordination;
 pub(crate) use contacts::visit_near;
-pub use grading::{Blend, curve_diameters, psd_ks, psd_ks_blend, psd_ks_by_curve};
+pub use grading::{Blend, curve_diameters, grading_sizes, psd_ks, psd_ks_blend, psd_ks_by_curve};
 pub use porosity_map::{PorosityMap, porosity_map};
+pub use shapes::{
+    AskedFamily, AskedOrientation, Fabric, Figures, ShapeAsked, ShapeStats, enclosing_radius,
+    inscribed_radius, long_axis, roundness, shape_stats, sphericity,
+};
 
 use std::borrow::Cow;
 use std::ops::ControlFlow;
@@ -87,6 +93,11 @@ pub struct Metrics {
     /// grid of spacing d_min/2 (coarser where that would give more than 256
     /// points per packed disk) and refined locally.
     pub largest_hole: f64,
+    /// The particles' shapes, when they are not disks ([`Packing::grains`]);
+    /// `None` for disks. Not in this struct's own JSON: `summary.json`
+    /// records it as its `particle_shape` object.
+    #[serde(skip)]
+    pub shapes: Option<ShapeStats>,
 }
 
 /// Porosity of a region of area `area` (mm²) holding `solid` mm² of disks:
@@ -124,6 +135,9 @@ pub fn measure_cancellable(
     cancel: &Cancel,
 ) -> Result<Metrics, Cancelled> {
     cancel.check()?;
+    if !packing.grains.is_empty() {
+        return measure_grains(packing, scene, cancel);
+    }
     let disks = &packing.disks;
     let domain = &packing.domain;
     let domain_area = domain.area();
@@ -218,6 +232,39 @@ pub fn measure_cancellable(
         local_windows,
         local_windows_clipped,
         largest_hole,
+        shapes: None,
+    })
+}
+
+/// [`measure_cancellable`] of a packing of grains: contacts, overlaps and
+/// wall clearances between the outlines (`grains.rs`), the shape measures,
+/// and the grading's fidelity on the size the grading gives. The local
+/// porosity windows and the largest hole, which need the exact area or
+/// clearance of each particle, are not measured (NaN, no window).
+fn measure_grains(packing: &Packing, scene: &Scene, cancel: &Cancel) -> Result<Metrics, Cancelled> {
+    let disks = &packing.disks;
+    let domain_area = packing.domain.area();
+    let solid_area = solid_area(disks);
+    let mut memo = shapes::ShapeMemo::default();
+    let psd_ks = grading::psd_ks_with(packing, scene, &mut memo);
+    let c = grains::grain_contacts(packing, &mut memo, cancel)?;
+    let stats = shapes::stats_for(&packing.grains, scene.shape.as_ref(), &mut memo);
+    let n = disks.len();
+    Ok(Metrics {
+        particles: n,
+        domain_area,
+        solid_area,
+        porosity: porosity(solid_area, domain_area),
+        psd_ks,
+        max_overlap: c.max_overlap,
+        min_wall_clearance: c.min_wall_clearance,
+        coordination: coordination(2 * c.contacts, n),
+        isolated: c.isolated,
+        local_porosity_std: f64::NAN,
+        local_windows: 0,
+        local_windows_clipped: false,
+        largest_hole: f64::NAN,
+        shapes: stats,
     })
 }
 

@@ -2,10 +2,41 @@
 //! map that shows where a packing is loose or dense, or on a slender domain
 //! (a fracture) a profile along its length.
 
+use super::shapes::ShapeMemo;
 use super::{WINDOW_DIAMETERS, porosity};
-use crate::geometry::Point;
-use crate::geometry::predicates::area_disk_box;
+use crate::geometry::predicates::{area_disk_box, area_polygon_box};
+use crate::geometry::{Grain, Point};
 use crate::packer::Packing;
+
+/// Points of the polygon a particle that is not a disk is mapped as.
+const GRAIN_POINTS: usize = 64;
+
+/// A grain's outline in world axes about its centre as a polygon of
+/// [`GRAIN_POINTS`] points, scaled about the centre to the particle's exact
+/// `area`: a particle wholly in a cell counts exactly, one cut by a cell's
+/// edge within about 10⁻³ of its area.
+fn grain_polygon(grain: &Grain, area: f64) -> Vec<nalgebra::Vector2<f64>> {
+    let t = grain.turned();
+    let points: Vec<nalgebra::Vector2<f64>> = grain
+        .outline
+        .boundary(GRAIN_POINTS)
+        .iter()
+        .map(|p| t.to_world(*p))
+        .collect();
+    let m = points.len();
+    let twice: f64 = (0..m)
+        .map(|i| {
+            let (p, q) = (points[i], points[(i + 1) % m]);
+            p.x * q.y - q.x * p.y
+        })
+        .sum();
+    let k = if twice > 0.0 {
+        (2.0 * area / twice).sqrt()
+    } else {
+        1.0
+    };
+    points.into_iter().map(|p| p * k).collect()
+}
 
 /// Most cells along the longer side of the domain's bounds.
 const MAX_CELLS: f64 = 200.0;
@@ -69,7 +100,10 @@ pub struct PorosityMap {
 /// Each cell's solid area is exact: the area of every packed disk inside
 /// the cell, in closed form
 /// ([`area_disk_box`](crate::geometry::predicates::area_disk_box)), so the
-/// cells' solid areas add up to the packing's solid area. Its in-domain area
+/// cells' solid areas add up to the packing's solid area. A particle that
+/// is not a disk ([`Packing::grains`]) counts as its outline made a
+/// polygon of 64 points of its exact area: whole in a cell, exactly; cut
+/// by a cell's edge, within about 10⁻³ of its area. Its in-domain area
 /// is exact too ([`crate::Domain::area_in_box`]: closed form for a circle,
 /// the boundary clipped to the cell otherwise). A cell with less than half
 /// its area in the domain gets NaN: a sliver of domain gives a porosity too
@@ -137,20 +171,34 @@ fn map_with_areas(packing: &Packing) -> (PorosityMap, Vec<f64>, Vec<f64>) {
         ((v - o) / side).floor().clamp(0.0, (n - 1) as f64) as usize
     };
     let periodic = domain.is_periodic();
-    for d in &packing.disks {
+    let mut memo = ShapeMemo::default();
+    for (i, d) in packing.disks.iter().enumerate() {
+        // A particle that is not a disk: its outline as a polygon of exact
+        // area about its centre, and its bounding circle.
+        let outline = packing.grains.get(i).map(|g| {
+            let (unit, scale) = memo.unit(&g.outline);
+            (grain_polygon(g, d.area()), unit.circumradius * scale)
+        });
+        let reach = outline.as_ref().map_or(d.r, |o| o.1);
         // A periodic cell: each image of the disk that crosses into the
         // cell, clipped to it, so that the disk counts once, whole.
-        let (dlo, dhi) = d.bounds();
+        let (dlo, dhi) = (
+            Point::new(d.c.x - reach, d.c.y - reach),
+            Point::new(d.c.x + reach, d.c.y + reach),
+        );
         for v in domain.image_shifts(dlo, dhi) {
             let c = if periodic { d.c - v } else { d.c };
             let (c0, c1) = (
-                index(c.x - d.r, origin.x, cw, cols),
-                index(c.x + d.r, origin.x, cw, cols),
+                index(c.x - reach, origin.x, cw, cols),
+                index(c.x + reach, origin.x, cw, cols),
             );
             let (r0, r1) = (
-                index(c.y - d.r, origin.y, ch, rows),
-                index(c.y + d.r, origin.y, ch, rows),
+                index(c.y - reach, origin.y, ch, rows),
+                index(c.y + reach, origin.y, ch, rows),
             );
+            let placed: Option<Vec<Point>> = outline
+                .as_ref()
+                .map(|(poly, _)| poly.iter().map(|p| c + p).collect());
             for row in r0..=r1 {
                 for col in c0..=c1 {
                     let (x0, y0) = corner(col, row);
@@ -163,7 +211,10 @@ fn map_with_areas(packing: &Packing) -> (PorosityMap, Vec<f64>, Vec<f64>) {
                             continue;
                         }
                     }
-                    solid[row * cols + col] += area_disk_box(c, d.r, x0, x1, y0, y1);
+                    solid[row * cols + col] += match &placed {
+                        Some(poly) => area_polygon_box(poly, x0, x1, y0, y1),
+                        None => area_disk_box(c, d.r, x0, x1, y0, y1),
+                    };
                 }
             }
         }
@@ -216,6 +267,34 @@ mod tests {
         let grading = Grading::uniform(0.5, 1.5, Basis::Number).expect("grading");
         let scene = Scene::new(domain, grading).with_seed(7);
         pack(&scene).expect("packs")
+    }
+
+    #[test]
+    fn particles_that_are_not_disks_count_with_their_outlines() {
+        // Ellipses 4 × 1 mm (area π, equivalent radius 1) in an 80 × 40 mm
+        // rectangle of 10 mm cells: one wholly in a cell, one reaching
+        // 0.5 mm across the edge x = 10 of its cell, where its equivalent
+        // disk (x from 10.5 to 12.5) would not.
+        let domain = Domain::rectangle(80.0, 40.0).expect("rectangle");
+        let e = crate::geometry::Outline::superellipse(2.0, 0.5, 2.0, 2.0).expect("ellipse");
+        let r = e.equivalent_radius();
+        let p = Packing {
+            grains: vec![Grain::new(e.clone(), 0.0), Grain::new(e, 0.0)],
+            ..packing(
+                domain,
+                vec![Disk::new(35.0, 25.0, r), Disk::new(11.5, 5.0, r)],
+            )
+        };
+        let (map, solid, _) = map_with_areas(&p);
+        assert!((map.cell - 10.0).abs() < 1e-9 && map.cols == 8, "{map:?}");
+        let area = std::f64::consts::PI;
+        // Cell (3, 2) holds the whole one, exactly.
+        assert!((solid[2 * 8 + 3] - area).abs() < 1e-12, "{solid:?}");
+        // Cell (0, 0) the cap of the other beyond x = 10: the unit
+        // circle's segment beyond 0.75, times ab = 1.
+        let cap = 0.75f64.acos() - 0.75 * (1.0 - 0.5625f64).sqrt();
+        assert!((solid[0] - cap).abs() < 0.05 * cap, "{} vs {cap}", solid[0]);
+        assert!((solid[0] + solid[1] - area).abs() < 1e-12, "{solid:?}");
     }
 
     #[test]

@@ -7,7 +7,7 @@ use serde::Serialize;
 use super::error::OutputError;
 use super::run::RunInfo;
 use crate::fracture::WindowStep;
-use crate::metrics::{Metrics, psd_ks_blend, psd_ks_by_curve};
+use crate::metrics::{Metrics, ShapeStats, psd_ks_blend, psd_ks_by_curve};
 use crate::names::ConfigName;
 use crate::packer::{PackStats, Packing};
 
@@ -42,6 +42,10 @@ pub(super) struct Summary<'a> {
     /// Size-graded: the KS distance of all disks to the blend of the curves.
     #[serde(skip_serializing_if = "Option::is_none")]
     psd_ks_blend: Option<f64>,
+    /// Particles that are not disks: their shape measures, both mean
+    /// sizes, the size the grading gave and what the `[shape]` asked.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    particle_shape: Option<&'a ShapeStats>,
     seconds: f64,
     stats: StatsSummary,
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
@@ -313,6 +317,7 @@ pub(super) fn summary<'a>(
             Vec::new()
         },
         psd_ks_blend: psd_ks_blend(packing, scene),
+        particle_shape: metrics.shapes.as_ref(),
         seconds: run.seconds,
         stats: packing.stats.into(),
         optimise: run.optimise.map(|(summary, _)| summary),
@@ -332,5 +337,49 @@ pub(super) fn summary<'a>(
             .collect(),
         layering: run.layering.as_ref().map(|l| &l.summary),
         fracture: run.fracture.as_ref(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Disk, Domain, Grain, Outline};
+    use crate::output::OutputSettings;
+
+    #[test]
+    fn particle_shape_is_recorded_for_grains_only() {
+        let text = "[domain]\nshape = \"rectangle\"\nwidth = 20\nheight = 20\n[grading]\nuniform = [1.0, 3.0]\n";
+        let disks_scene = crate::config::parse_with(text, "t", Default::default())
+            .unwrap()
+            .scene;
+        let scene = disks_scene
+            .clone()
+            .with_shape(crate::ShapeSpec::ellipses(2.0));
+        let domain = Domain::rectangle(20.0, 20.0).unwrap();
+        let e = Outline::superellipse(2.0, 1.0, 2.0, 2.0).unwrap();
+        let r = e.equivalent_radius();
+        let grains = Packing {
+            grains: vec![Grain::new(e, 0.4)],
+            ..Packing::of_disks(domain.clone(), vec![Disk::new(10.0, 10.0, r)])
+        };
+        let output = OutputSettings::default();
+        let json = |p: &Packing, s: &crate::Scene| {
+            let m = crate::measure(p, s);
+            let run = RunInfo::new(s, "t", 0.0, &output);
+            String::from_utf8(summary_json(p, &m, &run).unwrap()).unwrap()
+        };
+        let with = json(&grains, &scene);
+        let v: serde_json::Value = serde_json::from_str(&with).unwrap();
+        let shape = &v["particle_shape"];
+        assert_eq!(shape["size_measure"], "sieve", "{with}");
+        assert_eq!(shape["asked"]["family"], "superellipse");
+        assert!((shape["mean_least_width"].as_f64().unwrap() - 2.0).abs() < 1e-9);
+        assert!(
+            (shape["fabric"]["direction"].as_f64().unwrap() - 0.4f64.to_degrees()).abs() < 1e-9
+        );
+        // The domain's shape keeps its key.
+        assert_eq!(v["shape"], "rectangle");
+        let disks = Packing::of_disks(domain, vec![Disk::new(10.0, 10.0, 1.0)]);
+        assert!(!json(&disks, &disks_scene).contains("particle_shape"));
     }
 }

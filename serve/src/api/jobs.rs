@@ -13,6 +13,7 @@ use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
 use axum::{Json, Router};
 use gapack::jobs::Summary;
+use gapack::{AskedFamily, AskedOrientation, Figures, ShapeStats};
 use rand::RngCore;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -257,6 +258,10 @@ pub struct SummaryView {
     interrupted: bool,
     /// The result in words, the job's folder named `jobs/<id>`.
     lines: Vec<String>,
+    /// Particles that are not disks (`pack`, `layer`, `optimise`): their
+    /// shape measures, as `summary.json`'s `particle_shape`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    particle_shape: Option<ShapeView>,
     /// Disks of the packing (of every well, for a `[fracture]` run).
     #[serde(skip_serializing_if = "Option::is_none")]
     particles: Option<usize>,
@@ -277,9 +282,137 @@ impl From<Summary> for SummaryView {
             generations: s.generations,
             interrupted: s.interrupted,
             lines: s.lines,
+            particle_shape: s.particle_shape.map(ShapeView::from),
             particles: s.particles,
             porosity: s.porosity,
             target_porosity: s.target_porosity,
+        }
+    }
+}
+
+/// The shape measures of a packing of particles that are not disks: the
+/// library's [`ShapeStats`] as the API serves and documents it, field for
+/// field.
+#[derive(Debug, Serialize, ToSchema)]
+#[schema(as = ShapeStats)]
+pub struct ShapeView {
+    /// What the config's `[shape]` asked.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    asked: Option<AskedView>,
+    /// Aspect ratio: greatest over least width (≥ 1).
+    aspect: FiguresView,
+    /// Orientation of the particles' long axes: the fabric tensor.
+    fabric: FabricView,
+    /// Mean diameter of the disk of the same area (mm).
+    mean_equivalent_diameter: f64,
+    /// Mean least width (mm): the sieve size.
+    mean_least_width: f64,
+    /// Particles measured.
+    particles: usize,
+    /// Wadell's roundness: mean corner radius over the inscribed radius, in [0, 1].
+    roundness: FiguresView,
+    /// The size the grading gave: `sieve` (least width) or `equivalent`
+    /// (area-equivalent diameter).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    size_measure: Option<&'static str>,
+    /// Riley's sphericity √(D_inscribed / D_enclosing), in (0, 1].
+    sphericity: FiguresView,
+}
+
+/// One measure over a packing's particles.
+#[derive(Debug, Serialize, ToSchema)]
+#[schema(as = ShapeFigures)]
+pub struct FiguresView {
+    /// Greatest value.
+    max: f64,
+    /// Mean.
+    mean: f64,
+    /// Least value.
+    min: f64,
+    /// Sample standard deviation.
+    sd: f64,
+}
+
+/// The fabric tensor F = mean of n⊗n over the particles' long axes.
+#[derive(Debug, Serialize, ToSchema)]
+#[schema(as = Fabric)]
+pub struct FabricView {
+    /// λ1 − λ2: 0 with no preferred direction, 1 all aligned.
+    anisotropy: f64,
+    /// Principal direction (degrees counter-clockwise from x, in [0, 180)).
+    direction: f64,
+    /// Eigenvalues, greatest first.
+    eigenvalues: [f64; 2],
+    /// [F_xx, F_xy, F_yy].
+    tensor: [f64; 3],
+}
+
+/// What a config's `[shape]` asked.
+#[derive(Debug, Serialize, ToSchema)]
+#[schema(as = ShapeAsked)]
+pub struct AskedView {
+    /// Superellipses: least and greatest exponent α.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    alpha: Option<[f64; 2]>,
+    /// Superellipses: least and greatest aspect a/b.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    aspect: Option<[f64; 2]>,
+    /// Superellipses: least and greatest exponent β.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    beta: Option<[f64; 2]>,
+    /// `superellipse` or `polygons`.
+    family: &'static str,
+    /// `random` or `aligned`.
+    orientation: &'static str,
+    /// Aligned: the mean angle (degrees).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    orientation_mean: Option<f64>,
+    /// Aligned: the standard deviation of the angle (degrees).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    orientation_spread: Option<f64>,
+    /// Polygons: how many templates.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    templates: Option<usize>,
+}
+
+impl From<ShapeStats> for ShapeView {
+    fn from(s: ShapeStats) -> Self {
+        let figures = |f: Figures| FiguresView {
+            max: f.max,
+            mean: f.mean,
+            min: f.min,
+            sd: f.sd,
+        };
+        ShapeView {
+            asked: s.asked.map(|a| AskedView {
+                alpha: a.alpha,
+                aspect: a.aspect,
+                beta: a.beta,
+                family: match a.family {
+                    AskedFamily::Superellipse => "superellipse",
+                    AskedFamily::Polygons => "polygons",
+                },
+                orientation: match a.orientation {
+                    AskedOrientation::Random => "random",
+                    AskedOrientation::Aligned => "aligned",
+                },
+                orientation_mean: a.orientation_mean,
+                orientation_spread: a.orientation_spread,
+                templates: a.templates,
+            }),
+            aspect: figures(s.aspect),
+            fabric: FabricView {
+                anisotropy: s.fabric.anisotropy,
+                direction: s.fabric.direction,
+                eigenvalues: s.fabric.eigenvalues,
+                tensor: s.fabric.tensor,
+            },
+            mean_equivalent_diameter: s.mean_equivalent_diameter,
+            mean_least_width: s.mean_least_width,
+            particles: s.particles,
+            roundness: figures(s.roundness),
+            size_measure: s.size_measure.map(|m| m.name()),
+            sphericity: figures(s.sphericity),
         }
     }
 }

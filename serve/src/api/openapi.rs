@@ -136,6 +136,19 @@ mod tests {
         }
         let view = doc["components"]["schemas"]["JobView"]["properties"]["summary"].to_string();
         assert!(view.contains("#/components/schemas/Summary"), "{view}");
+        // Particles that are not disks: their shape measures, described too.
+        let shape = summary["particle_shape"].to_string();
+        assert!(shape.contains("#/components/schemas/ShapeStats"), "{shape}");
+        let stats = &doc["components"]["schemas"]["ShapeStats"]["properties"];
+        for field in [
+            "aspect",
+            "sphericity",
+            "roundness",
+            "fabric",
+            "mean_least_width",
+        ] {
+            assert!(stats.get(field).is_some(), "{field}: {stats}");
+        }
     }
 
     #[tokio::test]
