@@ -61,8 +61,9 @@ pub use metrics::{
 pub use packer::index::{Grid, MxQuadtree, SpatialIndex};
 pub use packer::strips;
 pub use packer::{
-    DensifyTrace, PEAK_BYTES_PER_DISK, PackError, PackStats, Packing, WORK_PER_DISK,
-    densify_traced, estimated_peak_bytes, pack, pack_observed, size_count, work_budget,
+    DensifyTrace, PEAK_BYTES_PER_DISK, PEAK_BYTES_PER_GRAIN, PackError, PackStats, Packing,
+    WORK_PER_DISK, densify_traced, estimated_peak_bytes, pack, pack_observed, size_count,
+    work_budget,
 };
 pub use scene::{
     Axis, Densify, Drawer, Family, Fill, FrontRules, IndexKind, Limits, MAX_DEFERRED, MAX_GAP,

@@ -492,11 +492,10 @@ pub struct Separation {
 const SEPARATION_ITERATIONS: usize = 64;
 
 /// The distance from the point `d` to the convex set K given by its
-/// support map `support(u) = (h_K(u) bounded from above, s_K(u))`,
-/// K holding the origin, by GJK in the plane: the simplex of support points
-/// nearest `d` is moved towards it until the lower and upper bounds meet
-/// within `tol` (or `upper` falls to 0: `d` is in K, as far as the support
-/// points tell).
+/// support map `support(u) = (h_K(u) bounded from above, s_K(u))`, by GJK
+/// in the plane: the simplex of support points nearest `d` is moved
+/// towards it until the lower and upper bounds meet within `tol` (or
+/// `upper` falls to 0: `d` is in K, as far as the support points tell).
 ///
 /// For two particles A (centre a) and B (centre b), K = A ⊕ (−B) about the
 /// origin (h_K(u) = h_A(u) + h_B(−u)) and `d` = b − a: the distance between
@@ -505,6 +504,23 @@ pub fn separation(
     d: Vector2<f64>,
     tol: f64,
     support: impl Fn(Vector2<f64>) -> (f64, Vector2<f64>),
+) -> Separation {
+    gjk(d, support, |s| s.upper - s.lower <= tol)
+}
+
+/// Whether the point `d` is certainly outside the convex set K of
+/// [`separation`]: GJK stopped as soon as its lower bound is positive
+/// (apart, certified) or the point is found inside (not apart). Undecided
+/// after its iterations, it says not apart.
+pub fn apart(d: Vector2<f64>, support: impl Fn(Vector2<f64>) -> (f64, Vector2<f64>)) -> bool {
+    gjk(d, support, |s| s.lower > 0.0).lower > 0.0
+}
+
+/// GJK of [`separation`], stopping when `done` says so.
+fn gjk(
+    d: Vector2<f64>,
+    support: impl Fn(Vector2<f64>) -> (f64, Vector2<f64>),
+    done: impl Fn(&Separation) -> bool,
 ) -> Separation {
     let n = d.norm();
     let mut dir = if n > 0.0 {
@@ -518,6 +534,9 @@ pub fn separation(
         upper: f64::INFINITY,
         dir,
     };
+    if done(&best) {
+        return best;
+    }
     // The simplex: one or two support points; its point nearest d is `x`.
     let mut simplex: [Vector2<f64>; 2] = [w, w];
     let mut len = 1;
@@ -541,7 +560,11 @@ pub fn separation(
             best.lower = lower;
             best.dir = dir;
         }
-        if best.upper - best.lower <= tol {
+        if done(&best) {
+            return best;
+        }
+        // A support point already held: the simplex cannot come nearer.
+        if w == simplex[0] || (len == 2 && w == simplex[1]) {
             return best;
         }
         // Add w; keep the pair (or point) of the three nearest d.

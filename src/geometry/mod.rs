@@ -11,5 +11,6 @@ pub mod predicates;
 pub use disk::{Disk, Point, bounds_of_disks};
 pub use domain::{Domain, GeometryError, ImageShifts, Shape, Wall, WallMode};
 pub use grain::{
-    Grain, Outline, OutlineError, SUPPORT_REL, Separation, Turned, grain_separation, separation,
+    Grain, Outline, OutlineError, SUPPORT_REL, Separation, Turned, apart, grain_separation,
+    separation,
 };

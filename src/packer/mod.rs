@@ -4,6 +4,7 @@ mod advancing_front;
 mod arcs;
 mod densify;
 mod deposition;
+mod grains;
 pub mod index;
 mod packing;
 mod placed;
@@ -20,6 +21,7 @@ pub use crate::scene::{
 pub use advancing_front::{WORK_PER_DISK, pack_genes_watched, size_count, work_budget};
 pub use densify::{DensifyTrace, densify_traced, pack_densify};
 pub use deposition::pack_deposition;
+pub use grains::PEAK_BYTES_PER_GRAIN;
 pub use packing::{PackError, PackStats, Packing};
 pub use relaxation::pack_relaxation;
 pub use rsa::pack_rsa;
@@ -117,6 +119,9 @@ pub fn pack_observed(
     progress: &mut dyn FnMut(u64),
     cancel: &Cancel,
 ) -> Result<Packing, PackError> {
+    if let Some(shape) = &scene.shape {
+        return grains::pack(scene, shape, progress, cancel);
+    }
     match scene.packer.method {
         Method::AdvancingFront => advancing_front::pack(scene, progress, cancel),
         Method::Rsa => near_origin(scene, |s| pack_rsa(s, cancel)),

@@ -233,6 +233,15 @@ pub enum PackError {
         /// Whether the disks jammed at the target (rather than running out of steps).
         jammed: bool,
     },
+    /// Particles that are not disks (a `[shape]`) asked of something that
+    /// packs disks only.
+    #[error(
+        "particles that are not disks ([shape]) are not packed with {what}: use method = \"advancing-front\" (two or one contact) or \"rsa\", with exact walls or a periodic cell"
+    )]
+    NotForShapes {
+        /// What was asked, as a config names it.
+        what: String,
+    },
     /// The scene would need more memory than allowed.
     #[error(
         "the scene needs an estimated {estimate_mb:.0} MB ({disks:.3e} disks), over the limit of {limit_mb:.0} MB"

@@ -1,0 +1,593 @@
+//! The advancing front for particles that are not disks, under the disk
+//! front's rules: a stack of fronts, each new particle placed touching the
+//! front on top and one more obstacle (a particle or a wall) at the lowest
+//! clear spot, then put on top; a front that fails is parked with the size
+//! it failed for and woken by a smaller one; a size that fits at no front
+//! is deferred and retried after later placements, and the run stops when
+//! `max_deferred` sizes wait and one more fits nowhere.
+//!
+//! Two-contact placements solve the exact contact with both obstacles
+//! (`contact::two_contact`); one-contact ones (`packer.one_contact_share`)
+//! take the crossing of the bounding circles' halos and slide from there
+//! towards the two obstacles by bisection until the particle touches one
+//! (seed 001's approximate construction). In a periodic cell the first
+//! particle sits at the cell's centre, the second slides against it, and
+//! the winning candidate is the one nearest the first particle (its
+//! nearest image) rather than the lowest.
+
+use std::collections::{BTreeMap, VecDeque};
+use std::ops::ControlFlow;
+
+use nalgebra::Vector2;
+use rand::{Rng, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+
+use super::contact::{
+    GAP_REL, Newcomer, Obstacle, clear_of, point_segment_distance, slide, starts, two_contact,
+};
+use super::{Body, PEAK_BYTES_PER_GRAIN, Radii};
+use crate::cancel::Cancel;
+use crate::geometry::{Disk, Grain, Point, Wall};
+use crate::packer::advancing_front::{PROGRESS_STEP, size_count, work_budget};
+use crate::packer::index::{Grid, MxQuadtree, SpatialIndex};
+use crate::packer::{BYTES_PER_MB, IndexKind, PackError, PackStats, Packing};
+use crate::scene::{SHAPE_STREAM, ShapeSpec};
+use crate::{Scene, WallMode};
+
+/// Seed offset of the stream that picks one-contact placements.
+const CONTACT_STREAM: u64 = 0x6F6E_655F_636F_6E74;
+
+/// Retries of one deferred size before it is given up.
+const DEFERRED_RETRIES: u32 = 32;
+
+/// Pack `scene` (next to the origin) with the advancing front.
+pub(super) fn pack(
+    scene: &Scene,
+    shape: &ShapeSpec,
+    progress: &mut dyn FnMut(u64),
+    cancel: &Cancel,
+) -> Result<Packing, PackError> {
+    match scene.packer.index {
+        IndexKind::MxQuadtree => Front::<MxQuadtree>::new(scene, shape, cancel)?.run(progress),
+        IndexKind::Grid => Front::<Grid>::new(scene, shape, cancel)?.run(progress),
+    }
+}
+
+/// A candidate centre, its rank (lowest first), and the two obstacles it
+/// was solved against (certified already).
+struct Cand {
+    rank: (f64, f64),
+    p: Point,
+    skip: [Obstacle; 2],
+}
+
+/// The generator's state.
+pub(super) struct Front<'a, I> {
+    scene: &'a Scene,
+    shape: &'a ShapeSpec,
+    cancel: &'a Cancel,
+    bodies: Vec<Body>,
+    grains: Vec<Grain>,
+    disks: Vec<Disk>,
+    index: I,
+    walls: Vec<Obstacle>,
+    periodic: bool,
+    /// Largest reach placed so far.
+    reach_max: f64,
+    stack: Vec<u32>,
+    /// Parked fronts by the equivalent radius they failed for.
+    parked: BTreeMap<(u64, u32), ()>,
+    /// Smallest equivalent radius drawn so far.
+    r_small: f64,
+    radii: Radii,
+    pub(super) stats: PackStats,
+    budget: u64,
+    next_look: u64,
+    ceiling: Option<(u64, PackError)>,
+    contact_rng: Xoshiro256PlusPlus,
+}
+
+impl<'a, I: SpatialIndex> Front<'a, I> {
+    pub(super) fn new(
+        scene: &'a Scene,
+        shape: &'a ShapeSpec,
+        cancel: &'a Cancel,
+    ) -> Result<Self, PackError> {
+        let (lo, hi) = scene.domain.bounds();
+        let reach_spec = 0.5 * scene.d_max() * shape.reach_ratio();
+        let periodic = scene.walls == WallMode::Periodic;
+        if let Some(period) = scene.domain.period() {
+            let side = period.x.min(period.y);
+            if side < 4.0 * reach_spec {
+                return Err(PackError::PeriodicCellTooSmall {
+                    side,
+                    d_max: 2.0 * reach_spec,
+                });
+            }
+        }
+        let walls = scene
+            .domain
+            .walls()
+            .iter()
+            .map(|w| match *w {
+                Wall::Segment { a, b } => Obstacle::Segment(a, b),
+                Wall::Circle { center, radius } => Obstacle::Circle(center, radius),
+            })
+            .collect();
+        let ceiling = ceiling(scene);
+        Ok(Front {
+            scene,
+            shape,
+            cancel,
+            bodies: Vec::new(),
+            grains: Vec::new(),
+            disks: Vec::new(),
+            index: I::new(lo, hi, I::BUCKET_DIAMETERS * 2.0 * reach_spec),
+            walls: if periodic { Vec::new() } else { walls },
+            periodic,
+            reach_max: 0.0,
+            stack: Vec::new(),
+            parked: BTreeMap::new(),
+            r_small: f64::INFINITY,
+            radii: Radii::default(),
+            stats: PackStats::default(),
+            budget: work_budget(scene),
+            next_look: WORK_STEP,
+            ceiling,
+            contact_rng: Xoshiro256PlusPlus::seed_from_u64(scene.seed ^ CONTACT_STREAM),
+        })
+    }
+
+    /// Draw the sizes and place them.
+    fn run(mut self, progress: &mut dyn FnMut(u64)) -> Result<Packing, PackError> {
+        let scene = self.scene;
+        let mut sizes = Xoshiro256PlusPlus::seed_from_u64(scene.seed);
+        let mut shapes = Xoshiro256PlusPlus::seed_from_u64(scene.seed ^ SHAPE_STREAM);
+        let drawer = self.shape.drawer();
+        let count = size_count(&scene.domain, scene.d_min());
+        let mut deferred: VecDeque<(Grain, u32)> = VecDeque::new();
+        let max_deferred = scene.packer.max_deferred;
+        for i in 0..count {
+            if i.is_multiple_of(PROGRESS_STEP) {
+                progress(i);
+                self.cancel.check()?;
+            }
+            let u: f64 = sizes.r#gen();
+            let grain = drawer.draw(scene.grading.sample(u), &mut shapes);
+            self.stats.sizes_drawn += 1;
+            if self.try_place(grain.clone())? {
+                // Retry the waiting sizes once each.
+                for _ in 0..deferred.len() {
+                    let Some((g, tries)) = deferred.pop_front() else {
+                        break;
+                    };
+                    if !self.try_place(g.clone())? {
+                        if tries + 1 < DEFERRED_RETRIES {
+                            deferred.push_back((g, tries + 1));
+                        } else {
+                            self.stats.sizes_unplaced += 1;
+                        }
+                    }
+                }
+            } else if deferred.len() < max_deferred {
+                self.stats.sizes_deferred += 1;
+                deferred.push_back((grain, 0));
+            } else {
+                // One more size fits nowhere with the most waiting: full.
+                self.stats.sizes_unplaced += 1;
+                break;
+            }
+        }
+        self.stats.sizes_unplaced += deferred.len() as u64;
+        Ok(self.into_packing())
+    }
+
+    /// The packing placed so far.
+    pub(super) fn into_packing(self) -> Packing {
+        Packing {
+            grains: self.grains,
+            stats: self.stats,
+            ..Packing::of_disks(self.scene.domain.clone(), self.disks)
+        }
+    }
+
+    /// Place `grain` at some front (or as a seed); `false` if it fits nowhere.
+    fn try_place(&mut self, grain: Grain) -> Result<bool, PackError> {
+        let (reach, inner) = self.radii.of(&grain.outline);
+        let (sin, cos) = grain.angle.sin_cos();
+        let r_eq = grain.outline.equivalent_radius();
+        self.r_small = self.r_small.min(r_eq);
+        let one_contact = match self.scene.packer.one_contact_share {
+            s if s <= 0.0 => false,
+            s if s >= 1.0 => true,
+            s => self.contact_rng.r#gen::<f64>() < s,
+        };
+        // Wake the fronts parked for a larger size.
+        let key = (r_eq.to_bits().saturating_add(1), 0);
+        let woken: Vec<(u64, u32)> = self.parked.range(key..).map(|(k, _)| *k).collect();
+        for k in woken.into_iter().rev() {
+            self.parked.remove(&k);
+            self.stack.push(k.1);
+        }
+        let spot = {
+            let new = Newcomer {
+                outline: &grain.outline,
+                cos,
+                sin,
+                reach,
+                inner,
+            };
+            let mut spot = None;
+            if self.needs_seed() {
+                spot = self.seed(&new);
+            }
+            while spot.is_none() {
+                let Some(&front) = self.stack.last() else {
+                    break;
+                };
+                self.stats.front_attempts += 1;
+                if let Some(p) = self.attempt(front, &new, one_contact) {
+                    spot = Some(p);
+                } else {
+                    self.stack.pop();
+                    if r_eq > self.r_small * (1.0 + 1e-9) {
+                        self.parked.insert((r_eq.to_bits(), front), ());
+                    }
+                }
+                self.look()?;
+            }
+            if spot.is_none() && self.stack.is_empty() && !self.periodic {
+                // Every front is parked or closed: a new start on the walls.
+                spot = self.seed(&new);
+            }
+            spot
+        };
+        let Some(p) = spot else {
+            return Ok(false);
+        };
+        self.place(p, grain, reach, inner, r_eq, cos, sin)?;
+        Ok(true)
+    }
+
+    /// Whether the run has no particle to grow from yet.
+    fn needs_seed(&self) -> bool {
+        if self.periodic {
+            self.bodies.len() < 2
+        } else {
+            self.bodies.is_empty()
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn place(
+        &mut self,
+        p: Point,
+        grain: Grain,
+        reach: f64,
+        inner: f64,
+        r_eq: f64,
+        cos: f64,
+        sin: f64,
+    ) -> Result<(), PackError> {
+        if let Some((limit, why)) = &self.ceiling
+            && self.disks.len() as u64 >= *limit
+        {
+            return Err(why.clone());
+        }
+        let c = self.scene.domain.wrap(p);
+        let id = self.bodies.len() as u32;
+        self.index.insert(id, c);
+        self.bodies.push(Body {
+            c,
+            outline: grain.outline.clone(),
+            cos,
+            sin,
+            reach,
+            inner,
+        });
+        self.disks.push(Disk { c, r: r_eq });
+        self.grains.push(grain);
+        self.stack.push(id);
+        self.reach_max = self.reach_max.max(reach);
+        Ok(())
+    }
+
+    /// Count work; look at the cancel token and the budget every [`WORK_STEP`].
+    pub(super) fn look(&mut self) -> Result<(), PackError> {
+        if self.stats.work >= self.next_look {
+            self.next_look = self.stats.work + WORK_STEP;
+            self.cancel.check()?;
+            if self.stats.work > self.budget {
+                return Err(PackError::WorkBudget {
+                    budget: self.budget,
+                    disks: self.disks.len() as u64,
+                    sizes_drawn: self.stats.sizes_drawn,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Visit the placed particles whose images lie in the box about `p`
+    /// of half side `half`, until `f` breaks.
+    fn visit(
+        &self,
+        p: Point,
+        half: f64,
+        mut f: impl FnMut(u32, Vector2<f64>) -> ControlFlow<()>,
+    ) -> ControlFlow<()> {
+        let (lo, hi) = (
+            Point::new(p.x - half, p.y - half),
+            Point::new(p.x + half, p.y + half),
+        );
+        if !self.periodic {
+            return self
+                .index
+                .try_visit_box(lo, hi, |id| f(id, Vector2::zeros()));
+        }
+        for v in self.scene.domain.image_shifts(lo, hi) {
+            self.index.try_visit_box(lo - v, hi - v, |id| f(id, v))?;
+        }
+        ControlFlow::Continue(())
+    }
+
+    /// Whether the new particle at `p` is clear of every wall and particle
+    /// but those in `skip`.
+    pub(super) fn clear(&mut self, new: &Newcomer, p: Point, skip: &[Obstacle]) -> bool {
+        if !self.periodic && self.scene.domain.signed_distance(p) <= 0.0 {
+            return false;
+        }
+        let mut work = 0u64;
+        let walls_clear = self.walls.iter().all(|w| {
+            if skip.contains(w) {
+                return true;
+            }
+            work += 1;
+            clear_of(&self.bodies, w, new, p)
+        });
+        if !walls_clear {
+            self.stats.work += work;
+            return false;
+        }
+        let half = new.reach + self.reach_max;
+        let bodies = &self.bodies;
+        let blocked = self
+            .visit(p, half, |id, v| {
+                let ob = Obstacle::Body(id, v);
+                if skip.contains(&ob) {
+                    return ControlFlow::Continue(());
+                }
+                work += 1;
+                if clear_of(bodies, &ob, new, p) {
+                    ControlFlow::Continue(())
+                } else {
+                    ControlFlow::Break(())
+                }
+            })
+            .is_break();
+        self.stats.work += work;
+        !blocked
+    }
+
+    /// The lowest clear spot touching front `front` and one more obstacle
+    /// (with one contact: touching one of them), if any.
+    fn attempt(&mut self, front: u32, new: &Newcomer, one_contact: bool) -> Option<Point> {
+        let f = &self.bodies[front as usize];
+        let (cf, rf) = (f.c, f.reach);
+        let reach = rf + 2.0 * new.reach;
+        let mut obstacles: Vec<Obstacle> = Vec::new();
+        let bodies = &self.bodies;
+        let _ = self.visit(cf, reach + self.reach_max, |id, v| {
+            if id == front && v == Vector2::zeros() {
+                return ControlFlow::Continue(());
+            }
+            let g = &bodies[id as usize];
+            if (g.c + v - cf).norm() <= reach + g.reach {
+                obstacles.push(Obstacle::Body(id, v));
+            }
+            ControlFlow::Continue(())
+        });
+        for w in &self.walls {
+            let near = match *w {
+                Obstacle::Segment(a, b) => point_segment_distance(cf, a, b) <= reach,
+                Obstacle::Circle(o, radius) => radius - (cf - o).norm() <= reach,
+                Obstacle::Body(..) => false,
+            };
+            if near {
+                obstacles.push(*w);
+            }
+        }
+        let me = Obstacle::Body(front, Vector2::zeros());
+        let mut cands: Vec<Cand> = Vec::new();
+        let mut begin = Vec::new();
+        let mut work = 0u64;
+        for ob in &obstacles {
+            begin.clear();
+            starts(&self.bodies, cf, rf, ob, new, &mut begin);
+            for &s in &begin {
+                let p = if one_contact {
+                    let to = Point::from(0.5 * (cf.coords + reference(&self.bodies, ob, s).coords));
+                    slide(&self.bodies, &me, Some(ob), new, s, to, &mut work)
+                } else {
+                    two_contact(&self.bodies, &me, ob, new, s, &mut work)
+                };
+                if let Some(p) = p
+                    && (self.periodic || self.scene.domain.signed_distance(p) > 0.0)
+                {
+                    cands.push(Cand {
+                        rank: self.rank(p),
+                        p,
+                        skip: [me, *ob],
+                    });
+                }
+            }
+        }
+        self.stats.work += work;
+        cands.sort_unstable_by(|a, b| {
+            a.rank
+                .partial_cmp(&b.rank)
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
+        for c in &cands {
+            // Certified clear of the two it was solved against already.
+            if self.clear(new, c.p, &c.skip) {
+                return Some(c.p);
+            }
+        }
+        None
+    }
+
+    /// The order candidates are tried in: lowest then leftmost; in a
+    /// periodic cell, nearest the first particle (its nearest image).
+    fn rank(&self, p: Point) -> (f64, f64) {
+        if let (true, Some(first), Some(period)) = (
+            self.periodic,
+            self.bodies.first(),
+            self.scene.domain.period(),
+        ) {
+            let mut d = p - first.c;
+            d.x -= period.x * (d.x / period.x).round();
+            d.y -= period.y * (d.y / period.y).round();
+            return (d.norm_squared(), p.y);
+        }
+        (p.y, p.x)
+    }
+
+    /// A first particle: with walls at the lowest clear wall–wall corner
+    /// of its bounding circle, slid down then left until it touches; in a
+    /// periodic cell at the centre, then the second slid against the first.
+    fn seed(&mut self, new: &Newcomer) -> Option<Point> {
+        if self.periodic {
+            return match self.bodies.len() {
+                0 => Some(self.scene.domain.centroid()),
+                1 => {
+                    let f = &self.bodies[0];
+                    let from = f.c + Vector2::new(f.reach + new.reach, 0.0);
+                    let to = f.c;
+                    self.slide_clear(new, from, to)
+                }
+                _ => None,
+            };
+        }
+        let mut spots = Vec::new();
+        let r = new.reach;
+        for (i, a) in self.walls.iter().enumerate() {
+            for b in &self.walls[i + 1..] {
+                corner(a, b, r, &mut spots);
+            }
+            if let Obstacle::Circle(o, radius) = *a {
+                spots.push(Point::new(o.x, o.y - (radius - r)));
+            }
+        }
+        spots.sort_unstable_by(|a, b| {
+            (a.y, a.x)
+                .partial_cmp(&(b.y, b.x))
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
+        for s in spots {
+            if !self.clear(new, s, &[]) {
+                continue;
+            }
+            let down = self.slide_clear(new, s, s - Vector2::new(0.0, 2.0 * r))?;
+            return self.slide_clear(new, down, down - Vector2::new(2.0 * r, 0.0));
+        }
+        None
+    }
+
+    /// The farthest clear point from `from` towards `to`, by bisection
+    /// (`None` when `from` is not clear).
+    fn slide_clear(&mut self, new: &Newcomer, from: Point, to: Point) -> Option<Point> {
+        if !self.clear(new, from, &[]) {
+            return None;
+        }
+        if self.clear(new, to, &[]) {
+            return Some(to);
+        }
+        let (mut lo, mut hi) = (0.0f64, 1.0f64);
+        let resolution = GAP_REL * new.reach / (to - from).norm().max(f64::MIN_POSITIVE);
+        for _ in 0..64 {
+            if hi - lo <= resolution {
+                break;
+            }
+            let mid = 0.5 * (lo + hi);
+            if self.clear(new, from + (to - from) * mid, &[]) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        Some(from + (to - from) * lo)
+    }
+}
+
+/// Work between two looks at the cancel token and the budget.
+const WORK_STEP: u64 = 1 << 16;
+
+/// A point of obstacle `ob` to slide towards, from a start `s`: a
+/// particle's centre, the foot of `s` on a straight wall, the point of a
+/// circular wall beyond `s`.
+fn reference(bodies: &[Body], ob: &Obstacle, s: Point) -> Point {
+    match *ob {
+        Obstacle::Body(id, v) => bodies[id as usize].c + v,
+        Obstacle::Segment(a, b) => {
+            let e = b - a;
+            let t = ((s - a).dot(&e) / e.norm_squared()).clamp(0.0, 1.0);
+            a + e * t
+        }
+        Obstacle::Circle(o, radius) => {
+            let d = s - o;
+            let n = d.norm();
+            if n > 0.0 { o + d * (radius / n) } else { o }
+        }
+    }
+}
+
+/// The centre of a disk of radius `r` touching both straight walls inside
+/// (their inward offset lines' crossing, on both segments).
+fn corner(a: &Obstacle, b: &Obstacle, r: f64, out: &mut Vec<Point>) {
+    let offset = |w: &Obstacle| match *w {
+        Obstacle::Segment(a, b) => {
+            let len = (b - a).norm();
+            let u = (b - a) / len;
+            Some((Point::new(a.x - u.y * r, a.y + u.x * r), u, len))
+        }
+        _ => None,
+    };
+    let (Some((p, u, lu)), Some((q, v, lv))) = (offset(a), offset(b)) else {
+        return;
+    };
+    let det = u.x * (-v.y) - u.y * (-v.x);
+    if det.abs() < 1e-12 {
+        return;
+    }
+    let w = q - p;
+    let t = (w.x * (-v.y) - w.y * (-v.x)) / det;
+    let s = (u.x * w.y - u.y * w.x) / det;
+    if t >= -r && t <= lu + r && s >= -r && s <= lv + r {
+        out.push(p + u * t);
+    }
+}
+
+/// The most particles the scene's limits allow, and the error past it.
+fn ceiling(scene: &Scene) -> Option<(u64, PackError)> {
+    let by_particles = scene
+        .limits
+        .max_particles
+        .map(|limit| (limit, PackError::ParticleLimit { limit }));
+    let by_memory = scene.limits.max_memory_bytes.map(|bytes| {
+        let n = (bytes / PEAK_BYTES_PER_GRAIN)
+            .floor()
+            .clamp(0.0, u64::MAX as f64) as u64;
+        (
+            n,
+            PackError::MemoryLimit {
+                limit_mb: bytes / BYTES_PER_MB,
+                disks: n,
+            },
+        )
+    });
+    match (by_particles, by_memory) {
+        (Some(a), Some(b)) => Some(if a.0 <= b.0 { a } else { b }),
+        (a, b) => a.or(b),
+    }
+}

@@ -1,0 +1,136 @@
+use super::*;
+use crate::geometry::{Disk, Domain, Grain, grain_separation};
+use crate::{Basis, Grading, ShapeSpec, pack};
+
+/// Every pair of particles certified apart (all pairs), and every particle
+/// inside a rectangle `w` × `h` at the origin (support functions).
+fn assert_valid(packing: &Packing, rect: Option<(f64, f64)>) {
+    let n = packing.disks.len();
+    assert_eq!(packing.grains.len(), n);
+    let turned: Vec<_> = packing.grains.iter().map(Grain::turned).collect();
+    for i in 0..n {
+        let (ci, ri) = (packing.disks[i].c, packing.grains[i].outline.circumradius());
+        for j in i + 1..n {
+            let (cj, rj) = (packing.disks[j].c, packing.grains[j].outline.circumradius());
+            if (ci - cj).norm() >= ri + rj {
+                continue;
+            }
+            let s = grain_separation(&turned[i], ci, &turned[j], cj, 1e-12 * ri);
+            assert!(
+                s.lower > 0.0,
+                "particles {i} and {j} not certified apart: {s:?}"
+            );
+        }
+        if let Some((w, h)) = rect {
+            let t = &turned[i];
+            for (u, limit) in [
+                (Vector2::new(1.0, 0.0), w - ci.x),
+                (Vector2::new(-1.0, 0.0), ci.x),
+                (Vector2::new(0.0, 1.0), h - ci.y),
+                (Vector2::new(0.0, -1.0), ci.y),
+            ] {
+                assert!(t.support_both(u).0 <= limit, "particle {i} crosses a wall");
+            }
+        }
+    }
+}
+
+fn scene(shape: ShapeSpec, side: f64) -> Scene {
+    let grading = Grading::uniform(1.0, 2.0, Basis::Number).unwrap();
+    Scene::new(Domain::rectangle(side, side).unwrap(), grading)
+        .with_seed(3)
+        .with_shape(shape)
+}
+
+#[test]
+fn ellipses_fill_a_square_without_overlap() {
+    let s = scene(ShapeSpec::ellipses(1.5), 20.0);
+    let packing = pack(&s).unwrap();
+    assert!(packing.disks.len() > 60, "{}", packing.disks.len());
+    assert_valid(&packing, Some((20.0, 20.0)));
+    let solid: f64 = packing.disks.iter().map(Disk::area).sum();
+    let porosity = 1.0 - solid / 400.0;
+    assert!(porosity < 0.3, "porosity {porosity}");
+    // Same seed, same packing.
+    assert_eq!(pack(&s).unwrap(), packing);
+}
+
+#[test]
+fn blocky_superellipses_and_rhombi_pack_without_overlap() {
+    for (aspect, exponent) in [(2.0, 4.0), (1.0, 10.0), (3.0, 1.0)] {
+        let s = scene(ShapeSpec::superellipses(aspect, exponent), 16.0);
+        let packing = pack(&s).unwrap();
+        assert!(
+            packing.disks.len() > 20,
+            "{aspect} {exponent}: {}",
+            packing.disks.len()
+        );
+        assert_valid(&packing, Some((16.0, 16.0)));
+    }
+}
+
+#[test]
+fn one_contact_and_rsa_pack_looser_without_overlap() {
+    let dense = pack(&scene(ShapeSpec::ellipses(2.0), 16.0)).unwrap();
+    let mut loose_scene = scene(ShapeSpec::ellipses(2.0), 16.0);
+    loose_scene.packer.one_contact_share = 1.0;
+    let loose = pack(&loose_scene).unwrap();
+    assert_valid(&loose, Some((16.0, 16.0)));
+    let rsa = pack(&scene(ShapeSpec::ellipses(2.0), 16.0).with_method(Method::Rsa)).unwrap();
+    assert_valid(&rsa, Some((16.0, 16.0)));
+    let solid = |p: &Packing| p.disks.iter().map(Disk::area).sum::<f64>();
+    assert!(solid(&loose) < solid(&dense));
+    assert!(solid(&rsa) < solid(&dense));
+}
+
+#[test]
+fn periodic_cells_and_circles_pack_without_overlap() {
+    let grading = Grading::uniform(1.0, 2.0, Basis::Number).unwrap();
+    let cell = Scene::new(
+        Domain::periodic_rectangle(20.0, 20.0).unwrap(),
+        grading.clone(),
+    )
+    .with_walls(WallMode::Periodic)
+    .with_seed(5)
+    .with_shape(ShapeSpec::ellipses(1.5));
+    let packing = pack(&cell).unwrap();
+    assert!(packing.disks.len() > 60);
+    // Pairs across the edges: the nearest images.
+    let n = packing.disks.len();
+    for i in 0..n {
+        for j in 0..n {
+            for (sx, sy) in [
+                (-20.0, 0.0),
+                (20.0, 0.0),
+                (0.0, -20.0),
+                (0.0, 20.0),
+                (0.0, 0.0),
+            ] {
+                if i == j && sx == 0.0 && sy == 0.0 {
+                    continue;
+                }
+                let (a, b) = (&packing.grains[i], &packing.grains[j]);
+                let cj = packing.disks[j].c + Vector2::new(sx, sy);
+                let s = grain_separation(&a.turned(), packing.disks[i].c, &b.turned(), cj, 1e-12);
+                assert!(s.lower > 0.0, "{i} {j} ({sx}, {sy})");
+            }
+        }
+    }
+    let circle = Scene::new(Domain::circle(Point::new(0.0, 0.0), 10.0).unwrap(), grading)
+        .with_seed(5)
+        .with_shape(ShapeSpec::superellipses(2.0, 4.0));
+    let packing = pack(&circle).unwrap();
+    assert!(packing.disks.len() > 40);
+    assert_valid(&packing, None);
+    for (g, d) in packing.grains.iter().zip(&packing.disks) {
+        for p in g.outline.boundary(400) {
+            assert!((g.turned().to_world(p) + d.c.coords).norm() <= 10.0);
+        }
+    }
+}
+
+#[test]
+fn refuses_what_shapes_do_not_support() {
+    let s = scene(ShapeSpec::ellipses(1.5), 10.0).with_method(Method::Deposition);
+    assert!(matches!(pack(&s), Err(PackError::NotForShapes { .. })));
+}
