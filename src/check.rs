@@ -11,11 +11,21 @@
 //! edges: overlaps are counted with every image of the other disks (and of
 //! the disk itself), and a disk is outside when its centre is outside the
 //! cell.
+//!
+//! Particles that are not disks ([`check_particles`]) are judged from their
+//! support functions: each pair whose bounding circles meet is proved apart
+//! by a certified lower bound of its distance, and each particle proved
+//! inside the walls (see the `particles` module's tolerance policy, the
+//! disks' one).
+
+#[cfg(test)]
+mod particle_tests;
+mod particles;
 
 use crate::geometry::predicates::OVERLAP_REL;
 use nalgebra::Vector2;
 
-use crate::geometry::{Disk, Domain};
+use crate::geometry::{Disk, Domain, Grain, Turned};
 use crate::grading::Grading;
 use crate::metrics::near::ByRadius;
 use crate::metrics::{porosity, solid_area};
@@ -67,14 +77,22 @@ impl GradingCheck {
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct Check {
-    /// Disks checked.
+    /// Disks (particles) checked.
     pub particles: usize,
-    /// Disks whose centre or radius is not finite, or whose radius is not positive.
+    /// Disks whose centre or radius is not finite, or whose radius is not
+    /// positive (particles: see [`check_particles`]).
     pub malformed: usize,
-    /// Pairs overlapping by more than [`OVERLAP_REL`] of their radii sum.
+    /// Pairs overlapping by more than [`OVERLAP_REL`] of their radii sum
+    /// (particles: pairs not proved apart to within [`OVERLAP_REL`] of the
+    /// sum of their circumradii).
     pub overlaps: usize,
-    /// The deepest overlap: the two disks' indices and the overlap relative to their radii sum.
+    /// The deepest overlap: the two disks' indices and the overlap relative
+    /// to their radii sum (particles: a bound of the penetration depth
+    /// relative to the sum of their circumradii).
     pub worst_overlap: Option<(usize, usize, f64)>,
+    /// Pairs within reach proved apart (not overlapping beyond the
+    /// tolerance): disks that meet, particles whose bounding circles meet.
+    pub pairs_certified: usize,
     /// Disks reaching outside the domain by more than the tolerance (in a
     /// periodic cell: whose centre lies outside the cell by more than it).
     pub outside: usize,
@@ -125,27 +143,131 @@ impl Check {
 /// O(n log n): one sort of the disks by cell, then the pairs of each cell
 /// and its neighbours.
 pub fn check(disks: &[Disk], domain: &Domain, grading: Option<&Grading>) -> Check {
-    let well_formed =
-        |d: &Disk| d.c.x.is_finite() && d.c.y.is_finite() && d.r.is_finite() && d.r > 0.0;
+    run(disks, &[], domain, grading, None)
+}
+
+/// Check particles of any shape in `domain`: `disks[i]` the centre and
+/// area-equivalent radius of particle i, `grains[i]` its outline and
+/// angle; with `grains` empty, exactly [`check`]. With a `grading`, the
+/// sizes checked are the area-equivalent diameters 2·r, right for a
+/// grading that measures that size; [`check_particles_sized`] takes the
+/// sizes a grading measures otherwise (the least widths, for sieve sizes).
+///
+/// # Behavior
+/// Pairs: every pair whose bounding circles (centre, circumradius R)
+/// meet — found by size class and position, as the disks' — is proved
+/// apart when a certified lower bound of its distance (a GJK search on the
+/// support functions, sharpened by a scan of directions when it is not
+/// enough) is at least `−OVERLAP_REL · (R_i + R_j)`; otherwise it counts as
+/// an overlap, of depth that bound's opposite relative to `R_i + R_j`.
+/// [`Check::pairs_certified`] counts the pairs proved apart.
+///
+/// Containment: an upper bound of how far each particle reaches beyond
+/// the walls, counted when above `OVERLAP_REL · 2 · R_max`: behind every
+/// straight wall within reach in a convex domain, not across any in a
+/// domain with reflex corners (the centre inside), within a circular wall
+/// by the farthest point of its tangent polygon about the wall's centre,
+/// refined about the farthest point until it proves the particle inside or
+/// 2π/256/2²⁶ is reached. In a periodic cell the centre must lie in the
+/// cell, and the pairs are tested at every image, as for disks.
+///
+/// Malformed: a centre, radius or angle not finite, a radius not positive,
+/// an outline its constructor refuses, or a disk without its grain (or a
+/// grain without its disk); they are counted and left out of the rest.
+/// Porosity: from the disks' areas, the particles' exact areas.
+///
+/// # Performance
+/// O(n log n) as [`check`], with a GJK search (tens of support
+/// evaluations) per pair of meeting bounding circles and per particle
+/// near a wall.
+pub fn check_particles(
+    disks: &[Disk],
+    grains: &[Grain],
+    domain: &Domain,
+    grading: Option<&Grading>,
+) -> Check {
+    run(disks, grains, domain, grading, None)
+}
+
+/// [`check_particles`] with the grading checked on `sizes[i]`, the size of
+/// particle i that the grading measures (its least width for sieve sizes).
+/// A size that is missing, not finite or not positive makes its particle
+/// malformed.
+pub fn check_particles_sized(
+    disks: &[Disk],
+    grains: &[Grain],
+    domain: &Domain,
+    grading: Option<&Grading>,
+    sizes: &[f64],
+) -> Check {
+    run(disks, grains, domain, grading, Some(sizes))
+}
+
+/// The check of [`check`], [`check_particles`] and
+/// [`check_particles_sized`]: grains empty for disks, sizes `None` for
+/// the diameters 2·r.
+fn run(
+    disks: &[Disk],
+    grains: &[Grain],
+    domain: &Domain,
+    grading: Option<&Grading>,
+    sizes: Option<&[f64]>,
+) -> Check {
+    let shaped = !grains.is_empty();
+    let particles = if shaped {
+        disks.len().max(grains.len())
+    } else {
+        disks.len()
+    };
+    let well_formed = |i: usize| {
+        let d = &disks[i];
+        let size = sizes.is_none_or(|s| s.get(i).is_some_and(|v| v.is_finite() && *v > 0.0));
+        size && if shaped {
+            grains.get(i).is_some_and(|g| particles::well_formed(d, g))
+        } else {
+            d.c.x.is_finite() && d.c.y.is_finite() && d.r.is_finite() && d.r > 0.0
+        }
+    };
     // The well-formed disks, 4 bytes each (ids below 2³², as every index's).
     let mut ok: Vec<u32> = Vec::with_capacity(disks.len());
     ok.extend(
         (0..disks.len())
-            .filter(|&i| well_formed(&disks[i]))
+            .filter(|&i| well_formed(i))
             .map(|i| i as u32),
     );
     let ok_ids = || ok.iter().map(|&i| i as usize);
-    let r_max = ok_ids().fold(0.0f64, |m, i| m.max(disks[i].r));
 
-    let (overlaps, worst_overlap) = overlapping_pairs(disks, &ok, domain);
+    // Particles: their bounding circles (radius 0 where malformed, never
+    // looked at) and their turned outlines.
+    let reach: Vec<Disk> = if shaped {
+        (0..disks.len())
+            .map(|i| Disk {
+                c: disks[i].c,
+                r: grains.get(i).map_or(0.0, |g| g.outline.circumradius()),
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let turned: Vec<Turned> = grains.iter().map(Grain::turned).collect();
+    let (overlaps, worst_overlap, pairs_certified) = if shaped {
+        let p = particles::pairs(disks, &turned, &reach, &ok, domain);
+        (p.overlaps, p.worst, p.certified)
+    } else {
+        overlapping_pairs(disks, &ok, domain)
+    };
 
+    let sized = if shaped { &reach } else { disks };
+    let r_max = ok_ids().fold(0.0f64, |m, i| m.max(sized[i].r));
     let tolerance = OVERLAP_REL * 2.0 * r_max;
     let mut outside = 0;
     let mut worst_outside: Option<(usize, f64)> = None;
     let (lo, hi) = domain.bounds();
     for i in ok_ids() {
         let d = &disks[i];
-        let beyond = if domain.is_periodic() {
+        let beyond = if shaped {
+            particles::beyond(&turned[i], d.c, reach[i].r, domain, tolerance)
+        } else if domain.is_periodic() {
             (lo.x - d.c.x)
                 .max(d.c.x - hi.x)
                 .max(lo.y - d.c.y)
@@ -164,10 +286,11 @@ pub fn check(disks: &[Disk], domain: &Domain, grading: Option<&Grading>) -> Chec
     let domain_area = domain.area();
     let solid_area = solid_area(ok_ids().map(|i| &disks[i]));
     Check {
-        particles: disks.len(),
-        malformed: disks.len() - ok.len(),
+        particles,
+        malformed: particles - ok.len(),
         overlaps,
         worst_overlap,
+        pairs_certified,
         outside,
         worst_outside,
         domain_area,
@@ -176,7 +299,8 @@ pub fn check(disks: &[Disk], domain: &Domain, grading: Option<&Grading>) -> Chec
         grading: grading.map_or(GradingCheck::NotAsked, |g| {
             // Listed only when asked for, and sorted where they are.
             GradingCheck::of(ok.len(), || {
-                g.ks_distance_sorting(&mut ok_ids().map(|i| 2.0 * disks[i].r).collect::<Vec<_>>())
+                let size = |i: usize| sizes.map_or(2.0 * disks[i].r, |s| s[i]);
+                g.ks_distance_sorting(&mut ok_ids().map(size).collect::<Vec<_>>())
             })
         }),
         ks_limit: ks_limit(ok.len()),
@@ -201,7 +325,8 @@ pub fn grading_kept(n: usize, ks: f64) -> bool {
 }
 
 /// Count the overlapping pairs among `disks[ok]` and find the deepest (of
-/// equally deep pairs, the first by index).
+/// equally deep pairs, the first by index); count too the pairs that meet
+/// without overlapping beyond the tolerance.
 ///
 /// The disks are bucketed by size class ([`ByRadius`]): each looks for
 /// partners in every class as far as its own radius plus that class's
@@ -216,14 +341,15 @@ fn overlapping_pairs(
     disks: &[Disk],
     ok: &[u32],
     domain: &Domain,
-) -> (usize, Option<(usize, usize, f64)>) {
+) -> (usize, Option<(usize, usize, f64)>, usize) {
     if ok.len() < 2 && !domain.is_periodic() {
-        return (0, None);
+        return (0, None, 0);
     }
     let ids = || ok.iter().map(|&i| i as usize);
     let near = ByRadius::new(disks, ids());
     let r_max = ids().fold(0.0f64, |m, i| m.max(disks[i].r));
     let mut count = 0;
+    let mut apart = 0;
     let mut worst: Option<(usize, usize, f64)> = None;
     for a in ids() {
         let p = &disks[a];
@@ -241,6 +367,9 @@ fn overlapping_pairs(
                 let sum = p.r + q.r;
                 let at = if zero { q.c } else { q.c + v };
                 let overlap = (sum - (p.c - at).norm()) / sum;
+                if (0.0..=OVERLAP_REL).contains(&overlap) {
+                    apart += 1;
+                }
                 if overlap > OVERLAP_REL {
                     count += 1;
                     let pair = (b, a);
@@ -252,7 +381,7 @@ fn overlapping_pairs(
             });
         }
     }
-    (count, worst)
+    (count, worst, apart)
 }
 
 #[cfg(test)]

@@ -43,7 +43,10 @@ pub mod stability;
 pub mod study;
 
 pub use cancel::{Cancel, Cancelled};
-pub use check::{Check, GradingCheck, KS_MARGIN, MIN_GRADING_DISKS, check, grading_kept, ks_limit};
+pub use check::{
+    Check, GradingCheck, KS_MARGIN, MIN_GRADING_DISKS, check, check_particles,
+    check_particles_sized, grading_kept, ks_limit,
+};
 pub use geometry::predicates::OVERLAP_REL;
 pub use geometry::{
     Disk, Domain, GeometryError, Grain, ImageShifts, Outline, OutlineError, Point, SUPPORT_REL,

@@ -29,5 +29,6 @@ mod reliability;
 mod replay;
 mod scales;
 mod serve;
+mod shape_properties;
 mod stability;
 mod thesis;
