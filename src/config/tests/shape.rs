@@ -371,8 +371,7 @@ fn methods_walls_and_strips_that_do_not_pack_shapes_are_refused() {
         &rect(
             "width = 40\nheight = 40\nwalls = \"disks\"",
             &format!("[shape]\n{ellipses}"),
-        )
-        .replace("t.toml", "t.toml"),
+        ),
         &unsupported("walls = \"disks\" (wall disks would need shape-aware wall particles; use walls = \"exact\")")
             .replace("t.toml:7:1", "t.toml:8:1"),
     );
