@@ -368,6 +368,12 @@ fn methods_walls_and_strips_that_do_not_pack_shapes_are_refused() {
         &unsupported("packer.strips (packing in strips)"),
     );
     fails_with(
+        &with_shape(&format!("{ellipses}[packer]\nfill = \"right\"")),
+        &unsupported(
+            "packer.fill = \"right\" (the scene mirrored and packed as disks); leave fill = \"up\"",
+        ),
+    );
+    fails_with(
         &rect(
             "width = 40\nheight = 40\nwalls = \"disks\"",
             &format!("[shape]\n{ellipses}"),
@@ -381,6 +387,7 @@ fn methods_walls_and_strips_that_do_not_pack_shapes_are_refused() {
         "contacts = 2",
         "method = \"rsa\"",
         "strips = 1",
+        "fill = \"up\"",
     ] {
         shape_of(&with_shape(&format!("{ellipses}[packer]\n{packer}")));
     }

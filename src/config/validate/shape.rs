@@ -12,8 +12,8 @@ use crate::config::raw::{RawConfig, RawShape, RawSpread, RawTemplate, Table};
 use crate::geometry::{Outline, WallMode};
 use crate::names::{ConfigName, Names};
 use crate::scene::{
-    Family, MAX_ASPECT, MAX_EXPONENT, Method, Orientation, PackerSettings, ShapeSpec, SizeMeasure,
-    Spread, Strips, template_vertices,
+    Family, Fill, MAX_ASPECT, MAX_EXPONENT, Method, Orientation, PackerSettings, ShapeSpec,
+    SizeMeasure, Spread, Strips, template_vertices,
 };
 
 /// How far from 1 the shares of a table or of the templates may sum.
@@ -450,7 +450,7 @@ impl Validator<'_> {
     }
 
     /// Refuse `[shape]` in a config this version cannot pack shapes for:
-    /// another job's table, another method, strips, or wall disks.
+    /// another job's table, another method, strips, filling right, or wall disks.
     pub(super) fn check_shape_support(
         &self,
         shape: &Spanned<Table<RawShape>>,
@@ -475,6 +475,8 @@ impl Validator<'_> {
             ))
         } else if packer.strips != Strips::Count(1) {
             Some("packer.strips (packing in strips)".to_owned())
+        } else if packer.fill == Fill::Right {
+            Some("packer.fill = \"right\" (the scene mirrored and packed as disks); leave fill = \"up\"".to_owned())
         } else if walls == WallMode::Disks {
             Some(
                 "walls = \"disks\" (wall disks would need shape-aware wall particles; use walls = \"exact\")"
