@@ -2,7 +2,7 @@
 
 use std::fmt;
 
-use crate::geometry::GeometryError;
+use crate::geometry::{GeometryError, OutlineError};
 use crate::grading::GradingError;
 use crate::layering::LayeringError;
 use crate::packer::PackError;
@@ -183,6 +183,17 @@ pub enum ConfigError {
         /// The layering error.
         error: LayeringError,
     },
+    /// A `[shape]` outline the outline constructor refused (a polygon
+    /// template that is not convex, or has fewer than 3 vertices).
+    #[error("{at}: {key}: {error}")]
+    Outline {
+        /// Where.
+        at: Location,
+        /// Key path at fault.
+        key: String,
+        /// The outline error.
+        error: OutlineError,
+    },
     /// The grading constructor refused the values.
     #[error("{at}: {key}: {error}")]
     Grading {
@@ -242,6 +253,7 @@ impl ConfigError {
             | ConfigError::NotApplicable { at, .. }
             | ConfigError::Geometry { at, .. }
             | ConfigError::Layering { at, .. }
+            | ConfigError::Outline { at, .. }
             | ConfigError::Grading { at, .. }
             | ConfigError::Scene { at, .. } => at,
         }
@@ -285,6 +297,7 @@ impl ConfigError {
             | ConfigError::NotApplicable { at, key, .. }
             | ConfigError::Geometry { at, key, .. }
             | ConfigError::Layering { at, key, .. }
+            | ConfigError::Outline { at, key, .. }
             | ConfigError::Grading { at, key, .. }
             | ConfigError::Scene { at, key, .. } => {
                 *at = place;
@@ -328,6 +341,7 @@ impl ConfigError {
             | ConfigError::NotApplicable { key, .. }
             | ConfigError::Geometry { key, .. }
             | ConfigError::Layering { key, .. }
+            | ConfigError::Outline { key, .. }
             | ConfigError::Grading { key, .. }
             | ConfigError::Scene { key, .. } => Some(key),
         }

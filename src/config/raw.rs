@@ -180,6 +180,107 @@ pub(crate) struct RawConfig {
     /// `[sweep]`: its keys are config paths, read with their places from
     /// the text (`validate/sweep.rs`).
     pub sweep: Option<Spanned<Table<toml::Table>>>,
+    /// `[shape]`: the particles' outlines; disks without it.
+    pub shape: Option<Spanned<Table<RawShape>>>,
+}
+
+/// `[shape]`: the family of outlines, its parameters, the orientation and
+/// which size the grading measures.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawShape {
+    pub kind: Spanned<String>,
+    pub aspect: Option<Spanned<RawSpread>>,
+    pub alpha: Option<Spanned<RawSpread>>,
+    pub beta: Option<Spanned<RawSpread>>,
+    pub orientation: Option<Spanned<String>>,
+    pub angle: Option<Spanned<f64>>,
+    pub spread: Option<Spanned<f64>>,
+    pub size: Option<Spanned<String>>,
+    pub templates: Option<Vec<Spanned<Table<RawTemplate>>>>,
+}
+
+/// `[[shape.templates]]`: one convex polygon and its share of the particles.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawTemplate {
+    pub vertices: Spanned<Vec<Pair>>,
+    pub rounding: Option<Spanned<f64>>,
+    pub share: Option<Spanned<f64>>,
+}
+
+/// A quantity of `[shape]` as written: a number, a range `[low, high]`,
+/// or a table `{ values = [...], shares = [...] }`.
+///
+/// Read by hand, not as an untagged enum: serde buffers an untagged value,
+/// and a buffered value loses its places (`toml::Spanned` refuses it), so
+/// the elements could not be blamed by line and column.
+#[derive(Debug)]
+pub(crate) enum RawSpread {
+    /// One value.
+    Fixed(f64),
+    /// `[low, high]`.
+    Range(Spanned<f64>, Spanned<f64>),
+    /// Values with their shares.
+    Shares(RawShares),
+}
+
+/// The table form of a [`RawSpread`].
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawShares {
+    pub values: Spanned<Vec<Spanned<f64>>>,
+    pub shares: Spanned<Vec<Spanned<f64>>>,
+}
+
+impl<'de> Deserialize<'de> for RawSpread {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct SpreadVisitor;
+
+        /// What a range is, for its length error.
+        const RANGE: &str = "a range [low, high] of 2 numbers";
+
+        impl<'de> Visitor<'de> for SpreadVisitor {
+            type Value = RawSpread;
+
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str(
+                    "a number, a range [low, high] or a table { values = [...], shares = [...] }",
+                )
+            }
+
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<RawSpread, E> {
+                Ok(RawSpread::Fixed(v))
+            }
+
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<RawSpread, E> {
+                Ok(RawSpread::Fixed(v as f64))
+            }
+
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<RawSpread, E> {
+                Ok(RawSpread::Fixed(v as f64))
+            }
+
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RawSpread, A::Error> {
+                let lo = element(&mut seq, 0, RANGE)?;
+                let hi = element(&mut seq, 1, RANGE)?;
+                let mut extra = 0;
+                while seq.next_element::<IgnoredAny>()?.is_some() {
+                    extra += 1;
+                }
+                if extra > 0 {
+                    return Err(de::Error::invalid_length(2 + extra, &RANGE));
+                }
+                Ok(RawSpread::Range(lo, hi))
+            }
+
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<RawSpread, A::Error> {
+                RawShares::deserialize(MapAccessDeserializer::new(map)).map(RawSpread::Shares)
+            }
+        }
+
+        deserializer.deserialize_any(SpreadVisitor)
+    }
 }
 
 /// `[output]`: where runs write and what.

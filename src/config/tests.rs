@@ -15,6 +15,7 @@ mod optimise;
 mod output;
 mod packer;
 mod schema;
+mod shape;
 
 /// The error `text` gives; fails the test if it parses.
 fn err(text: &str) -> ConfigError {

@@ -1,8 +1,10 @@
 //! Stage two: check the meaning of a [`RawConfig`] and build the [`Scene`].
 //!
 //! Three steps, the first fault ends the run:
-//! 1. the values of `[domain]`, `[grading]`, `[packer]`, `[limits]`, in that
-//!    order: positive, finite, known names, keys that apply to the shape;
+//! 1. the values of `[domain]`, `[grading]`, `[packer]`, `[optimise]`,
+//!    `[[materials]]`, `[layering]`, `[shape]`, `[limits]`, in that order:
+//!    positive, finite, known names, keys that apply to the shape (a
+//!    `[shape]` is refused here too where this version cannot pack it);
 //! 2. the [`Domain`](crate::geometry::Domain) and
 //!    [`Grading`](crate::grading::Grading) constructors, which check the
 //!    structure of polygons and grading tables; their typed errors are
@@ -37,6 +39,7 @@ mod output;
 mod packer;
 mod periodic;
 mod scene;
+mod shape;
 mod stop_rules;
 mod study;
 mod values;
@@ -44,6 +47,7 @@ mod values;
 use domain::{DomainPlan, coordinate_key};
 use fracture::FracturePlan;
 pub use limits::{DEFAULT_MAX_MEMORY_MB, DEFAULT_MAX_PARTICLES};
+pub(crate) use shape::shape_unsupported;
 
 /// The key of a config and where its value is.
 #[derive(Clone)]
@@ -107,6 +111,18 @@ impl Validator<'_> {
             .as_ref()
             .map(|l| self.layering(l, &materials))
             .transpose()?;
+        let shape = match &raw.shape {
+            None => None,
+            Some(table) => {
+                let spec = self.shape(table)?;
+                let walls = match &place {
+                    Place::Domain(plan, _) => plan.walls,
+                    Place::Fracture(plan) => plan.walls,
+                };
+                self.check_shape_support(table, &raw, &packer, walls)?;
+                Some(spec)
+            }
+        };
         let limit = self.limit(raw.limits.as_deref())?;
         let particles = self.particles_limit(raw.limits.as_deref())?;
         // Blamed instead of the domain when the sizes dwarf it (a table in µm).
@@ -127,7 +143,7 @@ impl Validator<'_> {
             packer,
             seed,
             limits,
-            shape: None,
+            shape: shape.clone(),
         };
         let (scene, fracture) = match place {
             Place::Domain(plan, raw_domain) => {

@@ -105,7 +105,8 @@ impl Plan {
     ///
     /// # Errors
     /// [`JobError::Input`] when the job needs a table the config lacks or
-    /// the request is out of range.
+    /// the request is out of range; [`JobError::Config`] at its `[shape]`
+    /// for a job other than pack on particle shapes (not in this version).
     pub fn new(
         mut config: Config,
         text: &str,
@@ -119,6 +120,10 @@ impl Plan {
             }
         }
         let kind = request.kind.unwrap_or_else(|| JobKind::natural(&config));
+        if kind != JobKind::Pack && config.scene.shape.is_some() {
+            let what = format!("the {} job", kind.name());
+            return Err(config::shape_unsupported(text, origin, &what).into());
+        }
         let mut planning = Planning {
             kind,
             config: &config,

@@ -12,7 +12,8 @@ pub use settings::{
     PackerSettings, Relaxation, Strips,
 };
 pub use shape::{
-    Drawer, Family, Orientation, SHAPE_STREAM, ShapeSpec, SizeMeasure, Spread, template_vertices,
+    Drawer, Family, MAX_ASPECT, MAX_EXPONENT, Orientation, SHAPE_STREAM, ShapeSpec, SizeMeasure,
+    Spread, template_vertices,
 };
 
 use crate::geometry::{Domain, WallMode};
@@ -245,8 +246,15 @@ impl Scene {
     /// to [`Scene::TYPICAL_POROSITY`] with disks of the grading's mean area.
     /// An estimate for progress bars and `gapack validate`; the particle and
     /// memory checks use the upper bound [`Scene::max_disks`] instead.
+    /// With a [`ShapeSpec`], the mean particle area is the mean disk area
+    /// times [`ShapeSpec::mean_area_ratio`] (an ellipse of aspect A sized by
+    /// sieve covers A times the disk of its least width).
     pub fn estimated_disks(&self) -> f64 {
-        self.domain.area() * (1.0 - Self::TYPICAL_POROSITY) / self.mean_disk_area()
+        let solid = self.domain.area() * (1.0 - Self::TYPICAL_POROSITY);
+        match &self.shape {
+            None => solid / self.mean_disk_area(),
+            Some(shape) => solid / (self.mean_disk_area() * shape.mean_area_ratio()),
+        }
     }
 
     /// The most disks any packing of this scene can hold (wall disks aside):
@@ -260,9 +268,18 @@ impl Scene {
     /// filled solid with disks of the grading's *mean* area, the bound this
     /// replaced, was passed by wide gradings: the sizes that fit lean small
     /// (a 20 mm square of 0.02–4 mm by mass: 6,366 "at most", 7,841 packed).
+    ///
+    /// With a [`ShapeSpec`], a particle's area is at least
+    /// [`ShapeSpec::least_area_ratio`] times the disk of its measured size
+    /// (polygons sized by sieve can be smaller than that disk), and the
+    /// bound is divided by that ratio.
     pub fn max_disks(&self) -> f64 {
         let d_min = self.d_min();
-        (self.domain.area() / (std::f64::consts::FRAC_PI_4 * d_min * d_min)).ceil()
+        let least_area = std::f64::consts::FRAC_PI_4 * d_min * d_min;
+        match &self.shape {
+            None => (self.domain.area() / least_area).ceil(),
+            Some(shape) => (self.domain.area() / (least_area * shape.least_area_ratio())).ceil(),
+        }
     }
 
     /// Smallest mean disk area of the curves (mm²): more disks than any

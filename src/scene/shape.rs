@@ -22,6 +22,28 @@ use crate::geometry::{Grain, Outline, Point};
 /// from (xor-ed with the scene's seed), apart from the sizes' stream.
 pub const SHAPE_STREAM: u64 = 0x5348_4150_455f_3031;
 
+/// Largest aspect ratio a particle may have (a superellipse's a/b, a
+/// polygon template's greatest over least width): thinner particles make
+/// the contact solving lose precision (the distance between two needles
+/// turned almost parallel is found to too few digits to certify it).
+pub const MAX_ASPECT: f64 = 20.0;
+
+/// Largest superellipse exponent: blockier outlines make the contact
+/// solving lose precision (their support points jump across the nearly
+/// square corners as the direction turns).
+pub const MAX_EXPONENT: f64 = 50.0;
+
+/// Least area of a convex particle of least width w, over w² (Pál: the
+/// equilateral triangle): 1/√3.
+const PAL_AREA: f64 = 0.577_350_269_189_625_8;
+
+/// Relative margin taken off every area ratio of [`ShapeSpec::least_area_ratio`]:
+/// the measured sizes come from sampled widths, a few ulps off the exact ones.
+const AREA_MARGIN: f64 = 1e-9;
+
+/// Nodes per range in [`ShapeSpec::mean_area_ratio`]'s midpoint rule.
+const RANGE_NODES: usize = 5;
+
 /// A quantity of a shape: one value, a uniform range, or values with shares.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Spread {
@@ -63,6 +85,24 @@ impl Spread {
                 .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &(v, _)| {
                     (lo.min(v), hi.max(v))
                 }),
+        }
+    }
+}
+
+impl Spread {
+    /// Values and weights (summing to 1) whose weighted mean approximates
+    /// the mean of any smooth function of a draw: the value itself, a
+    /// table's rows, or a range's [`RANGE_NODES`] midpoints.
+    fn nodes(&self) -> Vec<(f64, f64)> {
+        match self {
+            Spread::Fixed(v) => vec![(*v, 1.0)],
+            Spread::Range(lo, hi) => (0..RANGE_NODES)
+                .map(|k| {
+                    let t = (k as f64 + 0.5) / RANGE_NODES as f64;
+                    (lo + (hi - lo) * t, 1.0 / RANGE_NODES as f64)
+                })
+                .collect(),
+            Spread::Shares(table) => table.clone(),
         }
     }
 }
@@ -152,6 +192,62 @@ impl ShapeSpec {
             },
             orientation: Orientation::Random,
             size: SizeMeasure::Sieve,
+        }
+    }
+
+    /// The least ratio of a particle's area to that of the disk whose
+    /// diameter is its measured size, a lower bound over every outline the
+    /// shape can draw (less a relative 10⁻⁹ for the sampled widths):
+    /// - sized by equivalent diameter, 1: the area is the disk's;
+    /// - superellipses (α, β ≥ 1) sized by sieve, 1: their area is at
+    ///   least the disk's of their least width;
+    /// - polygons sized by sieve, (1/√3)/(π/4) ≈ 0.735: a convex shape of
+    ///   least width w has area at least w²/√3 (Pál; the equilateral
+    ///   triangle), less than the disk's πw²/4.
+    ///
+    /// The most particles a domain holds is its area over this ratio times
+    /// the smallest disk's ([`crate::Scene::max_disks`]).
+    pub fn least_area_ratio(&self) -> f64 {
+        let ratio = match (&self.family, self.size) {
+            (Family::Polygons { .. }, SizeMeasure::Sieve) => PAL_AREA / std::f64::consts::FRAC_PI_4,
+            _ => 1.0,
+        };
+        ratio * (1.0 - AREA_MARGIN)
+    }
+
+    /// The mean ratio of a particle's area to that of the disk whose
+    /// diameter is its measured size: exact for fixed parameters and for
+    /// polygons (their shares), a midpoint rule over ranges. The outline is
+    /// drawn apart from the size, so a particle's mean area is this times
+    /// the grading's mean disk area (for [`crate::Scene::estimated_disks`]).
+    pub fn mean_area_ratio(&self) -> f64 {
+        let ratio = |o: &Outline| {
+            let m = self.measure(o);
+            o.area() / (std::f64::consts::FRAC_PI_4 * m * m)
+        };
+        match &self.family {
+            Family::Polygons { templates } => templates.iter().map(|(t, s)| s * ratio(t)).sum(),
+            Family::Superellipse {
+                aspect,
+                alpha,
+                beta,
+            } => {
+                let mut sum = 0.0;
+                for (a, wa) in aspect.nodes() {
+                    for (al, wl) in alpha.nodes() {
+                        for (be, wb) in beta.nodes() {
+                            let o = Outline::Superellipse {
+                                a,
+                                b: 1.0,
+                                alpha: al,
+                                beta: be,
+                            };
+                            sum += wa * wl * wb * ratio(&o);
+                        }
+                    }
+                }
+                sum
+            }
         }
     }
 
@@ -311,6 +407,102 @@ mod tests {
     use super::*;
     use rand::SeedableRng;
     use rand_xoshiro::Xoshiro256PlusPlus;
+
+    /// The area of `outline` over the disk of its measured size.
+    fn area_ratio(spec: &ShapeSpec, outline: &Outline) -> f64 {
+        let m = spec.measure(outline);
+        outline.area() / (std::f64::consts::FRAC_PI_4 * m * m)
+    }
+
+    #[test]
+    fn least_area_ratio_bounds_every_outline_and_is_tight_for_triangles() {
+        let exponents = [1.0, 1.5, 2.0, 4.0, MAX_EXPONENT];
+        for size in [SizeMeasure::Sieve, SizeMeasure::Equivalent] {
+            for aspect in [1.0, 1.3, 2.0, MAX_ASPECT] {
+                for alpha in exponents {
+                    for beta in exponents {
+                        let spec = ShapeSpec {
+                            size,
+                            ..ShapeSpec::superellipses(aspect, alpha)
+                        };
+                        let o = Outline::Superellipse {
+                            a: aspect,
+                            b: 1.0,
+                            alpha,
+                            beta,
+                        };
+                        let ratio = area_ratio(&spec, &o);
+                        assert!(ratio >= spec.least_area_ratio(), "{aspect} {alpha} {beta}");
+                    }
+                }
+            }
+        }
+        let h = 3f64.sqrt();
+        let shapes: [&[[f64; 2]]; 3] = [
+            &[[0.0, 0.0], [2.0, 0.0], [1.0, h]],
+            &[[0.0, 0.0], [5.0, 0.0], [1.0, 1.0]],
+            &[[0.0, 0.0], [1.0, 0.0], [1.5, 0.8], [0.5, 1.5], [-0.4, 0.9]],
+        ];
+        for (i, vertices) in shapes.into_iter().enumerate() {
+            let o = Outline::polygon(0, &template_vertices(vertices), 0.0).expect("convex");
+            let spec = ShapeSpec {
+                family: Family::Polygons {
+                    templates: vec![(o.clone(), 1.0)],
+                },
+                orientation: Orientation::Random,
+                size: SizeMeasure::Sieve,
+            };
+            let (ratio, least) = (area_ratio(&spec, &o), spec.least_area_ratio());
+            assert!(ratio >= least, "{i}: {ratio} < {least}");
+            // Pál's bound is reached by the equilateral triangle, and a disk's is not a bound.
+            if i == 0 {
+                assert!(ratio < least * (1.0 + 1e-8) && ratio < 0.74, "{ratio}");
+            }
+            let equivalent = ShapeSpec {
+                size: SizeMeasure::Equivalent,
+                ..spec
+            };
+            assert!(area_ratio(&equivalent, &o) >= equivalent.least_area_ratio());
+        }
+    }
+
+    #[test]
+    fn mean_area_ratio_is_the_mean_over_the_draws() {
+        // An ellipse of aspect A sized by sieve covers A times its disk.
+        assert!((ShapeSpec::ellipses(3.0).mean_area_ratio() - 3.0).abs() < 1e-9);
+        let spec = ShapeSpec {
+            family: Family::Superellipse {
+                aspect: Spread::Range(1.0, 3.0),
+                alpha: Spread::Shares(vec![(2.0, 0.5), (4.0, 0.5)]),
+                beta: Spread::Fixed(2.0),
+            },
+            orientation: Orientation::Random,
+            size: SizeMeasure::Sieve,
+        };
+        // A fine midpoint grid over the same independent draws.
+        let n = 100;
+        let mut fine = 0.0;
+        for k in 0..n {
+            let a = 1.0 + 2.0 * (f64::from(k) + 0.5) / f64::from(n);
+            for alpha in [2.0, 4.0] {
+                let o = Outline::Superellipse {
+                    a,
+                    b: 1.0,
+                    alpha,
+                    beta: 2.0,
+                };
+                fine += 0.5 * area_ratio(&spec, &o) / f64::from(n);
+            }
+        }
+        let rule = spec.mean_area_ratio();
+        assert!((rule / fine - 1.0).abs() < 1e-3, "{rule} against {fine}");
+        // Sized by equivalent diameter, every particle covers its disk.
+        let equivalent = ShapeSpec {
+            size: SizeMeasure::Equivalent,
+            ..spec
+        };
+        assert!((equivalent.mean_area_ratio() - 1.0).abs() < 1e-9);
+    }
 
     #[test]
     fn drawn_grains_measure_the_drawn_size() {
