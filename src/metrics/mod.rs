@@ -25,7 +25,7 @@ pub use grading::{Blend, curve_diameters, grading_sizes, psd_ks, psd_ks_blend, p
 pub use porosity_map::{PorosityMap, porosity_map};
 pub use shapes::{
     AskedFamily, AskedOrientation, Fabric, Figures, ShapeAsked, ShapeStats, enclosing_radius,
-    inscribed_radius, long_axis, roundness, shape_stats, sphericity,
+    inscribed_radius, long_axis, roundness, shape_series, shape_stats, sphericity,
 };
 
 use std::borrow::Cow;

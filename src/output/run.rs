@@ -20,21 +20,27 @@ use super::export::{
 use super::format::{Format, OutputSettings};
 use super::json::{FractureSummary, LayeringSummary, OptimiseSummary, SUMMARY_JSON, summary_json};
 use super::plot::{
+    Asked, AskedShape, ORIENTATION_PNG, ORIENTATION_SVG, SHAPE_PNG, SHAPE_SVG, orientation_rose,
+    shape_chart,
+};
+use super::plot::{
     CompareChart, Drawable, PACKING_PNG, POROSITY_MAP_PNG, POROSITY_MAP_SVG, PSD_PNG, PSD_SVG,
     PsdChart, StabilityChart, convergence_chart, packing_png_coloured, porosity_map_chart,
     profile_chart, psd_chart, psd_chart_of_scene, window_chart,
 };
 use super::svg::{PACKING_SVG, SVG_MAX_BYTES, packing_svg_within};
 use crate::Scene;
-use crate::check::check;
+use crate::check::check_particles;
 use crate::compare::CompareRun;
 use crate::ga::Generation;
+use crate::geometry::Outline;
 use crate::geometry::predicates::OVERLAP_REL;
 use crate::grading::Grading;
 use crate::layering::{Material, ProfileRow};
-use crate::metrics::Metrics;
+use crate::metrics::{Metrics, shape_series, shape_stats};
 use crate::packer::Packing;
 use crate::scene::{Axis, Profile};
+use crate::scene::{Family, ShapeSpec, Spread};
 use crate::stability::StabilityRun;
 
 /// File name of the convergence chart.
@@ -297,6 +303,9 @@ pub fn render_output_bodies<'a>(
     tasks.packing(packing, materials, diameters, || {
         psd_chart_of_scene(packing, run.scene, materials)
     });
+    if !packing.grains.is_empty() {
+        tasks.shapes(packing, run.scene.shape.as_ref());
+    }
     if let Some((summary, history)) = run.optimise {
         if out.wants(Format::Csv) {
             tasks.add(CONVERGENCE_CSV, || convergence_csv(history));
@@ -336,7 +345,7 @@ const SUMMARY_AGREEMENT: f64 = 1e-9;
 /// with the wall disks either, and its counts and porosity must match the
 /// disks.
 fn confirm(packing: &Packing, metrics: &Metrics) -> Result<(), OutputError> {
-    let c = check(&packing.disks, &packing.domain, None);
+    let c = check_particles(&packing.disks, &packing.grains, &packing.domain, None);
     let mut faults = Vec::new();
     if c.malformed > 0 {
         faults.push(format!("{} malformed disks", c.malformed));
@@ -450,6 +459,29 @@ impl<'a> Tasks<'a> {
         self.chart((PSD_SVG, PSD_PNG), psd);
         self.chart((POROSITY_MAP_SVG, POROSITY_MAP_PNG), move || {
             porosity_map_chart(packing)
+        });
+    }
+
+    /// The shape chart (aspect ratio and sphericity found against what
+    /// `spec` asked) and the orientation rose of a packing of grains.
+    fn shapes(&mut self, packing: &'a Packing, spec: Option<&'a ShapeSpec>) {
+        let series = Arc::new(shape_series(&packing.grains));
+        let (a, b) = (series.clone(), series);
+        self.chart((SHAPE_SVG, SHAPE_PNG), move || {
+            shape_chart(&a.0, &a.1, &asked_shape(spec))
+        });
+        self.chart((ORIENTATION_SVG, ORIENTATION_PNG), move || {
+            let half_turn = packing
+                .grains
+                .iter()
+                .all(|g| matches!(g.outline, Outline::Superellipse { .. }));
+            let fabric = shape_stats(&packing.grains, spec).map(|s| s.fabric);
+            orientation_rose(
+                &b.2,
+                half_turn,
+                fabric.as_ref().map_or(0.0, |f| f.direction),
+                fabric.as_ref().map_or(0.0, |f| f.anisotropy),
+            )
         });
     }
 
@@ -580,5 +612,22 @@ mod tests {
             assert!(matches!(err, OutputError::Invalid(_)), "{err}");
             assert!(err.to_string().contains(expected), "{err}");
         }
+    }
+}
+
+/// What `spec` asked of the aspect ratio (sphericity follows from it and
+/// the exponents: not asked), for the shape chart.
+fn asked_shape(spec: Option<&ShapeSpec>) -> AskedShape {
+    let aspect = match spec.map(|s| &s.family) {
+        Some(Family::Superellipse { aspect, .. }) => match aspect {
+            Spread::Fixed(v) => Asked::Fixed(*v),
+            Spread::Range(lo, hi) => Asked::Range(*lo, *hi),
+            Spread::Shares(t) => Asked::Shares(t.clone()),
+        },
+        _ => Asked::Nothing,
+    };
+    AskedShape {
+        aspect,
+        sphericity: Asked::Nothing,
     }
 }

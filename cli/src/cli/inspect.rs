@@ -11,12 +11,13 @@ use gapack::config::ConfigName;
 use gapack::fracture::{Extent, Well};
 use gapack::layering::Material;
 use gapack::output::{
-    BOUNDARY_VTK, ESYS_GEOMETRY, Format, LAMMPS_DATA, MERCURY_DATA, PACKING_VTK, PFC_COMMANDS,
-    PackingTable, SUMMARY_JSON, SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, YADE_TEXT, boundary_vtk,
-    diameter_range, esys_geometry, lammps_data, mercury_data, packing_vtk, pfc_commands,
-    read_packing_csv, render_pictures, superquadric_data, superquadric_input, yade_text,
+    BOUNDARY_VTK, ESYS_GEOMETRY, Format, LAMMPS_CLUMPS_DATA, LAMMPS_DATA, MERCURY_DATA,
+    PACKING_VTK, PFC_COMMANDS, PackingTable, SUMMARY_JSON, SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT,
+    YADE_SCRIPT, YADE_TEXT, boundary_vtk, diameter_range, esys_geometry, lammps_clumps_data,
+    lammps_data, mercury_data, packing_vtk, pfc_commands, read_packing_csv, render_pictures,
+    superquadric_data, superquadric_input, yade_script, yade_text,
 };
-use gapack::{Check, GradingCheck, MIN_GRADING_DISKS, OVERLAP_REL, check};
+use gapack::{Check, GradingCheck, MIN_GRADING_DISKS, OVERLAP_REL, check, check_particles_sized};
 use gapack::{Domain, Packing, Point, Scene, bounds_of_disks, psd_ks};
 
 use super::{Failure, load_config, print_line, report};
@@ -83,18 +84,24 @@ pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
     let (scene, domain_note) = packed_scene(&config, args.well.as_deref(), &origin, &args.packing)?;
     let scene = scene.as_ref();
     let table = read_table(&args.packing)?;
-    if !table.grains.is_empty() {
-        return Err(Failure::Input(anyhow!(
-            "{}: the particles are not disks (the table has an angle column): gapack verify cannot certify such particles yet, and checking their equivalent disks instead would give a wrong verdict",
-            args.packing.display()
-        )));
-    }
     let graded = scene.gradient.is_some();
-    let mut result = check(
-        &table.disks,
-        &scene.domain,
-        (!graded).then_some(&scene.grading),
-    );
+    let grading = (!graded).then_some(&scene.grading);
+    let mut result = if table.grains.is_empty() {
+        check(&table.disks, &scene.domain, grading)
+    } else {
+        // Certified apart and inside by support functions; the grading on
+        // the size it measures (the config's [shape] size, else the
+        // equivalent diameter).
+        let sizes: Vec<f64> = match &scene.shape {
+            Some(shape) => table
+                .grains
+                .iter()
+                .map(|g| shape.measure(&g.outline))
+                .collect(),
+            None => table.disks.iter().map(|d| 2.0 * d.r).collect(),
+        };
+        check_particles_sized(&table.disks, &table.grains, &scene.domain, grading, &sizes)
+    };
     if graded {
         // Size-graded: each material against its own curve.
         result.grading = GradingCheck::of(result.particles - result.malformed, || {
@@ -156,9 +163,6 @@ pub fn run_export(args: &ExportArgs) -> Result<(), Failure> {
             .unwrap_or(Path::new("."))
             .to_path_buf(),
     };
-    std::fs::create_dir_all(&dir)
-        .with_context(|| format!("cannot create {}", dir.display()))
-        .map_err(Failure::Run)?;
     let mut files: Vec<(&str, Vec<u8>)> = Vec::new();
     let run = |r: Result<Vec<u8>, gapack::output::OutputError>| {
         r.map_err(|e| Failure::Run(anyhow!("{}: {e}", args.packing.display())))
@@ -185,7 +189,18 @@ pub fn run_export(args: &ExportArgs) -> Result<(), Failure> {
             Format::Mercury => {
                 files.push((MERCURY_DATA, run(mercury_data(&packing, materials, opts))?));
             }
-            Format::Yade => files.push((YADE_TEXT, run(yade_text(&packing, materials, opts))?)),
+            Format::Yade if packing.grains.is_empty() => {
+                files.push((YADE_TEXT, run(yade_text(&packing, materials, opts))?));
+            }
+            Format::Yade => {
+                files.push((YADE_SCRIPT, run(yade_script(&packing, materials, opts))?));
+            }
+            Format::LammpsClumps => {
+                files.push((
+                    LAMMPS_CLUMPS_DATA,
+                    run(lammps_clumps_data(&packing, materials, opts))?,
+                ));
+            }
             Format::Pfc => {
                 files.push((PFC_COMMANDS, run(pfc_commands(&packing, materials, opts))?));
             }
@@ -201,12 +216,17 @@ pub fn run_export(args: &ExportArgs) -> Result<(), Failure> {
             )),
         }
     }
-    for (name, bytes) in &files {
-        let path = dir.join(name);
-        std::fs::write(&path, bytes)
-            .with_context(|| format!("cannot write {}", path.display()))
-            .map_err(Failure::Run)?;
-        print_line(format_args!("{}", path.display()));
+    // Written all at once, each file atomically.
+    let named: Vec<(String, Vec<u8>)> = files
+        .into_iter()
+        .map(|(name, bytes)| (name.to_owned(), bytes))
+        .collect();
+    DirStore::new(&dir)
+        .write(&named)
+        .with_context(|| format!("cannot write the exports in {}", dir.display()))
+        .map_err(Failure::Run)?;
+    for (name, _) in &named {
+        print_line(format_args!("{}", dir.join(name).display()));
     }
     Ok(())
 }
