@@ -647,7 +647,7 @@ fn superellipse_support(a: f64, b: f64, alpha: f64, beta: f64, u: Vector2<f64>) 
         let (p, q) = (a * ux, b * uy);
         if alpha == 2.0 {
             // An ellipse: h = |(a·ux, b·uy)|, s = (a·p, b·q) / h.
-            let h = p.hypot(q);
+            let h = (p * p + q * q).sqrt();
             (h, a * p / h, b * q / h)
         } else if alpha == 1.0 {
             // A rhombus: the support point is a corner.

@@ -152,8 +152,13 @@ pub(super) fn interrupted_runs(done: usize, total: usize) -> String {
 /// `out/x: 345 disks, porosity 0.2139, psd_ks 0.061, max overlap 0, coordination 3.69, packed in 0.3 ms`.
 pub(super) fn pack_line(at: &str, metrics: &Metrics, seconds: f64) -> String {
     format!(
-        "{at}: {} disks, porosity {:.4}, psd_ks {:.3}, max overlap {}, coordination {:.2}, packed in {}{}",
+        "{at}: {} {}, porosity {:.4}, psd_ks {:.3}, max overlap {}, coordination {:.2}, packed in {}{}",
         metrics.particles,
+        if metrics.shapes.is_some() {
+            "particles"
+        } else {
+            "disks"
+        },
         metrics.porosity,
         metrics.psd_ks,
         overlap(metrics.max_overlap),

@@ -700,6 +700,23 @@ pub(crate) fn stats_for(
     Some(stats)
 }
 
+/// Each particle's aspect ratio, sphericity and long-axis angle (radians,
+/// counter-clockwise from the x axis), for the shape chart and the rose;
+/// each distinct outline up to scale measured once.
+pub fn shape_series(grains: &[Grain]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let mut memo = ShapeMemo::default();
+    let mut aspects = Vec::with_capacity(grains.len());
+    let mut sphericities = Vec::with_capacity(grains.len());
+    let mut axes = Vec::with_capacity(grains.len());
+    for g in grains {
+        let (unit, _) = memo.unit(&g.outline);
+        aspects.push(unit.aspect);
+        sphericities.push(unit.sphericity);
+        axes.push(g.angle + unit.axis);
+    }
+    (aspects, sphericities, axes)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -854,21 +871,4 @@ mod tests {
         assert_eq!(back.asked, s.asked);
         assert!((back.aspect.mean - s.aspect.mean).abs() < 1e-12);
     }
-}
-
-/// Each particle's aspect ratio, sphericity and long-axis angle (radians,
-/// counter-clockwise from the x axis), for the shape chart and the rose;
-/// each distinct outline up to scale measured once.
-pub fn shape_series(grains: &[Grain]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-    let mut memo = ShapeMemo::default();
-    let mut aspects = Vec::with_capacity(grains.len());
-    let mut sphericities = Vec::with_capacity(grains.len());
-    let mut axes = Vec::with_capacity(grains.len());
-    for g in grains {
-        let (unit, _) = memo.unit(&g.outline);
-        aspects.push(unit.aspect);
-        sphericities.push(unit.sphericity);
-        axes.push(g.angle + unit.axis);
-    }
-    (aspects, sphericities, axes)
 }

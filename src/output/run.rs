@@ -557,6 +557,23 @@ pub fn render_pictures(
     tasks.make()
 }
 
+/// What `spec` asked of the aspect ratio (sphericity follows from it and
+/// the exponents: not asked), for the shape chart.
+fn asked_shape(spec: Option<&ShapeSpec>) -> AskedShape {
+    let aspect = match spec.map(|s| &s.family) {
+        Some(Family::Superellipse { aspect, .. }) => match aspect {
+            Spread::Fixed(v) => Asked::Fixed(*v),
+            Spread::Range(lo, hi) => Asked::Range(*lo, *hi),
+            Spread::Shares(t) => Asked::Shares(t.clone()),
+        },
+        _ => Asked::Nothing,
+    };
+    AskedShape {
+        aspect,
+        sphericity: Asked::Nothing,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -612,22 +629,5 @@ mod tests {
             assert!(matches!(err, OutputError::Invalid(_)), "{err}");
             assert!(err.to_string().contains(expected), "{err}");
         }
-    }
-}
-
-/// What `spec` asked of the aspect ratio (sphericity follows from it and
-/// the exponents: not asked), for the shape chart.
-fn asked_shape(spec: Option<&ShapeSpec>) -> AskedShape {
-    let aspect = match spec.map(|s| &s.family) {
-        Some(Family::Superellipse { aspect, .. }) => match aspect {
-            Spread::Fixed(v) => Asked::Fixed(*v),
-            Spread::Range(lo, hi) => Asked::Range(*lo, *hi),
-            Spread::Shares(t) => Asked::Shares(t.clone()),
-        },
-        _ => Asked::Nothing,
-    };
-    AskedShape {
-        aspect,
-        sphericity: Asked::Nothing,
     }
 }

@@ -18,11 +18,11 @@ fn rng_seed() -> RngSeed {
 }
 
 /// Every domain shape: rectangle, L-shaped polygon, circle, trapezoid,
-/// periodic cell, 12–18 mm across.
+/// periodic cell, 9–16 mm across.
 fn domain_strategy() -> impl Strategy<Value = Domain> {
     prop_oneof![
-        (12.0..18.0f64, 12.0..18.0f64).prop_map(|(w, h)| Domain::rectangle(w, h).unwrap()),
-        (14.0..18.0f64).prop_map(|s| {
+        (9.0..13.0f64, 9.0..13.0f64).prop_map(|(w, h)| Domain::rectangle(w, h).unwrap()),
+        (11.0..14.0f64).prop_map(|s| {
             let v = [
                 (0.0, 0.0),
                 (s, 0.0),
@@ -33,10 +33,10 @@ fn domain_strategy() -> impl Strategy<Value = Domain> {
             ];
             Domain::polygon(&v.map(|(x, y)| Point::new(x, y))).unwrap()
         }),
-        (7.0..9.0f64).prop_map(|r| Domain::circle(Point::new(1.0, -2.0), r).unwrap()),
-        (14.0..18.0f64, 6.0..12.0f64, 12.0..16.0f64)
+        (5.0..7.0f64).prop_map(|r| Domain::circle(Point::new(1.0, -2.0), r).unwrap()),
+        (11.0..14.0f64, 5.0..9.0f64, 9.0..12.0f64)
             .prop_map(|(b, t, h)| Domain::trapezoid(b, t, h).unwrap()),
-        (12.0..16.0f64, 12.0..16.0f64).prop_map(|(w, h)| Domain::periodic_rectangle(w, h).unwrap()),
+        (13.0..16.0f64, 13.0..16.0f64).prop_map(|(w, h)| Domain::periodic_rectangle(w, h).unwrap()),
     ]
 }
 
@@ -63,8 +63,8 @@ fn shape_strategy() -> impl Strategy<Value = ShapeSpec> {
         }
     });
     prop_oneof![
-        (1.0..3.0f64).prop_map(ShapeSpec::ellipses),
-        (1.0..3.0f64, 1.0..8.0f64).prop_map(|(a, e)| ShapeSpec::superellipses(a, e)),
+        (1.0..5.0f64).prop_map(ShapeSpec::ellipses),
+        (1.0..3.0f64, 1.0..10.0f64).prop_map(|(a, e)| ShapeSpec::superellipses(a, e)),
         Just(ShapeSpec {
             family: Family::Superellipse {
                 aspect: Spread::Range(1.0, 3.0),
@@ -114,17 +114,19 @@ fn scene_strategy() -> impl Strategy<Value = (Scene, Rule)> {
             match rule {
                 Rule::TwoContacts => scene.packer.one_contact_share = 0.0,
                 Rule::OneContact => scene.packer.one_contact_share = 1.0,
-                Rule::Rsa => scene = scene.with_method(Method::Rsa),
+                Rule::Rsa => {
+                    scene = scene.with_method(Method::Rsa);
+                    scene.packer.attempts = 3000;
+                }
             }
             (scene, rule)
         })
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 48, rng_seed: rng_seed(), ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 24, rng_seed: rng_seed(), ..ProptestConfig::default() })]
 
     #[test]
-    #[ignore = "48 cases did not finish in 17 minutes: to be timed and trimmed"]
     fn shape_packings_are_certified_and_leave_no_hole((scene, rule) in scene_strategy()) {
         certified_and_full(&scene, rule)?;
     }
@@ -134,7 +136,11 @@ proptest! {
 /// no overlap and none outside as `check_particles` proves them, and no
 /// empty disk wider than the largest particle's bounding circle.
 fn certified_and_full(scene: &Scene, rule: Rule) -> Result<(), TestCaseError> {
-    let packing = pack(scene).unwrap();
+    // A cell narrower than four bounding radii is refused, as documented.
+    let packing = match pack(scene) {
+        Err(gapack::PackError::PeriodicCellTooSmall { .. }) => return Ok(()),
+        other => other.unwrap(),
+    };
     prop_assert!(!packing.disks.is_empty());
     prop_assert_eq!(packing.grains.len(), packing.disks.len());
     let c = check_particles(&packing.disks, &packing.grains, &packing.domain, None);

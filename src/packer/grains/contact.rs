@@ -25,6 +25,9 @@ use crate::geometry::{Outline, Point, apart, separation_from};
 /// far below the contact tolerance of the metrics, far above rounding.
 pub(super) const GAP_REL: f64 = 1e-9;
 
+/// How near a coarse two-contact solve comes, relative to the reach.
+pub(super) const COARSE_REL: f64 = 1e-4;
+
 /// Newton iterations of one two-contact solve.
 const NEWTON_ITERATIONS: usize = 30;
 
@@ -39,13 +42,18 @@ pub(super) struct Newcomer<'a> {
     pub sin: f64,
     pub reach: f64,
     pub inner: f64,
+    /// Taken off every support value: 0 for the particle itself; a small
+    /// positive value gives a slightly eroded particle, for a test that
+    /// forgives a coarse centre (never for a placement).
+    pub slack: f64,
 }
 
 impl Newcomer<'_> {
     /// Support value and point (about the centre) in world direction `u`.
     #[inline]
     pub fn support(&self, u: Vector2<f64>) -> (f64, Vector2<f64>) {
-        support_turned(self.outline, self.cos, self.sin, u)
+        let (h, p) = support_turned(self.outline, self.cos, self.sin, u);
+        (h - self.slack, p)
     }
 }
 
@@ -170,30 +178,58 @@ pub(super) fn clear_of(bodies: &[Body], ob: &Obstacle, new: &Newcomer, p: Point)
 }
 
 /// Distance from the origin to the farthest point of the new particle
-/// centred at `v`, max over u of u·v + h(u), and the maximising direction:
-/// the fixed point u = (v + s(u)) / |v + s(u)|, reached from u = v/|v|
-/// (a contraction while the particle's curvature radii are smaller than
-/// its distance from the origin: a particle near a circular wall).
+/// centred at `v`, max over u of u·v + h(u), and the maximising direction.
+///
+/// # Behavior
+/// A polygon's farthest point is a corner (plus the rounding): exact. A
+/// superellipse's is a fixed point u = (v + s(u)) / |v + s(u)|, found from
+/// five starts (towards `v` and along both own axes, both ways) and the
+/// largest kept: the tips of an elongated particle are separate local
+/// maxima, and the one a single start reaches may not be the farthest.
 fn farthest(new: &Newcomer, v: Vector2<f64>) -> (f64, Vector2<f64>) {
+    if let Outline::Polygon {
+        vertices, rounding, ..
+    } = new.outline
+    {
+        let mut best = (f64::NEG_INFINITY, Vector2::new(0.0, -1.0));
+        for p in vertices.iter() {
+            let w = v + Vector2::new(new.cos * p.x - new.sin * p.y, new.sin * p.x + new.cos * p.y);
+            let n = w.norm();
+            if n > best.0 {
+                best = (n, if n > 0.0 { w / n } else { best.1 });
+            }
+        }
+        return (best.0 + rounding - new.slack, best.1);
+    }
     let n = v.norm();
-    let mut u = if n > 0.0 {
-        v / n
-    } else {
-        Vector2::new(0.0, -1.0)
-    };
-    let mut best = (f64::NEG_INFINITY, u);
-    for _ in 0..40 {
-        let (h, s) = new.support(u);
-        let value = u.dot(&v) + h;
-        if value > best.0 {
-            best = (value, u);
+    let (c, s) = (new.cos, new.sin);
+    let starts = [
+        if n > 0.0 {
+            v / n
+        } else {
+            Vector2::new(0.0, -1.0)
+        },
+        Vector2::new(c, s),
+        Vector2::new(-c, -s),
+        Vector2::new(-s, c),
+        Vector2::new(s, -c),
+    ];
+    let mut best = (f64::NEG_INFINITY, starts[0]);
+    for start in starts {
+        let mut u = start;
+        for _ in 0..40 {
+            let (h, sp) = new.support(u);
+            let value = u.dot(&v) + h;
+            if value > best.0 {
+                best = (value, u);
+            }
+            let x = v + sp;
+            let next = x / x.norm();
+            if (next - u).norm_squared() < 1e-30 {
+                break;
+            }
+            u = next;
         }
-        let x = v + s;
-        let next = x / x.norm();
-        if (next - u).norm_squared() < 1e-30 {
-            break;
-        }
-        u = next;
     }
     best
 }
@@ -282,19 +318,26 @@ fn circle_circle(c1: Point, r1: f64, c2: Point, r2: f64, out: &mut Vec<Point>) {
 /// `b` at the gap ε = [`GAP_REL`]·reach, or `None` when Newton does not
 /// settle (the obstacles' contact curves do not cross near there, or cross
 /// at a grazing angle). Counts its distance evaluations in `work`.
+///
+/// With `coarse`, it stops as soon as both gaps are within
+/// [`COARSE_REL`]·reach of ε (a few iterations fewer): good enough to
+/// rank a candidate and to reject it when another particle blocks it, and
+/// a start from which the fine solve takes one or two steps.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn two_contact(
     bodies: &[Body],
     a: &Obstacle,
     b: &Obstacle,
     new: &Newcomer,
     start: Point,
+    coarse: bool,
     work: &mut u64,
 ) -> Option<Point> {
     let eps = GAP_REL * new.reach;
     let mut p = start;
     let (mut ga, mut gb) = (Vector2::zeros(), Vector2::zeros());
     // The distances need only be as accurate as the step they make.
-    let mut tol = 1e-3 * new.reach;
+    let mut tol = if coarse { 1e-3 } else { 1e-2 * COARSE_REL } * new.reach;
     let mut last = f64::INFINITY;
     for i in 0..NEWTON_ITERATIONS {
         let (fa, da) = clearance(bodies, a, new, p, tol, ga);
@@ -303,6 +346,9 @@ pub(super) fn two_contact(
         *work += 2;
         let (ra, rb) = (fa - eps, fb - eps);
         let residual = ra.abs().max(rb.abs());
+        if coarse && residual <= COARSE_REL * new.reach {
+            return Some(p);
+        }
         if residual <= 0.5 * eps {
             if tol <= 0.05 * eps {
                 return Some(p);

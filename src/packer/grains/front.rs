@@ -23,7 +23,8 @@ use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
 use super::contact::{
-    GAP_REL, Newcomer, Obstacle, clear_of, point_segment_distance, slide, starts, two_contact,
+    COARSE_REL, GAP_REL, Newcomer, Obstacle, clear_of, point_segment_distance, slide, starts,
+    two_contact,
 };
 use super::{Body, PEAK_BYTES_PER_GRAIN, Radii};
 use crate::cancel::Cancel;
@@ -36,6 +37,14 @@ use crate::{Scene, WallMode};
 
 /// Seed offset of the stream that picks one-contact placements.
 const CONTACT_STREAM: u64 = 0x6F6E_655F_636F_6E74;
+
+/// A parked front wakes for a size at most this share of the one it failed
+/// for: a front is tried again only for a clearly smaller particle.
+const WAKE_RATIO: f64 = 1.0;
+
+/// A front that fails for a size within this factor of the smallest drawn
+/// is closed: no particle fits touching it.
+const CLOSE_BAND: f64 = 1.05;
 
 /// Retries of one deferred size before it is given up.
 const DEFERRED_RETRIES: u32 = 32;
@@ -199,7 +208,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             s => self.contact_rng.r#gen::<f64>() < s,
         };
         // Wake the fronts parked for a larger size.
-        let key = (r_eq.to_bits().saturating_add(1), 0);
+        let key = ((r_eq / WAKE_RATIO).to_bits().saturating_add(1), 0);
         let woken: Vec<(u64, u32)> = self.parked.range(key..).map(|(k, _)| *k).collect();
         for k in woken.into_iter().rev() {
             self.parked.remove(&k);
@@ -212,6 +221,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 sin,
                 reach,
                 inner,
+                slack: 0.0,
             };
             let mut spot = None;
             if self.needs_seed() {
@@ -241,8 +251,9 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                         sin: 0.0,
                         reach: smallest,
                         inner: smallest,
+                        slack: 0.0,
                     };
-                    if r_eq > self.r_small * (1.0 + 1e-9)
+                    if r_eq > self.r_small * CLOSE_BAND
                         && self.attempt(front, &probe, false, true).is_some()
                     {
                         self.parked.insert((r_eq.to_bits(), front), ());
@@ -441,16 +452,39 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                     let to = Point::from(0.5 * (cf.coords + reference(&self.bodies, ob, s).coords));
                     slide(&self.bodies, &me, Some(ob), new, s, to, &mut work)
                 } else {
-                    two_contact(&self.bodies, &me, ob, new, s, &mut work)
+                    two_contact(&self.bodies, &me, ob, new, s, true, &mut work)
                 };
-                let Some(p) = p else { continue };
+                let Some(mut p) = p else { continue };
+                let rank = self.rank(p);
+                // A coarse centre is within COARSE_REL·reach of its own:
+                // its rank (a height, or a squared distance in a cell)
+                // within the slack below.
+                let slack = |r: f64| 4.0 * COARSE_REL * new.reach * (1.0 + r.abs().sqrt());
+                if best.is_some_and(|(r, _)| rank.0 > r.0 + slack(r.0)) {
+                    continue;
+                }
+                self.stats.work += work;
+                work = 0;
+                if !one_contact {
+                    // Blocked where it nearly is, by more than the coarse
+                    // solve's error: no need to settle it.
+                    let eroded = Newcomer {
+                        slack: 2.0 * COARSE_REL * new.reach,
+                        ..*new
+                    };
+                    if !self.clear(&eroded, p, &[me, *ob]) {
+                        continue;
+                    }
+                    match two_contact(&self.bodies, &me, ob, new, p, false, &mut work) {
+                        Some(fine) => p = fine,
+                        None => continue,
+                    }
+                }
                 let rank = self.rank(p);
                 if best.is_some_and(|(r, _)| rank >= r) {
                     continue;
                 }
                 // Certified clear of the two it was solved against already.
-                self.stats.work += work;
-                work = 0;
                 if self.clear(new, p, &[me, *ob]) {
                     if any {
                         return Some(p);

@@ -53,6 +53,7 @@ pub(super) fn pack(
                 sin,
                 reach,
                 inner,
+                slack: 0.0,
             };
             for _ in 0..attempts {
                 front.stats.front_attempts += 1;
