@@ -22,6 +22,7 @@ use common::{gapack, scratch};
 const PAGES: &[&str] = &[
     "README.md",
     "docs/usage.md",
+    "docs/shapes.md",
     "docs/optimise.md",
     "docs/layering.md",
     "docs/fractures.md",

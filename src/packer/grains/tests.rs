@@ -1,35 +1,26 @@
 use super::*;
-use crate::geometry::{Disk, Domain, Grain, grain_separation};
+use crate::geometry::{Disk, Domain, grain_separation};
 use crate::{Basis, Grading, ShapeSpec, pack};
 
-/// Every pair of particles certified apart (all pairs), and every particle
-/// inside a rectangle `w` × `h` at the origin (support functions).
+/// Every pair of particles certified apart and every particle inside, by
+/// the independent check; the inside also by support functions when the
+/// domain is the rectangle `w` × `h` at the origin.
 fn assert_valid(packing: &Packing, rect: Option<(f64, f64)>) {
     let n = packing.disks.len();
     assert_eq!(packing.grains.len(), n);
-    let turned: Vec<_> = packing.grains.iter().map(Grain::turned).collect();
-    for i in 0..n {
-        let (ci, ri) = (packing.disks[i].c, packing.grains[i].outline.circumradius());
-        for j in i + 1..n {
-            let (cj, rj) = (packing.disks[j].c, packing.grains[j].outline.circumradius());
-            if (ci - cj).norm() >= ri + rj {
-                continue;
-            }
-            let s = grain_separation(&turned[i], ci, &turned[j], cj, 1e-12 * ri);
-            assert!(
-                s.lower > 0.0,
-                "particles {i} and {j} not certified apart: {s:?}"
-            );
-        }
-        if let Some((w, h)) = rect {
-            let t = &turned[i];
+    let c = crate::check_particles(&packing.disks, &packing.grains, &packing.domain, None);
+    assert!(c.valid(), "{c:?}");
+    if let Some((w, h)) = rect {
+        for (g, d) in packing.grains.iter().zip(&packing.disks) {
+            let t = g.turned();
+            let ci = d.c;
             for (u, limit) in [
                 (Vector2::new(1.0, 0.0), w - ci.x),
                 (Vector2::new(-1.0, 0.0), ci.x),
                 (Vector2::new(0.0, 1.0), h - ci.y),
                 (Vector2::new(0.0, -1.0), ci.y),
             ] {
-                assert!(t.support_both(u).0 <= limit, "particle {i} crosses a wall");
+                assert!(t.support_both(u).0 <= limit, "a particle crosses a wall");
             }
         }
     }
