@@ -16,7 +16,10 @@ fn shapes(c: &mut Criterion) {
         for (name, shape) in [
             ("disks", None),
             ("ellipses-1.5", Some(ShapeSpec::ellipses(1.5))),
-            ("superellipses-4-2", Some(ShapeSpec::superellipses(2.0, 4.0))),
+            (
+                "superellipses-4-2",
+                Some(ShapeSpec::superellipses(2.0, 4.0)),
+            ),
         ] {
             let square = common::square(n, PackerSettings::default());
             let scene = match shape {

@@ -15,7 +15,7 @@ use pyo3::types::{PyDict, PyList};
 use crate::errors::input_error;
 
 /// Every output format, in the order `[output] formats` documents them.
-const FORMATS: [Format; 11] = [
+const FORMATS: [Format; 12] = [
     Format::Csv,
     Format::Json,
     Format::Vtk,

@@ -95,6 +95,14 @@ pub const EXAMPLES: &[(&str, &str)] = &[
         "proppant_20_40",
         include_str!("../../configs/proppant_20_40.toml"),
     ),
+    (
+        "shapes_ellipses",
+        include_str!("../../configs/shapes_ellipses.toml"),
+    ),
+    (
+        "shapes_polygons",
+        include_str!("../../configs/shapes_polygons.toml"),
+    ),
     ("square_100", include_str!("../../configs/square_100.toml")),
     (
         "sweep_wells",

@@ -328,6 +328,22 @@ fn group_thousands(v: f64) -> String {
 mod tests {
     use super::*;
 
+    #[test]
+    fn jobs_other_than_pack_are_refused_at_the_shape_table() {
+        let text = "[domain]\nshape = \"rectangle\"\nwidth = 40\nheight = 40\n[grading]\nconstant = 1.2\n[shape]\nkind = \"superellipse\"\naspect = 1.5\n";
+        for kind in [JobKind::Compare, JobKind::Stability] {
+            let e = Plan::load(text, "t.toml", &Request::new(kind)).expect_err("refused");
+            let message = e.to_string();
+            assert!(message.starts_with("t.toml:7:1: shape:"), "{message}");
+            assert!(
+                message.contains(&format!("the {} job", kind.name())),
+                "{message}"
+            );
+        }
+        let plan = Plan::load(text, "t.toml", &Request::natural()).expect("packs");
+        assert_eq!(plan.kind, JobKind::Pack);
+    }
+
     const SQUARE: &str =
         "[domain]\nshape = \"rectangle\"\nwidth = 10\nheight = 10\n[grading]\nconstant = 1.0\n";
 

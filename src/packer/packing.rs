@@ -45,6 +45,16 @@ impl Packing {
     }
 }
 
+impl Packing {
+    /// This packing with `grains`, one per packed particle: particles that
+    /// are not disks, `disks` holding their centres and area-equivalent
+    /// radii (a table read back, a packing built by hand).
+    #[must_use]
+    pub fn with_grains(self, grains: Vec<Grain>) -> Self {
+        Packing { grains, ..self }
+    }
+}
+
 /// Counters of the generator's work, for reports and benchmarks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[non_exhaustive]

@@ -18,7 +18,7 @@ use gapack::output::{
     superquadric_data, superquadric_input, yade_script, yade_text,
 };
 use gapack::{Check, GradingCheck, MIN_GRADING_DISKS, OVERLAP_REL, check, check_particles_sized};
-use gapack::{Domain, Packing, Point, Scene, bounds_of_disks, psd_ks};
+use gapack::{Domain, Packing, Point, Scene, bounds_of_disks, grading_sizes, psd_ks};
 
 use super::{Failure, load_config, print_line, report};
 use gapack::jobs::{DirStore, Store};
@@ -92,14 +92,9 @@ pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
         // Certified apart and inside by support functions; the grading on
         // the size it measures (the config's [shape] size, else the
         // equivalent diameter).
-        let sizes: Vec<f64> = match &scene.shape {
-            Some(shape) => table
-                .grains
-                .iter()
-                .map(|g| shape.measure(&g.outline))
-                .collect(),
-            None => table.disks.iter().map(|d| 2.0 * d.r).collect(),
-        };
+        let packing = Packing::of_disks(scene.domain.clone(), table.disks.clone())
+            .with_grains(table.grains.clone());
+        let sizes = grading_sizes(&packing, scene);
         check_particles_sized(&table.disks, &table.grains, &scene.domain, grading, &sizes)
     };
     if graded {

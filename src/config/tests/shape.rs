@@ -3,7 +3,6 @@
 
 use super::*;
 use crate::geometry::{Outline, Point};
-use crate::jobs::{JobKind, Plan, Request};
 use crate::scene::{Family, Orientation, ShapeSpec, SizeMeasure, Spread};
 
 /// A 40 mm square of 1.2 mm disks with `shape` lines under `[shape]` (line 8 on).
@@ -441,21 +440,6 @@ fn tables_of_other_jobs_are_refused_with_shapes() {
         &fracture,
         &unsupported("[fracture] (its wells)").replace("t.toml:7:1", "t.toml:6:1"),
     );
-}
-
-#[test]
-fn jobs_other_than_pack_are_refused_at_the_shape_table() {
-    let text = with_shape("kind = \"superellipse\"\naspect = 1.5");
-    for kind in [JobKind::Compare, JobKind::Stability] {
-        let e = Plan::load(&text, "t.toml", &Request::new(kind)).expect_err("refused");
-        assert_eq!(
-            e.to_string(),
-            unsupported(&format!("the {} job", kind.name())),
-            "{kind:?}"
-        );
-    }
-    let plan = Plan::load(&text, "t.toml", &Request::natural()).expect("packs");
-    assert_eq!(plan.kind, JobKind::Pack);
 }
 
 #[test]
