@@ -222,18 +222,46 @@ print           "RESULT $(count(all))"
     assert f"RESULT {len(placed)}" in done.stdout
 
 
-def test_verify_refuses_particles_it_cannot_certify(cli, tmp_path):
-    """A table of superellipses is not checked as if its particles were
-    their equivalent disks: verify says why and exits 2."""
+SHAPE_CONFIG = """\
+seed = 0
+[domain]
+shape = "rectangle"
+width = 20.0
+height = 20.0
+[grading]
+constant = 2.0
+[shape]
+kind = "superellipse"
+aspect = 1.5
+alpha = 4.0
+size = "sieve"
+"""
+
+
+def test_verify_certifies_the_particles_and_finds_a_push(cli, tmp_path):
+    """verify proves the superellipses apart and inside (their least width
+    2b the grading's size), and finds the overlap once one is pushed 1 %
+    of its size into its neighbour."""
     write_table(tmp_path / "packing.csv")
-    (tmp_path / "cfg.toml").write_text(CONFIG)
-    done = subprocess.run(
-        [str(cli), "verify", "packing.csv", "--config", "cfg.toml"],
-        cwd=tmp_path,
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
-    assert done.returncode == 2, done.stdout + done.stderr
-    assert "the particles are not disks" in done.stderr
-    assert "valid" not in done.stdout
+    (tmp_path / "cfg.toml").write_text(SHAPE_CONFIG)
+
+    def verify(name):
+        return subprocess.run(
+            [str(cli), "verify", name, "--config", "cfg.toml"],
+            cwd=tmp_path,
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+
+    done = verify("packing.csv")
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert ": valid" in done.stdout, done.stdout
+    rows = (tmp_path / "packing.csv").read_text().splitlines()
+    cells = rows[2].split(",")
+    cells[1] = repr(float(cells[1]) - 0.01 * 2 * B)
+    rows[2] = ",".join(cells)
+    (tmp_path / "pushed.csv").write_text("\n".join(rows) + "\n")
+    done = verify("pushed.csv")
+    assert done.returncode == 1, done.stdout + done.stderr
+    assert "FAILED" in done.stdout and "overlap" in done.stderr, done.stdout + done.stderr
