@@ -218,3 +218,59 @@ fn largest_hole(packing: &Packing, reach: f64) -> (Point, f64) {
     }
     (best.0, 2.0 * best.1)
 }
+
+/// A packing of shapes and every file made of it, the same bytes with one
+/// and two threads (the files are rendered on every thread): a small
+/// square of ellipses with the exports that draw, measure and clump.
+#[test]
+fn shapes_give_the_same_files_on_one_or_two_threads() {
+    let dir = common::scratch("shapes-threads");
+    std::fs::write(
+        dir.join("e.toml"),
+        "seed = 4\n[domain]\nshape = \"rectangle\"\nwidth = 16\nheight = 16\n[grading]\nuniform = [1, 2]\n[shape]\nkind = \"superellipse\"\naspect = 1.8\n[output]\nformats = [\"csv\", \"json\", \"vtk\", \"lammps\", \"lammps-clumps\", \"yade\", \"pfc\", \"svg\", \"png\"]\n",
+    )
+    .unwrap();
+    let run = |threads: &str| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_gapack"))
+            .args(["pack", "e.toml", "--quiet", "--out", threads])
+            .env("RAYON_NUM_THREADS", threads)
+            .current_dir(&dir)
+            .output()
+            .expect("run gapack");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        dir.join(threads)
+    };
+    let (one, two) = (run("1"), run("2"));
+    let mut names: Vec<_> = std::fs::read_dir(&one)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    names.sort();
+    assert!(names.iter().any(|n| n == "orientation.png"), "{names:?}");
+    // The JSON files hold the run's time: compared without it.
+    let timeless = |bytes: Vec<u8>| -> Vec<u8> {
+        String::from_utf8_lossy(&bytes)
+            .lines()
+            .filter(|l| !l.contains("\"seconds\"") && !l.contains("\"started\""))
+            .collect::<Vec<_>>()
+            .join("\n")
+            .into_bytes()
+    };
+    for name in names {
+        if name == "manifest.json" {
+            continue;
+        }
+        let read = |dir: &std::path::Path| std::fs::read(dir.join(&name)).unwrap();
+        let (a, b) = (read(&one), read(&two));
+        let same = if name.to_string_lossy().ends_with(".json") {
+            timeless(a) == timeless(b)
+        } else {
+            a == b
+        };
+        assert!(same, "{name:?} differs between one and two threads");
+    }
+}
