@@ -62,6 +62,9 @@ pub(super) fn pack(
     if scene.packer.fill == Fill::Right {
         return refuse("packer.fill = \"right\"");
     }
+    if let Some(why) = malformed(shape) {
+        return refuse(&why);
+    }
     match scene.packer.method {
         Method::AdvancingFront => {
             super::near_origin(scene, |s| front::pack(s, shape, progress, cancel))
@@ -70,6 +73,40 @@ pub(super) fn pack(
         Method::Deposition => refuse("method = \"deposition\""),
         Method::Relaxation => refuse("method = \"relaxation\""),
         Method::Densify => refuse("method = \"densify\""),
+    }
+}
+
+/// Why a shape built in code (a config's is validated) cannot be packed:
+/// no polygon template, a template or exponent its constructor refuses, a
+/// range or share that is not finite and at least 1 where it must be.
+fn malformed(shape: &ShapeSpec) -> Option<String> {
+    use crate::scene::{Family, Spread};
+    let at_least_one = |s: &Spread| {
+        let (lo, hi) = s.bounds();
+        lo.is_finite() && hi.is_finite() && lo >= 1.0 && lo <= hi
+    };
+    match &shape.family {
+        Family::Superellipse {
+            aspect,
+            alpha,
+            beta,
+        } => (![aspect, alpha, beta].iter().all(|s| at_least_one(s)))
+            .then(|| "an aspect ratio or exponent below 1 or not finite".to_owned()),
+        Family::Polygons { templates } if templates.is_empty() => {
+            Some("no polygon template".to_owned())
+        }
+        Family::Polygons { templates } => templates.iter().find_map(|(t, share)| match t {
+            Outline::Polygon {
+                template,
+                vertices,
+                rounding,
+            } if share.is_finite() && *share >= 0.0 => {
+                Outline::polygon(*template, vertices, *rounding)
+                    .err()
+                    .map(|e| e.to_string())
+            }
+            _ => Some("a template that is not a polygon with a share".to_owned()),
+        }),
     }
 }
 

@@ -124,4 +124,20 @@ fn periodic_cells_and_circles_pack_without_overlap() {
 fn refuses_what_shapes_do_not_support() {
     let s = scene(ShapeSpec::ellipses(1.5), 10.0).with_method(Method::Deposition);
     assert!(matches!(pack(&s), Err(PackError::NotForShapes { .. })));
+    // A shape built in code with nothing to draw, or not convex: refused.
+    let empty = ShapeSpec {
+        family: crate::Family::Polygons {
+            templates: Vec::new(),
+        },
+        ..ShapeSpec::ellipses(1.5)
+    };
+    assert!(matches!(
+        pack(&scene(empty, 10.0)),
+        Err(PackError::NotForShapes { .. })
+    ));
+    let concave = ShapeSpec::superellipses(1.5, 0.5);
+    assert!(matches!(
+        pack(&scene(concave, 10.0)),
+        Err(PackError::NotForShapes { .. })
+    ));
 }
