@@ -156,16 +156,45 @@ impl<'a> Export<'a> {
     /// whole; a periodic cell's own bounds (its disks cross them, as
     /// periodic images).
     pub(super) fn extent(&self) -> (Point, Point) {
-        let bounds = self.packing.domain.bounds();
-        if self.packing.domain.is_periodic() {
-            return bounds;
-        }
-        bounds_of_disks(bounds, &self.packing.disks)
+        extent(self.packing)
     }
 
-    /// Largest packed radius (mm), 0 without disks.
+    /// Largest packed radius (mm), 0 without disks; with grains, the
+    /// largest circumradius.
     pub(super) fn r_max(&self) -> f64 {
-        self.packing.disks.iter().map(|d| d.r).fold(0.0, f64::max)
+        reach_max(self.packing)
+    }
+}
+
+/// The domain's box grown to hold every packed particle whole (a periodic
+/// cell: the cell): disks by their radius, grains by their circumradius.
+pub(super) fn extent(packing: &Packing) -> (Point, Point) {
+    let bounds = packing.domain.bounds();
+    if packing.domain.is_periodic() {
+        return bounds;
+    }
+    if packing.grains.is_empty() {
+        return bounds_of_disks(bounds, &packing.disks);
+    }
+    let reach = reach_max(packing);
+    packing.disks.iter().fold(bounds, |(lo, hi), d| {
+        (
+            Point::new(lo.x.min(d.c.x - reach), lo.y.min(d.c.y - reach)),
+            Point::new(hi.x.max(d.c.x + reach), hi.y.max(d.c.y + reach)),
+        )
+    })
+}
+
+/// Largest radius (disks) or circumradius (grains) packed (mm), 0 without any.
+pub(super) fn reach_max(packing: &Packing) -> f64 {
+    if packing.grains.is_empty() {
+        packing.disks.iter().map(|d| d.r).fold(0.0, f64::max)
+    } else {
+        packing
+            .grains
+            .iter()
+            .map(|g| g.outline.circumradius())
+            .fold(0.0, f64::max)
     }
 }
 

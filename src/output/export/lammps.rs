@@ -1,7 +1,9 @@
 //! `packing.lammps`: a LAMMPS / LIGGGHTS data file (`atom_style sphere`;
 //! `atom_style body rounded/polygon` for particles that are not disks).
 
-use super::common::{Export, Num, Text, VERSION, density, labels, type_count, type_id};
+use super::common::{
+    Export, Num, Text, VERSION, density, extent, labels, reach_max, type_count, type_id,
+};
 use super::outline::{Moments, Rounded, turned};
 use crate::geometry::Point;
 use crate::layering::Material;
@@ -155,22 +157,8 @@ fn body_data(e: &Export<'_>, materials: &[Material], opts: &ExportOptions) -> Ve
             (r, world)
         })
         .collect();
-    let (lo, hi) = packing.domain.bounds();
-    let reach = packing
-        .grains
-        .iter()
-        .map(|g| g.outline.circumradius())
-        .fold(0.0, f64::max);
-    let (lo, hi) = if packing.domain.is_periodic() {
-        (lo, hi)
-    } else {
-        packing.disks.iter().fold((lo, hi), |(lo, hi), d| {
-            (
-                Point::new(lo.x.min(d.c.x - reach), lo.y.min(d.c.y - reach)),
-                Point::new(hi.x.max(d.c.x + reach), hi.y.max(d.c.y + reach)),
-            )
-        })
-    };
+    let reach = reach_max(packing);
+    let (lo, hi) = extent(packing);
     let z = if reach > 0.0 { reach * s } else { 0.5 };
     let counts = bodies.iter().map(|(_, w)| w.len());
     let (nmin, nmax) = (counts.clone().min().unwrap_or(3), counts.max().unwrap_or(3));

@@ -1,7 +1,9 @@
 //! `packing.superquadric.data` and `packing.superquadric.in`: superellipse
 //! particles for LIGGGHTS' `atom_style superquadric`.
 
-use super::common::{Export, Num, Text, VERSION, density, labels, type_count, type_id};
+use super::common::{
+    Export, Num, Text, VERSION, density, extent, labels, reach_max, type_count, type_id,
+};
 use super::outline::superquadrics;
 use crate::layering::Material;
 use crate::names::ConfigName;
@@ -88,22 +90,8 @@ fn superquadric_files(
     let e = Export::dem(packing, materials, opts)?;
     let (s, n) = (e.s, e.len());
     let rho = opts.units.density_per_kg_m3();
-    let reach = packing
-        .grains
-        .iter()
-        .map(|g| g.outline.circumradius())
-        .fold(0.0, f64::max);
-    let (lo, hi) = packing.domain.bounds();
-    let (lo, hi) = if packing.domain.is_periodic() {
-        (lo, hi)
-    } else {
-        packing.disks.iter().fold((lo, hi), |(lo, hi), d| {
-            (
-                crate::geometry::Point::new(lo.x.min(d.c.x - reach), lo.y.min(d.c.y - reach)),
-                crate::geometry::Point::new(hi.x.max(d.c.x + reach), hi.y.max(d.c.y + reach)),
-            )
-        })
-    };
+    let reach = reach_max(packing);
+    let (lo, hi) = extent(packing);
     let z = reach * s;
     let mut t = Text::with_lines(n + 24);
     t.line(format_args!(

@@ -1,6 +1,6 @@
 //! `packing.mercury.data`: a MercuryDPM 2D data file.
 
-use super::common::{Export, Num, Text, VERSION};
+use super::common::{Export, Num, Text, VERSION, extent};
 use super::liggghts::THICKNESS_REL;
 use super::outline::superquadrics;
 use crate::layering::Material;
@@ -107,22 +107,7 @@ fn superquadric_table(e: &Export<'_>) -> Result<Vec<u8>, OutputError> {
     let packing = e.packing;
     let shapes = superquadrics(&packing.grains, "mercury")?;
     let (s, n) = (e.s, e.len());
-    let reach = packing
-        .grains
-        .iter()
-        .map(|g| g.outline.circumradius())
-        .fold(0.0, f64::max);
-    let (lo, hi) = packing.domain.bounds();
-    let (lo, hi) = if packing.domain.is_periodic() {
-        (lo, hi)
-    } else {
-        packing.disks.iter().fold((lo, hi), |(lo, hi), d| {
-            (
-                crate::geometry::Point::new(lo.x.min(d.c.x - reach), lo.y.min(d.c.y - reach)),
-                crate::geometry::Point::new(hi.x.max(d.c.x + reach), hi.y.max(d.c.y + reach)),
-            )
-        })
-    };
+    let (lo, hi) = extent(packing);
     let mut t = Text::with_lines(n + 2);
     t.line(format_args!(
         "# gapack {VERSION}: {n} superquadrics for SuperQuadricParticle (not a MercuryDPM data file): x y z q0 q1 q2 q3 a b c eps1 eps2 species"
