@@ -23,8 +23,8 @@ use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
 use super::contact::{
-    COARSE_REL, GAP_REL, Newcomer, Obstacle, clear_of, point_segment_distance, slide, starts,
-    two_contact,
+    COARSE_REL, GAP_REL, Newcomer, Obstacle, Smooth, clear_of, point_segment_distance, slide,
+    starts, two_contact, two_contact_smooth,
 };
 use super::{Body, PEAK_BYTES_PER_GRAIN, Radii};
 use crate::cancel::Cancel;
@@ -448,11 +448,22 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             begin.clear();
             starts(&self.bodies, cf, rf, ob, new, &mut begin);
             for &s in &begin {
+                // A smooth solve is exact at once: no coarse stage.
+                let mut exact = false;
                 let p = if one_contact {
                     let to = Point::from(0.5 * (cf.coords + reference(&self.bodies, ob, s).coords));
                     slide(&self.bodies, &me, Some(ob), new, s, to, &mut work)
                 } else {
-                    two_contact(&self.bodies, &me, ob, new, s, true, &mut work)
+                    match two_contact_smooth(&self.bodies, &me, ob, new, s, &mut work) {
+                        Smooth::Found(p) => {
+                            exact = true;
+                            Some(p)
+                        }
+                        Smooth::Missing => None,
+                        Smooth::Unsuited => {
+                            two_contact(&self.bodies, &me, ob, new, s, true, &mut work)
+                        }
+                    }
                 };
                 let Some(mut p) = p else { continue };
                 let rank = self.rank(p);
@@ -465,7 +476,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 }
                 self.stats.work += work;
                 work = 0;
-                if !one_contact {
+                if !one_contact && !exact {
                     // Blocked where it nearly is, by more than the coarse
                     // solve's error: no need to settle it.
                     let eroded = Newcomer {
