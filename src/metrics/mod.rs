@@ -17,6 +17,7 @@ mod grains;
 pub(crate) mod near;
 mod porosity_map;
 mod shapes;
+mod voids;
 
 pub use bands::{Zone, zones};
 pub use contacts::coordination;
@@ -82,7 +83,10 @@ pub struct Metrics {
     /// 5·d_max that lie wholly inside the domain (in a periodic cell, with
     /// the images of the disks across its edges), or, where fewer than two
     /// fit, over windows clipped to the domain (`local_windows_clipped`);
-    /// NaN when even those are fewer than two.
+    /// NaN when even those are fewer than two. Particles that are not
+    /// disks count their area in a window within 3·10⁻⁵ of the area of
+    /// each one its edges cut (`voids.rs`), d_max their largest
+    /// area-equivalent diameter.
     pub local_porosity_std: f64,
     /// Number of local-porosity windows.
     pub local_windows: usize,
@@ -91,7 +95,9 @@ pub struct Metrics {
     pub local_windows_clipped: bool,
     /// Diameter of the largest empty circle left in the domain (mm), found on a
     /// grid of spacing d_min/2 (coarser where that would give more than 256
-    /// points per packed disk) and refined locally.
+    /// points per packed disk) and refined locally. Among particles that
+    /// are not disks, a certified empty circle: its radius is the least
+    /// lower bound of the GJK distances from its centre.
     pub largest_hole: f64,
     /// The particles' shapes, when they are not disks ([`Packing::grains`]);
     /// `None` for disks. Not in this struct's own JSON: `summary.json`
@@ -211,8 +217,17 @@ pub fn measure_cancellable(
     let n = disks.len();
     let isolated = touched[nb..].iter().filter(|&&t| !t).count();
     let (local_porosity_std, local_windows, local_windows_clipped) =
-        local_porosity(packing, &grid, &all, r_max);
-    let largest_hole = largest_hole(packing, &near, &all, r_max, scene.d_min(), cancel)?;
+        local_porosity(packing, r_max, |x0, x1, y0, y1| {
+            disks_in_box(domain, &grid, &all, nb, r_max, (x0, x1, y0, y1))
+        });
+    let mut clear = DiskClearance {
+        packing,
+        near: &near,
+        all: &all,
+        r_max,
+        settler: (usize::MAX, Vector2::zeros()),
+    };
+    let largest_hole = largest_hole(packing, &mut clear, scene.d_min(), cancel)?;
     Ok(Metrics {
         particles: n,
         domain_area,
@@ -238,9 +253,10 @@ pub fn measure_cancellable(
 
 /// [`measure_cancellable`] of a packing of grains: contacts, overlaps and
 /// wall clearances between the outlines (`grains.rs`), the shape measures,
-/// and the grading's fidelity on the size the grading gives. The local
-/// porosity windows and the largest hole, which need the exact area or
-/// clearance of each particle, are not measured (NaN, no window).
+/// the grading's fidelity on the size the grading gives, and the local
+/// porosity windows and largest hole with each particle's area in a window
+/// and distance from a point (`voids.rs`). The windows are those of disks
+/// of the particles' area-equivalent radii.
 fn measure_grains(packing: &Packing, scene: &Scene, cancel: &Cancel) -> Result<Metrics, Cancelled> {
     let disks = &packing.disks;
     let domain_area = packing.domain.area();
@@ -248,6 +264,18 @@ fn measure_grains(packing: &Packing, scene: &Scene, cancel: &Cancel) -> Result<M
     let mut memo = shapes::ShapeMemo::default();
     let psd_ks = grading::psd_ks_with(packing, scene, &mut memo);
     let c = grains::grain_contacts(packing, &mut memo, cancel)?;
+    let r_max = disks
+        .iter()
+        .chain(&packing.boundary)
+        .fold(0.0f64, |m, d| m.max(d.r));
+    let mut areas = voids::GrainAreas::new(packing, &mut memo);
+    let (local_porosity_std, local_windows, local_windows_clipped) =
+        local_porosity(packing, r_max, |x0, x1, y0, y1| {
+            areas.in_box(x0, x1, y0, y1)
+        });
+    cancel.check()?;
+    let mut clear = voids::GrainClearance::new(packing, &mut memo);
+    let largest_hole = largest_hole(packing, &mut clear, scene.d_min(), cancel)?;
     let stats = shapes::stats_for(&packing.grains, scene.shape.as_ref(), &mut memo);
     let n = disks.len();
     Ok(Metrics {
@@ -260,36 +288,71 @@ fn measure_grains(packing: &Packing, scene: &Scene, cancel: &Cancel) -> Result<M
         min_wall_clearance: c.min_wall_clearance,
         coordination: coordination(2 * c.contacts, n),
         isolated: c.isolated,
-        local_porosity_std: f64::NAN,
-        local_windows: 0,
-        local_windows_clipped: false,
-        largest_hole: f64::NAN,
+        local_porosity_std,
+        local_windows,
+        local_windows_clipped,
+        largest_hole,
         shapes: stats,
     })
 }
 
 /// Standard deviation of porosity over square windows of side
-/// [`WINDOW_DIAMETERS`] largest diameters, how many, and whether they were
-/// clipped: windows tiling the domain wholly inside it, the interior's
-/// scatter, when at least two fit; otherwise (a small circle, a slot
-/// narrower than a window) windows tiling the bounds clipped to the domain,
-/// each its porosity over its exact area inside, those with at least
-/// [`MIN_WINDOW_INSIDE`] of it inside counted, so every domain is measured.
-fn local_porosity(packing: &Packing, grid: &Grid, all: &[Disk], r_max: f64) -> (f64, usize, bool) {
+/// [`WINDOW_DIAMETERS`] largest diameters (`r_max` the largest radius),
+/// how many, and whether they were clipped: windows tiling the domain
+/// wholly inside it, the interior's scatter, when at least two fit;
+/// otherwise (a small circle, a slot narrower than a window) windows tiling
+/// the bounds clipped to the domain, each its porosity over its exact area
+/// inside, those with at least [`MIN_WINDOW_INSIDE`] of it inside counted,
+/// so every domain is measured. `solid(x0, x1, y0, y1)` is the solid area
+/// inside the box [x0, x1] × [y0, y1].
+fn local_porosity(
+    packing: &Packing,
+    r_max: f64,
+    mut solid: impl FnMut(f64, f64, f64, f64) -> f64,
+) -> (f64, usize, bool) {
     let w = WINDOW_DIAMETERS * 2.0 * r_max;
     if w <= 0.0 {
         return (f64::NAN, 0, false);
     }
-    let inside = window_porosities(packing, grid, all, r_max, w, false);
+    let inside = window_porosities(packing, w, false, &mut solid);
     let (values, clipped) = if inside.len() >= 2 {
         (inside, false)
     } else {
-        (window_porosities(packing, grid, all, r_max, w, true), true)
+        (window_porosities(packing, w, true, &mut solid), true)
     };
     if values.len() < 2 {
         return (f64::NAN, values.len(), clipped);
     }
     (mean_sd(&values).1, values.len(), clipped)
+}
+
+/// The solid area of the packed disks of `all` (wall disks first, `nb` of
+/// them, not solid) inside the box [x0, x1] × [y0, y1], in closed form
+/// ([`area_disk_box`]); `grid` indexes `all` by centre, `r_max` their
+/// largest radius. In a periodic cell, the images of the disks too.
+fn disks_in_box(
+    domain: &crate::Domain,
+    grid: &Grid,
+    all: &[Disk],
+    nb: usize,
+    r_max: f64,
+    (x0, x1, y0, y1): (f64, f64, f64, f64),
+) -> f64 {
+    let mut solid = 0.0;
+    let (qlo, qhi) = (
+        Point::new(x0 - r_max, y0 - r_max),
+        Point::new(x1 + r_max, y1 + r_max),
+    );
+    // The images of the disks across a periodic cell's edges too.
+    for v in domain.image_shifts(qlo, qhi) {
+        grid.visit_box(qlo - v, qhi - v, |j| {
+            if j as usize >= nb {
+                let d = all[j as usize];
+                solid += area_disk_box(image(d.c, v), d.r, x0, x1, y0, y1);
+            }
+        });
+    }
+    solid
 }
 
 /// Mean and sample standard deviation (n − 1) of `values` (the deviation
@@ -303,17 +366,15 @@ pub fn mean_sd(values: &[f64]) -> (f64, f64) {
 
 /// The porosities of the windows of side `w` centred on the domain's
 /// bounds: wholly inside it (`clipped` false), or covering the bounds and
-/// clipped to the domain (`clipped` true; see [`local_porosity`]).
+/// clipped to the domain (`clipped` true; see [`local_porosity`]), each
+/// window's solid area from `solid`.
 fn window_porosities(
     packing: &Packing,
-    grid: &Grid,
-    all: &[Disk],
-    r_max: f64,
     w: f64,
     clipped: bool,
+    solid: &mut impl FnMut(f64, f64, f64, f64) -> f64,
 ) -> Vec<f64> {
     let domain = &packing.domain;
-    let nb = packing.boundary.len();
     let (lo, hi) = domain.bounds();
     let count = |extent: f64| {
         let k = extent / w;
@@ -351,21 +412,7 @@ fn window_porosities(
                 }
                 w * w
             };
-            let mut solid = 0.0;
-            let (qlo, qhi) = (
-                Point::new(x0 - r_max, y0 - r_max),
-                Point::new(x1 + r_max, y1 + r_max),
-            );
-            // The images of the disks across a periodic cell's edges too.
-            for v in domain.image_shifts(qlo, qhi) {
-                grid.visit_box(qlo - v, qhi - v, |j| {
-                    if j as usize >= nb {
-                        let d = all[j as usize];
-                        solid += area_disk_box(image(d.c, v), d.r, x0, x1, y0, y1);
-                    }
-                });
-            }
-            values.push(porosity(solid, area));
+            values.push(porosity(solid(x0, x1, y0, y1), area));
         }
     }
     values
@@ -476,12 +523,52 @@ fn hole_step(extent: nalgebra::Vector2<f64>, disks: usize, d_min: f64) -> f64 {
         .max(per_disk)
 }
 
+/// What the largest-hole search asks of the particles at a point.
+trait Clearance {
+    /// Whether the particle that settled the last sample shows, at little
+    /// cost, that `p` is no farther than `best` from it.
+    fn settled_by_last(&self, p: Point, best: f64) -> bool;
+
+    /// The clearance at `p`, exact (for disks) or a certified lower bound
+    /// of it (for other particles) when above `floor`; at or below `floor`,
+    /// some value at or below `floor`.
+    fn above(&mut self, p: Point, floor: f64) -> f64;
+}
+
+/// The clearance among disks ([`clearance_above`]).
+struct DiskClearance<'a> {
+    packing: &'a Packing,
+    near: &'a ByRadius,
+    all: &'a [Disk],
+    r_max: f64,
+    /// The disk (and image shift) that settled the last sample.
+    settler: (usize, Vector2<f64>),
+}
+
+impl Clearance for DiskClearance<'_> {
+    fn settled_by_last(&self, p: Point, best: f64) -> bool {
+        self.all
+            .get(self.settler.0)
+            .is_some_and(|d| (p - image(d.c, self.settler.1)).norm() - d.r <= best)
+    }
+
+    fn above(&mut self, p: Point, floor: f64) -> f64 {
+        clearance_above(
+            self.packing,
+            self.near,
+            self.all,
+            self.r_max,
+            p,
+            floor,
+            &mut self.settler,
+        )
+    }
+}
+
 /// Diameter of the largest empty circle: grid search, then local refinement.
 fn largest_hole(
     packing: &Packing,
-    near: &ByRadius,
-    all: &[Disk],
-    r_max: f64,
+    clear: &mut impl Clearance,
     d_min: f64,
     cancel: &Cancel,
 ) -> Result<f64, Cancelled> {
@@ -493,9 +580,6 @@ fn largest_hole(
     let mut best = (f64::NEG_INFINITY, lo);
     let nx = ((hi.x - lo.x) / step).ceil() as usize;
     let ny = ((hi.y - lo.y) / step).ceil() as usize;
-    // Neighbouring samples are mostly settled by the same disk: trying it
-    // first skips the grid query (a skipped sample is no better than `best`).
-    let mut settler = (usize::MAX, Vector2::zeros());
     let periodic = packing.domain.is_periodic();
     for iy in 0..=ny {
         for ix in 0..=nx {
@@ -503,15 +587,16 @@ fn largest_hole(
                 cancel.check()?;
             }
             let p = Point::new(lo.x + ix as f64 * step, lo.y + iy as f64 * step);
-            if let Some(d) = all.get(settler.0)
-                && (p - image(d.c, settler.1)).norm() - d.r <= best.0
-            {
+            // Neighbouring samples are mostly settled by the same disk:
+            // trying it first skips the grid query (a skipped sample is no
+            // better than `best`).
+            if clear.settled_by_last(p, best.0) {
                 continue;
             }
             if !periodic && packing.domain.signed_distance(p) <= 0.0 {
                 continue;
             }
-            let c = clearance_above(packing, near, all, r_max, p, best.0, &mut settler);
+            let c = clear.above(p, best.0);
             if c > best.0 {
                 best = (c, p);
             }
@@ -536,7 +621,7 @@ fn largest_hole(
             (-1.0, 1.0),
         ] {
             let q = Point::new(p.x + dx * h, p.y + dy * h);
-            let c = clearance_above(packing, near, all, r_max, q, value, &mut settler);
+            let c = clear.above(q, value);
             if c > value {
                 value = c;
                 p = q;

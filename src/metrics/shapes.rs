@@ -576,7 +576,7 @@ pub(crate) struct Unit {
 /// polygon's template, rounding and vertices over its scale, each ratio to
 /// 2⁻³² (outlines that differ by less share their measures).
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
-enum UnitKey {
+pub(super) enum UnitKey {
     /// a/b, α, β.
     Superellipse(i64, u64, u64),
     /// Template, then rounding and each vertex's coordinates over the scale.
@@ -590,7 +590,7 @@ fn quantise(x: f64) -> i64 {
 
 /// The key and scale of `outline`: b for a superellipse, the distance of
 /// its first vertex for a polygon.
-fn key_of(outline: &Outline) -> (UnitKey, f64) {
+pub(super) fn key_of(outline: &Outline) -> (UnitKey, f64) {
     match outline {
         Outline::Superellipse { a, b, alpha, beta } => (
             UnitKey::Superellipse(quantise(a / b), alpha.to_bits(), beta.to_bits()),
