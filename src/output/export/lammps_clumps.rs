@@ -2,11 +2,12 @@
 //! (`atom_style hybrid sphere molecular`, one molecule per particle).
 
 use super::clumps::clumps;
-use super::common::{Export, Num, Text, VERSION, density, labels, type_count, type_id};
+use super::common::{Export, Num, Text, VERSION, density, type_id};
+use super::lammps::{Header, header, units_style};
 use crate::layering::Material;
 use crate::names::ConfigName;
 use crate::output::OutputError;
-use crate::output::format::{ExportOptions, LengthUnit};
+use crate::output::format::ExportOptions;
 use crate::packer::Packing;
 
 /// File name of the LAMMPS data file of clumps.
@@ -62,38 +63,24 @@ pub fn lammps_clumps_data(
     let all = clumps(packing, &opts.clumps);
     let atoms = all.disks();
     let rho = opts.units.density_per_kg_m3();
-    let (lo, hi) = e.extent();
-    let r = e.r_max();
-    let z = if r > 0.0 { r * s } else { 0.5 };
-    let units = match opts.units {
-        LengthUnit::Metre => "units si",
-        LengthUnit::Millimetre => "no LAMMPS units style matches mm",
-    };
     let u = opts.units.config_name();
     let mut t = Text::with_lines(atoms + 24);
-    t.line(format_args!(
-        "gapack {VERSION}: {} particles as {atoms} disks in rigid clumps (one molecule each), atom_style hybrid sphere molecular, lengths in {u} ({units}), density in kg/{u}^3",
-        e.len()
-    ));
-    t.line(format_args!(""));
-    t.line(format_args!("{atoms} atoms"));
-    t.line(format_args!("{} atom types", type_count(materials)));
-    t.line(format_args!(""));
-    t.line(format_args!("{} {} xlo xhi", Num(lo.x * s), Num(hi.x * s)));
-    t.line(format_args!("{} {} ylo yhi", Num(lo.y * s), Num(hi.y * s)));
-    t.line(format_args!("{} {} zlo zhi", Num(-z), Num(z)));
-    t.line(format_args!("# clumps: {}", all.summary(&opts.clumps)));
-    if packing.domain.is_periodic() {
-        t.line(format_args!(
-            "# periodic cell: boundary p p p (x and y periodic: the cell is the box; z periodic as for any 2d run)"
-        ));
-    }
-    t.line(format_args!(
-        "# run with: neigh_modify exclude molecule/intra all; fix bodies all rigid molecule; then fix enforce2d. Mass from density: a sphere per disk (rho*4/3*pi*r^3), overlaps counted more than once"
-    ));
-    for (i, label) in labels(materials).iter().enumerate() {
-        t.line(format_args!("# type {} = {label}", i + 1));
-    }
+    let title = format!(
+        "gapack {VERSION}: {} particles as {atoms} disks in rigid clumps (one molecule each), atom_style hybrid sphere molecular, lengths in {u} ({}), density in kg/{u}^3",
+        e.len(),
+        units_style(opts)
+    );
+    header(
+        &mut t,
+        &e,
+        materials,
+        &Header {
+            title,
+            counts: &[(atoms, "atoms")],
+            before: &[format!("# clumps: {}", all.summary(&opts.clumps))],
+            after: &["# run with: neigh_modify exclude molecule/intra all; fix bodies all rigid molecule; then fix enforce2d. Mass from density: a sphere per disk (rho*4/3*pi*r^3), overlaps counted more than once".to_owned()],
+        },
+    );
     if atoms > 0 {
         t.line(format_args!(""));
         t.line(format_args!("Atoms # hybrid"));
