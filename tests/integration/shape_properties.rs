@@ -227,7 +227,7 @@ fn shapes_give_the_same_files_on_one_or_two_threads() {
     let dir = common::scratch("shapes-threads");
     std::fs::write(
         dir.join("e.toml"),
-        "seed = 4\n[domain]\nshape = \"rectangle\"\nwidth = 16\nheight = 16\n[grading]\nuniform = [1, 2]\n[shape]\nkind = \"superellipse\"\naspect = 1.8\n[output]\nformats = [\"csv\", \"json\", \"vtk\", \"lammps\", \"lammps-clumps\", \"yade\", \"pfc\", \"svg\", \"png\"]\n",
+        "seed = 4\n[domain]\nshape = \"rectangle\"\nwidth = 16\nheight = 16\n[grading]\nuniform = [1, 2]\n[shape]\nkind = \"superellipse\"\naspect = 1.8\n[output]\nformats = [\"csv\", \"json\", \"vtk\", \"lammps\", \"lammps-clumps\", \"liggghts-clumps\", \"yade\", \"pfc\", \"svg\", \"png\"]\n",
     )
     .unwrap();
     let run = |threads| common::gapack_on_threads(&dir, &["pack", "e.toml", "--quiet"], threads);
