@@ -15,7 +15,7 @@ use pyo3::types::{PyDict, PyList};
 use crate::errors::input_error;
 
 /// Every output format, in the order `[output] formats` documents them.
-const FORMATS: [Format; 12] = [
+const FORMATS: [Format; 13] = [
     Format::Csv,
     Format::Json,
     Format::Vtk,
@@ -26,6 +26,7 @@ const FORMATS: [Format; 12] = [
     Format::LiggghtsSuperquadric,
     Format::Esys,
     Format::LammpsClumps,
+    Format::LiggghtsClumps,
     Format::Svg,
     Format::Png,
 ];
@@ -43,6 +44,7 @@ const fn listed(format: Format) -> bool {
         | Format::LiggghtsSuperquadric
         | Format::Esys
         | Format::LammpsClumps
+        | Format::LiggghtsClumps
         | Format::Svg
         | Format::Png => true,
     }

@@ -264,7 +264,7 @@ fn bytes_per_disk(format: Format) -> f64 {
         Format::Yade | Format::Esys => 95.0,
         Format::Pfc => 170.0,
         // Up to clump_max_disks disks per particle; a disk packing's one.
-        Format::LammpsClumps => 110.0,
+        Format::LammpsClumps | Format::LiggghtsClumps => 110.0,
         Format::Svg => 85.0,
         Format::Png => 0.0,
     }

@@ -28,6 +28,9 @@ pub enum Format {
     /// `packing.clumps.lammps`: a LAMMPS data file of rigid clumps of
     /// disks, one molecule per particle (`fix rigid molecule`).
     LammpsClumps,
+    /// `packing.clumps.liggghts`: the same clumps for LIGGGHTS' `fix rigid
+    /// molecule` (its `fix multisphere` takes no bodies from a data file).
+    LiggghtsClumps,
     /// Pictures as SVG: the packing, its grading, its porosity map, the run's charts.
     Svg,
     /// The same pictures as PNG.
@@ -84,6 +87,7 @@ pub(crate) const FORMATS: Names<Format> = Names {
         ("liggghts-superquadric", Format::LiggghtsSuperquadric),
         ("esys", Format::Esys),
         ("lammps-clumps", Format::LammpsClumps),
+        ("liggghts-clumps", Format::LiggghtsClumps),
         ("svg", Format::Svg),
         ("png", Format::Png),
     ],

@@ -20,12 +20,14 @@ mod sweep_table;
 // the types those items name; the rest serves the jobs only.
 pub use error::OutputError;
 pub use export::{
-    BOUNDARY_VTK, ESYS_GEOMETRY, LAMMPS_CLUMPS_DATA, LAMMPS_DATA, MERCURY_DATA, PACKING_VTK,
-    PFC_COMMANDS, SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, YADE_SCRIPT, YADE_TEXT,
+    BOUNDARY_VTK, ESYS_GEOMETRY, LAMMPS_CLUMPS_DATA, LAMMPS_DATA, LIGGGHTS_CLUMPS_DATA,
+    MERCURY_DATA, PACKING_VTK, PFC_COMMANDS, SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, YADE_SCRIPT,
+    YADE_TEXT,
 };
 pub use export::{
-    boundary_vtk, esys_geometry, lammps_clumps_data, lammps_data, mercury_data, packing_json,
-    packing_vtk, pfc_commands, superquadric_data, superquadric_input, yade_script, yade_text,
+    boundary_vtk, esys_geometry, lammps_clumps_data, lammps_data, liggghts_clumps_data,
+    mercury_data, packing_json, packing_vtk, pfc_commands, superquadric_data, superquadric_input,
+    yade_script, yade_text,
 };
 pub use format::{ClumpOptions, ExportOptions, Format, LengthUnit, OutputSettings};
 pub use json::{
@@ -76,6 +78,7 @@ pub(crate) const FILE_NAMES: &[&str] = &[
     ESYS_GEOMETRY,
     YADE_SCRIPT,
     LAMMPS_CLUMPS_DATA,
+    LIGGGHTS_CLUMPS_DATA,
     PACKING_SVG,
     PACKING_PNG,
     PSD_SVG,

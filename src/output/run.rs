@@ -12,10 +12,11 @@ use super::csv::{
 };
 use super::error::OutputError;
 use super::export::{
-    BOUNDARY_VTK, ESYS_GEOMETRY, LAMMPS_CLUMPS_DATA, LAMMPS_DATA, MERCURY_DATA, PACKING_JSON,
-    PACKING_VTK, PFC_COMMANDS, SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, YADE_SCRIPT, YADE_TEXT,
-    boundary_vtk, esys_geometry, lammps_clumps_data, lammps_data, mercury_data, packing_json,
-    packing_vtk, pfc_commands, superquadric_data, superquadric_input, yade_script, yade_text,
+    BOUNDARY_VTK, ESYS_GEOMETRY, LAMMPS_CLUMPS_DATA, LAMMPS_DATA, LIGGGHTS_CLUMPS_DATA,
+    MERCURY_DATA, PACKING_JSON, PACKING_VTK, PFC_COMMANDS, SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT,
+    YADE_SCRIPT, YADE_TEXT, boundary_vtk, esys_geometry, lammps_clumps_data, lammps_data,
+    liggghts_clumps_data, mercury_data, packing_json, packing_vtk, pfc_commands, superquadric_data,
+    superquadric_input, yade_script, yade_text,
 };
 use super::format::{Format, OutputSettings};
 use super::json::{FractureSummary, LayeringSummary, OptimiseSummary, SUMMARY_JSON, summary_json};
@@ -297,6 +298,11 @@ pub fn render_output_bodies<'a>(
     if out.wants(Format::LammpsClumps) {
         tasks.add(LAMMPS_CLUMPS_DATA, || {
             lammps_clumps_data(packing, materials, opts)
+        });
+    }
+    if out.wants(Format::LiggghtsClumps) {
+        tasks.add(LIGGGHTS_CLUMPS_DATA, || {
+            liggghts_clumps_data(packing, materials, opts)
         });
     }
     let diameters = (run.scene.d_min(), run.scene.d_max());

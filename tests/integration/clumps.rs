@@ -1,18 +1,21 @@
 //! Clumps of disks standing for non-disk particles, loaded by the DEM codes
-//! themselves: LAMMPS reads `packing.clumps.lammps` with `fix rigid
-//! molecule` and finds no contact between clumps, YADE runs
-//! `packing.yade.py` and finds no interaction between clumps; each check is
-//! first shown to fail on the packing with one particle pushed into its
-//! neighbour. PFC's command file is checked for its clumps.
+//! themselves: LAMMPS reads `packing.clumps.lammps` and LIGGGHTS
+//! `packing.clumps.liggghts`, each with `fix rigid molecule`, and finds no
+//! contact between clumps, YADE runs `packing.yade.py` and finds no
+//! interaction between clumps; each check is first shown to fail on the
+//! packing with one particle pushed into its neighbour. PFC's command file
+//! is checked for its clumps.
 //!
-//! Needs Debian's `lammps` (`lmp`) and `yade`; without them each test says
-//! how to run it and passes, unless `GAPACK_DEM_TESTS=required`, when it
-//! fails.
+//! Needs Debian's `lammps` (`lmp`), `liggghts` and `yade`; without them
+//! each test says how to run it and passes, unless
+//! `GAPACK_DEM_TESTS=required`, when it fails.
 
 use std::path::Path;
 use std::process::Command;
 
-use gapack::output::{ExportOptions, lammps_clumps_data, pfc_commands, yade_script};
+use gapack::output::{
+    ExportOptions, lammps_clumps_data, liggghts_clumps_data, pfc_commands, yade_script,
+};
 use gapack::{Disk, Domain, Grain, Outline, Packing, Point};
 
 use crate::common::scratch;
@@ -105,13 +108,21 @@ thermo_modify  format float %.17g
 run            0
 ";
 
-/// LAMMPS' atom count, rigid bodies and deepest overlap between clumps (m).
-fn lammps(packing: &Packing, dir: &Path) -> (usize, usize, f64) {
-    let data = lammps_clumps_data(packing, &[], &ExportOptions::default()).unwrap();
-    std::fs::write(dir.join("packing.clumps.lammps"), data).unwrap();
-    std::fs::write(dir.join("in.run"), LAMMPS_INPUT).unwrap();
+/// A run of `data` (written as `name`) with `input` by `program`: its
+/// atom count, its rigid bodies and the thermo line's third column, the
+/// deepest contact between clumps, or 0 without any (a reduction over no
+/// contact at all gives -1e20).
+fn rigid_run(
+    program: &str,
+    name: &str,
+    data: Vec<u8>,
+    input: &str,
+    dir: &Path,
+) -> (usize, usize, f64) {
+    std::fs::write(dir.join(name), data).unwrap();
+    std::fs::write(dir.join("in.run"), input).unwrap();
     let out = run(
-        &["lmp", "-in", "in.run", "-log", "none", "-echo", "none"],
+        &[program, "-in", "in.run", "-log", "none", "-echo", "none"],
         dir,
     );
     let bodies = out
@@ -120,30 +131,37 @@ fn lammps(packing: &Packing, dir: &Path) -> (usize, usize, f64) {
             let w: Vec<&str> = l.split_whitespace().collect();
             (w.get(1..3) == Some(&["rigid", "bodies"][..])).then(|| w[0].parse().unwrap())
         })
-        .expect("LAMMPS reports its rigid bodies");
+        .expect("the run reports its rigid bodies");
     let lines: Vec<&str> = out.lines().collect();
     let head = lines
         .iter()
-        .position(|l| l.split_whitespace().collect::<Vec<_>>() == ["Step", "Atoms", "c_fmax"])
+        .position(|l| l.split_whitespace().take(2).eq(["Step", "Atoms"]))
         .expect("thermo header");
     let w: Vec<&str> = lines[head + 1].split_whitespace().collect();
-    let fmax: f64 = w[2].parse().unwrap();
-    // No pair at all within the cut-off reduces to -1e20.
-    (w[1].parse().unwrap(), bodies, fmax.max(0.0) / KN)
+    let deepest: f64 = w[2].parse().unwrap();
+    (w[1].parse().unwrap(), bodies, deepest.max(0.0))
 }
 
-#[test]
-fn lammps_reads_the_clumps_and_finds_no_overlap_between_them() {
-    if !have("lmp", "lammps") {
-        return;
-    }
-    let bad = scratch("clumps-lammps-bad");
-    let (_, _, deepest) = lammps(&ellipses(0.01), &bad);
-    assert!(deepest > 0.0, "the pushed particle overlaps its neighbour");
-    let dir = scratch("clumps-lammps");
+/// LAMMPS' atom count, rigid bodies and deepest overlap between clumps (m),
+/// from the largest contact force.
+fn lammps(packing: &Packing, dir: &Path) -> (usize, usize, f64) {
+    let data = lammps_clumps_data(packing, &[], &ExportOptions::default()).unwrap();
+    let (atoms, bodies, fmax) = rigid_run("lmp", "packing.clumps.lammps", data, LAMMPS_INPUT, dir);
+    (atoms, bodies, fmax / KN)
+}
+
+/// One code's round trip of the ellipses through `file`: with one pushed
+/// into its neighbour the code finds an overlap, as placed none; every
+/// particle is one rigid body of the atoms the file holds.
+fn round_trip(name: &str, file: &str, code: fn(&Packing, &Path) -> (usize, usize, f64)) {
+    let tag = name.to_lowercase();
+    let bad = scratch(&format!("clumps-{tag}-bad"));
+    let (_, _, pushed) = code(&ellipses(0.01), &bad);
+    assert!(pushed > 0.0, "the pushed particle overlaps its neighbour");
+    let dir = scratch(&format!("clumps-{tag}"));
     let packing = ellipses(0.0);
-    let (atoms, bodies, deepest) = lammps(&packing, &dir);
-    let text = std::fs::read_to_string(dir.join("packing.clumps.lammps")).unwrap();
+    let (atoms, bodies, deepest) = code(&packing, &dir);
+    let text = std::fs::read_to_string(dir.join(file)).unwrap();
     let written = text
         .lines()
         .find_map(|l| l.strip_suffix(" atoms"))
@@ -151,12 +169,80 @@ fn lammps_reads_the_clumps_and_finds_no_overlap_between_them() {
         .parse::<usize>()
         .unwrap();
     println!(
-        "LAMMPS: {atoms} atoms in {bodies} rigid bodies, deepest overlap between clumps {deepest:e} m"
+        "{name}: {atoms} atoms in {bodies} rigid bodies, deepest overlap between clumps {deepest:e} m (one pushed 1 %: {pushed:e} m)"
     );
     assert_eq!(atoms, written);
     assert_eq!(bodies, packing.grains.len());
     assert!(atoms > bodies);
     assert_eq!(deepest, 0.0);
+}
+
+#[test]
+fn lammps_reads_the_clumps_and_finds_no_overlap_between_them() {
+    if !have("lmp", "lammps") {
+        return;
+    }
+    round_trip("LAMMPS", "packing.clumps.lammps", lammps);
+}
+
+/// A 3D LIGGGHTS run of the clumps at rest: Hertz contacts, every
+/// molecule one rigid body kept in the plane, and the deepest overlap
+/// (`delta`, m) of any contact between two bodies (contacts within a body
+/// are excluded from the neighbour lists).
+const LIGGGHTS_INPUT: &str = "\
+units          si
+atom_style     hybrid sphere molecular
+atom_modify    map array
+boundary       f f f
+newton         off
+communicate    single vel yes
+read_data      packing.clumps.liggghts
+neighbor       0.0001 bin
+neigh_modify   delay 0 exclude molecule all
+fix            m1 all property/global youngsModulus peratomtype 1.0e7
+fix            m2 all property/global poissonsRatio peratomtype 0.3
+fix            m3 all property/global coefficientRestitution peratomtypepair 1 0.5
+fix            m4 all property/global coefficientFriction peratomtypepair 1 0.5
+pair_style     gran model hertz tangential history
+pair_coeff     * *
+timestep       1.0e-7
+fix            bodies all rigid molecule force * on on off torque * off off on
+compute        pairs all pair/gran/local id delta
+compute        deep all reduce max c_pairs[4]
+thermo_style   custom step atoms c_deep
+thermo_modify  format float %.17g
+run            0
+";
+
+/// LIGGGHTS' atom count, rigid bodies and deepest overlap between clumps (m).
+fn liggghts(packing: &Packing, dir: &Path) -> (usize, usize, f64) {
+    let data = liggghts_clumps_data(packing, &[], &ExportOptions::default()).unwrap();
+    rigid_run(
+        "liggghts",
+        "packing.clumps.liggghts",
+        data,
+        LIGGGHTS_INPUT,
+        dir,
+    )
+}
+
+#[test]
+fn liggghts_reads_the_clumps_and_finds_no_overlap_between_them() {
+    if !have("liggghts", "liggghts") {
+        return;
+    }
+    round_trip("LIGGGHTS", "packing.clumps.liggghts", liggghts);
+    // The same atoms as the LAMMPS file: only the header's words differ.
+    let packing = ellipses(0.0);
+    let file = |data: Vec<u8>| {
+        let text = String::from_utf8(data).unwrap();
+        text.split_once("Atoms # hybrid").unwrap().1.to_owned()
+    };
+    let opts = ExportOptions::default();
+    assert_eq!(
+        file(liggghts_clumps_data(&packing, &[], &opts).unwrap()),
+        file(lammps_clumps_data(&packing, &[], &opts).unwrap())
+    );
 }
 
 const YADE_DRIVER: &str = "\

@@ -12,7 +12,7 @@ use std::f64::consts::PI;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
-use common::frac;
+use common::{frac, on_threads};
 use gapack::{
     Basis, Cancel, Cancelled, Domain, Grading, Method, OVERLAP_REL, PackError, Packing, Point,
     Scene, WallMode, check, measure, pack, pack_observed,
@@ -316,13 +316,7 @@ fn same_seed_same_packing_whatever_the_threads() {
             seed,
         )
     };
-    let in_pool = |threads: usize, seed: u64| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| pack(&s(seed)).unwrap())
-    };
+    let in_pool = |threads: usize, seed: u64| on_threads(threads, || pack(&s(seed)).unwrap());
     let (a, b, c) = (in_pool(1, 4), in_pool(2, 4), in_pool(2, 5));
     assert_eq!(a.disks, b.disks);
     assert_eq!(a, b);

@@ -53,7 +53,7 @@ fn validate_refuses_a_bad_config_with_its_location() {
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(
         stderr(&out),
-        "error: bad.toml:9:19: output.formats[1]: unknown format \"gif\"; valid: csv, json, vtk, lammps, yade, pfc, mercury, liggghts-superquadric, esys, lammps-clumps, svg, png\n"
+        "error: bad.toml:9:19: output.formats[1]: unknown format \"gif\"; valid: csv, json, vtk, lammps, yade, pfc, mercury, liggghts-superquadric, esys, lammps-clumps, liggghts-clumps, svg, png\n"
     );
 }
 
@@ -307,7 +307,7 @@ fn every_format_is_written_and_the_pictures_are_valid_images() {
     fs::write(
         dir.join("sq.toml"),
         format!(
-            "{SQUARE}[output]\nformats = [\"csv\", \"json\", \"vtk\", \"lammps\", \"yade\", \"pfc\", \"mercury\", \"esys\", \"svg\", \"png\"]\ndensity = 2500.0\n"
+            "{SQUARE}[output]\nformats = [\"csv\", \"json\", \"vtk\", \"lammps\", \"yade\", \"pfc\", \"mercury\", \"esys\", \"lammps-clumps\", \"liggghts-clumps\", \"svg\", \"png\"]\ndensity = 2500.0\n"
         ),
     )
     .unwrap();
@@ -323,6 +323,8 @@ fn every_format_is_written_and_the_pictures_are_valid_images() {
         [
             "boundary.vtk",
             "manifest.json",
+            "packing.clumps.lammps",
+            "packing.clumps.liggghts",
             "packing.csv",
             "packing.geo",
             "packing.json",
@@ -359,6 +361,19 @@ fn every_format_is_written_and_the_pictures_are_valid_images() {
         .split_whitespace()
         .collect();
     assert_eq!(first[3], "2500");
+    // Disks: one sphere per molecule, the same atoms for LAMMPS and LIGGGHTS.
+    let clumps = |name: &str| {
+        let text = String::from_utf8(read(name)).unwrap();
+        text.split_once("Atoms # hybrid").unwrap().1.to_owned()
+    };
+    let liggghts = clumps("packing.clumps.liggghts");
+    assert_eq!(liggghts, clumps("packing.clumps.lammps"));
+    let disks = String::from_utf8(read("packing.csv"))
+        .unwrap()
+        .lines()
+        .count()
+        - 1;
+    assert_eq!(liggghts.lines().filter(|l| !l.is_empty()).count(), disks);
 }
 
 #[test]

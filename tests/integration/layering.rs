@@ -7,7 +7,6 @@ use crate::common;
 use gapack::Cancel;
 use std::fs;
 use std::path::Path;
-use std::process::Command;
 
 use common::{gapack, scratch};
 use gapack::OVERLAP_REL;
@@ -193,21 +192,8 @@ fn size_graded_grading_chart_and_summary_agree() {
 fn layer_writes_its_outputs_identically_with_one_or_two_threads() {
     let dir = scratch("layer-threads");
     fs::write(dir.join("mgf3.toml"), shipped("mgf3.toml")).unwrap();
-    let run = |threads: &str| {
-        let out = Command::new(env!("CARGO_BIN_EXE_gapack"))
-            .args(["layer", "mgf3.toml", "--out", threads])
-            .env("RAYON_NUM_THREADS", threads)
-            .current_dir(&dir)
-            .output()
-            .expect("run gapack");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        dir.join(threads)
-    };
-    let (one, two) = (run("1"), run("2"));
+    let run = |threads| common::gapack_on_threads(&dir, &["layer", "mgf3.toml"], threads);
+    let (one, two) = (run(1), run(2));
     for file in ["packing.csv", "profile.csv"] {
         assert_eq!(
             fs::read(one.join(file)).unwrap(),

@@ -129,21 +129,10 @@ fn a_tighter_grading_limit_is_honoured() {
 fn same_seed_same_packing_with_one_or_two_threads() {
     let dir = scratch("optimise-threads");
     fs::write(dir.join("ap4.toml"), shipped("ap4.toml")).unwrap();
-    let run = |threads: &str| {
-        let out = Command::new(env!("CARGO_BIN_EXE_gapack"))
-            .args(["optimise", "ap4.toml", "--seed", "3", "--out", threads])
-            .env("RAYON_NUM_THREADS", threads)
-            .current_dir(&dir)
-            .output()
-            .expect("run gapack");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        dir.join(threads)
+    let run = |threads| {
+        common::gapack_on_threads(&dir, &["optimise", "ap4.toml", "--seed", "3"], threads)
     };
-    let (one, two) = (run("1"), run("2"));
+    let (one, two) = (run(1), run(2));
     assert_eq!(
         fs::read(one.join("packing.csv")).unwrap(),
         fs::read(two.join("packing.csv")).unwrap()

@@ -382,11 +382,7 @@ fn strips_give_the_same_packing_on_any_number_of_threads() {
         })
         .with_seed(7);
     let bits = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        let packing = pool.install(|| pack(&scene)).unwrap();
+        let packing = common::on_threads(threads, || pack(&scene)).unwrap();
         packing
             .disks
             .iter()

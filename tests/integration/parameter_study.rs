@@ -416,11 +416,7 @@ fn untimed_row(row: &Row) -> Row {
 #[test]
 fn a_stopped_study_resumes_to_the_rows_of_one_never_stopped() {
     // One thread: the runs go in waves of two, and the stop comes after the first.
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .expect("a pool");
-    pool.install(|| {
+    common::on_threads(1, || {
         let mut whole = MemoryStore::default();
         let all = jobs::run(
             &plan(STUDY, false),

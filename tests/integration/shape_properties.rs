@@ -227,24 +227,11 @@ fn shapes_give_the_same_files_on_one_or_two_threads() {
     let dir = common::scratch("shapes-threads");
     std::fs::write(
         dir.join("e.toml"),
-        "seed = 4\n[domain]\nshape = \"rectangle\"\nwidth = 16\nheight = 16\n[grading]\nuniform = [1, 2]\n[shape]\nkind = \"superellipse\"\naspect = 1.8\n[output]\nformats = [\"csv\", \"json\", \"vtk\", \"lammps\", \"lammps-clumps\", \"yade\", \"pfc\", \"svg\", \"png\"]\n",
+        "seed = 4\n[domain]\nshape = \"rectangle\"\nwidth = 16\nheight = 16\n[grading]\nuniform = [1, 2]\n[shape]\nkind = \"superellipse\"\naspect = 1.8\n[output]\nformats = [\"csv\", \"json\", \"vtk\", \"lammps\", \"lammps-clumps\", \"liggghts-clumps\", \"yade\", \"pfc\", \"svg\", \"png\"]\n",
     )
     .unwrap();
-    let run = |threads: &str| {
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_gapack"))
-            .args(["pack", "e.toml", "--quiet", "--out", threads])
-            .env("RAYON_NUM_THREADS", threads)
-            .current_dir(&dir)
-            .output()
-            .expect("run gapack");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        dir.join(threads)
-    };
-    let (one, two) = (run("1"), run("2"));
+    let run = |threads| common::gapack_on_threads(&dir, &["pack", "e.toml", "--quiet"], threads);
+    let (one, two) = (run(1), run(2));
     let mut names: Vec<_> = std::fs::read_dir(&one)
         .unwrap()
         .map(|e| e.unwrap().file_name())

@@ -11,11 +11,12 @@ use gapack::config::ConfigName;
 use gapack::fracture::{Extent, Well};
 use gapack::layering::Material;
 use gapack::output::{
-    BOUNDARY_VTK, ESYS_GEOMETRY, Format, LAMMPS_CLUMPS_DATA, LAMMPS_DATA, MERCURY_DATA,
-    PACKING_VTK, PFC_COMMANDS, PackingTable, SUMMARY_JSON, SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT,
-    YADE_SCRIPT, YADE_TEXT, boundary_vtk, diameter_range, esys_geometry, lammps_clumps_data,
-    lammps_data, mercury_data, packing_vtk, pfc_commands, read_packing_csv, render_pictures,
-    superquadric_data, superquadric_input, yade_script, yade_text,
+    BOUNDARY_VTK, ESYS_GEOMETRY, Format, LAMMPS_CLUMPS_DATA, LAMMPS_DATA, LIGGGHTS_CLUMPS_DATA,
+    MERCURY_DATA, PACKING_VTK, PFC_COMMANDS, PackingTable, SUMMARY_JSON, SUPERQUADRIC_DATA,
+    SUPERQUADRIC_INPUT, YADE_SCRIPT, YADE_TEXT, boundary_vtk, diameter_range, esys_geometry,
+    lammps_clumps_data, lammps_data, liggghts_clumps_data, mercury_data, packing_vtk, pfc_commands,
+    read_packing_csv, render_pictures, superquadric_data, superquadric_input, yade_script,
+    yade_text,
 };
 use gapack::{Check, GradingCheck, MIN_GRADING_DISKS, OVERLAP_REL, check, check_particles_sized};
 use gapack::{Domain, Packing, Point, Scene, bounds_of_disks, grading_sizes, psd_ks};
@@ -194,6 +195,12 @@ pub fn run_export(args: &ExportArgs) -> Result<(), Failure> {
                 files.push((
                     LAMMPS_CLUMPS_DATA,
                     run(lammps_clumps_data(&packing, materials, opts))?,
+                ));
+            }
+            Format::LiggghtsClumps => {
+                files.push((
+                    LIGGGHTS_CLUMPS_DATA,
+                    run(liggghts_clumps_data(&packing, materials, opts))?,
                 ));
             }
             Format::Pfc => {

@@ -1,9 +1,7 @@
 //! `packing.lammps`: a LAMMPS / LIGGGHTS data file (`atom_style sphere`;
 //! `atom_style body rounded/polygon` for particles that are not disks).
 
-use super::common::{
-    Export, Num, Text, VERSION, density, extent, labels, reach_max, type_count, type_id,
-};
+use super::common::{Export, Num, Text, VERSION, density, labels, type_count, type_id};
 use super::outline::{Moments, Rounded, turned};
 use crate::geometry::Point;
 use crate::layering::Material;
@@ -87,39 +85,26 @@ pub fn lammps_data(
     if !packing.grains.is_empty() {
         return Ok(body_data(&e, materials, opts));
     }
-    let (s, n) = (e.s, e.len());
+    let n = e.len();
     let rho = opts.units.density_per_kg_m3();
-    let (lo, hi) = e.extent();
-    let r = e.r_max();
-    let z = if r > 0.0 { r * s } else { 0.5 };
-    let units = match opts.units {
-        LengthUnit::Metre => "units si",
-        LengthUnit::Millimetre => "no LAMMPS units style matches mm",
-    };
     let mut t = Text::with_lines(n + 24);
-    t.line(format_args!(
-        "gapack {VERSION}: {n} disks, atom_style sphere, lengths in {} ({units}), density in kg/{}^3",
+    let title = format!(
+        "gapack {VERSION}: {n} disks, atom_style sphere, lengths in {} ({}), density in kg/{}^3",
         opts.units.config_name(),
+        units_style(opts),
         opts.units.config_name()
-    ));
-    t.line(format_args!(""));
-    t.line(format_args!("{n} atoms"));
-    t.line(format_args!("{} atom types", type_count(materials)));
-    t.line(format_args!(""));
-    t.line(format_args!("{} {} xlo xhi", Num(lo.x * s), Num(hi.x * s)));
-    t.line(format_args!("{} {} ylo yhi", Num(lo.y * s), Num(hi.y * s)));
-    t.line(format_args!("{} {} zlo zhi", Num(-z), Num(z)));
-    if packing.domain.is_periodic() {
-        t.line(format_args!(
-            "# periodic cell: boundary p p p (x and y periodic: the cell is the box; z periodic as for any 2d run)"
-        ));
-    }
-    t.line(format_args!(
-        "# mass from density: LAMMPS read_data, a sphere (rho*4/3*pi*r^3); LIGGGHTS with dimension 2, a disc of unit thickness (rho*pi*r^2)"
-    ));
-    for (i, label) in labels(materials).iter().enumerate() {
-        t.line(format_args!("# type {} = {label}", i + 1));
-    }
+    );
+    header(
+        &mut t,
+        &e,
+        materials,
+        &Header {
+            title,
+            counts: &[(n, "atoms")],
+            before: &[],
+            after: &["# mass from density: LAMMPS read_data, a sphere (rho*4/3*pi*r^3); LIGGGHTS with dimension 2, a disc of unit thickness (rho*pi*r^2)".to_owned()],
+        },
+    );
     if n > 0 {
         t.line(format_args!(""));
         t.line(format_args!("Atoms # sphere"));
@@ -137,6 +122,67 @@ pub fn lammps_data(
         }
     }
     Ok(t.into_bytes())
+}
+
+/// What a gapack data file for `read_data` (LAMMPS or LIGGGHTS) says in its
+/// header besides the box and the types.
+pub(super) struct Header<'a> {
+    /// The first line (`read_data` skips it): version, counts, units.
+    pub(super) title: String,
+    /// The counts after it, each `N name` (`N atoms`, `N bodies`).
+    pub(super) counts: &'a [(usize, &'a str)],
+    /// Comment lines after the box, before a periodic cell's.
+    pub(super) before: &'a [String],
+    /// Comment lines after a periodic cell's, before the types' names.
+    pub(super) after: &'a [String],
+}
+
+/// The header of a data file for `read_data`: `h.title`, a blank line,
+/// `h.counts`, `T atom types` (one per material, at least one), a blank
+/// line, `xlo xhi` and `ylo yhi` (the export's extent), `zlo zhi` (± the
+/// largest radius or circumradius: a 2d box must straddle z = 0; ± 0.5
+/// without particles), `h.before`, for a periodic cell the comment line
+/// `# periodic cell: boundary p p p` (a data file has no boundary keyword:
+/// the input script sets it), `h.after`, then `# type i = name` per
+/// material. One header for every such file, so that they all agree.
+pub(super) fn header(t: &mut Text, e: &Export<'_>, materials: &[Material], h: &Header<'_>) {
+    let s = e.s;
+    let (lo, hi) = e.extent();
+    let r = e.r_max();
+    let z = if r > 0.0 { r * s } else { 0.5 };
+    t.line(format_args!("{}", h.title));
+    t.line(format_args!(""));
+    for (count, name) in h.counts {
+        t.line(format_args!("{count} {name}"));
+    }
+    t.line(format_args!("{} atom types", type_count(materials)));
+    t.line(format_args!(""));
+    t.line(format_args!("{} {} xlo xhi", Num(lo.x * s), Num(hi.x * s)));
+    t.line(format_args!("{} {} ylo yhi", Num(lo.y * s), Num(hi.y * s)));
+    t.line(format_args!("{} {} zlo zhi", Num(-z), Num(z)));
+    for note in h.before {
+        t.line(format_args!("{note}"));
+    }
+    if e.packing.domain.is_periodic() {
+        t.line(format_args!(
+            "# periodic cell: boundary p p p (x and y periodic: the cell is the box; z periodic as for any 2d run)"
+        ));
+    }
+    for note in h.after {
+        t.line(format_args!("{note}"));
+    }
+    for (i, label) in labels(materials).iter().enumerate() {
+        t.line(format_args!("# type {} = {label}", i + 1));
+    }
+}
+
+/// The LAMMPS `units` style matching the export's length unit, for the
+/// title line.
+pub(super) fn units_style(opts: &ExportOptions) -> &'static str {
+    match opts.units {
+        LengthUnit::Metre => "units si",
+        LengthUnit::Millimetre => "no LAMMPS units style matches mm",
+    }
 }
 
 /// Vertices on one line of a body in the data file.
@@ -157,42 +203,30 @@ fn body_data(e: &Export<'_>, materials: &[Material], opts: &ExportOptions) -> Ve
             (r, world)
         })
         .collect();
-    let reach = reach_max(packing);
-    let (lo, hi) = extent(packing);
-    let z = if reach > 0.0 { reach * s } else { 0.5 };
     let counts = bodies.iter().map(|(_, w)| w.len());
     let (nmin, nmax) = (counts.clone().min().unwrap_or(3), counts.max().unwrap_or(3));
-    let units = match opts.units {
-        LengthUnit::Metre => "units si",
-        LengthUnit::Millimetre => "no LAMMPS units style matches mm",
-    };
     let mut t = Text::with_lines(n * 60 + 32);
-    t.line(format_args!(
-        "gapack {VERSION}: {n} particles, atom_style body rounded/polygon {nmin} {nmax}, lengths in {} ({units}), mass in kg per length unit of thickness",
-        opts.units.config_name()
-    ));
-    t.line(format_args!(""));
-    t.line(format_args!("{n} atoms"));
-    t.line(format_args!("{n} bodies"));
-    t.line(format_args!("{} atom types", type_count(materials)));
-    t.line(format_args!(""));
-    t.line(format_args!("{} {} xlo xhi", Num(lo.x * s), Num(hi.x * s)));
-    t.line(format_args!("{} {} ylo yhi", Num(lo.y * s), Num(hi.y * s)));
-    t.line(format_args!("{} {} zlo zhi", Num(-z), Num(z)));
-    if packing.domain.is_periodic() {
-        t.line(format_args!(
-            "# periodic cell: boundary p p p (x and y periodic: the cell is the box; z periodic as for any 2d run)"
-        ));
-    }
-    t.line(format_args!(
-        "# vertices per body: min {nmin}, max {nmax} (atom_style body rounded/polygon {nmin} {nmax})"
-    ));
-    t.line(format_args!(
-        "# each body a rounded polygon inside the particle; mass and inertia of a slab one length unit thick"
-    ));
-    for (i, label) in labels(materials).iter().enumerate() {
-        t.line(format_args!("# type {} = {label}", i + 1));
-    }
+    let title = format!(
+        "gapack {VERSION}: {n} particles, atom_style body rounded/polygon {nmin} {nmax}, lengths in {} ({}), mass in kg per length unit of thickness",
+        opts.units.config_name(),
+        units_style(opts)
+    );
+    header(
+        &mut t,
+        e,
+        materials,
+        &Header {
+            title,
+            counts: &[(n, "atoms"), (n, "bodies")],
+            before: &[],
+            after: &[
+                format!(
+                    "# vertices per body: min {nmin}, max {nmax} (atom_style body rounded/polygon {nmin} {nmax})"
+                ),
+                "# each body a rounded polygon inside the particle; mass and inertia of a slab one length unit thick".to_owned(),
+            ],
+        },
+    );
     if n == 0 {
         return t.into_bytes();
     }

@@ -1,12 +1,15 @@
-//! `packing.clumps.lammps`: a LAMMPS data file of rigid clumps of disks
-//! (`atom_style hybrid sphere molecular`, one molecule per particle).
+//! `packing.clumps.lammps` and `packing.clumps.liggghts`: data files of
+//! rigid clumps of disks for LAMMPS and for LIGGGHTS (`atom_style hybrid
+//! sphere molecular`, one molecule per particle): the same atoms, each
+//! file saying how its code runs them.
 
 use super::clumps::clumps;
-use super::common::{Export, Num, Text, VERSION, density, labels, type_count, type_id};
+use super::common::{Export, Num, Text, VERSION, density, type_id};
+use super::lammps::{Header, header, units_style};
 use crate::layering::Material;
 use crate::names::ConfigName;
 use crate::output::OutputError;
-use crate::output::format::{ExportOptions, LengthUnit};
+use crate::output::format::ExportOptions;
 use crate::packer::Packing;
 
 /// File name of the LAMMPS data file of clumps.
@@ -57,43 +60,142 @@ pub fn lammps_clumps_data(
     materials: &[Material],
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
+    clumps_data(packing, materials, opts, Code::Lammps)
+}
+
+/// File name of the LIGGGHTS data file of clumps.
+pub const LIGGGHTS_CLUMPS_DATA: &str = "packing.clumps.liggghts";
+
+/// Every packed particle as a clump of spheres (the clumps of
+/// `opts.clumps`, as in [`lammps_clumps_data`]) in a LIGGGHTS data file for
+/// `read_data`, `atom_style hybrid sphere molecular`, one molecule per
+/// particle, for LIGGGHTS' `fix rigid molecule`. A packing of disks gives
+/// one sphere per molecule.
+///
+/// # Why `fix rigid` and not `fix multisphere`
+/// LIGGGHTS' own clump fix, `fix multisphere`, takes its bodies only from
+/// the insertion fixes (`fix insert/pack`, `insert/stream`,
+/// `insert/rate/region`), which place templates
+/// (`fix particletemplate/multisphere`) at random points with random or
+/// template orientations, and it refuses a molecular atom style, so no
+/// data file can hand it bodies at given positions and angles. `fix rigid
+/// molecule`, which LIGGGHTS keeps from LAMMPS, integrates each molecule
+/// as one rigid body in the same way (the `fix multisphere` docs call the
+/// two equivalent), and takes the data file as it is.
+///
+/// # Layout
+/// As [`lammps_clumps_data`]'s, byte for byte in its `Atoms # hybrid`
+/// section (`id type x y z diameter density molecule`: LIGGGHTS reads the
+/// hybrid sub-styles' columns in the same order); only the first line and
+/// the comment line saying how to run it differ.
+///
+/// # In LIGGGHTS
+/// ```text
+/// units          si
+/// atom_style     hybrid sphere molecular
+/// atom_modify    map array
+/// boundary       f f p
+/// newton         off
+/// communicate    single vel yes
+/// read_data      packing.clumps.liggghts
+/// neigh_modify   delay 0 exclude molecule all
+/// (fix property/global material lines, pair_style gran …)
+/// fix            bodies all rigid molecule force * on on off torque * off off on
+/// ```
+/// A 3D run (LIGGGHTS' `fix rigid` warns that its inertia is a 3D body's
+/// in 2D) with every sphere at z = 0, each body kept in the plane by the
+/// `force` and `torque` flags. Each molecule's mass is the sum of its
+/// spheres' (ρ·4/3·π·r³ each in 3D): their overlaps count more than once.
+///
+/// # Errors
+/// [`OutputError::UnknownMaterial`] if a particle's material is not in a
+/// non-empty `materials`.
+pub fn liggghts_clumps_data(
+    packing: &Packing,
+    materials: &[Material],
+    opts: &ExportOptions,
+) -> Result<Vec<u8>, OutputError> {
+    clumps_data(packing, materials, opts, Code::Liggghts)
+}
+
+/// Longest comment line of the LIGGGHTS file's header: LIGGGHTS'
+/// `read_data` reads a header line into 256 bytes and takes the rest of a
+/// longer one for a line of its own, which it refuses (LAMMPS reads any
+/// length).
+const LIGGGHTS_LINE: usize = 160;
+
+/// `text` as `# ` comment lines of at most `width` characters, broken at
+/// spaces (a single longer word stays whole, on a line of its own).
+fn comment_lines(text: &str, width: usize) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    for word in text.split(' ') {
+        match lines.last_mut() {
+            Some(line) if line.len() + 1 + word.len() <= width => {
+                line.push(' ');
+                line.push_str(word);
+            }
+            _ => lines.push(format!("# {word}")),
+        }
+    }
+    lines
+}
+
+/// The code a data file of clumps is for: the same atoms, told how to run.
+#[derive(Debug, Clone, Copy)]
+enum Code {
+    /// LAMMPS: `fix rigid molecule`, `neigh_modify exclude molecule/intra`.
+    Lammps,
+    /// LIGGGHTS: `fix rigid molecule`, `neigh_modify exclude molecule`.
+    Liggghts,
+}
+
+/// The data file of clumps for `code` (see [`lammps_clumps_data`] and
+/// [`liggghts_clumps_data`]).
+fn clumps_data(
+    packing: &Packing,
+    materials: &[Material],
+    opts: &ExportOptions,
+    code: Code,
+) -> Result<Vec<u8>, OutputError> {
     let e = Export::dem(packing, materials, opts)?;
     let s = e.s;
     let all = clumps(packing, &opts.clumps);
     let atoms = all.disks();
     let rho = opts.units.density_per_kg_m3();
-    let (lo, hi) = e.extent();
-    let r = e.r_max();
-    let z = if r > 0.0 { r * s } else { 0.5 };
-    let units = match opts.units {
-        LengthUnit::Metre => "units si",
-        LengthUnit::Millimetre => "no LAMMPS units style matches mm",
-    };
     let u = opts.units.config_name();
     let mut t = Text::with_lines(atoms + 24);
-    t.line(format_args!(
-        "gapack {VERSION}: {} particles as {atoms} disks in rigid clumps (one molecule each), atom_style hybrid sphere molecular, lengths in {u} ({units}), density in kg/{u}^3",
-        e.len()
-    ));
-    t.line(format_args!(""));
-    t.line(format_args!("{atoms} atoms"));
-    t.line(format_args!("{} atom types", type_count(materials)));
-    t.line(format_args!(""));
-    t.line(format_args!("{} {} xlo xhi", Num(lo.x * s), Num(hi.x * s)));
-    t.line(format_args!("{} {} ylo yhi", Num(lo.y * s), Num(hi.y * s)));
-    t.line(format_args!("{} {} zlo zhi", Num(-z), Num(z)));
-    t.line(format_args!("# clumps: {}", all.summary(&opts.clumps)));
-    if packing.domain.is_periodic() {
-        t.line(format_args!(
-            "# periodic cell: boundary p p p (x and y periodic: the cell is the box; z periodic as for any 2d run)"
-        ));
-    }
-    t.line(format_args!(
-        "# run with: neigh_modify exclude molecule/intra all; fix bodies all rigid molecule; then fix enforce2d. Mass from density: a sphere per disk (rho*4/3*pi*r^3), overlaps counted more than once"
-    ));
-    for (i, label) in labels(materials).iter().enumerate() {
-        t.line(format_args!("# type {} = {label}", i + 1));
-    }
+    let summary = format!("clumps: {}", all.summary(&opts.clumps));
+    let (what, before, after) = match code {
+        Code::Lammps => (
+            "disks in rigid clumps (one molecule each)",
+            vec![format!("# {summary}")],
+            vec!["# run with: neigh_modify exclude molecule/intra all; fix bodies all rigid molecule; then fix enforce2d. Mass from density: a sphere per disk (rho*4/3*pi*r^3), overlaps counted more than once".to_owned()],
+        ),
+        Code::Liggghts => (
+            "spheres in rigid clumps (one molecule each) for LIGGGHTS",
+            comment_lines(&summary, LIGGGHTS_LINE),
+            comment_lines(
+                "run with: newton off; neigh_modify exclude molecule all; fix bodies all rigid molecule force * on on off torque * off off on (fix multisphere takes its bodies from fix insert/* only). Mass from density: a sphere per atom in 3D (rho*4/3*pi*r^3), overlaps counted more than once",
+                LIGGGHTS_LINE,
+            ),
+        ),
+    };
+    let title = format!(
+        "gapack {VERSION}: {} particles as {atoms} {what}, atom_style hybrid sphere molecular, lengths in {u} ({}), density in kg/{u}^3",
+        e.len(),
+        units_style(opts)
+    );
+    header(
+        &mut t,
+        &e,
+        materials,
+        &Header {
+            title,
+            counts: &[(atoms, "atoms")],
+            before: &before,
+            after: &after,
+        },
+    );
     if atoms > 0 {
         t.line(format_args!(""));
         t.line(format_args!("Atoms # hybrid"));
@@ -115,4 +217,67 @@ pub fn lammps_clumps_data(
         }
     }
     Ok(t.into_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Disk, Domain, Grain, Outline};
+    use crate::output::format::ClumpOptions;
+
+    /// Two long ellipses side by side, with few disks allowed: their clumps
+    /// fall short of the target, so the summary is at its longest.
+    fn short_clumps() -> (Packing, ExportOptions) {
+        let outline = Outline::superellipse(4.0, 1.0, 2.0, 2.0).unwrap();
+        let r = outline.equivalent_radius();
+        let mut packing = Packing::of_disks(
+            Domain::rectangle(20.0, 10.0).unwrap(),
+            vec![Disk::new(6.0, 3.0, r), Disk::new(6.0, 5.0, r)],
+        );
+        packing.grains = vec![Grain::new(outline.clone(), 0.0); 2];
+        let opts = ExportOptions {
+            clumps: ClumpOptions {
+                coverage: 0.99,
+                max_disks: 2,
+            },
+            ..ExportOptions::default()
+        };
+        (packing, opts)
+    }
+
+    #[test]
+    fn the_liggghts_header_fits_its_reader_and_the_atoms_are_the_lammps_ones() {
+        let (packing, opts) = short_clumps();
+        let liggghts =
+            String::from_utf8(liggghts_clumps_data(&packing, &[], &opts).unwrap()).unwrap();
+        let lammps = String::from_utf8(lammps_clumps_data(&packing, &[], &opts).unwrap()).unwrap();
+        let (head, atoms) = liggghts.split_once("Atoms # hybrid").unwrap();
+        assert!(
+            head.contains("particles fall short of the target"),
+            "{head}"
+        );
+        assert!(head.lines().all(|l| l.len() < 256), "{head}");
+        assert_eq!(
+            Some(atoms),
+            lammps.split_once("Atoms # hybrid").map(|(_, a)| a)
+        );
+        assert_eq!(atoms.lines().filter(|l| !l.is_empty()).count(), 4);
+        assert!(head.contains("\n4 atoms\n"));
+    }
+
+    #[test]
+    fn comment_lines_keep_every_word_within_the_width() {
+        let text = "one two three four five six seven eight nine ten eleven";
+        let lines = comment_lines(text, 16);
+        assert!(lines.iter().all(|l| l.starts_with("# ") && l.len() <= 16));
+        let words: Vec<&str> = lines
+            .iter()
+            .flat_map(|l| l.trim_start_matches("# ").split(' '))
+            .collect();
+        assert_eq!(words.join(" "), text);
+        assert_eq!(
+            comment_lines("abcdefghijklmnopqrstuvwxyz", 8),
+            ["# abcdefghijklmnopqrstuvwxyz"]
+        );
+    }
 }

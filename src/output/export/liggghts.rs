@@ -1,9 +1,8 @@
 //! `packing.superquadric.data` and `packing.superquadric.in`: superellipse
 //! particles for LIGGGHTS' `atom_style superquadric`.
 
-use super::common::{
-    Export, Num, Text, VERSION, density, extent, labels, reach_max, type_count, type_id,
-};
+use super::common::{Export, Num, Text, VERSION, density, type_id};
+use super::lammps::{Header, header};
 use super::outline::superquadrics;
 use crate::layering::Material;
 use crate::names::ConfigName;
@@ -56,7 +55,8 @@ pub fn superquadric_input(
 /// # Layout
 /// The data file: a comment line, `N atoms`, `T atom types`, the box
 /// (`xlo xhi`, `ylo yhi` holding every particle, `zlo zhi` ± the largest
-/// circumradius), comment lines naming the types, then `Atoms` and one line
+/// circumradius), for a periodic cell the comment line `# periodic cell:
+/// boundary p p p`, comment lines naming the types, then `Atoms` and one line
 /// per particle: `id type density shapex shapey shapez blockiness1
 /// blockiness2 x y z` — id from 1 in placement order, density in kg per
 /// cubic length unit, `shapex` = a and `shapey` = b (the semi-axes along
@@ -90,25 +90,23 @@ fn superquadric_files(
     let e = Export::dem(packing, materials, opts)?;
     let (s, n) = (e.s, e.len());
     let rho = opts.units.density_per_kg_m3();
-    let reach = reach_max(packing);
-    let (lo, hi) = extent(packing);
-    let z = reach * s;
     let mut t = Text::with_lines(n + 24);
-    t.line(format_args!(
+    let title = format!(
         "gapack {VERSION}: {n} superquadrics, atom_style superquadric, lengths in {}, density in kg/{}^3, shapez = {THICKNESS_REL} min(shapex, shapey)",
         opts.units.config_name(),
         opts.units.config_name()
-    ));
-    t.line(format_args!(""));
-    t.line(format_args!("{n} atoms"));
-    t.line(format_args!("{} atom types", type_count(materials)));
-    t.line(format_args!(""));
-    t.line(format_args!("{} {} xlo xhi", Num(lo.x * s), Num(hi.x * s)));
-    t.line(format_args!("{} {} ylo yhi", Num(lo.y * s), Num(hi.y * s)));
-    t.line(format_args!("{} {} zlo zhi", Num(-z), Num(z)));
-    for (i, label) in labels(materials).iter().enumerate() {
-        t.line(format_args!("# type {} = {label}", i + 1));
-    }
+    );
+    header(
+        &mut t,
+        &e,
+        materials,
+        &Header {
+            title,
+            counts: &[(n, "atoms")],
+            before: &[],
+            after: &[],
+        },
+    );
     t.line(format_args!(""));
     t.line(format_args!("Atoms"));
     t.line(format_args!(""));

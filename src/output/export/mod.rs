@@ -18,7 +18,9 @@ mod yade;
 pub use esys::{ESYS_GEOMETRY, esys_geometry};
 pub use json::{PACKING_JSON, packing_json};
 pub use lammps::{LAMMPS_DATA, lammps_data};
-pub use lammps_clumps::{LAMMPS_CLUMPS_DATA, lammps_clumps_data};
+pub use lammps_clumps::{
+    LAMMPS_CLUMPS_DATA, LIGGGHTS_CLUMPS_DATA, lammps_clumps_data, liggghts_clumps_data,
+};
 pub use liggghts::{SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, superquadric_data, superquadric_input};
 pub use mercury::{MERCURY_DATA, mercury_data};
 pub use pfc::{PFC_COMMANDS, pfc_commands};

@@ -77,18 +77,7 @@ pub fn packing_vtk(
     t.line(format_args!("POINT_DATA {n}"));
     scalars(&mut t, "radius", "double", e.rows().map(|d| d.r));
     scalars(&mut t, "diameter", "double", e.rows().map(|d| d.d));
-    scalars(
-        &mut t,
-        "material_id",
-        "int",
-        e.rows().map(|d| d.material.map_or(0, |m| m + 1)),
-    );
-    scalars(
-        &mut t,
-        "density",
-        "double",
-        e.rows().map(|d| Num(density(materials, d.material, opts))),
-    );
+    material_scalars(&mut t, &e, materials, opts);
     Ok(t.into_bytes())
 }
 
@@ -200,18 +189,7 @@ fn particles_vtk(e: &Export<'_>, materials: &[Material], opts: &ExportOptions) -
         "double",
         grains.iter().map(|g| Num(g.outline.least_width())),
     );
-    scalars(
-        &mut t,
-        "material_id",
-        "int",
-        e.rows().map(|d| d.material.map_or(0, |m| m + 1)),
-    );
-    scalars(
-        &mut t,
-        "density",
-        "double",
-        e.rows().map(|d| Num(density(materials, d.material, opts))),
-    );
+    material_scalars(&mut t, e, materials, opts);
     t.line(format_args!("VECTORS centre double"));
     for d in e.rows() {
         t.line(format_args!("{} {} 0", d.x, d.y));
@@ -219,7 +197,25 @@ fn particles_vtk(e: &Export<'_>, materials: &[Material], opts: &ExportOptions) -
     t.into_bytes()
 }
 
-/// One `SCALARS` block of point data.
+/// The `material_id` (int: material index + 1, 0 without materials) and
+/// `density` (double, kg/m³) blocks, one value per particle: point data
+/// of the disks, cell data of the polygons.
+fn material_scalars(t: &mut Text, e: &Export<'_>, materials: &[Material], opts: &ExportOptions) {
+    scalars(
+        t,
+        "material_id",
+        "int",
+        e.rows().map(|d| d.material.map_or(0, |m| m + 1)),
+    );
+    scalars(
+        t,
+        "density",
+        "double",
+        e.rows().map(|d| Num(density(materials, d.material, opts))),
+    );
+}
+
+/// One `SCALARS` block of point or cell data.
 fn scalars<T: std::fmt::Display>(
     t: &mut Text,
     name: &str,

@@ -53,13 +53,8 @@ pub fn yade_text(
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
     let e = Export::dem(packing, materials, opts)?;
-    let (s, n) = (e.s, e.len());
+    let n = e.len();
     let mut t = Text::with_lines(n + 3);
-    let ids: Vec<String> = labels(materials)
-        .iter()
-        .enumerate()
-        .map(|(i, label)| format!("{i} {label}"))
-        .collect();
     if materials.is_empty() {
         t.line(format_args!("#format x_y_z_r"));
         t.line(format_args!(
@@ -71,22 +66,14 @@ pub fn yade_text(
         t.line(format_args!(
             "# gapack {VERSION}: {n} disks, lengths in {}, matId = O.materials id: {}",
             opts.units.config_name(),
-            ids.join(", ")
+            material_ids(materials)
         ));
         t.line(format_args!(
             "# append {} materials to O.materials in that order before ymport.text(...), or YADE stops with 'Material id out of range'",
             materials.len()
         ));
     }
-    if let Some(cell) = packing.domain.period() {
-        let depth = 8.0 * e.r_max();
-        t.line(format_args!(
-            "# periodic cell: O.periodic = True; O.cell.setBox({}, {}, {})",
-            Num(cell.x * s),
-            Num(cell.y * s),
-            Num(if depth > 0.0 { depth * s } else { 1.0 })
-        ));
-    }
+    periodic_cell(&mut t, &e);
     for d in e.rows() {
         let (x, y, r) = (d.x, d.y, d.r);
         match d.material {
@@ -146,26 +133,13 @@ pub fn yade_script(
     ));
     t.line(format_args!("# clumps: {}", all.summary(&opts.clumps)));
     if !materials.is_empty() {
-        let ids: Vec<String> = labels(materials)
-            .iter()
-            .enumerate()
-            .map(|(i, label)| format!("{i} {label}"))
-            .collect();
         t.line(format_args!(
             "# m = O.materials id: {}; append {} materials to O.materials in that order first",
-            ids.join(", "),
+            material_ids(materials),
             materials.len()
         ));
     }
-    if let Some(cell) = packing.domain.period() {
-        let depth = 8.0 * e.r_max();
-        t.line(format_args!(
-            "# periodic cell: O.periodic = True; O.cell.setBox({}, {}, {})",
-            Num(cell.x * s),
-            Num(cell.y * s),
-            Num(if depth > 0.0 { depth * s } else { 1.0 })
-        ));
-    }
+    periodic_cell(&mut t, &e);
     t.line(format_args!(
         "# run with: yade packing.yade.py, or exec(open('packing.yade.py').read()); keep the clumps in the plane: blockedDOFs = 'zXY'"
     ));
@@ -189,4 +163,29 @@ pub fn yade_script(
         "gapack_clumps = [O.bodies.appendClumped([gapack_sphere(x, y, r, m) for x, y, r in spheres])[0] for m, spheres in gapack_data]"
     ));
     Ok(t.into_bytes())
+}
+
+/// Which `O.materials` id is which material: `0 name, 1 name, …`.
+fn material_ids(materials: &[Material]) -> String {
+    let ids: Vec<String> = labels(materials)
+        .iter()
+        .enumerate()
+        .map(|(i, label)| format!("{i} {label}"))
+        .collect();
+    ids.join(", ")
+}
+
+/// A periodic cell's comment line, `# periodic cell: O.periodic = True;
+/// O.cell.setBox(w, h, t)` with `t` four times the largest diameter (see
+/// [`yade_text`]); nothing for a domain with walls.
+fn periodic_cell(t: &mut Text, e: &Export<'_>) {
+    if let Some(cell) = e.packing.domain.period() {
+        let (s, depth) = (e.s, 8.0 * e.r_max());
+        t.line(format_args!(
+            "# periodic cell: O.periodic = True; O.cell.setBox({}, {}, {})",
+            Num(cell.x * s),
+            Num(cell.y * s),
+            Num(if depth > 0.0 { depth * s } else { 1.0 })
+        ));
+    }
 }

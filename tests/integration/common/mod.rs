@@ -40,6 +40,36 @@ pub fn gapack(dir: &Path, args: &[&str]) -> Output {
         .expect("run gapack")
 }
 
+/// `f`'s result, run on a pool of `threads` threads: for the tests that a
+/// result does not depend on how many threads computed it.
+pub fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a thread pool")
+        .install(f)
+}
+
+/// Run `gapack` with `args` in `dir` on `threads` threads
+/// (`RAYON_NUM_THREADS`), writing to `--out <threads>`; checks that it
+/// succeeds and returns that output directory.
+pub fn gapack_on_threads(dir: &Path, args: &[&str], threads: usize) -> PathBuf {
+    let out = threads.to_string();
+    let run = Command::new(env!("CARGO_BIN_EXE_gapack"))
+        .args(args)
+        .args(["--out", &out])
+        .env("RAYON_NUM_THREADS", &out)
+        .current_dir(dir)
+        .output()
+        .expect("run gapack");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    dir.join(out)
+}
+
 /// Table 3.4 of the thesis: the proppant grading of the fracture case.
 pub fn table_3_4() -> Grading {
     Grading::from_table(
