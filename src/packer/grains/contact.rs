@@ -362,10 +362,10 @@ pub(super) enum Smooth {
 }
 
 /// Newton iterations of one smooth two-contact solve.
-const SMOOTH_ITERATIONS: usize = 24;
+const SMOOTH_ITERATIONS: usize = 12;
 
 /// Halvings of one damped Newton step before the solve gives up.
-const BACKTRACKS: usize = 6;
+const BACKTRACKS: usize = 4;
 
 /// The curve of centres at which the new particle touches an obstacle at
 /// the gap ε, and its certificate. A curve's parameter is a vector: the

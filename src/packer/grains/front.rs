@@ -78,6 +78,9 @@ pub(super) struct Front<'a, I> {
     stack: Vec<u32>,
     /// Parked fronts by the equivalent radius they failed for.
     parked: BTreeMap<(u64, u32), ()>,
+    /// Per particle, the smallest equivalent radius it failed for as a
+    /// front (infinite: none yet).
+    failed_for: Vec<f64>,
     /// Smallest equivalent radius drawn so far.
     r_small: f64,
     /// Smallest inner radius drawn so far.
@@ -131,6 +134,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             reach_max: 0.0,
             stack: Vec::new(),
             parked: BTreeMap::new(),
+            failed_for: Vec::new(),
             r_small: f64::INFINITY,
             inner_small: f64::INFINITY,
             radii: Radii::default(),
@@ -151,35 +155,47 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let count = size_count(&scene.domain, scene.d_min());
         let mut deferred: VecDeque<(Grain, u32)> = VecDeque::new();
         let max_deferred = scene.packer.max_deferred;
-        for i in 0..count {
-            if i.is_multiple_of(PROGRESS_STEP) {
-                progress(i);
-                self.cancel.check()?;
-            }
-            let u: f64 = sizes.r#gen();
-            let grain = drawer.draw(scene.grading.sample(u), &mut shapes);
-            self.stats.sizes_drawn += 1;
-            if self.try_place(grain.clone())? {
-                // Retry the waiting sizes once each.
-                for _ in 0..deferred.len() {
-                    let Some((g, tries)) = deferred.pop_front() else {
-                        break;
-                    };
-                    if !self.try_place(g.clone())? {
-                        if tries + 1 < DEFERRED_RETRIES {
-                            deferred.push_back((g, tries + 1));
-                        } else {
-                            self.stats.sizes_unplaced += 1;
-                        }
+        // After a placement the oldest waiting size is retried (and the
+        // next after it while they fit); a retry that fails waits again,
+        // and a new size is drawn (the disk front's order).
+        let mut retry = false;
+        let mut drawn = 0;
+        loop {
+            let (grain, tries) = match (retry, deferred.pop_front()) {
+                (true, Some(entry)) => entry,
+                (_, entry) => {
+                    if let Some(entry) = entry {
+                        deferred.push_front(entry);
                     }
+                    if drawn == count {
+                        break;
+                    }
+                    if drawn.is_multiple_of(PROGRESS_STEP) {
+                        progress(drawn);
+                        self.cancel.check()?;
+                    }
+                    drawn += 1;
+                    let u: f64 = sizes.r#gen();
+                    self.stats.sizes_drawn += 1;
+                    (drawer.draw(scene.grading.sample(u), &mut shapes), 0)
                 }
-            } else if deferred.len() < max_deferred {
+            };
+            if self.try_place(grain.clone())? {
+                retry = !deferred.is_empty();
+                continue;
+            }
+            retry = false;
+            if tries == 0 {
                 self.stats.sizes_deferred += 1;
-                deferred.push_back((grain, 0));
-            } else {
+            }
+            if tries + 1 >= DEFERRED_RETRIES {
+                self.stats.sizes_unplaced += 1;
+            } else if deferred.len() >= max_deferred {
                 // One more size fits nowhere with the most waiting: full.
                 self.stats.sizes_unplaced += 1;
                 break;
+            } else {
+                deferred.push_back((grain, tries + 1));
             }
         }
         self.stats.sizes_unplaced += deferred.len() as u64;
@@ -231,11 +247,21 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 let Some(&front) = self.stack.last() else {
                     break;
                 };
+                // A front's room only shrinks as particles are placed: one
+                // that failed for this size or a smaller one waits again
+                // without an attempt (woken by a smaller size than that).
+                let failed = self.failed_for[front as usize];
+                if r_eq >= failed {
+                    self.stack.pop();
+                    self.parked.insert((failed.to_bits(), front), ());
+                    continue;
+                }
                 self.stats.front_attempts += 1;
                 if let Some(p) = self.attempt(front, &new, one_contact, false) {
                     spot = Some(p);
                 } else {
                     self.stack.pop();
+                    self.failed_for[front as usize] = r_eq;
                     // Parked for a smaller size, unless even the smallest
                     // disk inside any particle finds no spot touching it.
                     let smallest = self.inner_small;
@@ -311,6 +337,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             inner,
         });
         self.disks.push(Disk { c, r: r_eq });
+        self.failed_for.push(f64::INFINITY);
         self.grains.push(grain);
         self.stack.push(id);
         self.reach_max = self.reach_max.max(reach);
@@ -394,6 +421,37 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         !blocked
     }
 
+    /// Whether the new particle at `p`, a centre within the front's halo, is
+    /// clear of the domain's outside and of every obstacle in `near` (the
+    /// front's obstacles, all that such a centre can meet) but those in
+    /// `skip`. The obstacle that blocked the last centre (`witness`) is
+    /// checked first: neighbouring candidates are mostly blocked by the same.
+    fn clear_near(
+        &mut self,
+        new: &Newcomer,
+        p: Point,
+        skip: &[Obstacle],
+        near: &[Obstacle],
+        witness: &mut usize,
+    ) -> bool {
+        if !self.periodic && self.scene.domain.signed_distance(p) <= 0.0 {
+            return false;
+        }
+        let first = (*witness).min(near.len());
+        let order = near[first..].iter().chain(&near[..first]);
+        for (k, ob) in order.enumerate() {
+            if skip.contains(ob) {
+                continue;
+            }
+            self.stats.work += 1;
+            if !clear_of(&self.bodies, ob, new, p) {
+                *witness = (first + k) % near.len();
+                return false;
+            }
+        }
+        true
+    }
+
     /// The lowest clear spot touching front `front` and one more obstacle
     /// (with one contact: touching one of them), if any; with `any`, the
     /// first clear spot found.
@@ -440,6 +498,8 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         order.sort_unstable_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal));
         let mut best: Option<((f64, f64), Point)> = None;
         let mut begin = Vec::new();
+        // The obstacle that blocked the last candidate, checked first.
+        let mut witness = 0;
         let mut work = 0u64;
         for (bound, ob) in &order {
             if best.is_some_and(|(rank, _)| *bound > rank) {
@@ -483,7 +543,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                         slack: 2.0 * COARSE_REL * new.reach,
                         ..*new
                     };
-                    if !self.clear(&eroded, p, &[me, *ob]) {
+                    if !self.clear_near(&eroded, p, &[me, *ob], &obstacles, &mut witness) {
                         continue;
                     }
                     match two_contact(&self.bodies, &me, ob, new, p, false, &mut work) {
@@ -496,7 +556,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                     continue;
                 }
                 // Certified clear of the two it was solved against already.
-                if self.clear(new, p, &[me, *ob]) {
+                if self.clear_near(new, p, &[me, *ob], &obstacles, &mut witness) {
                     if any {
                         return Some(p);
                     }
