@@ -373,6 +373,18 @@ fn methods_walls_and_strips_that_do_not_pack_shapes_are_refused() {
         ),
     );
     fails_with(
+        &with_shape(&format!("{ellipses}[packer]\ncontacts = 1\ngap = 0.5")),
+        &unsupported(
+            "packer.gap (the one-contact clearance is kept between disks only; shapes at one contact keep none)",
+        ),
+    );
+    fails_with(
+        &with_shape(&format!("{ellipses}[packer]\nrules = \"thesis\"")),
+        &unsupported(
+            "packer.rules = \"thesis\" (shapes follow the robust rules: failing fronts parked, sizes deferred)",
+        ),
+    );
+    fails_with(
         &rect(
             "width = 40\nheight = 40\nwalls = \"disks\"",
             &format!("[shape]\n{ellipses}"),

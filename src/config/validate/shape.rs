@@ -12,8 +12,8 @@ use crate::config::raw::{RawConfig, RawShape, RawSpread, RawTemplate, Table};
 use crate::geometry::{Outline, WallMode};
 use crate::names::{ConfigName, Names};
 use crate::scene::{
-    Family, Fill, MAX_ASPECT, MAX_EXPONENT, Method, Orientation, PackerSettings, ShapeSpec,
-    SizeMeasure, Spread, Strips, template_vertices,
+    Family, Fill, FrontRules, MAX_ASPECT, MAX_EXPONENT, Method, Orientation, PackerSettings,
+    ShapeSpec, SizeMeasure, Spread, Strips, template_vertices,
 };
 
 /// How far from 1 the shares of a table or of the templates may sum.
@@ -450,7 +450,8 @@ impl Validator<'_> {
     }
 
     /// Refuse `[shape]` in a config this version cannot pack shapes for:
-    /// another job's table, another method, strips, filling right, or wall disks.
+    /// another job's table, another method, strips, filling right, a
+    /// one-contact gap, the thesis' front rules, or wall disks.
     pub(super) fn check_shape_support(
         &self,
         shape: &Spanned<Table<RawShape>>,
@@ -477,6 +478,10 @@ impl Validator<'_> {
             Some("packer.strips (packing in strips)".to_owned())
         } else if packer.fill == Fill::Right {
             Some("packer.fill = \"right\" (the scene mirrored and packed as disks); leave fill = \"up\"".to_owned())
+        } else if packer.gap > 0.0 {
+            Some("packer.gap (the one-contact clearance is kept between disks only; shapes at one contact keep none)".to_owned())
+        } else if packer.rules == FrontRules::Thesis {
+            Some("packer.rules = \"thesis\" (shapes follow the robust rules: failing fronts parked, sizes deferred)".to_owned())
         } else if walls == WallMode::Disks {
             Some(
                 "walls = \"disks\" (wall disks would need shape-aware wall particles; use walls = \"exact\")"
