@@ -493,6 +493,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         // until the best clear spot ranks below every bound left.
         let mut order: Vec<((f64, f64), Obstacle)> = obstacles
             .iter()
+            .filter(|ob| self.may_cross(front, ob, new))
             .map(|ob| (self.rank_bound(cf, rf + new.reach, ob, new), *ob))
             .collect();
         order.sort_unstable_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal));
@@ -566,6 +567,28 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         }
         self.stats.work += work;
         best.map(|(_, p)| p)
+    }
+
+    /// Whether the new particle may touch both the front and `ob` at once:
+    /// `false` when a line square to the centres' direction separates the
+    /// two sets of centres touching each (the front grown by the new
+    /// particle reflected, and the particle `ob` grown the same way, each
+    /// by the gap too), by support values bounded from above. Such a pair
+    /// has no crossing to solve for (its halos may still cross: a bounding
+    /// circle reaches far beyond an elongated particle's sides).
+    fn may_cross(&self, front: u32, ob: &Obstacle, new: &Newcomer) -> bool {
+        let Obstacle::Body(id, v) = *ob else {
+            return true;
+        };
+        let (f, g) = (&self.bodies[front as usize], &self.bodies[id as usize]);
+        let d = g.c + v - f.c;
+        let n = d.norm();
+        if n == 0.0 {
+            return true;
+        }
+        let u = d / n;
+        let reach = f.support(u).0 + new.support(-u).0 + new.support(u).0 + g.support(-u).0;
+        n <= reach + 2.0 * GAP_REL * new.reach
     }
 
     /// A lower bound of the rank of a centre within `halo` of the front's
