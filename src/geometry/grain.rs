@@ -743,8 +743,8 @@ fn superellipse_support(a: f64, b: f64, alpha: f64, beta: f64, u: Vector2<f64>) 
 /// both positive: h = ‖(a·ux, b·uy)‖_r, the dual norm, r = α/(α − 1);
 /// x/a = (P/S)^(1/α), y/b = (Q/S)^(1/α) with P, Q the norm's two terms and
 /// S their sum; ρ = (r − 1)·h·P·Q / (S²·ux²·uy²). The powers are taken
-/// through one logarithm each (the larger term is scaled to 1), cheaper
-/// than `powf` and within a few units in the last place.
+/// through two logarithms and two exponentials (the larger term scaled to
+/// 1), cheaper than `powf` and within a few units in the last place.
 #[inline]
 fn round_support(a: f64, b: f64, alpha: f64, ux: f64, uy: f64) -> (f64, f64, f64, f64) {
     let (p, q) = (a * ux, b * uy);
@@ -754,19 +754,26 @@ fn round_support(a: f64, b: f64, alpha: f64, ux: f64, uy: f64) -> (f64, f64, f64
         return (h, a * p / h, b * q / h, a * a * b * b / (h * h * h));
     }
     let r = alpha / (alpha - 1.0);
-    // ln of each term over the larger one's (0 for the larger).
-    let (lp, lq, m) = if p >= q {
-        (0.0, r * (q / p).ln(), p)
+    // With t the smaller of p, q over the larger: the terms over the
+    // larger's are 1 and t^r = t·T, T = t^(1/(α−1)); S = 1 + t·T and
+    // E = S^(−1/α) give h = max(p, q)·S·E, and the coordinates E along the
+    // larger term's axis and T·E along the other's (in semi-axes).
+    let (big, t) = if p >= q { (p, q / p) } else { (q, p / q) };
+    let tee = if t > 0.0 {
+        (t.ln() / (alpha - 1.0)).exp()
     } else {
-        (r * (p / q).ln(), 0.0, q)
+        0.0
     };
-    let (pr, qr) = (lp.exp(), lq.exp());
-    let s = pr + qr;
-    let ls = s.ln();
-    let h = m * (ls / r).exp();
-    let x = a * ((lp - ls) / alpha).exp();
-    let y = b * ((lq - ls) / alpha).exp();
-    let rho = (r - 1.0) * h * pr * qr / (s * s * ux * ux * uy * uy);
+    let small = t * tee;
+    let s = 1.0 + small;
+    let e = (-small.ln_1p() / alpha).exp();
+    let h = big * s * e;
+    let (x, y) = if p >= q {
+        (a * e, b * e * tee)
+    } else {
+        (a * e * tee, b * e)
+    };
+    let rho = (r - 1.0) * h * small / (s * s * ux * ux * uy * uy);
     (h, x, y, rho)
 }
 
