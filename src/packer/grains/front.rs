@@ -493,7 +493,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         // until the best clear spot ranks below every bound left.
         let mut order: Vec<((f64, f64), Obstacle)> = obstacles
             .iter()
-            .filter(|ob| self.may_cross(front, ob, new))
+            .filter(|ob| one_contact || self.may_cross(front, ob, new))
             .map(|ob| (self.rank_bound(cf, rf + new.reach, ob, new), *ob))
             .collect();
         order.sort_unstable_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal));
@@ -575,7 +575,8 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
     /// particle reflected, and the particle `ob` grown the same way, each
     /// by the gap too), by support values bounded from above. Such a pair
     /// has no crossing to solve for (its halos may still cross: a bounding
-    /// circle reaches far beyond an elongated particle's sides).
+    /// circle reaches far beyond an elongated particle's sides). Two
+    /// contacts only: a one-contact slide touches one of the two.
     fn may_cross(&self, front: u32, ob: &Obstacle, new: &Newcomer) -> bool {
         let Obstacle::Body(id, v) = *ob else {
             return true;
