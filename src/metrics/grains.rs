@@ -282,20 +282,6 @@ mod tests {
         scene.with_shape(shape)
     }
 
-    /// A packing of `grains` at `centres` in `domain`, each with its
-    /// area-equivalent radius.
-    fn packing(domain: Domain, grains: Vec<Grain>, centres: &[Point]) -> Packing {
-        let disks = grains
-            .iter()
-            .zip(centres)
-            .map(|(g, c)| Disk::new(c.x, c.y, g.outline.equivalent_radius()))
-            .collect();
-        Packing {
-            grains,
-            ..Packing::of_disks(domain, disks)
-        }
-    }
-
     /// An `nx` × `ny` lattice of ellipses a = 2, b = 1 along x, spaced
     /// `k` times their axes (k = 1: each touches its four neighbours),
     /// in a rectangle `margin` wider than the lattice on each side.
@@ -317,7 +303,7 @@ mod tests {
                 ));
             }
         }
-        packing(domain, grains, &centres)
+        Packing::of_grains(domain, grains, &centres)
     }
 
     #[test]
@@ -378,7 +364,7 @@ mod tests {
                 )
             })
             .collect();
-        let p = packing(s.domain.clone(), grains, &centres);
+        let p = Packing::of_grains(s.domain.clone(), grains, &centres);
         let sieve = measure(&p, &s);
         assert!(sieve.psd_ks <= 0.5 / n as f64 + 1e-9, "{}", sieve.psd_ks);
         assert_eq!(sieve.coordination, 0.0);

@@ -443,19 +443,6 @@ mod tests {
             .with_shape(ShapeSpec::ellipses(1.5))
     }
 
-    /// A packing of `grains` turned by their angles at `centres` in `domain`.
-    fn packing(domain: Domain, grains: Vec<Grain>, centres: &[Point]) -> Packing {
-        let disks = grains
-            .iter()
-            .zip(centres)
-            .map(|(g, c)| Disk::new(c.x, c.y, g.outline.equivalent_radius()))
-            .collect();
-        Packing {
-            grains,
-            ..Packing::of_disks(domain, disks)
-        }
-    }
-
     /// The square [−h, h]² as a polygon with sharp corners.
     fn square(h: f64) -> Outline {
         let v = [(-h, -h), (h, -h), (h, h), (-h, h)].map(|(x, y)| Point::new(x, y));
@@ -469,7 +456,7 @@ mod tests {
         let ellipse = || Outline::superellipse(2.0, 1.0, 2.0, 2.0).unwrap();
         let w = 10.0 * ellipse().equivalent_radius();
         let domain = Domain::rectangle(2.0 * w, w).unwrap();
-        let p = packing(
+        let p = Packing::of_grains(
             domain,
             vec![
                 // Its tip 1 mm across x = w: the cap beyond x/a = 1/2.
@@ -514,7 +501,7 @@ mod tests {
         // corners, (10 − 2)/√2 from the diamond's sides.
         let cell = Domain::periodic_rectangle(10.0, 10.0).unwrap();
         let s = scene(10.0, 10.0);
-        let diamond = packing(
+        let diamond = Packing::of_grains(
             cell.clone(),
             vec![Grain::new(square(2f64.sqrt()), PI / 4.0)],
             &[Point::new(5.0, 5.0)],
@@ -533,7 +520,7 @@ mod tests {
             .iter()
             .map(|q| (q.coords + Vector2::new(5.0, 5.0)).norm())
             .fold(f64::INFINITY, f64::min);
-        let ellipse = packing(cell, vec![Grain::new(e, 0.0)], &[Point::new(5.0, 5.0)]);
+        let ellipse = Packing::of_grains(cell, vec![Grain::new(e, 0.0)], &[Point::new(5.0, 5.0)]);
         let hole = measure(&ellipse, &s).largest_hole;
         assert!(
             hole <= 2.0 * far + 1e-12 && hole > 2.0 * far - 1e-6,
@@ -548,7 +535,7 @@ mod tests {
         // edge: 2 × 2 boxes tiling the cell hold their areas once.
         let cell = Domain::periodic_rectangle(10.0, 10.0).unwrap();
         let e = Outline::superellipse(2.0, 1.0, 2.0, 2.0).unwrap();
-        let p = packing(
+        let p = Packing::of_grains(
             cell,
             vec![Grain::new(square(2.0), PI / 4.0), Grain::new(e, 0.3)],
             &[Point::new(0.0, 0.0), Point::new(0.5, 5.0)],

@@ -1,7 +1,7 @@
 //! The one `Packing` type every generator returns and every metric and writer takes.
 
 use crate::geometry::predicates::RESOLUTION_REL;
-use crate::geometry::{Disk, Domain, Grain, WallMode};
+use crate::geometry::{Disk, Domain, Grain, Point, WallMode};
 
 /// A packing: the domain, the packed disks and, for `walls = "disks"`, the wall disks.
 #[derive(Debug, Clone, PartialEq)]
@@ -52,6 +52,17 @@ impl Packing {
     #[must_use]
     pub fn with_grains(self, grains: Vec<Grain>) -> Self {
         Packing { grains, ..self }
+    }
+
+    /// A packing of `grains` centred at `centres` (one each) in `domain`,
+    /// each disk the centre and the grain's area-equivalent radius.
+    pub fn of_grains(domain: Domain, grains: Vec<Grain>, centres: &[Point]) -> Self {
+        let disks = grains
+            .iter()
+            .zip(centres)
+            .map(|(g, c)| Disk::new(c.x, c.y, g.outline.equivalent_radius()))
+            .collect();
+        Packing::of_disks(domain, disks).with_grains(grains)
     }
 }
 

@@ -507,14 +507,15 @@ mod tests {
     /// A grain packing of one particle per outline, in a big box.
     fn packing_of(grains: Vec<(Grain, Point)>) -> Packing {
         let domain = Domain::rectangle(400.0, 400.0).unwrap();
-        let disks = grains
+        let centres: Vec<Point> = grains
             .iter()
-            .map(|(g, c)| Disk::new(c.x + 200.0, c.y + 200.0, g.outline.equivalent_radius()))
+            .map(|(_, c)| Point::new(c.x + 200.0, c.y + 200.0))
             .collect();
-        Packing {
-            grains: grains.into_iter().map(|(g, _)| g).collect(),
-            ..Packing::of_disks(domain, disks)
-        }
+        Packing::of_grains(
+            domain,
+            grains.into_iter().map(|(g, _)| g).collect(),
+            &centres,
+        )
     }
 
     #[test]

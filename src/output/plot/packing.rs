@@ -387,6 +387,17 @@ struct Canvas<'a> {
     panel: usize,
 }
 
+/// Blend one pixel's three bytes: a share `cover` of it is the particle,
+/// `inner` of it its fill and the rest of the cover its edge.
+fn blend(pixel: &mut [u8], cover: f64, inner: f64, fill: [u8; 3], edge: [u8; 3]) {
+    for (k, byte) in pixel.iter_mut().enumerate() {
+        let new = f64::from(*byte) * (1.0 - cover)
+            + f64::from(fill[k]) * inner
+            + f64::from(edge[k]) * (cover - inner);
+        *byte = new.round().clamp(0.0, 255.0) as u8;
+    }
+}
+
 impl Canvas<'_> {
     /// Draw `disk` filled with `fill`, with an edge line of `edge`,
     /// anti-aliased by the distance of each pixel's centre to the rim.
@@ -452,13 +463,7 @@ impl Canvas<'_> {
                 }
                 let inner = (r - line - dist + 0.5).clamp(0.0, 1.0);
                 let at = 3 * (row + i);
-                for k in 0..3 {
-                    let old = f64::from(self.rgb[at + k]);
-                    let new = old * (1.0 - cover)
-                        + f64::from(fill[k]) * inner
-                        + f64::from(edge[k]) * (cover - inner);
-                    self.rgb[at + k] = new.round().clamp(0.0, 255.0) as u8;
-                }
+                blend(&mut self.rgb[at..at + 3], cover, inner, fill, edge);
             }
         }
     }
@@ -575,13 +580,7 @@ impl Canvas<'_> {
                 }
                 let inner = (0.5 - line - d).clamp(0.0, 1.0);
                 let at = 3 * (row + i);
-                for k in 0..3 {
-                    let old = f64::from(self.rgb[at + k]);
-                    let new = old * (1.0 - cover)
-                        + f64::from(fill[k]) * inner
-                        + f64::from(edge[k]) * (cover - inner);
-                    self.rgb[at + k] = new.round().clamp(0.0, 255.0) as u8;
-                }
+                blend(&mut self.rgb[at..at + 3], cover, inner, fill, edge);
             }
         }
     }

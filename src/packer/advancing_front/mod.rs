@@ -130,6 +130,7 @@ mod seed;
 use candidates::{Cand, Near, lowest_first};
 use closure::{NO_WITNESS, RETIRE_RATIO, Witnesses, merged};
 use one_contact::ANGLE_STREAM;
+pub(crate) use seed::offset_crossing;
 
 /// Retries of one deferred size before it is given up.
 const DEFERRED_RETRIES: u32 = 32;

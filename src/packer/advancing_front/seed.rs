@@ -115,6 +115,31 @@ fn wall_spot_on_line(wall: &Wall, r: f64, [a, b, c]: [f64; 3], out: &mut Vec<Poi
 
 /// Centres of disks of radius `r` tangent to both walls (inside), for seeding.
 fn wall_wall_spots(a: &Wall, b: &Wall, r: f64, out: &mut Vec<Point>) {
+    let Some(c) = offset_crossing(a, b, r) else {
+        return;
+    };
+    let (ta, sa) = (c.len_a * 1e-12, c.len_b * 1e-12);
+    if c.t >= -ta && c.t <= c.len_a + ta && c.s >= -sa && c.s <= c.len_b + sa {
+        out.push(c.at);
+    }
+}
+
+/// Where the lines of two straight walls offset inwards by `r` cross.
+pub(crate) struct OffsetCrossing {
+    /// The crossing: the centre of a disk of radius `r` touching both lines.
+    pub at: Point,
+    /// Its distance along the first wall from its start, and that wall's length.
+    pub t: f64,
+    pub len_a: f64,
+    /// Its distance along the second wall from its start, and that wall's length.
+    pub s: f64,
+    pub len_b: f64,
+}
+
+/// The crossing of the two walls' lines offset inwards by `r` (`None` for
+/// a circular wall or parallel walls); the callers decide how far beyond
+/// the walls' ends it may lie.
+pub(crate) fn offset_crossing(a: &Wall, b: &Wall, r: f64) -> Option<OffsetCrossing> {
     let offset = |w: &Wall| match *w {
         Wall::Segment { a, b } => {
             let len = (b - a).norm();
@@ -123,20 +148,21 @@ fn wall_wall_spots(a: &Wall, b: &Wall, r: f64, out: &mut Vec<Point>) {
         }
         Wall::Circle { .. } => None,
     };
-    let (Some((p, u, lu)), Some((q, v, lv))) = (offset(a), offset(b)) else {
-        return;
-    };
+    let ((p, u, len_a), (q, v, len_b)) = (offset(a)?, offset(b)?);
     let det = u.x * (-v.y) - u.y * (-v.x);
     if det.abs() < 1e-12 {
-        return;
+        return None;
     }
     let w = q - p;
     let t = (w.x * (-v.y) - w.y * (-v.x)) / det;
     let s = (u.x * w.y - u.y * w.x) / det;
-    let (ta, sa) = (lu * 1e-12, lv * 1e-12);
-    if t >= -ta && t <= lu + ta && s >= -sa && s <= lv + sa {
-        out.push(p + u * t);
-    }
+    Some(OffsetCrossing {
+        at: p + u * t,
+        t,
+        len_a,
+        s,
+        len_b,
+    })
 }
 
 #[cfg(test)]

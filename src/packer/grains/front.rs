@@ -29,7 +29,7 @@ use super::contact::{
 use super::{Body, PEAK_BYTES_PER_GRAIN, Radii};
 use crate::cancel::Cancel;
 use crate::geometry::{Disk, Grain, Outline, Point, Wall};
-use crate::packer::advancing_front::{PROGRESS_STEP, size_count, work_budget};
+use crate::packer::advancing_front::{PROGRESS_STEP, offset_crossing, size_count, work_budget};
 use crate::packer::index::{Grid, MxQuadtree, SpatialIndex};
 use crate::packer::{BYTES_PER_MB, IndexKind, PackError, PackStats, Packing};
 use crate::scene::{SHAPE_STREAM, ShapeSpec};
@@ -730,26 +730,18 @@ fn reference(bodies: &[Body], ob: &Obstacle, s: Point) -> Point {
 /// The centre of a disk of radius `r` touching both straight walls inside
 /// (their inward offset lines' crossing, on both segments).
 fn corner(a: &Obstacle, b: &Obstacle, r: f64, out: &mut Vec<Point>) {
-    let offset = |w: &Obstacle| match *w {
-        Obstacle::Segment(a, b) => {
-            let len = (b - a).norm();
-            let u = (b - a) / len;
-            Some((Point::new(a.x - u.y * r, a.y + u.x * r), u, len))
-        }
+    let wall = |w: &Obstacle| match *w {
+        Obstacle::Segment(a, b) => Some(Wall::Segment { a, b }),
         _ => None,
     };
-    let (Some((p, u, lu)), Some((q, v, lv))) = (offset(a), offset(b)) else {
+    let (Some(wa), Some(wb)) = (wall(a), wall(b)) else {
         return;
     };
-    let det = u.x * (-v.y) - u.y * (-v.x);
-    if det.abs() < 1e-12 {
+    let Some(c) = offset_crossing(&wa, &wb, r) else {
         return;
-    }
-    let w = q - p;
-    let t = (w.x * (-v.y) - w.y * (-v.x)) / det;
-    let s = (u.x * w.y - u.y * w.x) / det;
-    if t >= -r && t <= lu + r && s >= -r && s <= lv + r {
-        out.push(p + u * t);
+    };
+    if c.t >= -r && c.t <= c.len_a + r && c.s >= -r && c.s <= c.len_b + r {
+        out.push(c.at);
     }
 }
 
