@@ -8,8 +8,9 @@
 //! Superellipses with α = β ≤ 6 (ellipses among them) are solved on their
 //! contact curves ([`two_contact_smooth`]): each is traced by support
 //! points as the contact normal turns, and Newton on the two normals'
-//! angles meets them in a few steps. Other outlines (polygons, rhombi,
-//! α ≠ β, flatter sides) are solved on distances, as follows.
+//! angles meets them in a few steps (the front solves only the crossings
+//! its screen finds, `screen`). Other outlines (polygons, rhombi, α ≠ β,
+//! flatter sides) are solved on distances, as follows.
 //!
 //! With the orientations fixed, the distance from the new particle N at
 //! centre p to a convex obstacle A is the distance from p to the convex set
@@ -25,6 +26,7 @@
 use nalgebra::Vector2;
 
 use super::Body;
+use super::screen::Sampled;
 use crate::geometry::{Outline, Point, apart, separation_from};
 
 /// Gap between touching particles, relative to the new particle's reach:
@@ -52,6 +54,8 @@ pub(super) struct Newcomer<'a> {
     /// positive value gives a slightly eroded particle, for a test that
     /// forgives a coarse centre (never for a placement).
     pub slack: f64,
+    /// Its way into the screen's tables (`None`: not screened).
+    pub sampled: Option<Sampled>,
 }
 
 impl Newcomer<'_> {
@@ -396,7 +400,7 @@ enum Curve<'a> {
 const SMOOTH_MAX_EXPONENT: f64 = 6.0;
 
 /// Whether `outline` is solved by Newton on the contact normal's angle.
-fn newton_friendly(outline: &Outline) -> bool {
+pub(super) fn newton_friendly(outline: &Outline) -> bool {
     matches!(*outline, Outline::Superellipse { alpha, beta, .. }
         if alpha == beta && alpha > 1.0 && alpha <= SMOOTH_MAX_EXPONENT)
 }
@@ -574,8 +578,10 @@ impl From<bool> for Certified {
 /// Each curve is the ε-offset of the Minkowski sum of the obstacle and the
 /// reflected new particle, traced by support points: every point on it is
 /// at distance ε from the obstacle, so a crossing touches both. Damped
-/// Newton solves C_a(t₁) = C_b(t₂) from the parameters nearest `start` in
-/// a few steps (the curves' derivatives are exact); the centre is then
+/// Newton solves C_a(t₁) = C_b(t₂) from the parameters nearest `start`
+/// (or, for two particles, from the contact `normals` given: the screen's
+/// estimate) in a few steps (the curves' derivatives are exact); the
+/// centre is then
 /// certified clear of both by the gap along each contact normal, with
 /// support values bounded from above, and kept only on `start`'s side of
 /// the line between the obstacles (the other crossing is the other
@@ -586,6 +592,7 @@ pub(super) fn two_contact_smooth(
     b: &Obstacle,
     new: &Newcomer,
     start: Point,
+    normals: Option<(Vector2<f64>, Vector2<f64>)>,
     work: &mut u64,
 ) -> Smooth {
     if new.slack != 0.0 {
@@ -597,6 +604,10 @@ pub(super) fn two_contact_smooth(
     ) else {
         return Smooth::Unsuited;
     };
+    // Known contact normals start closer than the directions to `start`.
+    if let (Some((na, nb)), Curve::Body { .. }, Curve::Body { .. }) = (normals, &ca, &cb) {
+        (ta, tb) = (na, nb);
+    }
     let eps = GAP_REL * new.reach;
     let eval = |ta: Vector2<f64>, tb: Vector2<f64>| {
         let ((pa, da), (pb, db)) = (ca.at(new, ta)?, cb.at(new, tb)?);

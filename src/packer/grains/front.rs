@@ -7,7 +7,11 @@
 //! `max_deferred` sizes wait and one more fits nowhere.
 //!
 //! Two-contact placements solve the exact contact with both obstacles
-//! (`contact::two_contact`); one-contact ones (`packer.one_contact_share`)
+//! (`contact::two_contact`). For superellipses solved on their contact
+//! curves, the screen (`screen`) first marks where the front's curve
+//! leaves its neighbours' shadows, on polygons, and only those spots are
+//! solved, lowest first; other outlines solve every neighbour's crossings
+//! lowest bound first. One-contact ones (`packer.one_contact_share`)
 //! take the crossing of the bounding circles' halos and slide from there
 //! towards the two obstacles by bisection until the particle touches one
 //! (seed 001's approximate construction). In a periodic cell the first
@@ -26,6 +30,7 @@ use super::contact::{
     COARSE_REL, GAP_REL, Newcomer, Obstacle, Smooth, clear_of, point_segment_distance, slide,
     starts, two_contact, two_contact_smooth,
 };
+use super::screen::{Candidate, Halo, Polygon, SIDES, Sampled, Tables, candidates};
 use super::{Body, PEAK_BYTES_PER_GRAIN, Radii};
 use crate::cancel::Cancel;
 use crate::geometry::{Disk, Grain, Outline, Point, Wall};
@@ -70,6 +75,8 @@ pub(super) struct Front<'a, I> {
     bodies: Vec<Body>,
     grains: Vec<Grain>,
     disks: Vec<Disk>,
+    /// Per particle, what the neighbour search and the screen read.
+    halos: Vec<Halo>,
     index: I,
     walls: Vec<Obstacle>,
     periodic: bool,
@@ -91,6 +98,13 @@ pub(super) struct Front<'a, I> {
     next_look: u64,
     ceiling: Option<(u64, PackError)>,
     contact_rng: Xoshiro256PlusPlus,
+    tables: Tables,
+    /// Scratch of the attempts: obstacles, and the screen's polygons and
+    /// candidates.
+    obstacles: Vec<Obstacle>,
+    polys: Vec<Polygon>,
+    cands: Vec<Candidate>,
+    ranked: Vec<((f64, f64), Candidate)>,
 }
 
 impl<'a, I: SpatialIndex> Front<'a, I> {
@@ -128,6 +142,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             bodies: Vec::new(),
             grains: Vec::new(),
             disks: Vec::new(),
+            halos: Vec::new(),
             index: I::new(lo, hi, I::BUCKET_DIAMETERS * 2.0 * reach_spec),
             walls: if periodic { Vec::new() } else { walls },
             periodic,
@@ -143,6 +158,11 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             next_look: WORK_STEP,
             ceiling,
             contact_rng: Xoshiro256PlusPlus::seed_from_u64(scene.seed ^ CONTACT_STREAM),
+            tables: Tables::default(),
+            obstacles: Vec::new(),
+            polys: Vec::new(),
+            cands: Vec::new(),
+            ranked: Vec::new(),
         })
     }
 
@@ -230,6 +250,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             self.parked.remove(&k);
             self.stack.push(k.1);
         }
+        let sampled = self.tables.sample(&grain.outline, cos, sin);
         let spot = {
             let new = Newcomer {
                 outline: &grain.outline,
@@ -238,6 +259,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 reach,
                 inner,
                 slack: 0.0,
+                sampled,
             };
             let mut spot = None;
             if self.needs_seed() {
@@ -278,6 +300,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                         reach: smallest,
                         inner: smallest,
                         slack: 0.0,
+                        sampled: self.tables.sample(&probe_outline, 1.0, 0.0),
                     };
                     if r_eq > self.r_small * CLOSE_BAND
                         && self.attempt(front, &probe, false, true).is_some()
@@ -296,7 +319,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let Some(p) = spot else {
             return Ok(false);
         };
-        self.place(p, grain, reach, inner, r_eq, cos, sin)?;
+        self.place(p, grain, reach, inner, r_eq, cos, sin, sampled)?;
         Ok(true)
     }
 
@@ -319,6 +342,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         r_eq: f64,
         cos: f64,
         sin: f64,
+        sampled: Option<Sampled>,
     ) -> Result<(), PackError> {
         if let Some((limit, why)) = &self.ceiling
             && self.disks.len() as u64 >= *limit
@@ -337,6 +361,12 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             inner,
         });
         self.disks.push(Disk { c, r: r_eq });
+        self.halos.push(Halo {
+            c,
+            reach,
+            inner,
+            sampled,
+        });
         self.failed_for.push(f64::INFINITY);
         self.grains.push(grain);
         self.stack.push(id);
@@ -462,17 +492,30 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         one_contact: bool,
         any: bool,
     ) -> Option<Point> {
+        let mut obstacles = std::mem::take(&mut self.obstacles);
+        obstacles.clear();
+        let found = self.attempt_among(front, new, one_contact, any, &mut obstacles);
+        self.obstacles = obstacles;
+        found
+    }
+
+    /// [`Self::attempt`], gathering the front's obstacles into `obstacles`.
+    fn attempt_among(
+        &mut self,
+        front: u32,
+        new: &Newcomer,
+        one_contact: bool,
+        any: bool,
+        obstacles: &mut Vec<Obstacle>,
+    ) -> Option<Point> {
         let f = &self.bodies[front as usize];
         let (cf, rf) = (f.c, f.reach);
         let reach = rf + 2.0 * new.reach;
-        let mut obstacles: Vec<Obstacle> = Vec::new();
-        let bodies = &self.bodies;
+        let halos = &self.halos;
         let _ = self.visit(cf, reach + self.reach_max, |id, v| {
-            if id == front && v == Vector2::zeros() {
-                return ControlFlow::Continue(());
-            }
-            let g = &bodies[id as usize];
-            if (g.c + v - cf).norm() <= reach + g.reach {
+            let g = &halos[id as usize];
+            let (d, s) = (g.c + v - cf, reach + g.reach);
+            if d.norm_squared() <= s * s && (id != front || v != Vector2::zeros()) {
                 obstacles.push(Obstacle::Body(id, v));
             }
             ControlFlow::Continue(())
@@ -488,6 +531,10 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             }
         }
         let me = Obstacle::Body(front, Vector2::zeros());
+        let obstacles = &obstacles[..];
+        if !one_contact && let Some(found) = self.screened(front, new, obstacles, any) {
+            return found;
+        }
         // Each obstacle with the least rank a centre touching it and the
         // front can have (inside both halos): solved lowest bound first,
         // until the best clear spot ranks below every bound left.
@@ -515,7 +562,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                     let to = Point::from(0.5 * (cf.coords + reference(&self.bodies, ob, s).coords));
                     slide(&self.bodies, &me, Some(ob), new, s, to, &mut work)
                 } else {
-                    match two_contact_smooth(&self.bodies, &me, ob, new, s, &mut work) {
+                    match two_contact_smooth(&self.bodies, &me, ob, new, s, None, &mut work) {
                         Smooth::Found(p) => {
                             exact = true;
                             Some(p)
@@ -544,7 +591,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                         slack: 2.0 * COARSE_REL * new.reach,
                         ..*new
                     };
-                    if !self.clear_near(&eroded, p, &[me, *ob], &obstacles, &mut witness) {
+                    if !self.clear_near(&eroded, p, &[me, *ob], obstacles, &mut witness) {
                         continue;
                     }
                     match two_contact(&self.bodies, &me, ob, new, p, false, &mut work) {
@@ -557,7 +604,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                     continue;
                 }
                 // Certified clear of the two it was solved against already.
-                if self.clear_near(new, p, &[me, *ob], &obstacles, &mut witness) {
+                if self.clear_near(new, p, &[me, *ob], obstacles, &mut witness) {
                     if any {
                         return Some(p);
                     }
@@ -567,6 +614,95 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         }
         self.stats.work += work;
         best.map(|(_, p)| p)
+    }
+
+    /// The lowest clear spot touching front `front` and one more obstacle
+    /// (with `any`, the first clear spot found), solved only where the
+    /// screen finds the front's curve leaving an obstacle's shadow
+    /// (`screen`); `None` when the screen does not apply.
+    fn screened(
+        &mut self,
+        front: u32,
+        new: &Newcomer,
+        obstacles: &[Obstacle],
+        any: bool,
+    ) -> Option<Option<Point>> {
+        let f = &self.halos[front as usize];
+        let mut cands = std::mem::take(&mut self.cands);
+        let mut work = 0u64;
+        let screened = candidates(
+            &self.tables,
+            &self.bodies,
+            &self.halos,
+            f,
+            new,
+            obstacles,
+            &mut self.polys,
+            &mut cands,
+            &mut work,
+        );
+        if screened.is_none() {
+            self.cands = cands;
+            self.stats.work += work;
+            return None;
+        }
+        // The estimates are within about a side of the polygon of the
+        // exact spots: candidates ranked within that of the best are
+        // solved too.
+        let tol = std::f64::consts::TAU * (f.reach + new.reach) / SIDES as f64;
+        let me = Obstacle::Body(front, Vector2::zeros());
+        let mut ranked = std::mem::take(&mut self.ranked);
+        ranked.clear();
+        ranked.extend(cands.iter().map(|c| (self.rank(c.p), *c)));
+        ranked.sort_unstable_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal));
+        let mut best: Option<((f64, f64), Point)> = None;
+        let mut witness = 0;
+        for (estimate, cand) in &ranked {
+            if let Some((r, _)) = best {
+                let slack = if self.periodic {
+                    tol * (2.0 * r.0.sqrt() + tol)
+                } else {
+                    tol
+                };
+                if estimate.0 > r.0 + slack {
+                    break;
+                }
+            }
+            let ob = obstacles[cand.ob];
+            let p = match two_contact_smooth(
+                &self.bodies,
+                &me,
+                &ob,
+                new,
+                cand.p,
+                cand.normals,
+                &mut work,
+            ) {
+                Smooth::Found(p) => p,
+                Smooth::Missing => continue,
+                Smooth::Unsuited => {
+                    match two_contact(&self.bodies, &me, &ob, new, cand.p, false, &mut work) {
+                        Some(p) => p,
+                        None => continue,
+                    }
+                }
+            };
+            let rank = self.rank(p);
+            if best.is_some_and(|(r, _)| rank >= r) {
+                continue;
+            }
+            if self.clear_near(new, p, &[me, ob], obstacles, &mut witness) {
+                if any {
+                    best = Some((rank, p));
+                    break;
+                }
+                best = Some((rank, p));
+            }
+        }
+        self.cands = cands;
+        self.ranked = ranked;
+        self.stats.work += work;
+        Some(best.map(|(_, p)| p))
     }
 
     /// Whether the new particle may touch both the front and `ob` at once:

@@ -54,6 +54,7 @@ pub(super) fn pack(
                 reach,
                 inner,
                 slack: 0.0,
+                sampled: None,
             };
             for _ in 0..attempts {
                 front.stats.front_attempts += 1;
@@ -71,7 +72,7 @@ pub(super) fn pack(
         match spot {
             Some(p) => {
                 let r_eq = grain.outline.equivalent_radius();
-                front.place(p, grain, reach, inner, r_eq, cos, sin)?;
+                front.place(p, grain, reach, inner, r_eq, cos, sin, None)?;
             }
             None => {
                 front.stats.sizes_unplaced += 1;
