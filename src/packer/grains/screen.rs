@@ -4,7 +4,9 @@
 //! on X's contact curve, the boundary of X ⊕ (−N). Sampled at [`SIDES`]
 //! common normal directions u_k, the points c_X + s_X(u_k) − s_N(−u_k) are
 //! points of X ⊕ (−N), so the polygon through them lies inside it: a centre
-//! inside another particle's polygon is certainly blocked by it.
+//! inside another particle's polygon is blocked by it (certainly when the
+//! tables hold the particles' own shapes; nearly, when a range of shapes
+//! shares tables rounded to a nearby one).
 //!
 //! The front's polygon is walked vertex by vertex, each vertex marked with
 //! the obstacles that block it. Where two neighbouring vertices share no
