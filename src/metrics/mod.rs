@@ -438,7 +438,40 @@ fn clearance_above(
     floor: f64,
     settler: &mut (usize, Vector2<f64>),
 ) -> f64 {
-    let domain = &packing.domain;
+    search_clearance(
+        &packing.domain,
+        near,
+        r_max,
+        p,
+        floor,
+        settler,
+        |j, v, _| {
+            #[cfg(test)]
+            tests::CANDIDATES.with(|c| c.set(c.get() + 1));
+            let d = all[j];
+            let at = if v == Vector2::zeros() { d.c } else { d.c + v };
+            let found = (p - at).norm() - d.r;
+            (found, found <= floor)
+        },
+    )
+}
+
+/// The search both clearances share: the wall's distance, then the
+/// particles indexed in `near` (bounding radii at most `r_max`) in boxes
+/// about `p` doubling from the finest class's size until the nearest one
+/// found is within the box. `probe(j, v, bar)` gives particle `j`'s image
+/// shifted by `v`: a distance (none below `bar` found so far need be exact
+/// above it) and whether it settles the sample (at or below `floor`); the
+/// one that settles is left in `settler`.
+pub(super) fn search_clearance(
+    domain: &crate::Domain,
+    near: &ByRadius,
+    r_max: f64,
+    p: Point,
+    floor: f64,
+    settler: &mut (usize, Vector2<f64>),
+    mut probe: impl FnMut(usize, Vector2<f64>, f64) -> (f64, bool),
+) -> f64 {
     // A periodic cell has no wall.
     let wall = if domain.is_periodic() {
         f64::INFINITY
@@ -451,7 +484,7 @@ fn clearance_above(
     let mut best = wall;
     // Every centre lies within the domain's bounds: a box of half side
     // `reach` around a point of the domain holds them all.
-    let (lo, hi) = packing.domain.bounds();
+    let (lo, hi) = domain.bounds();
     let reach = (hi - lo).norm() + r_max;
     // The finest class's size settles most samples of a dense packing in
     // one query; each class is searched as far as its own largest radius asks.
@@ -461,12 +494,9 @@ fn clearance_above(
         let mut settled = ControlFlow::Continue(());
         for v in images_near(domain, p, half + r_max) {
             settled = near.try_visit(p - v, half, |j| {
-                #[cfg(test)]
-                tests::CANDIDATES.with(|c| c.set(c.get() + 1));
-                let d = all[j];
-                let at = if v == Vector2::zeros() { d.c } else { d.c + v };
-                found = found.min((p - at).norm() - d.r);
-                if found <= floor {
+                let (d, settles) = probe(j, v, found.min(best));
+                found = found.min(d);
+                if settles {
                     *settler = (j, v);
                     ControlFlow::Break(())
                 } else {
@@ -478,8 +508,9 @@ fn clearance_above(
             }
         }
         best = best.min(found);
-        // A disk not visited lies farther than `half` plus its class's
-        // largest radius from `p` along an axis: its edge is beyond `half`.
+        // A particle not visited lies farther than `half` plus its class's
+        // largest bounding radius from `p` along an axis: it is beyond
+        // `half`.
         if settled.is_break() || best <= half || half > reach {
             return best;
         }

@@ -37,13 +37,12 @@
 //! bound): rejecting never makes the hole larger.
 
 use std::collections::HashMap;
-use std::ops::ControlFlow;
 
 use nalgebra::Vector2;
 
 use super::near::ByRadius;
 use super::shapes::{ShapeMemo, UnitKey, key_of};
-use super::{Clearance, image, images_near};
+use super::{Clearance, image, search_clearance};
 use crate::geometry::predicates::area_polygon_box;
 use crate::geometry::{Disk, Outline, Point, SUPPORT_REL, Turned, separation};
 use crate::packer::Packing;
@@ -356,69 +355,34 @@ impl Clearance for GrainClearance<'_> {
     }
 
     fn above(&mut self, p: Point, floor: f64) -> f64 {
-        let domain = &self.packing.domain;
         let nb = self.packing.boundary.len();
-        // A periodic cell has no wall.
-        let wall = if domain.is_periodic() {
-            f64::INFINITY
-        } else {
-            domain.signed_distance(p)
-        };
-        if wall <= floor {
-            return wall;
-        }
-        let mut best = wall;
-        // Every centre lies within the domain's bounds: a box of half side
-        // `far` around a point of the domain holds them all.
-        let (lo, hi) = domain.bounds();
-        let far = (hi - lo).norm() + self.reach;
-        let mut half = self.near.finest_r_max().max(far / 1024.0);
         let (bounds, centred, turned) = (&self.bounds, &self.centred, &self.turned);
-        let settler = &mut self.settler;
-        loop {
-            let mut found = f64::INFINITY;
-            let mut settled = ControlFlow::Continue(());
-            for v in images_near(domain, p, half + self.reach) {
-                settled = self.near.try_visit(p - v, half, |j| {
-                    let b = bounds[j];
-                    let off = p - image(b.c, v);
-                    let dist = off.norm();
-                    // No nearer than its bounding circle: it cannot lower
-                    // the clearance below what is found already.
-                    if dist - b.r >= found.min(best) {
-                        return ControlFlow::Continue(());
-                    }
-                    // No farther than the disk about its centre inside it.
-                    let mut upper = dist - centred[j];
-                    if upper > floor && j >= nb {
-                        let s =
-                            separation(off, DISTANCE_TOL * b.r, |u| turned[j - nb].support_both(u));
-                        upper = s.upper;
-                        found = found.min(s.lower);
-                    } else if j < nb {
-                        found = found.min(upper);
-                    }
-                    if upper <= floor {
-                        found = found.min(upper);
-                        *settler = (j, v);
-                        ControlFlow::Break(())
-                    } else {
-                        ControlFlow::Continue(())
-                    }
-                });
-                if settled.is_break() {
-                    break;
+        search_clearance(
+            &self.packing.domain,
+            &self.near,
+            self.reach,
+            p,
+            floor,
+            &mut self.settler,
+            |j, v, bar| {
+                let b = bounds[j];
+                let off = p - image(b.c, v);
+                let dist = off.norm();
+                // No nearer than its bounding circle: it cannot lower the
+                // clearance below what is found already.
+                if dist - b.r >= bar {
+                    return (f64::INFINITY, false);
                 }
-            }
-            best = best.min(found);
-            // A particle not visited lies farther than `half` plus its
-            // class's largest bounding radius from `p` along an axis: it is
-            // beyond `half`.
-            if settled.is_break() || best <= half || half > far {
-                return best;
-            }
-            half *= 2.0;
-        }
+                // No farther than the disk about its centre inside it.
+                let mut upper = dist - centred[j];
+                let mut lower = upper;
+                if upper > floor && j >= nb {
+                    let s = separation(off, DISTANCE_TOL * b.r, |u| turned[j - nb].support_both(u));
+                    (lower, upper) = (s.lower, s.upper);
+                }
+                (lower.min(upper), upper <= floor)
+            },
+        )
     }
 }
 
