@@ -11,7 +11,9 @@
 //! curves, the screen (`screen`) first marks where the front's curve
 //! leaves its neighbours' shadows, on polygons, and only those spots are
 //! solved, lowest first; other outlines solve every neighbour's crossings
-//! lowest bound first. One-contact ones (`packer.one_contact_share`)
+//! lowest bound first. A screened front that took a particle keeps its
+//! other spots and leaves without an attempt once particles placed since
+//! cover them all ([`Entry`]). One-contact ones (`packer.one_contact_share`)
 //! take the crossing of the bounding circles' halos and slide from there
 //! towards the two obstacles by bisection until the particle touches one
 //! (seed 001's approximate construction). In a periodic cell the first
@@ -51,6 +53,49 @@ const WAKE_RATIO: f64 = 1.0;
 /// is closed: no particle fits touching it.
 const CLOSE_BAND: f64 = 1.05;
 
+/// Spots a front remembers after a placement, at most.
+const WITNESSES: usize = 4;
+
+/// A front on the stack and the spots it still had after it took a
+/// particle (its *witnesses*): the screen's other candidates (solved, or
+/// estimated where left unsolved) as centres about the front's. When the
+/// front comes up again and particles placed since cover the smallest
+/// particle's inner disk at each of them, it leaves without an attempt,
+/// as the disk front's fronts do: almost every front takes one particle
+/// and fails at its next attempt, which was half the work of a run. The
+/// stack holds most particles at some time: 24 bytes an entry.
+#[derive(Debug, Clone, Copy)]
+struct Entry {
+    front: u32,
+    /// Particles placed when the witnesses were found (those placed since
+    /// can cover them); [`ATTEMPT`]: none kept, the front is attempted (a
+    /// fresh or woken front, or one whose attempt was not screened).
+    since: u32,
+    /// Offsets from the front's centre in units of [`Front::unit`];
+    /// [`NO_SPOT`] marks an unused slot.
+    at: [[i16; 2]; WITNESSES],
+}
+
+/// [`Entry::since`] of a front kept without witnesses.
+const ATTEMPT: u32 = u32::MAX;
+
+/// An unused witness slot.
+const NO_SPOT: [i16; 2] = [i16::MIN; 2];
+
+impl Entry {
+    fn attempt(front: u32) -> Self {
+        Entry {
+            front,
+            since: ATTEMPT,
+            at: [NO_SPOT; WITNESSES],
+        }
+    }
+}
+
+/// Only the spots found for a size within this factor of the smallest
+/// drawn are remembered (the disk front's retiring factor).
+const WITNESS_BAND: f64 = 1.1;
+
 /// Retries of one deferred size before it is given up.
 const DEFERRED_RETRIES: u32 = 32;
 
@@ -82,7 +127,11 @@ pub(super) struct Front<'a, I> {
     periodic: bool,
     /// Largest reach placed so far.
     reach_max: f64,
-    stack: Vec<u32>,
+    /// Fronts to attempt, newest last, each with the spots it remembers.
+    stack: Vec<Entry>,
+    /// Length of a witness offset's unit step: the longest offset, twice
+    /// the largest reach a particle of the scene can have, over `i16::MAX`.
+    unit: f64,
     /// Parked fronts by the equivalent radius they failed for.
     parked: BTreeMap<(u64, u32), ()>,
     /// Per particle, the smallest equivalent radius it failed for as a
@@ -105,6 +154,10 @@ pub(super) struct Front<'a, I> {
     polys: Vec<Polygon>,
     cands: Vec<Candidate>,
     ranked: Vec<((f64, f64), Candidate)>,
+    /// The spots the last screened attempt left besides the one it chose
+    /// (an entry of its front).
+    witnesses: Option<Entry>,
+    spots: Vec<((f64, f64), Point)>,
 }
 
 impl<'a, I: SpatialIndex> Front<'a, I> {
@@ -148,6 +201,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             periodic,
             reach_max: 0.0,
             stack: Vec::new(),
+            unit: 2.0 * reach_spec / f64::from(i16::MAX),
             parked: BTreeMap::new(),
             failed_for: Vec::new(),
             r_small: f64::INFINITY,
@@ -163,6 +217,8 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             polys: Vec::new(),
             cands: Vec::new(),
             ranked: Vec::new(),
+            witnesses: None,
+            spots: Vec::new(),
         })
     }
 
@@ -248,7 +304,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let woken: Vec<(u64, u32)> = self.parked.range(key..).map(|(k, _)| *k).collect();
         for k in woken.into_iter().rev() {
             self.parked.remove(&k);
-            self.stack.push(k.1);
+            self.stack.push(Entry::attempt(k.1));
         }
         let sampled = self.tables.sample(&grain.outline, cos, sin);
         let spot = {
@@ -266,9 +322,10 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 spot = self.seed(&new);
             }
             while spot.is_none() {
-                let Some(&front) = self.stack.last() else {
+                let Some(&entry) = self.stack.last() else {
                     break;
                 };
+                let front = entry.front;
                 // A front's room only shrinks as particles are placed: one
                 // that failed for this size or a smaller one waits again
                 // without an attempt (woken by a smaller size than that).
@@ -278,8 +335,22 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                     self.parked.insert((failed.to_bits(), front), ());
                     continue;
                 }
+                if entry.since != ATTEMPT && !self.any_alive(&entry) {
+                    self.stack.pop();
+                    self.look()?;
+                    continue;
+                }
                 self.stats.front_attempts += 1;
                 if let Some(p) = self.attempt(front, &new, one_contact, false) {
+                    // A large particle's spots say nothing of the narrower
+                    // gaps a smaller one fits (as with the disk front).
+                    let kept = self
+                        .witnesses
+                        .take()
+                        .filter(|_| r_eq <= self.r_small * WITNESS_BAND);
+                    if let Some(top) = self.stack.last_mut() {
+                        *top = kept.unwrap_or(Entry::attempt(front));
+                    }
                     spot = Some(p);
                 } else {
                     self.stack.pop();
@@ -369,7 +440,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         });
         self.failed_for.push(f64::INFINITY);
         self.grains.push(grain);
-        self.stack.push(id);
+        self.stack.push(Entry::attempt(id));
         self.reach_max = self.reach_max.max(reach);
         Ok(())
     }
@@ -451,6 +522,56 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         !blocked
     }
 
+    /// Whether a spot front `front` remembers may still hold a particle: no
+    /// particle placed since it was found covers the smallest particle's
+    /// inner disk about it (any particle at the spot would hold that disk).
+    fn any_alive(&mut self, w: &Entry) -> bool {
+        self.stats.witness_checks += 1;
+        let rho = self.inner_small;
+        let disk = Outline::Superellipse {
+            a: rho,
+            b: rho,
+            alpha: 2.0,
+            beta: 2.0,
+        };
+        let probe = Newcomer {
+            outline: &disk,
+            cos: 1.0,
+            sin: 0.0,
+            reach: rho,
+            inner: rho,
+            slack: 0.0,
+            sampled: None,
+        };
+        let c = self.halos[w.front as usize].c;
+        let unit = self.unit;
+        let half = rho + self.reach_max;
+        let (bodies, halos) = (&self.bodies, &self.halos);
+        let mut work = 0u64;
+        let alive = w.at.iter().filter(|&&d| d != NO_SPOT).any(|d| {
+            let q = c + unit * Vector2::new(f64::from(d[0]), f64::from(d[1]));
+            self.visit(q, half, |id, v| {
+                if id < w.since {
+                    return ControlFlow::Continue(());
+                }
+                work += 1;
+                let g = &halos[id as usize];
+                let d2 = (g.c + v - q).norm_squared();
+                let (far, near) = (g.reach + rho, g.inner + rho);
+                if d2 >= far * far
+                    || (d2 >= near * near && clear_of(bodies, &Obstacle::Body(id, v), &probe, q))
+                {
+                    ControlFlow::Continue(())
+                } else {
+                    ControlFlow::Break(())
+                }
+            })
+            .is_continue()
+        });
+        self.stats.work += work;
+        alive
+    }
+
     /// Whether the new particle at `p`, a centre within the front's halo, is
     /// clear of the domain's outside and of every obstacle in `near` (the
     /// front's obstacles, all that such a centre can meet) but those in
@@ -494,6 +615,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
     ) -> Option<Point> {
         let mut obstacles = std::mem::take(&mut self.obstacles);
         obstacles.clear();
+        self.witnesses = None;
         let found = self.attempt_among(front, new, one_contact, any, &mut obstacles);
         self.obstacles = obstacles;
         found
@@ -650,6 +772,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         // exact spots: candidates ranked within that of the best are
         // solved too.
         let tol = std::f64::consts::TAU * (f.reach + new.reach) / SIDES as f64;
+        let fc = f.c;
         let me = Obstacle::Body(front, Vector2::zeros());
         let mut ranked = std::mem::take(&mut self.ranked);
         ranked.clear();
@@ -657,7 +780,11 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         ranked.sort_unstable_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal));
         let mut best: Option<((f64, f64), Point)> = None;
         let mut witness = 0;
-        for (estimate, cand) in &ranked {
+        // Spots found clear, then those left unsolved: the witnesses.
+        let mut spots = std::mem::take(&mut self.spots);
+        spots.clear();
+        let mut unsolved = ranked.len();
+        for (i, (estimate, cand)) in ranked.iter().enumerate() {
             if let Some((r, _)) = best {
                 let slack = if self.periodic {
                     tol * (2.0 * r.0.sqrt() + tol)
@@ -665,6 +792,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                     tol
                 };
                 if estimate.0 > r.0 + slack {
+                    unsolved = i;
                     break;
                 }
             }
@@ -689,6 +817,8 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             };
             let rank = self.rank(p);
             if best.is_some_and(|(r, _)| rank >= r) {
+                // Not checked: a spot the front may still have.
+                spots.push((rank, p));
                 continue;
             }
             if self.clear_near(new, p, &[me, ob], obstacles, &mut witness) {
@@ -696,9 +826,35 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                     best = Some((rank, p));
                     break;
                 }
-                best = Some((rank, p));
+                spots.push((rank, p));
+                if best.is_none_or(|(r, _)| rank < r) {
+                    best = Some((rank, p));
+                }
             }
         }
+        if !any && let Some((_, chosen)) = best {
+            spots.sort_unstable_by(|a, b| {
+                a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal)
+            });
+            let left = ranked[unsolved..].iter().map(|(r, c)| (*r, c.p));
+            let mut w = Entry {
+                front,
+                since: self.bodies.len() as u32,
+                at: [NO_SPOT; WITNESSES],
+            };
+            let step = |x: f64| (x / self.unit).round().clamp(-32767.0, 32767.0) as i16;
+            let kept = spots
+                .iter()
+                .copied()
+                .chain(left)
+                .filter(|&(_, q)| q != chosen);
+            for (slot, (_, q)) in w.at.iter_mut().zip(kept) {
+                let d = q - fc;
+                *slot = [step(d.x), step(d.y)];
+            }
+            self.witnesses = Some(w);
+        }
+        self.spots = spots;
         self.cands = cands;
         self.ranked = ranked;
         self.stats.work += work;

@@ -141,3 +141,20 @@ fn refuses_what_shapes_do_not_support() {
         Err(PackError::NotForShapes { .. })
     ));
 }
+
+#[test]
+fn fronts_that_took_a_particle_leave_on_their_witnesses() {
+    // Almost every front takes one particle and then has no room: its
+    // remembered spots, covered since, let it leave without a second,
+    // failing attempt (two attempts a particle without them).
+    let grading = Grading::constant(1.5).unwrap();
+    let s = Scene::new(Domain::rectangle(40.0, 40.0).unwrap(), grading)
+        .with_seed(1)
+        .with_shape(ShapeSpec::ellipses(1.5));
+    let packing = pack(&s).unwrap();
+    assert_valid(&packing, Some((40.0, 40.0)));
+    let (n, stats) = (packing.disks.len() as f64, &packing.stats);
+    assert!(n > 400.0, "{n}");
+    assert!(stats.witness_checks as f64 > 0.5 * n, "{stats:?}");
+    assert!((stats.front_attempts as f64) < 1.5 * n, "{stats:?} for {n}");
+}
