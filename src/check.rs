@@ -22,10 +22,12 @@
 mod particle_tests;
 mod particles;
 
+use std::collections::HashMap;
+
 use crate::geometry::predicates::OVERLAP_REL;
 use nalgebra::Vector2;
 
-use crate::geometry::{Disk, Domain, Grain, Turned};
+use crate::geometry::{Disk, Domain, Grain, Outline, Turned};
 use crate::grading::Grading;
 use crate::metrics::near::ByRadius;
 use crate::metrics::{porosity, solid_area};
@@ -239,11 +241,31 @@ fn run(
 
     // Particles: their bounding circles (radius 0 where malformed, never
     // looked at) and their turned outlines.
+    // A superellipse's circumradius is b times its unit outline's (support
+    // values scale with it; the rounding is far inside the bound's own
+    // slack), computed once per aspect and exponents.
+    let mut unit_reach: HashMap<[u64; 3], f64> = HashMap::new();
+    let mut reach_of = |o: &Outline| match *o {
+        Outline::Superellipse { a, b, alpha, beta } => {
+            let key = [(a / b).to_bits(), alpha.to_bits(), beta.to_bits()];
+            let unit = unit_reach.entry(key).or_insert_with(|| {
+                Outline::Superellipse {
+                    a: a / b,
+                    b: 1.0,
+                    alpha,
+                    beta,
+                }
+                .circumradius()
+            });
+            b * *unit
+        }
+        Outline::Polygon { .. } => o.circumradius(),
+    };
     let reach: Vec<Disk> = if shaped {
         (0..disks.len())
             .map(|i| Disk {
                 c: disks[i].c,
-                r: grains.get(i).map_or(0.0, |g| g.outline.circumradius()),
+                r: grains.get(i).map_or(0.0, |g| reach_of(&g.outline)),
             })
             .collect()
     } else {

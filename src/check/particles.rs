@@ -61,13 +61,20 @@ pub(super) fn well_formed(d: &Disk, g: &Grain) -> bool {
             rounding,
         } => Outline::polygon(*template, vertices, *rounding).is_ok(),
     };
+    // A bound of the circumradius, finite: a superellipse lies in its
+    // bounding box (the circumradius's own loop over support values costs
+    // more than the rest of the check of a particle).
+    let reach_finite = match &g.outline {
+        Outline::Superellipse { a, b, .. } => (2.0 * a.hypot(*b)).is_finite(),
+        Outline::Polygon { .. } => g.outline.circumradius().is_finite(),
+    };
     outline
         && d.c.x.is_finite()
         && d.c.y.is_finite()
         && d.r.is_finite()
         && d.r > 0.0
         && g.angle.is_finite()
-        && g.outline.circumradius().is_finite()
+        && reach_finite
 }
 
 /// What the pair test found.

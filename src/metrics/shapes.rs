@@ -110,7 +110,11 @@ pub fn roundness(outline: &Outline) -> f64 {
 /// symmetric about both its axes (a superellipse): one quadrant of normals
 /// is evaluated and mirrored.
 fn sampled_roundness(outline: &Outline) -> f64 {
-    let r_in = inscribed_radius(outline);
+    sampled_roundness_within(outline, inscribed_radius(outline))
+}
+
+/// [`sampled_roundness`] of an outline of inscribed radius `r_in`.
+fn sampled_roundness_within(outline: &Outline, r_in: f64) -> f64 {
     let q = CORNER_SAMPLES / 4;
     let step = TAU / CORNER_SAMPLES as f64;
     let quadrant: Vec<Point> = (0..=q)
@@ -629,10 +633,22 @@ impl ShapeMemo {
         let (key, scale) = key_of(outline);
         let unit = *self.units.entry(key).or_insert_with(|| {
             let (lo, hi) = outline.widths();
+            // A superellipse's inscribed and enclosing radii are half its
+            // widths: searched once here, not once per measure.
+            let (sphericity, roundness) = match outline {
+                Outline::Superellipse { .. } => {
+                    let (r_in, r_out) = (0.5 * lo, 0.5 * hi);
+                    (
+                        (r_in / r_out).sqrt().min(1.0),
+                        sampled_roundness_within(outline, r_in),
+                    )
+                }
+                Outline::Polygon { .. } => (sphericity(outline), roundness(outline)),
+            };
             Unit {
                 aspect: hi / lo,
-                sphericity: sphericity(outline),
-                roundness: roundness(outline),
+                sphericity,
+                roundness,
                 axis: long_axis(outline),
                 least_width: lo / scale,
                 equivalent_diameter: 2.0 * outline.equivalent_radius() / scale,
