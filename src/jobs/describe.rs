@@ -10,7 +10,7 @@ use crate::compare::Variant;
 use crate::config::ConfigName;
 use crate::fracture::MM_PER_M;
 use crate::metrics::Metrics;
-use crate::packer::{PEAK_BYTES_PER_DISK, estimated_peak_bytes};
+use crate::packer::{estimated_peak_bytes, peak_bytes_per_particle};
 use crate::{Scene, Shape};
 
 /// What `gapack validate` says of a job besides its scene: its lines
@@ -206,12 +206,17 @@ fn scene_line(scene: &Scene) -> String {
         ),
     };
     let bytes = estimated_peak_bytes(scene);
+    let noun = if scene.shape.is_some() {
+        "particles"
+    } else {
+        "disks"
+    };
     format!(
-        "{shape}, area {} mm², walls {}: about {:.0} disks (at most {:.0}), peak memory about {}",
+        "{shape}, area {} mm², walls {}: about {:.0} {noun} (at most {:.0}), peak memory about {}",
         tidy(domain.area()),
         scene.walls.config_name(),
         scene.estimated_disks(),
-        bytes / PEAK_BYTES_PER_DISK,
+        bytes / peak_bytes_per_particle(scene),
         memory(bytes)
     )
 }

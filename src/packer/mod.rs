@@ -36,12 +36,22 @@ pub const PEAK_BYTES_PER_DISK: f64 = 100.0;
 
 /// Estimated peak memory (bytes) to pack `scene`: an upper bound.
 ///
-/// Every disk the scene can hold ([`Scene::max_disks`], a true upper bound)
-/// and every wall disk, times [`PEAK_BYTES_PER_DISK`]. A run with
-/// [`Limits::max_memory_bytes`](crate::Limits) counts its obstacles the
-/// same way and stops when they reach the limit.
+/// Every particle the scene can hold ([`Scene::max_disks`], a true upper
+/// bound) and every wall disk, times [`peak_bytes_per_particle`]. A run
+/// with [`Limits::max_memory_bytes`](crate::Limits) counts its obstacles
+/// the same way and stops when they reach the limit.
 pub fn estimated_peak_bytes(scene: &Scene) -> f64 {
-    (scene.max_disks() + wall_disk_count(scene) as f64) * PEAK_BYTES_PER_DISK
+    (scene.max_disks() + wall_disk_count(scene) as f64) * peak_bytes_per_particle(scene)
+}
+
+/// Upper bound of the peak memory per particle of `scene` (bytes):
+/// [`PEAK_BYTES_PER_DISK`], or [`PEAK_BYTES_PER_GRAIN`] with a `[shape]`.
+pub fn peak_bytes_per_particle(scene: &Scene) -> f64 {
+    if scene.shape.is_some() {
+        PEAK_BYTES_PER_GRAIN
+    } else {
+        PEAK_BYTES_PER_DISK
+    }
 }
 
 /// Wall disks the scene's walls are made of (0 with exact walls, or when

@@ -61,7 +61,8 @@ pub struct Limits {
     /// Most disks a packing may hold (wall disks aside).
     pub max_particles: Option<u64>,
     /// Most memory (bytes) the run may take, counted as the estimate counts
-    /// it: every obstacle (wall disks too) at `PEAK_BYTES_PER_DISK` bytes.
+    /// it: every obstacle (wall disks too) at `PEAK_BYTES_PER_DISK` bytes,
+    /// or every particle at `PEAK_BYTES_PER_GRAIN` with a shape.
     pub max_memory_bytes: Option<f64>,
 }
 

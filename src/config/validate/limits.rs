@@ -5,7 +5,7 @@ use super::{KeyAt, Validator};
 use crate::Scene;
 use crate::config::error::ConfigError;
 use crate::config::raw::RawLimits;
-use crate::packer::{BYTES_PER_MB, PEAK_BYTES_PER_DISK, PackError, estimated_peak_bytes};
+use crate::packer::{BYTES_PER_MB, PackError, estimated_peak_bytes, peak_bytes_per_particle};
 
 /// `limits.max_memory_mb` when not given.
 pub const DEFAULT_MAX_MEMORY_MB: f64 = 4096.0;
@@ -113,7 +113,7 @@ impl Validator<'_> {
             at: self.at(&blame.span),
             key: blame.key,
             error: PackError::TooLarge {
-                disks: bytes / PEAK_BYTES_PER_DISK,
+                disks: bytes / peak_bytes_per_particle(scene),
                 estimate_mb,
                 limit_mb,
             },

@@ -158,3 +158,18 @@ fn fronts_that_took_a_particle_leave_on_their_witnesses() {
     assert!(stats.witness_checks as f64 > 0.5 * n, "{stats:?}");
     assert!((stats.front_attempts as f64) < 1.5 * n, "{stats:?} for {n}");
 }
+
+#[test]
+fn the_memory_estimate_of_shapes_lets_their_run_finish_under_it() {
+    // A run's memory ceiling counts PEAK_BYTES_PER_GRAIN a particle: a
+    // limit set to the estimate must not stop the run.
+    let s = scene(ShapeSpec::ellipses(1.5), 20.0);
+    let bytes = crate::packer::estimated_peak_bytes(&s);
+    assert!(bytes >= s.max_disks() * PEAK_BYTES_PER_GRAIN, "{bytes}");
+    let limited = s.with_limits(crate::Limits {
+        max_particles: None,
+        max_memory_bytes: Some(bytes),
+    });
+    let packing = pack(&limited).unwrap();
+    assert!(packing.disks.len() > 60);
+}
