@@ -120,7 +120,9 @@ impl Plan {
             }
         }
         let kind = request.kind.unwrap_or_else(|| JobKind::natural(&config));
-        if kind != JobKind::Pack && config.scene.shape.is_some() {
+        // A sweep's runs are planned one by one, each refused here if its
+        // job cannot pack shapes.
+        if !matches!(kind, JobKind::Pack | JobKind::Sweep) && config.scene.shape.is_some() {
             let what = format!("the {} job", kind.name());
             return Err(config::shape_unsupported(text, origin, &what).into());
         }

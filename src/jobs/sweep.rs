@@ -669,7 +669,7 @@ fn study_line(study: &Study) -> String {
     )
 }
 
-/// One line per point of a study: its disks (estimated, per run), or why it cannot run.
+/// One line per point of a study: its particles (estimated, per run), or why it cannot run.
 fn point_lines(study: &Study) -> Vec<String> {
     let mut lines: Vec<String> = study
         .points
@@ -690,7 +690,7 @@ fn point_lines(study: &Study) -> Vec<String> {
                         None => (config.scene.estimated_disks(), false),
                     };
                     format!(
-                        "point {name}: about {disks:.0} disks a run{}",
+                        "point {name}: about {disks:.0} particles a run{}",
                         if window {
                             " if packed whole (a window packs fewer)"
                         } else {
@@ -739,7 +739,7 @@ fn study_result(rows: &[Row], seeds: usize) -> Vec<String> {
             let mean = |f: fn(&crate::study::Measures) -> f64| done.iter().map(|m| f(m)).sum::<f64>() / n;
             let errors: Vec<f64> = done.iter().filter_map(|m| m.target_error).collect();
             Some(format!(
-                "{name:<40} porosity {:.4} ({:.4}–{:.4}), {:.0} disks, psd_ks {:.3}, coordination {:.2}{}, {} of {} runs, {} each",
+                "{name:<40} porosity {:.4} ({:.4}–{:.4}), {:.0} particles, psd_ks {:.3}, coordination {:.2}{}, {} of {} runs, {} each",
                 p.mean,
                 p.min,
                 p.max,

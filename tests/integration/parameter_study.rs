@@ -630,3 +630,66 @@ keep = \"summary\"
     }
     let _ = fs::remove_dir_all(&dir);
 }
+
+/// A study of particle shapes: aspect ratio and exponent swept over a
+/// square of superellipses.
+const SHAPES: &str = "seed = 1
+[domain]
+shape = \"rectangle\"
+width = 25
+height = 25
+[grading]
+uniform = [1, 2]
+[shape]
+kind = \"superellipse\"
+aspect = 1.5
+[sweep]
+\"shape.aspect\" = [1.0, 2.0, 3.0]
+\"shape.alpha\" = [2, 4]
+keep = \"all\"
+";
+
+#[test]
+fn a_study_of_shapes_runs_each_point_as_its_own_pack() {
+    let dir = scratch("sweep-shapes");
+    fs::write(dir.join("s.toml"), SHAPES).unwrap();
+    let stdout = ok(&gapack(&dir, &["sweep", "s.toml", "--out", "out"]));
+    assert!(stdout.contains("6 runs, 6 finished, 0 failed"), "{stdout}");
+    let rows = records(&dir.join("out/sweep.csv"));
+    assert_eq!(rows.len(), 7);
+    // Looser as the particles grow longer, at each exponent.
+    let porosity = |r: &Vec<String>| r[5].parse::<f64>().unwrap();
+    for alpha in 0..2 {
+        let by_aspect: Vec<f64> = (0..3).map(|a| porosity(&rows[1 + 2 * a + alpha])).collect();
+        assert!(by_aspect[0] < by_aspect[2], "{by_aspect:?}");
+    }
+    // The point aspect = 2, alpha = 4 packed alone: the same packing.
+    let alone = SHAPES
+        .split("[sweep]")
+        .next()
+        .unwrap()
+        .replace("aspect = 1.5", "aspect = 2.0\nalpha = 4");
+    fs::write(dir.join("one.toml"), alone).unwrap();
+    ok(&gapack(&dir, &["pack", "one.toml", "--out", "one"]));
+    let run = dir.join("out/runs/aspect=2,alpha=4,seed=1/packing.csv");
+    assert!(fs::read(run).unwrap() == fs::read(dir.join("one/packing.csv")).unwrap());
+    // A non-convex exponent is placed at its entry, before anything runs.
+    let bad = SHAPES.replace("[2, 4]", "[2, 0.5]");
+    fs::write(dir.join("bad.toml"), bad).unwrap();
+    let out = gapack(&dir, &["sweep", "bad.toml", "--out", "bad"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        stderr.contains("bad.toml:13:21: sweep.\"shape.alpha\"[1]: must be at least 1"),
+        "{stderr}"
+    );
+    assert!(!dir.join("bad/sweep.csv").exists());
+    // Runs of a job that cannot pack shapes are refused up front.
+    let searches = SHAPES.replace("keep = \"all\"", "job = \"optimise\"");
+    fs::write(dir.join("opt.toml"), searches).unwrap();
+    let out = gapack(&dir, &["sweep", "opt.toml", "--out", "opt"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(stderr.contains("shape"), "{stderr}");
+    let _ = fs::remove_dir_all(&dir);
+}
