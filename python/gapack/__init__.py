@@ -138,6 +138,12 @@ def verify(
     r: Iterable[float],
     config: Any,
     material: Optional[Iterable[int]] = None,
+    *,
+    angle: Optional[Iterable[float]] = None,
+    a: Optional[Iterable[float]] = None,
+    b: Optional[Iterable[float]] = None,
+    alpha: Optional[Iterable[float]] = None,
+    beta: Optional[Iterable[float]] = None,
 ) -> dict:
     """Check disks (centres ``x``, ``y`` and radii ``r`` in mm, from gapack or
     any tool) against the config's domain and grading with gapack's
@@ -149,11 +155,21 @@ def verify(
     ``None``), ``outside``, ``worst_outside`` (``(i, mm)``), ``domain_area``,
     ``solid_area``, ``porosity``, ``psd_ks`` and ``ks_limit``.
     ``material`` (indices into the config's materials) checks a size-graded
-    config's disks each against their material's grading."""
+    config's disks each against their material's grading. With ``angle``,
+    ``a``, ``b``, ``alpha`` and ``beta`` (all five, as a shapes
+    ``Packing`` has them; ``r`` the area-equivalent radius) the particles
+    are those superellipses: each close pair proved apart and each particle
+    proved inside by support functions, the grading checked on the size
+    the config's ``[shape]`` measures."""
     text, origin, _ = _load(config)
-    arrays = [np.ascontiguousarray(a, dtype=np.float64).reshape(-1) for a in (x, y, r)]
+    floats = lambda v: np.ascontiguousarray(v, dtype=np.float64).reshape(-1)  # noqa: E731
+    arrays = [floats(v) for v in (x, y, r)]
     m = None if material is None else np.ascontiguousarray(material, dtype=np.int64).reshape(-1)
-    return _gapack.verify(*arrays, text, origin, m)
+    given = [v for v in (angle, a, b, alpha, beta) if v is not None]
+    if given and len(given) != 5:
+        raise ValueError("give all of angle, a, b, alpha and beta, or none")
+    shapes = [floats(v) for v in (angle, a, b, alpha, beta)] if given else None
+    return _gapack.verify(*arrays, text, origin, m, shapes)
 
 
 def run(

@@ -6,7 +6,10 @@ use gapack::fracture::Extent;
 use gapack::ga::Generation;
 use gapack::layering::Material;
 use gapack::output::Format;
-use gapack::{Disk, Domain, GradingCheck, Packing, Shape, check, psd_ks};
+use gapack::{
+    Disk, Domain, Grain, GradingCheck, Outline, Packing, Shape, check, check_particles_sized,
+    grading_sizes, psd_ks,
+};
 use numpy::{PyArray1, PyArray2, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -188,6 +191,7 @@ pub(crate) fn verify(
     origin: &str,
     [x, y, r]: [PyReadonlyArray1<'_, f64>; 3],
     material: Option<PyReadonlyArray1<'_, i64>>,
+    shapes: Option<[PyReadonlyArray1<'_, f64>; 5]>,
 ) -> PyResult<Py<PyAny>> {
     if let Some(run) = &config.fracture
         && (run.batch || matches!(run.extent, Extent::Window { .. }))
@@ -234,10 +238,50 @@ pub(crate) fn verify(
         .zip(r)
         .map(|((&x, &y), &r)| Disk::new(x, y, r))
         .collect();
+    // Superellipses: angle, a, b, alpha, beta, each of the length of x (an
+    // outline its constructor refuses is a malformed particle).
+    let grains: Vec<Grain> = match &shapes {
+        None => Vec::new(),
+        Some(columns) => {
+            let columns = columns
+                .iter()
+                .map(|c| c.as_slice())
+                .collect::<Result<Vec<_>, _>>()?;
+            for (name, c) in ["angle", "a", "b", "alpha", "beta"].iter().zip(&columns) {
+                if c.len() != x.len() {
+                    return Err(PyValueError::new_err(format!(
+                        "{name} must have the length of x, {}, got {}",
+                        x.len(),
+                        c.len()
+                    )));
+                }
+            }
+            (0..x.len())
+                .map(|i| {
+                    let outline = Outline::Superellipse {
+                        a: columns[1][i],
+                        b: columns[2][i],
+                        alpha: columns[3][i],
+                        beta: columns[4][i],
+                    };
+                    Grain::new(outline, columns[0][i])
+                })
+                .collect()
+        }
+    };
     let scene = &config.scene;
     let graded = scene.gradient.is_some();
     let result = py.detach(|| {
-        let mut result = check(&disks, &scene.domain, (!graded).then_some(&scene.grading));
+        let grading = (!graded).then_some(&scene.grading);
+        let mut result = if grains.is_empty() {
+            check(&disks, &scene.domain, grading)
+        } else {
+            // The grading on the size it measures, as `gapack verify` does.
+            let packing =
+                Packing::of_disks(scene.domain.clone(), disks.clone()).with_grains(grains.clone());
+            let sizes = grading_sizes(&packing, scene);
+            check_particles_sized(&disks, &grains, &scene.domain, grading, &sizes)
+        };
         if graded && let Some(materials) = materials {
             let mut packing = Packing::of_disks(scene.domain.clone(), disks);
             packing.walls = scene.walls;

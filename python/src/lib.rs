@@ -192,9 +192,12 @@ fn validate(
 }
 
 /// The independent check of disks `x`, `y`, `r` (mm) against the config
-/// `text`'s domain and grading (`gapack::check`), as a dict.
+/// `text`'s domain and grading (`gapack::check`), as a dict; with `shapes`
+/// (angle, a, b, alpha, beta), of those superellipses
+/// (`gapack::check_particles_sized`).
 #[pyfunction]
-#[pyo3(signature = (x, y, r, text, origin, material=None))]
+#[pyo3(signature = (x, y, r, text, origin, material=None, shapes=None))]
+#[allow(clippy::too_many_arguments)]
 fn verify(
     py: Python<'_>,
     x: numpy::PyReadonlyArray1<'_, f64>,
@@ -203,11 +206,12 @@ fn verify(
     text: &str,
     origin: &str,
     material: Option<numpy::PyReadonlyArray1<'_, i64>>,
+    shapes: Option<[numpy::PyReadonlyArray1<'_, f64>; 5]>,
 ) -> PyResult<Py<PyAny>> {
     let options = ParseOptions { force: true };
     let parsed = config::parse_with(text, origin, options)
         .map_err(|e| job_error(py, jobs::JobError::from(e)))?;
-    convert::verify(py, &parsed, origin, [x, y, r], material)
+    convert::verify(py, &parsed, origin, [x, y, r], material, shapes)
 }
 
 /// The module: the functions above, the packing class.

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use gapack::jobs::{self, DirStore, MemoryStore, Outcome, Plan, Report};
 use gapack::output::SUMMARY_JSON;
-use gapack::{Disk, Packing as Packed};
+use gapack::{Disk, Grain, Outline, Packing as Packed};
 use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -20,7 +20,10 @@ use crate::errors::{gapack_error, job_error};
 /// placement order), made once when the run ends and read-only: the same
 /// arrays on every access, and what `write` writes. `material` is each
 /// disk's material (an index into `materials`, int32) when the config has
-/// `[[materials]]`, else `None`.
+/// `[[materials]]`, else `None`. A packing of particles that are not disks
+/// (a `[shape]`) also has `angle`, `a`, `b`, `alpha`, `beta` and
+/// `template` (see each), `None` for disks; `r` is then each particle's
+/// area-equivalent radius.
 #[pyclass(frozen, module = "gapack", name = "Packing")]
 pub(crate) struct Packing {
     /// The job's plan, with the config's own `[output]`.
@@ -33,9 +36,55 @@ pub(crate) struct Packing {
     y: Py<PyArray1<f64>>,
     r: Py<PyArray1<f64>>,
     material: Option<Py<PyArray1<i32>>>,
+    /// With shapes: the angles, and the superellipse and polygon columns.
+    shapes: Option<Shapes>,
     summary: Py<PyAny>,
     history: Option<Py<PyDict>>,
     warnings: Vec<String>,
+}
+
+/// The shape columns of a packing of particles that are not disks, as
+/// `packing.csv` has them: NaN (or -1 for `template`) where a particle is
+/// of the other family.
+struct Shapes {
+    angle: Py<PyArray1<f64>>,
+    a: Py<PyArray1<f64>>,
+    b: Py<PyArray1<f64>>,
+    alpha: Py<PyArray1<f64>>,
+    beta: Py<PyArray1<f64>>,
+    template: Py<PyArray1<i32>>,
+}
+
+impl Shapes {
+    /// The columns of `grains`; `None` when there are none (disks).
+    fn of(py: Python<'_>, grains: &[Grain]) -> PyResult<Option<Shapes>> {
+        if grains.is_empty() {
+            return Ok(None);
+        }
+        let n = grains.len();
+        let mut cols: [Vec<f64>; 5] = std::array::from_fn(|_| Vec::with_capacity(n));
+        let mut template = Vec::with_capacity(n);
+        for g in grains {
+            let (row, t) = match g.outline {
+                Outline::Superellipse { a, b, alpha, beta } => ([a, b, alpha, beta], -1),
+                Outline::Polygon { template, .. } => ([f64::NAN; 4], i32::from(template)),
+            };
+            cols[0].push(g.angle);
+            for (col, v) in cols[1..].iter_mut().zip(row) {
+                col.push(v);
+            }
+            template.push(t);
+        }
+        let [angle, a, b, alpha, beta] = cols.map(|c| frozen(PyArray1::from_vec(py, c)));
+        Ok(Some(Shapes {
+            angle: angle?,
+            a: a?,
+            b: b?,
+            alpha: alpha?,
+            beta: beta?,
+            template: frozen(PyArray1::from_vec(py, template))?,
+        }))
+    }
 }
 
 /// The packing of a one-packing report.
@@ -87,6 +136,7 @@ impl Packing {
             r.push(d.r);
         }
         drop(disks);
+        let shapes = Shapes::of(py, &packed.grains)?;
         let material = if plan.config.materials.is_empty() {
             None
         } else {
@@ -109,6 +159,7 @@ impl Packing {
             y: frozen(PyArray1::from_vec(py, y))?,
             r: frozen(PyArray1::from_vec(py, r))?,
             material,
+            shapes,
             plan,
             outcome,
             path,
@@ -162,6 +213,49 @@ impl Packing {
     #[getter]
     fn r(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
         self.r.clone_ref(py)
+    }
+
+    /// Each particle's angle (radians, counter-clockwise from the x axis to
+    /// its own x axis), or `None` for disks.
+    #[getter]
+    fn angle(&self, py: Python<'_>) -> Option<Py<PyArray1<f64>>> {
+        self.shapes.as_ref().map(|s| s.angle.clone_ref(py))
+    }
+
+    /// Each superellipse's semi-axis along its own x axis (mm; NaN for a
+    /// polygon), or `None` for disks.
+    #[getter]
+    fn a(&self, py: Python<'_>) -> Option<Py<PyArray1<f64>>> {
+        self.shapes.as_ref().map(|s| s.a.clone_ref(py))
+    }
+
+    /// Each superellipse's semi-axis along its own y axis (mm; NaN for a
+    /// polygon), or `None` for disks.
+    #[getter]
+    fn b(&self, py: Python<'_>) -> Option<Py<PyArray1<f64>>> {
+        self.shapes.as_ref().map(|s| s.b.clone_ref(py))
+    }
+
+    /// Each superellipse's exponent of x, |x'/a|^alpha + |y'/b|^beta ≤ 1
+    /// (NaN for a polygon), or `None` for disks.
+    #[getter]
+    fn alpha(&self, py: Python<'_>) -> Option<Py<PyArray1<f64>>> {
+        self.shapes.as_ref().map(|s| s.alpha.clone_ref(py))
+    }
+
+    /// Each superellipse's exponent of y (NaN for a polygon), or `None`
+    /// for disks.
+    #[getter]
+    fn beta(&self, py: Python<'_>) -> Option<Py<PyArray1<f64>>> {
+        self.shapes.as_ref().map(|s| s.beta.clone_ref(py))
+    }
+
+    /// Each rounded polygon's template, an index into `[[shape.templates]]`
+    /// (int32; -1 for a superellipse), or `None` for disks. Its vertices
+    /// and rounding are in `packing.csv` (`write`).
+    #[getter]
+    fn template(&self, py: Python<'_>) -> Option<Py<PyArray1<i32>>> {
+        self.shapes.as_ref().map(|s| s.template.clone_ref(py))
     }
 
     /// Each disk's material, an index into `materials` (int32), or `None`

@@ -345,3 +345,60 @@ def test_the_module_docstring_example_runs():
 
     result = doctest.testmod(gapack)
     assert result.attempted >= 2 and result.failed == 0
+
+
+def test_shape_arrays_equal_packing_csv(tmp_path):
+    import csv
+    ellipses = SQUARE + '[shape]\nkind = "superellipse"\naspect = [1.2, 2.5]\nalpha = [2, 4]\n'
+    polygons = SQUARE + (
+        '[shape]\nkind = "polygon"\n'
+        '[[shape.templates]]\nvertices = [[0, 0], [2, 0], [1, 1.7]]\nrounding = 0.1\nshare = 0.4\n'
+        '[[shape.templates]]\nvertices = [[0, 0], [3, 0], [3, 1], [0, 1]]\nrounding = 0.1\nshare = 0.6\n'
+    )
+    for name, text in [("ellipses", ellipses), ("polygons", polygons)]:
+        p = gapack.pack(text)
+        out = tmp_path / name
+        p.write(out, formats=["csv"])
+        with open(out / "packing.csv", newline="") as f:
+            rows = list(csv.DictReader(f))
+        assert len(rows) == len(p) > 50
+        for attr in ("angle", "a", "b", "alpha", "beta", "template"):
+            array = getattr(p, attr)
+            assert array.shape == (len(p),) and not array.flags.writeable
+            assert getattr(p, attr) is array  # made once
+        assert p.template.dtype == np.int32 and p.angle.dtype == np.float64
+        assert np.array_equal(p.angle, [float(r["angle"]) for r in rows])
+        assert np.array_equal(p.r, [float(r["r"]) for r in rows])
+        if name == "ellipses":
+            for col in ("a", "b", "alpha", "beta"):
+                assert np.array_equal(getattr(p, col), [float(r[col]) for r in rows]), col
+            assert (p.template == -1).all()
+            assert ((p.alpha >= 2) & (p.alpha <= 4) & (p.beta >= 2) & (p.beta <= 4)).all()
+            assert ((p.a / p.b >= 1.2 - 1e-9) & (p.a / p.b <= 2.5 + 1e-9)).all()
+        else:
+            assert np.array_equal(p.template, [int(r["template"]) for r in rows])
+            assert set(p.template) == {0, 1}
+            assert np.isnan(p.a).all() and np.isnan(p.beta).all()
+    disks = gapack.pack(SQUARE)
+    assert disks.angle is None and disks.a is None and disks.template is None
+
+
+def test_verify_certifies_superellipses_and_finds_a_push():
+    text = SQUARE + '[shape]\nkind = "superellipse"\naspect = 2\nalpha = 4\n'
+    p = gapack.pack(text)
+    shapes = dict(angle=p.angle, a=p.a, b=p.b, alpha=p.alpha, beta=p.beta)
+    told = gapack.verify(p.x, p.y, p.r, text, **shapes)
+    assert told["valid"] and told["overlaps"] == 0 and told["particles"] == len(p)
+    assert told["porosity"] == pytest.approx(p.summary["porosity"], abs=1e-9)
+    # Particle 1 (placed touching particle 0) pushed towards it by 5 % of
+    # its radius: found.
+    x, y = p.x.copy(), p.y.copy()
+    d = np.array([x[0] - x[1], y[0] - y[1]])
+    d /= np.linalg.norm(d)
+    x[1] += d[0] * 0.05 * p.r[1]
+    y[1] += d[1] * 0.05 * p.r[1]
+    pushed = gapack.verify(x, y, p.r, text, **shapes)
+    assert not pushed["valid"] and pushed["overlaps"] >= 1 and pushed["verdict"] == "FAILED"
+    # Some of the five columns only: refused, not taken as disks.
+    with pytest.raises(ValueError, match="all of angle"):
+        gapack.verify(p.x, p.y, p.r, text, angle=p.angle)
