@@ -7,7 +7,7 @@ use gapack::ga::Generation;
 use gapack::layering::Material;
 use gapack::output::Format;
 use gapack::{
-    Disk, Domain, Grain, GradingCheck, Outline, Packing, Shape, check, check_particles_sized,
+    Disk, Domain, GradingCheck, Grain, Outline, Packing, Shape, check, check_particles_sized,
     grading_sizes, psd_ks,
 };
 use numpy::{PyArray1, PyArray2, PyReadonlyArray1};

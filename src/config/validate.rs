@@ -237,6 +237,7 @@ impl Validator<'_> {
         }
         let compare = self.compare(raw.compare.as_ref())?;
         let compare = self.periodic_compare(&scene, raw.compare.as_ref(), compare)?;
+        let compare = self.shape_compare(&scene, raw.compare.as_ref(), compare)?;
         let output = self.output(
             raw.output.as_ref(),
             scene.shape.is_some(),

@@ -135,7 +135,7 @@ pub(super) fn lines(
         let mean = |f: &dyn Fn(&CompareRun) -> f64| mine.iter().map(|r| f(r)).sum::<f64>() / n;
         let worst_overlap = mine.iter().map(|r| r.max_overlap).fold(0.0, f64::max);
         lines.push(format!(
-            "{:<40} {} runs: {} disks, porosity {:.4}, psd_ks {:.3}, max overlap {}, coordination {:.2}, {} each",
+            "{:<40} {} runs: {} particles, porosity {:.4}, psd_ks {:.3}, max overlap {}, coordination {:.2}, {} each",
             variant_label(variant),
             mine.len(),
             mean(&|r| r.particles as f64).round(),

@@ -91,3 +91,57 @@ fn refuses_bad_compare_tables() {
         "12:11",
     );
 }
+
+/// The scene of particle shapes: ellipses of aspect 1.5.
+const SHAPES: &str = "seed = 4\n[domain]\nshape = \"rectangle\"\nwidth = 20\nheight = 12\n\
+    [grading]\nuniform = [1.0, 1.5]\n[shape]\nkind = \"superellipse\"\naspect = 1.5\n";
+
+#[test]
+fn compare_with_shapes_runs_the_methods_that_pack_them() {
+    let dir = scratch("compare-shapes");
+    fs::write(
+        dir.join("c.toml"),
+        format!("{SHAPES}[compare]\nrepeats = 2\n"),
+    )
+    .unwrap();
+    let out = gapack(&dir, &["compare", "c.toml", "--out", "out"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // The advancing front four times and rsa; deposition and relaxation
+    // pack disks only and are left out of the default methods.
+    assert_eq!(stdout.lines().count(), 6, "{stdout}");
+    let table = fs::read_to_string(dir.join("out/compare.csv")).unwrap();
+    let rows: Vec<Vec<String>> = table
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(str::to_owned).collect())
+        .collect();
+    assert_eq!(rows.len(), 10);
+    assert!(rows.iter().all(|r| r[7] == "0"), "{rows:?}");
+    assert_eq!(rows[8][0], "rsa");
+    let mean = |k: usize| {
+        (rows[k][4].parse::<f64>().unwrap() + rows[k + 1][4].parse::<f64>().unwrap()) / 2.0
+    };
+    // One contact packs looser than two, rsa loosest.
+    assert!(mean(0) < mean(4) && mean(4) < mean(8), "{rows:?}");
+    // The first run is the pack of the scene, particle for particle.
+    fs::write(dir.join("p.toml"), SHAPES).unwrap();
+    let packed = gapack(&dir, &["pack", "p.toml", "--out", "p"]);
+    let packed = String::from_utf8_lossy(&packed.stdout);
+    assert!(
+        packed.contains(&format!("{} particles", rows[0][3])),
+        "{packed} vs {:?}",
+        rows[0]
+    );
+    let _ = fs::remove_dir_all(&dir);
+    refuses(
+        "compare-shapes-deposition",
+        &format!("{SHAPES}[compare]\nmethods = [\"rsa\", \"deposition\"]\n"),
+        "compare.methods[1]",
+        "12:19",
+    );
+}

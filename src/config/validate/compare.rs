@@ -3,10 +3,12 @@
 use toml::Spanned;
 
 use super::Validator;
+use crate::Scene;
 use crate::compare::CompareSettings;
 use crate::config::error::ConfigError;
 use crate::config::raw::{RawCompare, Table};
 use crate::names::METHODS;
+use crate::packer::Method;
 
 /// Largest `compare.repeats`.
 const MAX_REPEATS: i64 = 1000;
@@ -48,6 +50,38 @@ impl Validator<'_> {
         if let Some(v) = &c.repeats {
             settings.repeats = self.whole("compare.repeats", v, 1, Some(MAX_REPEATS))?;
         }
+        Ok(settings)
+    }
+
+    /// `[compare]` of particle shapes: the default methods less those that
+    /// pack disks only; a method named that does refused at its key.
+    pub(super) fn shape_compare(
+        &self,
+        scene: &Scene,
+        raw: Option<&Spanned<Table<RawCompare>>>,
+        mut settings: CompareSettings,
+    ) -> Result<CompareSettings, ConfigError> {
+        if scene.shape.is_none() {
+            return Ok(settings);
+        }
+        let packs_shapes = |m: Method| matches!(m, Method::AdvancingFront | Method::Rsa);
+        let named = raw.and_then(|c| c.get_ref().methods.as_ref());
+        if let Some(methods) = named {
+            for (i, (name, &method)) in methods.get_ref().iter().zip(&settings.methods).enumerate()
+            {
+                if !packs_shapes(method) {
+                    return Err(ConfigError::NotApplicable {
+                        at: self.at(&name.span()),
+                        key: format!("compare.methods[{i}]"),
+                        reason: format!(
+                            "{:?} packs disks only, not the particles of [shape] (the advancing front and rsa pack them); leave it out",
+                            name.get_ref()
+                        ),
+                    });
+                }
+            }
+        }
+        settings.methods.retain(|&m| packs_shapes(m));
         Ok(settings)
     }
 }
