@@ -180,6 +180,19 @@ fn a_sweep_is_the_same_on_any_number_of_ranks() {
 }
 
 #[test]
+fn studies_of_shapes_are_the_same_on_any_number_of_ranks() {
+    // Each run's packing.csv (angles, axes, exponents) byte for byte.
+    let study = include_str!("../../configs/sweep_shapes.toml")
+        .replace("seeds = 3", "seeds = 1\nkeep = \"all\"")
+        .replace("width = 60 ", "width = 25 ")
+        .replace("height = 60 ", "height = 25 ");
+    same_on_any_ranks("sweep-shapes", "sweep", &study, 17);
+    let compare = include_str!("../../configs/compare_shapes.toml")
+        .replace("repeats = 3", "repeats = 2");
+    same_on_any_ranks("compare-shapes", "compare", &compare, 1);
+}
+
+#[test]
 fn a_search_stopped_on_one_process_resumes_on_two_and_three_ranks_to_the_same_result() {
     let dir = scratch("mpi-resume");
     fs::write(dir.join("case.toml"), OPTIMISE).expect("write config");
