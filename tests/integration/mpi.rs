@@ -187,8 +187,8 @@ fn studies_of_shapes_are_the_same_on_any_number_of_ranks() {
         .replace("width = 60 ", "width = 25 ")
         .replace("height = 60 ", "height = 25 ");
     same_on_any_ranks("sweep-shapes", "sweep", &study, 17);
-    let compare = include_str!("../../configs/compare_shapes.toml")
-        .replace("repeats = 3", "repeats = 2");
+    let compare =
+        include_str!("../../configs/compare_shapes.toml").replace("repeats = 3", "repeats = 2");
     same_on_any_ranks("compare-shapes", "compare", &compare, 1);
 }
 
