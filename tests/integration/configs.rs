@@ -2,6 +2,10 @@
 //! command in a `# Run: cargo run --release -- <command> configs/<file>`
 //! line; the test runs that command, then checks every packing it wrote with
 //! `gapack verify` (an independent check of overlaps, containment and grading).
+//! The `packing.csv` of every shipped `pack` config of disks (no `[shape]`)
+//! is also held to its recorded fingerprint in `tests/data/disk_packings.txt`:
+//! disks pack byte for byte as they did. `GAPACK_BLESS=1` records them anew
+//! (say why in the commit).
 
 use crate::common;
 
@@ -42,6 +46,18 @@ fn command_of(path: &Path) -> String {
     words[6].to_owned()
 }
 
+/// The recorded fingerprints of the disk packings.
+fn fingerprints_file() -> PathBuf {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("tests/data/disk_packings.txt")
+}
+
+/// FNV-1a (64 bits) of `bytes`: a fingerprint, not a defence.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
 /// Every `packing.csv` under `dir`, with the well it belongs to (its sub-directory in a batch).
 fn packings(dir: &Path) -> Vec<(PathBuf, Option<String>)> {
     let mut found = Vec::new();
@@ -55,6 +71,7 @@ fn packings(dir: &Path) -> Vec<(PathBuf, Option<String>)> {
             found.push((sub.join("packing.csv"), Some(well)));
         }
     }
+    found.sort();
     found
 }
 
@@ -63,6 +80,8 @@ fn every_shipped_config_runs_and_its_packings_verify() {
     let configs = shipped();
     assert!(configs.len() >= 20, "only {} configs found", configs.len());
     let root = scratch("configs");
+    // `<config>[/<well>] <fingerprint>` per disk packing, in order.
+    let mut fingerprints = Vec::new();
     for config in &configs {
         let name = config.file_stem().unwrap().to_string_lossy().into_owned();
         let command = command_of(config);
@@ -101,7 +120,15 @@ fn every_shipped_config_runs_and_its_packings_verify() {
         assert!(out.join("summary.json").exists() || out.join("wells.csv").exists());
         let found = packings(&out);
         assert!(!found.is_empty(), "{name}: no packing.csv written");
+        let disks = command == "pack" && !fs::read_to_string(config).unwrap().contains("[shape]");
         for (csv, well) in found {
+            if disks {
+                let bytes = fs::read(&csv).unwrap();
+                let label = well
+                    .as_ref()
+                    .map_or(name.clone(), |w| format!("{name}/{w}"));
+                fingerprints.push(format!("{label} {:016x}", fnv1a(&bytes)));
+            }
             let mut args = vec!["verify", csv.to_str().unwrap(), "--config", config_arg];
             if let Some(w) = &well {
                 args.extend(["--well", w]);
@@ -115,4 +142,14 @@ fn every_shipped_config_runs_and_its_packings_verify() {
             );
         }
     }
+    let now = fingerprints.join("\n") + "\n";
+    if std::env::var("GAPACK_BLESS").as_deref() == Ok("1") {
+        fs::write(fingerprints_file(), &now).unwrap();
+        return;
+    }
+    let recorded = fs::read_to_string(fingerprints_file()).unwrap();
+    for (was, is) in recorded.lines().zip(now.lines()) {
+        assert_eq!(was, is, "a disk packing changed (or the configs did)");
+    }
+    assert_eq!(recorded.lines().count(), now.lines().count(), "{now}");
 }
