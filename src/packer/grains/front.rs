@@ -726,7 +726,15 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                     continue;
                 }
                 // Certified clear of the two it was solved against already.
-                if self.clear_near(new, p, &[me, *ob], obstacles, &mut witness) {
+                // A one-contact slide towards a large neighbour may end
+                // beyond the front's halo, where particles the front did
+                // not gather can reach: checked against every particle.
+                let clear = if one_contact && (p - cf).norm() > rf + new.reach {
+                    self.clear(new, p, &[me, *ob])
+                } else {
+                    self.clear_near(new, p, &[me, *ob], obstacles, &mut witness)
+                };
+                if clear {
                     if any {
                         return Some(p);
                     }

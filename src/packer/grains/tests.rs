@@ -173,3 +173,32 @@ fn the_memory_estimate_of_shapes_lets_their_run_finish_under_it() {
     let packing = pack(&limited).unwrap();
     assert!(packing.disks.len() > 60);
 }
+
+#[test]
+fn a_one_contact_slide_beyond_the_front_s_halo_is_checked_against_every_particle() {
+    // A small particle sliding from a small front towards a large
+    // neighbour's centre ends outside the front's halo, where particles
+    // the front did not gather can block it (an L of arms 4 mm, sizes
+    // 0.125-2 mm, aspect 3: four overlapping pairs before the fix).
+    let pts: Vec<Point> = [
+        (0.0, 0.0),
+        (12.0, 0.0),
+        (12.0, 4.0),
+        (4.0, 4.0),
+        (4.0, 12.0),
+        (0.0, 12.0),
+    ]
+    .iter()
+    .map(|&(x, y)| Point::new(x, y))
+    .collect();
+    for seed in 0..4 {
+        let grading = Grading::uniform(0.125, 2.0, Basis::Number).unwrap();
+        let mut s = Scene::new(Domain::polygon(&pts).unwrap(), grading)
+            .with_seed(seed)
+            .with_shape(ShapeSpec::ellipses(3.0));
+        s.packer.one_contact_share = 1.0;
+        let packing = pack(&s).unwrap();
+        assert!(packing.disks.len() > 10, "{}", packing.disks.len());
+        assert_valid(&packing, None);
+    }
+}
