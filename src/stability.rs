@@ -23,7 +23,7 @@ use crate::cancel::{Cancel, Cancelled};
 use crate::compare::Variant;
 use crate::farm::{self, Farm};
 use crate::geometry::predicates::OVERLAP_REL;
-use crate::geometry::{Domain, GeometryError, Point, WallMode};
+use crate::geometry::{Domain, GeometryError, Grain, Point, Turned, WallMode, separation};
 use crate::grading::Grading;
 use crate::metrics::measure;
 use crate::packer::index::{Grid, SpatialIndex};
@@ -397,18 +397,42 @@ fn run_one(scene: &Scene, capped: &Cancel) -> Option<Checked> {
 
 /// Share of the domain where a disk of `d_min` could be centred (sampled on
 /// a grid of spacing d_max/4) that lies farther than `d_max` from every
-/// disk's edge.
+/// particle's edge (a disk's, or a shape's outline by its support function).
 pub fn empty_share(packing: &Packing, d_min: f64, d_max: f64) -> f64 {
     let domain = &packing.domain;
     let (lo, hi) = domain.bounds();
     let step = d_max / 4.0;
-    let r_max = packing.disks.iter().fold(0.0f64, |m, d| m.max(d.r));
-    let reach = d_max + r_max;
-    let margin = Point::new(reach, reach).coords;
+    // Each particle's bounding circle: its radius, or a shape's circumradius.
+    let reach: Vec<f64> = if packing.grains.is_empty() {
+        packing.disks.iter().map(|d| d.r).collect()
+    } else {
+        packing
+            .grains
+            .iter()
+            .map(|g| g.outline.circumradius())
+            .collect()
+    };
+    let turned: Vec<Turned> = packing.grains.iter().map(Grain::turned).collect();
+    let r_max = reach.iter().fold(0.0f64, |m, &r| m.max(r));
+    let reach_max = d_max + r_max;
+    let margin = Point::new(reach_max, reach_max).coords;
     let mut grid = Grid::new(lo - margin, hi + margin, (2.0 * r_max).max(step));
     for (id, d) in packing.disks.iter().enumerate() {
         grid.insert(id as u32, d.c);
     }
+    // Within d_max of particle `id`'s edge (a shape's distance to
+    // within a thousandth of d_max).
+    let near = |id: usize, p: Point| {
+        let d = p - packing.disks[id].c;
+        let centre = d.norm();
+        if centre - reach[id] > d_max {
+            return false;
+        }
+        match turned.get(id) {
+            None => centre - packing.disks[id].r <= d_max,
+            Some(t) => separation(d, 1e-3 * d_max, |u| t.support_both(u)).lower <= d_max,
+        }
+    };
     let (nx, ny) = (
         ((hi.x - lo.x) / step).ceil() as usize,
         ((hi.y - lo.y) / step).ceil() as usize,
@@ -421,15 +445,12 @@ pub fn empty_share(packing: &Packing, d_min: f64, d_max: f64) -> f64 {
                 continue;
             }
             inside += 1;
-            let near = grid.any_in_box(
-                Point::new(p.x - reach, p.y - reach),
-                Point::new(p.x + reach, p.y + reach),
-                |id| {
-                    let d = packing.disks[id as usize];
-                    (d.c - p).norm() - d.r <= d_max
-                },
+            let found = grid.any_in_box(
+                Point::new(p.x - reach_max, p.y - reach_max),
+                Point::new(p.x + reach_max, p.y + reach_max),
+                |id| near(id as usize, p),
             );
-            if !near {
+            if !found {
                 empty += 1;
             }
         }
@@ -605,5 +626,29 @@ mod tests {
         );
         let share = empty_share(&packing, 1.0, 1.0);
         assert!(share > 0.9 && share < 1.0, "{share}");
+    }
+
+    #[test]
+    fn empty_share_measures_from_a_shape_s_outline() {
+        // A needle across a 10 × 2 strip, 9 mm long and 0.2 mm wide: its
+        // area-equivalent disk (radius 0.67 mm) leaves the strip's ends
+        // empty, the needle itself does not.
+        let domain = Domain::rectangle(10.0, 2.0).unwrap();
+        let outline = crate::geometry::Outline::superellipse(4.5, 0.1, 2.0, 2.0).unwrap();
+        let r = outline.equivalent_radius();
+        let disk = crate::geometry::Disk {
+            c: Point::new(5.0, 1.0),
+            r,
+        };
+        let as_disk = Packing::of_disks(domain.clone(), vec![disk]);
+        let as_needle =
+            Packing::of_disks(domain, vec![disk]).with_grains(vec![Grain::new(outline, 0.0)]);
+        let (d_min, d_max) = (0.2, 1.0);
+        let (disk_share, needle_share) = (
+            empty_share(&as_disk, d_min, d_max),
+            empty_share(&as_needle, d_min, d_max),
+        );
+        assert!(disk_share > 0.4, "{disk_share}");
+        assert_eq!(needle_share, 0.0);
     }
 }

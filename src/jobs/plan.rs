@@ -121,9 +121,12 @@ impl Plan {
         }
         let kind = request.kind.unwrap_or_else(|| JobKind::natural(&config));
         // A sweep's runs are planned one by one, each refused here if its
-        // job cannot pack shapes; a comparison runs the methods that can.
-        if !matches!(kind, JobKind::Pack | JobKind::Sweep | JobKind::Compare)
-            && config.scene.shape.is_some()
+        // job cannot pack shapes; a comparison (and its stability sweep)
+        // runs the methods that can.
+        if !matches!(
+            kind,
+            JobKind::Pack | JobKind::Sweep | JobKind::Compare | JobKind::Stability
+        ) && config.scene.shape.is_some()
         {
             let what = format!("the {} job", kind.name());
             return Err(config::shape_unsupported(text, origin, &what).into());
