@@ -26,6 +26,10 @@ pub const EXAMPLES: &[(&str, &str)] = &[
         "compare_fracture",
         include_str!("../../configs/compare_fracture.toml"),
     ),
+    (
+        "compare_shapes",
+        include_str!("../../configs/compare_shapes.toml"),
+    ),
     ("dense_100k", include_str!("../../configs/dense_100k.toml")),
     (
         "dense_circle",
@@ -104,6 +108,10 @@ pub const EXAMPLES: &[(&str, &str)] = &[
         include_str!("../../configs/shapes_polygons.toml"),
     ),
     ("square_100", include_str!("../../configs/square_100.toml")),
+    (
+        "sweep_shapes",
+        include_str!("../../configs/sweep_shapes.toml"),
+    ),
     (
         "sweep_wells",
         include_str!("../../configs/sweep_wells.toml"),

@@ -308,6 +308,160 @@ fn an_example_is_validated_submitted_followed_and_its_packing_shown() {
     browser.screenshot(&shots().join("job-phone.png"));
 }
 
+/// `packing.csv`'s first particle: column name to cell.
+fn first_row(csv: &str) -> std::collections::HashMap<String, String> {
+    let mut lines = csv.lines();
+    let header = lines.next().expect("a header").split(',');
+    let row = lines.next().expect("a particle").split(',');
+    header
+        .map(str::to_owned)
+        .zip(row.map(str::to_owned))
+        .collect()
+}
+
+/// The number after `label ` in the hover box's `words`.
+fn hovered(words: &str, label: &str) -> f64 {
+    let after = words
+        .split(" · ")
+        .find_map(|part| part.strip_prefix(label)?.strip_prefix(' '))
+        .unwrap_or_else(|| panic!("no {label} in {words}"));
+    after
+        .trim_end_matches(['°', ' ', 'm'])
+        .parse()
+        .unwrap_or_else(|_| panic!("{label}: {after:?} in {words}"))
+}
+
+#[test]
+fn a_shapes_packing_is_drawn_and_hover_gives_angle_aspect_and_sphericity() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    if !browser_here() {
+        return;
+    }
+    let dir = scratch("browser-shapes");
+    let server = Server::start(&dir.join("data"), &[]);
+    let browser = Browser::start(&dir.join("downloads"), DESKTOP);
+    let square = "[domain]\nshape = \"rectangle\"\nwidth = 15\nheight = 15\n[grading]\nuniform = [1.0, 2.0]\n";
+    let ellipses = submit(
+        &server,
+        "pack",
+        &format!(
+            "{square}[shape]\nkind = \"superellipse\"\naspect = 1.5\norientation = \"random\"\n"
+        ),
+        3,
+    );
+    let polygons = submit(
+        &server,
+        "pack",
+        &format!(
+            "{square}[shape]\nkind = \"polygon\"\norientation = \"random\"\n\
+             [[shape.templates]]\nvertices = [[0, 0.8], [0.8, 0], [2.2, 0], [3, 0.8], [2.2, 1.6], [0.8, 1.6]]\n\
+             rounding = 0.15\nshare = 1.0\n"
+        ),
+        3,
+    );
+    for (id, name) in [(&ellipses, "ellipses"), (&polygons, "polygons")] {
+        browser.wait("the pack", || {
+            (state(&server, id) == "succeeded").then_some(())
+        });
+        browser.goto(&server.url(&format!("/#/job/{id}")));
+        browser.wait("the packing drawn", || drawn_disks(&browser));
+        assert!(
+            inked(&browser, "#packing") > 10_000,
+            "{name}: the canvas is drawn"
+        );
+        let label = browser.run(
+            "return document.getElementById('packing').getAttribute('aria-label');",
+            &[],
+        );
+        assert!(
+            label
+                .as_str()
+                .is_some_and(|l| l.contains("hover a particle")),
+            "{name}: {label}"
+        );
+        // Hovering the first particle's centre: its row's values.
+        let (_, csv) = get(&server, &format!("/api/v1/jobs/{id}/files/packing.csv"));
+        let row = first_row(&String::from_utf8(csv).expect("UTF-8"));
+        let number = |column: &str| -> f64 { row[column].parse().expect("a number") };
+        let outline = if name == "ellipses" {
+            gapack::Outline::superellipse(number("a"), number("b"), number("alpha"), number("beta"))
+                .expect("a superellipse")
+        } else {
+            let vertices: Vec<gapack::Point> = row["vertices"]
+                .split(';')
+                .map(|v| {
+                    let (x, y) = v.split_once(' ').expect("x y");
+                    gapack::Point::new(x.parse().expect("x"), y.parse().expect("y"))
+                })
+                .collect();
+            gapack::Outline::polygon(0, &vertices, number("rounding")).expect("a polygon")
+        };
+        browser.run(
+            "document.getElementById('packing').scrollIntoView({block: 'center'});",
+            &[],
+        );
+        let at = browser.run("return window.gapackViewer.centre(0);", &[]);
+        browser.pointer_to(at[0].as_f64().expect("x"), at[1].as_f64().expect("y"));
+        let words = browser.wait("the hover box", || shown_text(&browser, "#hover"));
+        assert!(words.starts_with("id 0 ·"), "{name}: {words}");
+        assert!(
+            words.contains(&format!("r {:.4} mm", number("r"))),
+            "{name}: {words} against r {}",
+            row["r"]
+        );
+        let degrees = number("angle") * 180.0 / std::f64::consts::PI;
+        assert!(
+            words.contains(&format!("angle {degrees:.2}°")),
+            "{name}: {words} against angle {}",
+            row["angle"]
+        );
+        // The library's measures, to the three decimals shown.
+        let aspect = outline.aspect();
+        if name == "ellipses" {
+            let (a, b) = (number("a"), number("b"));
+            assert!((aspect - a.max(b) / a.min(b)).abs() < 1e-9, "{aspect}");
+        }
+        for (label, want) in [
+            ("aspect", aspect),
+            ("sphericity", gapack::sphericity(&outline)),
+        ] {
+            let got = hovered(&words, label);
+            assert!(
+                (got - want).abs() <= 6e-4,
+                "{name}: {label} {got} against {want}: {words}"
+            );
+        }
+        browser.screenshot(&shots().join(format!("job-{name}.png")));
+    }
+    // At phone width a particle's longer words wrap within the canvas.
+    browser.window(PHONE.0, PHONE.1);
+    std::thread::sleep(Duration::from_millis(300));
+    browser.run(
+        "document.getElementById('packing').scrollIntoView({block: 'center'});",
+        &[],
+    );
+    let at = browser.run("return window.gapackViewer.centre(0);", &[]);
+    browser.pointer_to(at[0].as_f64().expect("x"), at[1].as_f64().expect("y"));
+    let words = browser.wait("the hover box", || {
+        shown_text(&browser, "#hover").filter(|w| w.contains("sphericity"))
+    });
+    usable(
+        &browser,
+        &format!("a particle hovered at phone width ({words})"),
+    );
+    browser.screenshot(&shots().join("job-shapes-phone.png"));
+    browser.window(DESKTOP.0, DESKTOP.1);
+    // The jobs list counts particles, not disks.
+    browser.goto(&server.url("/#/jobs"));
+    let words = browser.wait("the jobs listed", || {
+        shown_text(&browser, "#jobs-table tbody").filter(|t| t.matches("porosity").count() == 2)
+    });
+    assert!(
+        words.contains(" particles") && !words.contains(" disks"),
+        "{words}"
+    );
+}
+
 #[test]
 fn a_long_optimise_is_cancelled_and_keeps_its_best_packing() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());

@@ -784,6 +784,163 @@ fn the_page_and_the_data_it_draws() {
     );
 }
 
+/// A 15 mm square of particles of `shape` (a `[shape]` table and what follows it).
+fn shapes_config(shape: &str) -> String {
+    format!(
+        "seed = 1\n[domain]\nshape = \"rectangle\"\nwidth = 15\nheight = 15\n\
+         [grading]\nuniform = [1.0, 2.0]\n{shape}"
+    )
+}
+
+/// `packing.csv`'s rows as maps of column to cell.
+fn csv_rows(csv: &[u8]) -> Vec<std::collections::HashMap<String, String>> {
+    let mut reader = csv::Reader::from_reader(csv);
+    let header: Vec<String> = reader
+        .headers()
+        .expect("a header")
+        .iter()
+        .map(str::to_owned)
+        .collect();
+    reader
+        .records()
+        .map(|r| {
+            header
+                .iter()
+                .cloned()
+                .zip(r.expect("a record").iter().map(str::to_owned))
+                .collect()
+        })
+        .collect()
+}
+
+/// `got` is the CSV's number `cell`, within the few ulps serde_json's own
+/// float parsing may differ by.
+fn same_number(got: &Value, cell: &str, what: &str) {
+    let want: f64 = cell.parse().unwrap_or_else(|_| panic!("{what}: {cell:?}"));
+    let got = got
+        .as_f64()
+        .unwrap_or_else(|| panic!("{what}: not a number: {got}"));
+    assert!(
+        (got - want).abs() <= 4.0 * f64::EPSILON * want.abs(),
+        "{what}: {got} against {want}"
+    );
+}
+
+#[test]
+fn the_packing_view_of_particles_carries_their_outlines() {
+    let dir = scratch("serve-shapes-view");
+    let server = Server::start(&dir.join("data"), &[]);
+    let ellipses = submit(
+        &server,
+        "pack",
+        1,
+        &shapes_config(
+            "[shape]\nkind = \"superellipse\"\naspect = 1.5\nalpha = 2.5\nbeta = 3\norientation = \"random\"\n",
+        ),
+    );
+    let polygons = submit(
+        &server,
+        "pack",
+        1,
+        &shapes_config(
+            "[shape]\nkind = \"polygon\"\norientation = \"random\"\n\
+             [[shape.templates]]\nvertices = [[0, 0], [2, 0], [1, 1.7]]\nrounding = 0.1\nshare = 0.5\n\
+             [[shape.templates]]\nvertices = [[0, 0], [3, 0], [3, 1], [0, 1]]\nrounding = 0.05\nshare = 0.5\n",
+        ),
+    );
+    for (id, family, other) in [
+        (
+            &ellipses,
+            ["a", "b", "alpha", "beta"].as_slice(),
+            ["template", "rounding", "vertices"].as_slice(),
+        ),
+        (
+            &polygons,
+            ["template", "rounding", "vertices"].as_slice(),
+            ["a", "b", "alpha", "beta"].as_slice(),
+        ),
+    ] {
+        let job = wait_for(&server, id, &["succeeded", "failed"]);
+        assert_eq!(job["state"], "succeeded", "{job}");
+        let drawn = get(&server, &format!("/api/v1/jobs/{id}/packing")).json();
+        let rows = csv_rows(&get(&server, &format!("/api/v1/jobs/{id}/files/packing.csv")).body);
+        assert!(rows.len() > 20, "{} particles", rows.len());
+        let shapes = drawn["shapes"].as_object().expect("the shapes");
+        // The family's columns, none of the other's.
+        let mut keys: Vec<&str> = shapes.keys().map(String::as_str).collect();
+        keys.sort_unstable();
+        let mut expected: Vec<&str> = family.iter().copied().chain(["angle"]).collect();
+        expected.sort_unstable();
+        assert_eq!(keys, expected);
+        for name in other {
+            assert!(!shapes.contains_key(*name), "{name}");
+        }
+        for (i, row) in rows.iter().enumerate() {
+            for column in ["x", "y", "r"] {
+                same_number(
+                    &drawn[column][i],
+                    &row[column],
+                    &format!("particle {i} {column}"),
+                );
+            }
+            same_number(
+                &shapes["angle"][i],
+                &row["angle"],
+                &format!("particle {i} angle"),
+            );
+            for &column in family {
+                let what = format!("particle {i} {column}");
+                let got = &shapes[column][i];
+                match column {
+                    "template" => assert_eq!(
+                        got.as_u64().map(|t| t.to_string()).as_deref(),
+                        Some(row[column].as_str()),
+                        "{what}"
+                    ),
+                    "vertices" => {
+                        let cell: Vec<&str> = row[column].split(';').collect();
+                        let got = got.as_array().expect("vertices");
+                        assert_eq!(got.len(), cell.len(), "{what}");
+                        for (g, c) in got.iter().zip(cell) {
+                            let (x, y) = c.split_once(' ').expect("x y");
+                            same_number(&g[0], x, &what);
+                            same_number(&g[1], y, &what);
+                        }
+                    }
+                    _ => same_number(got, &row[column], &what),
+                }
+            }
+        }
+    }
+    // Disks: the view as it always was, without `shapes`.
+    let disks = submit(&server, "pack", 1, SQUARE);
+    wait_for(&server, &disks, &["succeeded"]);
+    let drawn = get(&server, &format!("/api/v1/jobs/{disks}/packing")).json();
+    let keys: Vec<&str> = drawn
+        .as_object()
+        .expect("an object")
+        .keys()
+        .map(String::as_str)
+        .collect();
+    assert_eq!(
+        keys,
+        ["bounds", "material", "materials", "outline", "r", "x", "y"]
+    );
+    // The document describes them.
+    let doc = get(&server, "/api/v1/openapi.json").json();
+    let shapes = doc["components"]["schemas"]["PackingView"]["properties"]["shapes"].to_string();
+    assert!(
+        shapes.contains("#/components/schemas/PackingShapes"),
+        "{shapes}"
+    );
+    let columns = &doc["components"]["schemas"]["PackingShapes"]["properties"];
+    for field in [
+        "angle", "a", "b", "alpha", "beta", "template", "rounding", "vertices",
+    ] {
+        assert!(columns.get(field).is_some(), "{field}: {columns}");
+    }
+}
+
 #[test]
 fn kill_9_mid_search_then_restart_resumes_to_the_same_packing() {
     let dir = scratch("serve-kill9");

@@ -10,6 +10,7 @@ use axum::http::StatusCode;
 use axum::routing::get;
 use axum::{Json, Router};
 use gapack::jobs::{JobKind, Plan, Request as JobRequest};
+use gapack::{Grain, Outline};
 use serde::Serialize;
 use utoipa::ToSchema;
 
@@ -37,7 +38,7 @@ pub fn web() -> Router<Arc<Shared>> {
 }
 
 /// A finished job's packing, for drawing: the domain's outline and the
-/// disks as columns.
+/// disks as columns; for particles that are not disks, their outlines too.
 #[derive(Debug, Serialize, ToSchema)]
 pub struct PackingView {
     /// The domain's boundary, a closed polyline (mm; circles as 256 segments).
@@ -52,6 +53,106 @@ pub struct PackingView {
     material: Vec<u16>,
     /// Material names.
     materials: Vec<String>,
+    /// Particles that are not disks (`packing.csv` with an `angle` column):
+    /// each one's outline, as columns in the same order; absent for disks
+    /// (`r` is then each particle's area-equivalent radius).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    shapes: Option<ShapesView>,
+}
+
+/// The outlines of a packing's particles that are not disks, as columns of
+/// one value per particle (in `packing.csv`'s order), as `packing.csv`
+/// gives them: a superellipse |x'/a|^alpha + |y'/b|^beta <= 1 or a convex
+/// polygon rounded by a disk of radius `rounding`, in the particle's own
+/// axes (x', y') about its centre, turned by `angle`. A family's columns are
+/// absent when no particle is of it, and null for a particle of the other.
+#[derive(Debug, Serialize, ToSchema)]
+#[schema(as = PackingShapes)]
+pub struct ShapesView {
+    /// Radians, counter-clockwise from the x axis to the particle's own x' axis.
+    angle: Vec<f64>,
+    /// Superellipses: semi-axis along x' (mm).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    a: Option<Vec<Option<f64>>>,
+    /// Superellipses: semi-axis along y' (mm).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    b: Option<Vec<Option<f64>>>,
+    /// Superellipses: exponent of x' (>= 1).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    alpha: Option<Vec<Option<f64>>>,
+    /// Superellipses: exponent of y' (>= 1).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    beta: Option<Vec<Option<f64>>>,
+    /// Rounded polygons: the index of the config's template.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    template: Option<Vec<Option<u16>>>,
+    /// Rounded polygons: the corner radius (mm).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rounding: Option<Vec<Option<f64>>>,
+    /// Rounded polygons: the vertices (mm) in the particle's own axes,
+    /// counter-clockwise about its centroid (the particle's centre).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    vertices: Option<Vec<Option<Vec<[f64; 2]>>>>,
+}
+
+impl ShapesView {
+    /// The columns of `grains`; `None` for none (a packing of disks).
+    fn of(grains: &[Grain]) -> Option<Self> {
+        /// A family's column: empty, or `None` when no particle is of it.
+        fn column<T>(present: bool, n: usize) -> Option<Vec<Option<T>>> {
+            present.then(|| Vec::with_capacity(n))
+        }
+        /// The next particle's cell of a column that is present.
+        fn push<T>(column: &mut Option<Vec<Option<T>>>, cell: Option<T>) {
+            if let Some(c) = column {
+                c.push(cell);
+            }
+        }
+        if grains.is_empty() {
+            return None;
+        }
+        let n = grains.len();
+        let se = grains
+            .iter()
+            .any(|g| matches!(g.outline, Outline::Superellipse { .. }));
+        let poly = grains
+            .iter()
+            .any(|g| matches!(g.outline, Outline::Polygon { .. }));
+        let mut view = ShapesView {
+            angle: Vec::with_capacity(n),
+            a: column(se, n),
+            b: column(se, n),
+            alpha: column(se, n),
+            beta: column(se, n),
+            template: column(poly, n),
+            rounding: column(poly, n),
+            vertices: column(poly, n),
+        };
+        for g in grains {
+            view.angle.push(g.angle);
+            let (superellipse, polygon) = match &g.outline {
+                Outline::Superellipse { a, b, alpha, beta } => {
+                    (Some([*a, *b, *alpha, *beta]), None)
+                }
+                Outline::Polygon {
+                    template,
+                    vertices,
+                    rounding,
+                } => (None, Some((*template, *rounding, vertices))),
+            };
+            push(&mut view.a, superellipse.map(|s| s[0]));
+            push(&mut view.b, superellipse.map(|s| s[1]));
+            push(&mut view.alpha, superellipse.map(|s| s[2]));
+            push(&mut view.beta, superellipse.map(|s| s[3]));
+            push(&mut view.template, polygon.map(|p| p.0));
+            push(&mut view.rounding, polygon.map(|p| p.1));
+            push(
+                &mut view.vertices,
+                polygon.map(|p| p.2.iter().map(|v| [v.x, v.y]).collect()),
+            );
+        }
+        Some(view)
+    }
 }
 
 /// Segments per circle in a drawn outline.
@@ -96,6 +197,7 @@ async fn packing(State(shared): AppState, JobId(id): JobId) -> Result<Json<Packi
             r: table.disks.iter().map(|d| d.r).collect(),
             material: table.materials,
             materials: table.material_names,
+            shapes: ShapesView::of(&table.grains),
         })
     })
     .await?;
@@ -155,6 +257,50 @@ mod tests {
             assert_eq!(r.header("cache-control"), Some("no-cache"), "{path}");
             assert_eq!(r.text(), text, "{path}");
         }
+    }
+
+    #[test]
+    fn a_packing_of_both_families_gives_each_particle_its_own_columns() {
+        use gapack::{Grain, Outline, Point};
+
+        use super::ShapesView;
+
+        assert!(ShapesView::of(&[]).is_none(), "disks: no shapes");
+        let ellipse = Outline::superellipse(1.5, 1.0, 2.0, 3.0).expect("a superellipse");
+        let triangle = Outline::polygon(
+            2,
+            &[
+                Point::new(-1.0, -1.0),
+                Point::new(2.0, -1.0),
+                Point::new(-1.0, 2.0),
+            ],
+            0.25,
+        )
+        .expect("a polygon");
+        let both = [Grain::new(ellipse.clone(), 0.5), Grain::new(triangle, -1.0)];
+        let view = serde_json::to_value(ShapesView::of(&both)).expect("JSON");
+        assert_eq!(
+            view,
+            serde_json::json!({
+                "angle": [0.5, -1.0],
+                "a": [1.5, null],
+                "b": [1.0, null],
+                "alpha": [2.0, null],
+                "beta": [3.0, null],
+                "template": [null, 2],
+                "rounding": [null, 0.25],
+                "vertices": [null, [[-1.0, -1.0], [2.0, -1.0], [-1.0, 2.0]]],
+            })
+        );
+        // One family: the other's columns are left out.
+        let view = serde_json::to_value(ShapesView::of(&[Grain::new(ellipse, 0.0)])).expect("JSON");
+        let keys: Vec<&str> = view
+            .as_object()
+            .expect("an object")
+            .keys()
+            .map(String::as_str)
+            .collect();
+        assert_eq!(keys, ["a", "alpha", "angle", "b", "beta"]);
     }
 
     #[tokio::test]

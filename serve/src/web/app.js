@@ -5,7 +5,7 @@
   const $ = (id) => document.getElementById(id);
   const API = '/api/v1';
   const FINAL = ['succeeded', 'failed', 'cancelled'];
-  // Above this many disks the packing is shown as the run's PNG.
+  // Above this many particles the packing is shown as the run's PNG.
   const MAX_DRAWN = 100000;
   const sleep = (ms) => new Promise((done) => setTimeout(done, ms));
 
@@ -30,6 +30,9 @@
   function count(n) {
     return Math.round(n).toLocaleString('en-US');
   }
+  /** What a config's particles are called: `particles` with a [shape]
+   * table (superellipses, polygons), else `disks`. */
+  const particlesOf = (config) => (/^\s*\[shape\]\s*(#.*)?$/m.test(config || '') ? 'particles' : 'disks');
   function elapsed(job) {
     if (!job.started_ms) return '';
     const end = job.finished_ms || Date.now();
@@ -251,7 +254,7 @@
     plan.textContent = v.plan.join('\n');
     const est = document.createElement('p');
     est.id = 'estimates';
-    let words = 'Estimates: about ' + count(e.disks) + ' disks (at most ' + count(e.max_disks) + '), memory at most ' + bytes(e.peak_bytes);
+    let words = 'Estimates: about ' + count(e.disks) + ' ' + particlesOf(editor.value) + ' (at most ' + count(e.max_disks) + '), memory at most ' + bytes(e.peak_bytes);
     if (e.packings != null) words += ', ' + count(e.packings) + (e.packings === 1 ? ' packing' : ' packings at most');
     if (e.seconds != null) words += ', time about ' + duration(e.seconds) + ' (a guide at 10⁶ disks/s on one core)';
     est.textContent = words + '.';
@@ -347,7 +350,7 @@
         state.textContent = job.state;
         state.className = 'state ' + job.state;
         row.cells[3].textContent = FINAL.includes(job.state) && job.summary && job.summary.porosity != null
-          ? 'porosity ' + porosity(job.summary.porosity) + ' · ' + count(job.summary.particles) + ' disks'
+          ? 'porosity ' + porosity(job.summary.porosity) + ' · ' + count(job.summary.particles) + (job.summary.particle_shape ? ' particles' : ' disks')
           : progressWords(job.progress);
         row.cells[5].textContent = elapsed(job);
       }
@@ -543,8 +546,10 @@
       li.append(a, size);
       $('files').append(li);
     }
-    // The packing: drawn from its data up to MAX_DRAWN disks, else its PNG.
+    // The packing: drawn from its data up to MAX_DRAWN particles, else its PNG.
     const particles = job.summary && job.summary.particles;
+    const shaped = !!(job.summary && job.summary.particle_shape);
+    $('packing-png').alt = 'The packing (an image: too many ' + (shaped ? 'particles' : 'disks') + ' to draw here)';
     if (names.includes('packing.csv') && particles != null && particles <= MAX_DRAWN) {
       $('packing-box').hidden = false;
       $('packing').hidden = false;
@@ -738,14 +743,282 @@
     };
   }
 
+  // ------------------------------------------------------------ particle shapes
+
+  /** Particles that are not disks, from the packing view's `shapes`
+   * columns: a superellipse |x'/a|^α + |y'/b|^β ≤ 1 or a convex polygon
+   * (counter-clockwise about its centroid) rounded by a disk of radius ρ, in
+   * the particle's own axes (x', y'), turned by `angle` counter-clockwise.
+   * Their outlines drawn and hit, and the measures hover shows. */
+  const shapes = (function () {
+    const TAU = 2 * Math.PI;
+    // A superellipse's outline at parameters t = 2πk/n, scaled to a = b = 1:
+    // (sgn(cos t)|cos t|^(2/α), sgn(sin t)|sin t|^(2/β)), by exponents and n
+    // (a bounded cache: a packing of many exponents computes the rest anew).
+    const units = new Map();
+    function unit(alpha, beta, n) {
+      const key = alpha + ' ' + beta + ' ' + n;
+      let u = units.get(key);
+      if (u) return u;
+      u = new Float64Array(2 * n);
+      for (let k = 0; k < n; k++) {
+        const c = Math.cos((TAU * k) / n);
+        const s = Math.sin((TAU * k) / n);
+        u[2 * k] = Math.sign(c) * Math.pow(Math.abs(c), 2 / alpha);
+        u[2 * k + 1] = Math.sign(s) * Math.pow(Math.abs(s), 2 / beta);
+      }
+      if (units.size < 4096) units.set(key, u);
+      return u;
+    }
+
+    /** Per particle of `data`: its kind (0 a disk, 1 a superellipse, 2 a
+     * rounded polygon), its turn (cos, sin), and its reach, the radius of a
+     * circle about its centre that holds it (a disk's radius). */
+    function prepare(data) {
+      const n = data.x.length;
+      const sh = data.shapes;
+      const geo = { kind: new Uint8Array(n), cos: new Float64Array(n), sin: new Float64Array(n), reach: Float64Array.from(data.r) };
+      if (!sh) return geo;
+      for (let i = 0; i < n; i++) {
+        geo.cos[i] = Math.cos(sh.angle[i]);
+        geo.sin[i] = Math.sin(sh.angle[i]);
+        if (sh.a && sh.a[i] != null) {
+          // Convex: inside its bounding box [-a, a] × [-b, b].
+          geo.kind[i] = 1;
+          geo.reach[i] = Math.hypot(sh.a[i], sh.b[i]);
+        } else if (sh.vertices && sh.vertices[i]) {
+          geo.kind[i] = 2;
+          let far = 0;
+          for (const [x, y] of sh.vertices[i]) far = Math.max(far, Math.hypot(x, y));
+          geo.reach[i] = far + sh.rounding[i];
+        }
+      }
+      return geo;
+    }
+
+    /** Add particle i's outline to `path`: centred on canvas point (X, Y),
+     * at `scale` canvas pixels a mm, `px` its reach in pixels (the detail:
+     * 8 to 96 points a superellipse, a polygon's corners as arcs once they
+     * show). Each outline ends where it began, without closePath (which
+     * costs Chromium a walk of the whole path: quadratic over a packing). */
+    function trace(path, data, geo, i, X, Y, scale, px) {
+      const sh = data.shapes;
+      const c = geo.cos[i];
+      const s = geo.sin[i];
+      // Own axes to the canvas: turned by the angle, y down.
+      const toX = (u, v) => X + (c * u - s * v) * scale;
+      const toY = (u, v) => Y - (s * u + c * v) * scale;
+      if (geo.kind[i] === 1) {
+        const n = px < 2.5 ? 8 : px < 5 ? 12 : px < 12 ? 24 : px < 40 ? 48 : 96;
+        const u = unit(sh.alpha[i], sh.beta[i], n);
+        const a = sh.a[i];
+        const b = sh.b[i];
+        path.moveTo(toX(a * u[0], b * u[1]), toY(a * u[0], b * u[1]));
+        for (let k = 1; k < n; k++) path.lineTo(toX(a * u[2 * k], b * u[2 * k + 1]), toY(a * u[2 * k], b * u[2 * k + 1]));
+        path.lineTo(toX(a * u[0], b * u[1]), toY(a * u[0], b * u[1]));
+        return;
+      }
+      const v = sh.vertices[i];
+      const m = v.length;
+      const rho = sh.rounding[i] * scale;
+      if (rho < 0.5) {
+        v.forEach(([x, y], k) => (k ? path.lineTo(toX(x, y), toY(x, y)) : path.moveTo(toX(x, y), toY(x, y))));
+        path.lineTo(toX(v[0][0], v[0][1]), toY(v[0][0], v[0][1]));
+        return;
+      }
+      // Each corner an arc of radius ρ between the outward normals of its
+      // two edges (canvas angles are the world's negated: y is down).
+      const turn = sh.angle[i];
+      let x0 = 0;
+      let y0 = 0;
+      for (let k = 0; k < m; k++) {
+        const [px0, py0] = v[(k + m - 1) % m];
+        const [qx, qy] = v[k];
+        const [rx, ry] = v[(k + 1) % m];
+        const t0 = Math.atan2(-(qx - px0), qy - py0) + turn;
+        let t1 = Math.atan2(-(rx - qx), ry - qy) + turn;
+        if (t1 < t0) t1 += TAU;
+        const X0 = toX(qx, qy);
+        const Y0 = toY(qx, qy);
+        if (k === 0) {
+          x0 = X0 + rho * Math.cos(t0);
+          y0 = Y0 - rho * Math.sin(t0);
+          path.moveTo(x0, y0);
+        }
+        path.arc(X0, Y0, rho, -t0, -t1, true);
+      }
+      path.lineTo(x0, y0);
+    }
+
+    /** Whether particle i holds the point (x, y) (mm). */
+    function contains(data, geo, i, x, y) {
+      const dx = x - data.x[i];
+      const dy = y - data.y[i];
+      const reach = geo.reach[i];
+      if (dx * dx + dy * dy > reach * reach) return false;
+      if (geo.kind[i] === 0) return true;
+      const sh = data.shapes;
+      // In the particle's own axes: turned back by its angle.
+      const u = geo.cos[i] * dx + geo.sin[i] * dy;
+      const v = -geo.sin[i] * dx + geo.cos[i] * dy;
+      if (geo.kind[i] === 1) {
+        return Math.pow(Math.abs(u / sh.a[i]), sh.alpha[i]) + Math.pow(Math.abs(v / sh.b[i]), sh.beta[i]) <= 1;
+      }
+      // Inside the polygon, or within ρ of it.
+      const p = sh.vertices[i];
+      const m = p.length;
+      let inside = true;
+      let near = Infinity;
+      for (let k = 0; k < m; k++) {
+        const [ax, ay] = p[k];
+        const [bx, by] = p[(k + 1) % m];
+        const ex = bx - ax;
+        const ey = by - ay;
+        if (ex * (v - ay) - ey * (u - ax) < 0) inside = false;
+        const t = Math.max(0, Math.min(1, ((u - ax) * ex + (v - ay) * ey) / (ex * ex + ey * ey)));
+        near = Math.min(near, Math.hypot(u - ax - t * ex, v - ay - t * ey));
+      }
+      return inside || near <= sh.rounding[i];
+    }
+
+    /** Particle i's aspect ratio (greatest over least width, the Feret
+     * diameters) and Riley's sphericity √(D_inscribed / D_enclosing), as the
+     * library measures them (summary.json's particle_shape, the shape chart):
+     * - a superellipse is symmetric about its centre: its greatest width is
+     *   twice its farthest point's distance R and its least twice its nearest
+     *   boundary line's d, its largest inscribed and smallest enclosing
+     *   circles centred: aspect R/d, sphericity √(d/R). R and d are taken on
+     *   the outline at 4,096 parameters (a quadrant, mirrored): within 10⁻⁵.
+     * - a polygon rounded by ρ: (diameter + 2ρ) / (least width + 2ρ), the
+     *   least width at an edge, exactly; sphericity √((r_in + ρ) / (r_out +
+     *   ρ)), r_in the polygon's Chebyshev radius (the centre equidistant from
+     *   three edges), r_out its vertices' smallest enclosing circle (Welzl). */
+    function measures(data, i) {
+      const sh = data.shapes;
+      if (sh.a && sh.a[i] != null) {
+        const [a, b, alpha, beta] = [sh.a[i], sh.b[i], sh.alpha[i], sh.beta[i]];
+        const q = 1024;
+        let far = 0;
+        let near = Infinity;
+        let px = a;
+        let py = 0;
+        for (let k = 0; k <= q; k++) {
+          const t = (Math.PI / 2) * (k / q);
+          // The quadrant's ends exactly on the axes.
+          const x = a * Math.pow(k === q ? 0 : Math.cos(t), 2 / alpha);
+          const y = b * Math.pow(k === q ? 1 : Math.sin(t), 2 / beta);
+          far = Math.max(far, Math.hypot(x, y));
+          if (k) near = Math.min(near, Math.abs(px * y - py * x) / Math.hypot(x - px, y - py));
+          px = x;
+          py = y;
+        }
+        return { aspect: far / near, sphericity: Math.min(1, Math.sqrt(near / far)) };
+      }
+      const v = sh.vertices[i];
+      const rho = sh.rounding[i];
+      const m = v.length;
+      let diameter = 0;
+      for (let j = 0; j < m; j++) for (let k = j + 1; k < m; k++) diameter = Math.max(diameter, Math.hypot(v[j][0] - v[k][0], v[j][1] - v[k][1]));
+      // Edge k: inward unit normal n and offset c, inside n·x ≥ c.
+      const edges = v.map(([ax, ay], k) => {
+        const [bx, by] = v[(k + 1) % m];
+        const len = Math.hypot(bx - ax, by - ay);
+        const nx = -(by - ay) / len;
+        const ny = (bx - ax) / len;
+        return [nx, ny, nx * ax + ny * ay];
+      });
+      let least = Infinity;
+      for (const [nx, ny, c] of edges) {
+        let deepest = 0;
+        for (const [x, y] of v) deepest = Math.max(deepest, nx * x + ny * y - c);
+        least = Math.min(least, deepest);
+      }
+      return {
+        aspect: (diameter + 2 * rho) / (least + 2 * rho),
+        sphericity: Math.min(1, Math.sqrt((chebyshev(v, edges) + rho) / (enclosing(v) + rho))),
+      };
+    }
+
+    /** Radius of the largest circle inside the convex polygon `v` (edges as
+     * `measures` gives them): the best centre equidistant from three edges. */
+    function chebyshev(v, edges) {
+      const size = Math.max(...v.map(([x, y]) => Math.hypot(x, y)));
+      const m = edges.length;
+      let best = 0;
+      for (let i = 0; i < m; i++) {
+        for (let j = i + 1; j < m; j++) {
+          for (let k = j + 1; k < m; k++) {
+            // n·x − r = c for the three edges, by Cramer's rule.
+            const [a, b, c] = [edges[i], edges[j], edges[k]];
+            const det3 = (p, q, r) => p[0] * (q[1] * r[2] - q[2] * r[1]) - p[1] * (q[0] * r[2] - q[2] * r[0]) + p[2] * (q[0] * r[1] - q[1] * r[0]);
+            const rows = [a, b, c].map((e) => [e[0], e[1], -1]);
+            const d = det3(...rows);
+            if (d === 0) continue;
+            const rhs = [a[2], b[2], c[2]];
+            const col = (n) => rows.map((row, r) => row.map((x, k2) => (k2 === n ? rhs[r] : x)));
+            const x = det3(...col(0)) / d;
+            const y = det3(...col(1)) / d;
+            const r = det3(...col(2)) / d;
+            if (!(Number.isFinite(r) && r > best)) continue;
+            if (edges.every(([nx, ny, off]) => nx * x + ny * y - off >= r - 1e-12 * size)) best = r;
+          }
+        }
+      }
+      return best;
+    }
+
+    /** Radius of the smallest circle holding the points `v` (Welzl's
+     * incremental construction). */
+    function enclosing(v) {
+      const inside = (c, r, p) => Math.hypot(p[0] - c[0], p[1] - c[1]) <= r * (1 + 1e-12);
+      let c = v[0];
+      let r = 0;
+      for (let i = 1; i < v.length; i++) {
+        if (inside(c, r, v[i])) continue;
+        c = v[i];
+        r = 0;
+        for (let j = 0; j < i; j++) {
+          if (inside(c, r, v[j])) continue;
+          c = [(v[i][0] + v[j][0]) / 2, (v[i][1] + v[j][1]) / 2];
+          r = Math.hypot(v[i][0] - v[j][0], v[i][1] - v[j][1]) / 2;
+          for (let k = 0; k < j; k++) {
+            if (inside(c, r, v[k])) continue;
+            [c, r] = circumcircle(v[i], v[j], v[k]);
+          }
+        }
+      }
+      return r;
+    }
+    /** The circle through three points (the widest pair's when collinear). */
+    function circumcircle(a, b, c) {
+      const [abx, aby, acx, acy] = [b[0] - a[0], b[1] - a[1], c[0] - a[0], c[1] - a[1]];
+      const d = 2 * (abx * acy - aby * acx);
+      if (d === 0) {
+        const pairs = [[a, b], [a, c], [b, c]];
+        const len = ([p, q]) => Math.hypot(p[0] - q[0], p[1] - q[1]);
+        const [p, q] = pairs.reduce((x, y) => (len(y) > len(x) ? y : x));
+        return [[(p[0] + q[0]) / 2, (p[1] + q[1]) / 2], len([p, q]) / 2];
+      }
+      const b2 = abx * abx + aby * aby;
+      const c2 = acx * acx + acy * acy;
+      const ux = (acy * b2 - aby * c2) / d;
+      const uy = (abx * c2 - acx * b2) / d;
+      return [[a[0] + ux, a[1] + uy], Math.hypot(ux, uy)];
+    }
+
+    return { prepare, trace, contains, measures };
+  })();
+
   // ------------------------------------------------------------ packing
 
-  /** The packing on a canvas: pan, zoom, hover for a disk's data. A grid of
-   * the disks finds the one under the pointer without a scan. */
+  /** The packing on a canvas: pan, zoom, hover for a particle's data. A
+   * grid of the particles finds the one under the pointer without a scan. */
   const packingViewer = (function () {
     const canvas = $('packing');
     const tip = $('hover');
     let data = null;
+    let geo = null;
+    let measured = null;
     let grid = null;
     let view = null;
     let pending = null;
@@ -755,7 +1028,11 @@
 
     function show(packing, t0) {
       data = packing;
+      geo = shapes.prepare(data);
+      measured = null;
       const n = data.x.length;
+      const what = data.shapes ? 'particle' : 'disk';
+      canvas.setAttribute('aria-label', 'The packing: drag to pan, wheel to zoom, hover a ' + what + ' for its data');
       // Colours: by material, or by diameter in 12 shades (light small, dark large).
       const shades = 12;
       colours = new Uint8Array(n);
@@ -779,7 +1056,7 @@
             return 'rgb(' + Math.round(198 - 150 * t) + ',' + Math.round(219 - 120 * t) + ',' + Math.round(239 - 60 * t) + ')';
           });
       data.fills = fills;
-      buildGrid(rmax);
+      buildGrid(geo.reach.reduce((m, v) => Math.max(m, v), 0));
       resize();
       fit();
       paint();
@@ -787,6 +1064,8 @@
       stats.disksDrawn = n;
       canvas.dataset.disks = String(n);
     }
+    /** The grid: cells of twice the greatest reach (a particle's enclosing
+     * radius; a disk's radius). */
     function buildGrid(rmax) {
       const [[x0, y0], [x1, y1]] = data.bounds;
       const n = data.x.length;
@@ -843,12 +1122,16 @@
       const s = view.scale;
       let drawn = 0;
       for (let i = 0; i < n; i++) {
-        const r = data.r[i] * s;
+        const r = geo.reach[i] * s;
         const x = sx(data.x[i]);
         const y = sy(data.y[i]);
         if (x + r < 0 || x - r > w || y + r < 0 || y - r > h) continue;
         if (r < 0.6) {
           paths[colours[i]].rect(x - 0.6, y - 0.6, 1.2, 1.2);
+        } else if (geo.kind[i]) {
+          // A superellipse or a rounded polygon: its outline.
+          shapes.trace(paths[colours[i]], data, geo, i, x, y, s, r);
+          if (r > 3) shapes.trace(edges, data, geo, i, x, y, s, r);
         } else {
           paths[colours[i]].moveTo(x + r, y);
           paths[colours[i]].arc(x, y, r, 0, 2 * Math.PI);
@@ -884,8 +1167,8 @@
         paint();
       });
     }
-    /** The disk under canvas pixel (px, py), or -1. */
-    function diskAt(px, py) {
+    /** The particle under canvas pixel (px, py), or -1. */
+    function particleAt(px, py) {
       const x = (px - view.ox) / view.scale;
       const y = (view.oy - py) / view.scale;
       const cx = Math.floor((x - grid.x0) / grid.cw);
@@ -898,9 +1181,7 @@
           const c = j * grid.cols + i;
           for (let k = grid.start[c]; k < grid.start[c + 1]; k++) {
             const d = grid.items[k];
-            const dx = data.x[d] - x;
-            const dy = data.y[d] - y;
-            if (dx * dx + dy * dy <= data.r[d] * data.r[d]) best = d;
+            if (shapes.contains(data, geo, d, x, y)) best = d;
           }
         }
       }
@@ -914,18 +1195,32 @@
     function hover(e) {
       if (!data) return;
       const [px, py, cssX, cssY] = pixel(e);
-      const d = diskAt(px, py);
+      const d = particleAt(px, py);
       if (d < 0) {
         tip.hidden = true;
         return;
       }
       const f = (v) => v.toFixed(4);
       let words = 'id ' + d + ' · x ' + f(data.x[d]) + ' · y ' + f(data.y[d]) + ' · r ' + f(data.r[d]) + ' mm';
+      if (geo.kind[d]) {
+        // Its turn, and its measures (computed once for the particle hovered).
+        if (!measured || measured.id !== d) measured = Object.assign({ id: d }, shapes.measures(data, d));
+        const degrees = (data.shapes.angle[d] * 180) / Math.PI;
+        words += ' · angle ' + degrees.toFixed(2) + '° · aspect ' + measured.aspect.toFixed(3) + ' · sphericity ' + measured.sphericity.toFixed(3);
+      }
       if (data.material.length) words += ' · ' + data.materials[data.material[d]];
       tip.textContent = words;
       tip.dataset.id = String(d);
       tip.hidden = false;
       const wide = canvas.clientWidth;
+      // On one line if it fits the canvas (a particle's words are long: at
+      // phone width they wrap, within the canvas).
+      tip.style.whiteSpace = '';
+      tip.style.maxWidth = '';
+      if (tip.offsetWidth > wide) {
+        tip.style.whiteSpace = 'normal';
+        tip.style.maxWidth = wide + 'px';
+      }
       tip.style.left = Math.min(cssX + 14, Math.max(0, wide - tip.offsetWidth)) + 'px';
       tip.style.top = cssY + 14 + 'px';
     }
@@ -1005,9 +1300,11 @@
         if (pending) cancelAnimationFrame(pending);
         pending = null;
         data = null;
+        geo = null;
+        measured = null;
         tip.hidden = true;
       },
-      /** For the browser tests: the page position of disk `i`'s centre. */
+      /** For the browser tests: the page position of particle `i`'s centre. */
       centre(i) {
         const rect = canvas.getBoundingClientRect();
         const ratio = rect.width / canvas.width;
