@@ -336,9 +336,9 @@ mod tests {
     use super::*;
 
     #[test]
-    fn jobs_other_than_pack_are_refused_at_the_shape_table() {
+    fn jobs_that_cannot_pack_shapes_are_refused_at_the_shape_table() {
         let text = "[domain]\nshape = \"rectangle\"\nwidth = 40\nheight = 40\n[grading]\nconstant = 1.2\n[shape]\nkind = \"superellipse\"\naspect = 1.5\n";
-        for kind in [JobKind::Compare, JobKind::Stability] {
+        for kind in [JobKind::Optimise, JobKind::Layer] {
             let e = Plan::load(text, "t.toml", &Request::new(kind)).expect_err("refused");
             let message = e.to_string();
             assert!(message.starts_with("t.toml:7:1: shape:"), "{message}");
@@ -349,6 +349,11 @@ mod tests {
         }
         let plan = Plan::load(text, "t.toml", &Request::natural()).expect("packs");
         assert_eq!(plan.kind, JobKind::Pack);
+        // The comparison and its stability sweep run the methods that can.
+        for kind in [JobKind::Compare, JobKind::Stability] {
+            let plan = Plan::load(text, "t.toml", &Request::new(kind)).expect("planned");
+            assert_eq!(plan.kind, kind);
+        }
     }
 
     const SQUARE: &str =

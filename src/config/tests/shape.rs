@@ -345,7 +345,7 @@ fn templates_that_are_not_convex_polygons_are_refused() {
 /// The refusal of a shape in a scene this version cannot pack it in.
 fn unsupported(what: &str) -> String {
     format!(
-        "t.toml:7:1: shape: particle shapes cannot be packed with {what}; particle shapes are packed in this version by the pack job only, with packer.method = \"advancing-front\" (two or one contact) or \"rsa\", in a [domain] with walls = \"exact\" or as a periodic cell"
+        "t.toml:7:1: shape: particle shapes cannot be packed with {what}; particle shapes are packed in this version by the pack job, sweeps of it and the compare and stability jobs (advancing front and rsa) only, with packer.method = \"advancing-front\" (two or one contact) or \"rsa\", in a [domain] with walls = \"exact\" or as a periodic cell"
     )
 }
 
@@ -421,13 +421,6 @@ fn tables_of_other_jobs_are_refused_with_shapes() {
             &format!("{ellipses}[optimise]\ntarget_porosity = 0.2\n"),
         ),
         &unsupported("[optimise] (the optimise job)"),
-    );
-    fails_with(
-        &rect(
-            "width = 40\nheight = 40",
-            &format!("{ellipses}[sweep]\n\"domain.width\" = [30, 40]\n"),
-        ),
-        &unsupported("[sweep] (the sweep job)"),
     );
     fails_with(
         &rect(
