@@ -36,11 +36,16 @@ use super::screen::{Candidate, Halo, Polygon, SIDES, Sampled, Tables, candidates
 use super::{Body, PEAK_BYTES_PER_GRAIN, Radii};
 use crate::cancel::Cancel;
 use crate::geometry::{Disk, Grain, Outline, Point, Wall};
-use crate::packer::advancing_front::{PROGRESS_STEP, offset_crossing, size_count, work_budget};
+use crate::packer::advancing_front::{PROGRESS_STEP, size_count, work_budget};
 use crate::packer::index::{Grid, MxQuadtree, SpatialIndex};
 use crate::packer::{BYTES_PER_MB, IndexKind, PackError, PackStats, Packing};
 use crate::scene::{SHAPE_STREAM, ShapeSpec};
 use crate::{Scene, WallMode};
+
+mod seed;
+mod witness;
+
+use witness::{ATTEMPT, Entry, NO_SPOT, WITNESS_BAND, WITNESSES};
 
 /// Seed offset of the stream that picks one-contact placements.
 const CONTACT_STREAM: u64 = 0x6F6E_655F_636F_6E74;
@@ -52,49 +57,6 @@ const WAKE_RATIO: f64 = 1.0;
 /// A front that fails for a size within this factor of the smallest drawn
 /// is closed: no particle fits touching it.
 const CLOSE_BAND: f64 = 1.05;
-
-/// Spots a front remembers after a placement, at most.
-const WITNESSES: usize = 4;
-
-/// A front on the stack and the spots it still had after it took a
-/// particle (its *witnesses*): the screen's other candidates (solved, or
-/// estimated where left unsolved) as centres about the front's. When the
-/// front comes up again and particles placed since cover the smallest
-/// particle's inner disk at each of them, it leaves without an attempt,
-/// as the disk front's fronts do: almost every front takes one particle
-/// and fails at its next attempt, which was half the work of a run. The
-/// stack holds most particles at some time: 24 bytes an entry.
-#[derive(Debug, Clone, Copy)]
-struct Entry {
-    front: u32,
-    /// Particles placed when the witnesses were found (those placed since
-    /// can cover them); [`ATTEMPT`]: none kept, the front is attempted (a
-    /// fresh or woken front, or one whose attempt was not screened).
-    since: u32,
-    /// Offsets from the front's centre in units of [`Front::unit`];
-    /// [`NO_SPOT`] marks an unused slot.
-    at: [[i16; 2]; WITNESSES],
-}
-
-/// [`Entry::since`] of a front kept without witnesses.
-const ATTEMPT: u32 = u32::MAX;
-
-/// An unused witness slot.
-const NO_SPOT: [i16; 2] = [i16::MIN; 2];
-
-impl Entry {
-    fn attempt(front: u32) -> Self {
-        Entry {
-            front,
-            since: ATTEMPT,
-            at: [NO_SPOT; WITNESSES],
-        }
-    }
-}
-
-/// Only the spots found for a size within this factor of the smallest
-/// drawn are remembered (the disk front's retiring factor).
-const WITNESS_BAND: f64 = 1.1;
 
 /// Retries of one deferred size before it is given up.
 const DEFERRED_RETRIES: u32 = 32;
@@ -394,15 +356,6 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         Ok(true)
     }
 
-    /// Whether the run has no particle to grow from yet.
-    fn needs_seed(&self) -> bool {
-        if self.periodic {
-            self.bodies.len() < 2
-        } else {
-            self.bodies.is_empty()
-        }
-    }
-
     #[allow(clippy::too_many_arguments)]
     pub(super) fn place(
         &mut self,
@@ -520,56 +473,6 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             .is_break();
         self.stats.work += work;
         !blocked
-    }
-
-    /// Whether a spot front `front` remembers may still hold a particle: no
-    /// particle placed since it was found covers the smallest particle's
-    /// inner disk about it (any particle at the spot would hold that disk).
-    fn any_alive(&mut self, w: &Entry) -> bool {
-        self.stats.witness_checks += 1;
-        let rho = self.inner_small;
-        let disk = Outline::Superellipse {
-            a: rho,
-            b: rho,
-            alpha: 2.0,
-            beta: 2.0,
-        };
-        let probe = Newcomer {
-            outline: &disk,
-            cos: 1.0,
-            sin: 0.0,
-            reach: rho,
-            inner: rho,
-            slack: 0.0,
-            sampled: None,
-        };
-        let c = self.halos[w.front as usize].c;
-        let unit = self.unit;
-        let half = rho + self.reach_max;
-        let (bodies, halos) = (&self.bodies, &self.halos);
-        let mut work = 0u64;
-        let alive = w.at.iter().filter(|&&d| d != NO_SPOT).any(|d| {
-            let q = c + unit * Vector2::new(f64::from(d[0]), f64::from(d[1]));
-            self.visit(q, half, |id, v| {
-                if id < w.since {
-                    return ControlFlow::Continue(());
-                }
-                work += 1;
-                let g = &halos[id as usize];
-                let d2 = (g.c + v - q).norm_squared();
-                let (far, near) = (g.reach + rho, g.inner + rho);
-                if d2 >= far * far
-                    || (d2 >= near * near && clear_of(bodies, &Obstacle::Body(id, v), &probe, q))
-                {
-                    ControlFlow::Continue(())
-                } else {
-                    ControlFlow::Break(())
-                }
-            })
-            .is_continue()
-        });
-        self.stats.work += work;
-        alive
     }
 
     /// Whether the new particle at `p`, a centre within the front's halo, is
@@ -937,72 +840,6 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         }
         (p.y, p.x)
     }
-
-    /// A first particle: with walls at the lowest clear wall–wall corner
-    /// of its bounding circle, slid down then left until it touches; in a
-    /// periodic cell at the centre, then the second slid against the first.
-    fn seed(&mut self, new: &Newcomer) -> Option<Point> {
-        if self.periodic {
-            return match self.bodies.len() {
-                0 => Some(self.scene.domain.centroid()),
-                1 => {
-                    let f = &self.bodies[0];
-                    let from = f.c + Vector2::new(f.reach + new.reach, 0.0);
-                    let to = f.c;
-                    self.slide_clear(new, from, to)
-                }
-                _ => None,
-            };
-        }
-        let mut spots = Vec::new();
-        let r = new.reach;
-        for (i, a) in self.walls.iter().enumerate() {
-            for b in &self.walls[i + 1..] {
-                corner(a, b, r, &mut spots);
-            }
-            if let Obstacle::Circle(o, radius) = *a {
-                spots.push(Point::new(o.x, o.y - (radius - r)));
-            }
-        }
-        spots.sort_unstable_by(|a, b| {
-            (a.y, a.x)
-                .partial_cmp(&(b.y, b.x))
-                .unwrap_or(std::cmp::Ordering::Equal)
-        });
-        for s in spots {
-            if !self.clear(new, s, &[]) {
-                continue;
-            }
-            let down = self.slide_clear(new, s, s - Vector2::new(0.0, 2.0 * r))?;
-            return self.slide_clear(new, down, down - Vector2::new(2.0 * r, 0.0));
-        }
-        None
-    }
-
-    /// The farthest clear point from `from` towards `to`, by bisection
-    /// (`None` when `from` is not clear).
-    fn slide_clear(&mut self, new: &Newcomer, from: Point, to: Point) -> Option<Point> {
-        if !self.clear(new, from, &[]) {
-            return None;
-        }
-        if self.clear(new, to, &[]) {
-            return Some(to);
-        }
-        let (mut lo, mut hi) = (0.0f64, 1.0f64);
-        let resolution = GAP_REL * new.reach / (to - from).norm().max(f64::MIN_POSITIVE);
-        for _ in 0..64 {
-            if hi - lo <= resolution {
-                break;
-            }
-            let mid = 0.5 * (lo + hi);
-            if self.clear(new, from + (to - from) * mid, &[]) {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        Some(from + (to - from) * lo)
-    }
 }
 
 /// Work between two looks at the cancel token and the budget.
@@ -1024,24 +861,6 @@ fn reference(bodies: &[Body], ob: &Obstacle, s: Point) -> Point {
             let n = d.norm();
             if n > 0.0 { o + d * (radius / n) } else { o }
         }
-    }
-}
-
-/// The centre of a disk of radius `r` touching both straight walls inside
-/// (their inward offset lines' crossing, on both segments).
-fn corner(a: &Obstacle, b: &Obstacle, r: f64, out: &mut Vec<Point>) {
-    let wall = |w: &Obstacle| match *w {
-        Obstacle::Segment(a, b) => Some(Wall::Segment { a, b }),
-        _ => None,
-    };
-    let (Some(wa), Some(wb)) = (wall(a), wall(b)) else {
-        return;
-    };
-    let Some(c) = offset_crossing(&wa, &wb, r) else {
-        return;
-    };
-    if c.t >= -r && c.t <= c.len_a + r && c.s >= -r && c.s <= c.len_b + r {
-        out.push(c.at);
     }
 }
 
