@@ -59,29 +59,42 @@ impl Validator<'_> {
         &self,
         scene: &Scene,
         raw: Option<&Spanned<Table<RawCompare>>>,
-        mut settings: CompareSettings,
+        settings: CompareSettings,
     ) -> Result<CompareSettings, ConfigError> {
         if scene.shape.is_none() {
             return Ok(settings);
         }
-        let packs_shapes = |m: Method| matches!(m, Method::AdvancingFront | Method::Rsa);
+        self.methods_that(
+            raw,
+            settings,
+            |m| matches!(m, Method::AdvancingFront | Method::Rsa),
+            "packs disks only, not the particles of [shape] (the advancing front and rsa pack them)",
+        )
+    }
+
+    /// `settings` with only the methods `keep` takes; a method the config
+    /// names that it does not take is refused at its key, saying `why`.
+    pub(super) fn methods_that(
+        &self,
+        raw: Option<&Spanned<Table<RawCompare>>>,
+        mut settings: CompareSettings,
+        keep: impl Fn(Method) -> bool,
+        why: &str,
+    ) -> Result<CompareSettings, ConfigError> {
         let named = raw.and_then(|c| c.get_ref().methods.as_ref());
         if let Some(methods) = named {
             for (i, (name, &method)) in methods.get_ref().iter().zip(&settings.methods).enumerate()
             {
-                if !packs_shapes(method) {
+                if !keep(method) {
                     return Err(ConfigError::NotApplicable {
                         at: self.at(&name.span()),
                         key: format!("compare.methods[{i}]"),
-                        reason: format!(
-                            "{:?} packs disks only, not the particles of [shape] (the advancing front and rsa pack them); leave it out",
-                            name.get_ref()
-                        ),
+                        reason: format!("{:?} {why}; leave it out", name.get_ref()),
                     });
                 }
             }
         }
-        settings.methods.retain(|&m| packs_shapes(m));
+        settings.methods.retain(|&m| keep(m));
         Ok(settings)
     }
 }

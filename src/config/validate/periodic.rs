@@ -95,28 +95,16 @@ impl Validator<'_> {
         &self,
         scene: &Scene,
         raw: Option<&Spanned<Table<RawCompare>>>,
-        mut settings: CompareSettings,
+        settings: CompareSettings,
     ) -> Result<CompareSettings, ConfigError> {
         if !scene.domain.is_periodic() {
             return Ok(settings);
         }
-        let named = raw.and_then(|c| c.get_ref().methods.as_ref());
-        if let Some(methods) = named {
-            for (i, (name, &method)) in methods.get_ref().iter().zip(&settings.methods).enumerate()
-            {
-                if !packs_periodic(method) {
-                    return Err(ConfigError::NotApplicable {
-                        at: self.at(&name.span()),
-                        key: format!("compare.methods[{i}]"),
-                        reason: format!(
-                            "{:?} packs against walls and does not pack periodic cells (domain.walls = \"periodic\"); leave it out",
-                            name.get_ref()
-                        ),
-                    });
-                }
-            }
-        }
-        settings.methods.retain(|&m| packs_periodic(m));
-        Ok(settings)
+        self.methods_that(
+            raw,
+            settings,
+            packs_periodic,
+            "packs against walls and does not pack periodic cells (domain.walls = \"periodic\")",
+        )
     }
 }
