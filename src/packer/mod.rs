@@ -28,6 +28,9 @@ pub use rsa::pack_rsa;
 
 pub(crate) use placed::packs_periodic;
 
+use rand::{Rng, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+
 use crate::Scene;
 use crate::cancel::Cancel;
 
@@ -130,7 +133,9 @@ pub fn pack_observed(
     cancel: &Cancel,
 ) -> Result<Packing, PackError> {
     if let Some(shape) = &scene.shape {
-        return grains::pack(scene, shape, progress, cancel);
+        let mut sizes = Xoshiro256PlusPlus::seed_from_u64(scene.seed);
+        let mut genes = std::iter::repeat_with(|| sizes.r#gen::<f64>());
+        return grains::pack(scene, shape, &mut genes, progress, cancel);
     }
     match scene.packer.method {
         Method::AdvancingFront => advancing_front::pack(scene, progress, cancel),

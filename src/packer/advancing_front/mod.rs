@@ -180,7 +180,9 @@ pub fn pack(
 }
 
 /// [`pack_genes`], telling `progress` how many genes were read every
-/// [`PROGRESS_STEP`] and stopping once `cancel` is raised.
+/// [`PROGRESS_STEP`] and stopping once `cancel` is raised. A scene with a
+/// `[shape]` is packed by the particles' own front (or rsa) with these
+/// genes as its sizes, each particle's outline drawn from the shape's stream.
 ///
 /// # Errors
 /// As [`pack_genes`], and [`PackError::Cancelled`] when stopped.
@@ -190,6 +192,10 @@ pub fn pack_genes_watched(
     progress: &mut dyn FnMut(u64),
     cancel: &Cancel,
 ) -> Result<Packing, PackError> {
+    if let Some(shape) = &scene.shape {
+        let mut genes = genes;
+        return super::grains::pack(scene, shape, &mut genes, progress, cancel);
+    }
     let stopped = Cell::new(None);
     let watched = genes.enumerate().map_while(|(i, u)| {
         let i = i as u64;

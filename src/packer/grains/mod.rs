@@ -48,6 +48,7 @@ pub const PEAK_BYTES_PER_GRAIN: f64 = 520.0;
 pub(super) fn pack(
     scene: &Scene,
     shape: &ShapeSpec,
+    genes: &mut dyn Iterator<Item = f64>,
     progress: &mut dyn FnMut(u64),
     cancel: &Cancel,
 ) -> Result<Packing, PackError> {
@@ -70,9 +71,9 @@ pub(super) fn pack(
     }
     match scene.packer.method {
         Method::AdvancingFront => {
-            super::near_origin(scene, |s| front::pack(s, shape, progress, cancel))
+            super::near_origin(scene, |s| front::pack(s, shape, genes, progress, cancel))
         }
-        Method::Rsa => super::near_origin(scene, |s| rsa::pack(s, shape, cancel)),
+        Method::Rsa => super::near_origin(scene, |s| rsa::pack(s, shape, genes, cancel)),
         Method::Deposition => refuse("method = \"deposition\""),
         Method::Relaxation => refuse("method = \"relaxation\""),
         Method::Densify => refuse("method = \"densify\""),

@@ -19,14 +19,15 @@ use crate::packer::{PackError, Packing};
 use crate::scene::{SHAPE_STREAM, ShapeSpec};
 use crate::{Scene, WallMode};
 
-/// Pack `scene` (next to the origin) by random sequential addition.
+/// Pack `scene` (next to the origin) by random sequential addition, each
+/// gene a size's percent passing.
 pub(super) fn pack(
     scene: &Scene,
     shape: &ShapeSpec,
+    genes: &mut dyn Iterator<Item = f64>,
     cancel: &Cancel,
 ) -> Result<Packing, PackError> {
     let mut front = Front::<MxQuadtree>::new(scene, shape, cancel)?;
-    let mut sizes = Xoshiro256PlusPlus::seed_from_u64(scene.seed);
     let mut shapes = Xoshiro256PlusPlus::seed_from_u64(scene.seed ^ SHAPE_STREAM);
     let mut spots = Xoshiro256PlusPlus::seed_from_u64(scene.seed ^ POSITION_STREAM);
     let drawer = shape.drawer();
@@ -38,7 +39,9 @@ pub(super) fn pack(
         if i.is_multiple_of(PROGRESS_STEP) {
             cancel.check()?;
         }
-        let u: f64 = sizes.r#gen();
+        let Some(u) = genes.next() else {
+            break;
+        };
         let grain = drawer.draw(scene.grading.sample(u), &mut shapes);
         front.stats.sizes_drawn += 1;
         let (reach, inner) = radii.of(&grain.outline);

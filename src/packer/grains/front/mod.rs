@@ -65,12 +65,15 @@ const DEFERRED_RETRIES: u32 = 32;
 pub(super) fn pack(
     scene: &Scene,
     shape: &ShapeSpec,
+    genes: &mut dyn Iterator<Item = f64>,
     progress: &mut dyn FnMut(u64),
     cancel: &Cancel,
 ) -> Result<Packing, PackError> {
     match scene.packer.index {
-        IndexKind::MxQuadtree => Front::<MxQuadtree>::new(scene, shape, cancel)?.run(progress),
-        IndexKind::Grid => Front::<Grid>::new(scene, shape, cancel)?.run(progress),
+        IndexKind::MxQuadtree => {
+            Front::<MxQuadtree>::new(scene, shape, cancel)?.run(genes, progress)
+        }
+        IndexKind::Grid => Front::<Grid>::new(scene, shape, cancel)?.run(genes, progress),
     }
 }
 
@@ -184,10 +187,13 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         })
     }
 
-    /// Draw the sizes and place them.
-    fn run(mut self, progress: &mut dyn FnMut(u64)) -> Result<Packing, PackError> {
+    /// Draw the sizes (each gene a percent passing) and place them.
+    fn run(
+        mut self,
+        genes: &mut dyn Iterator<Item = f64>,
+        progress: &mut dyn FnMut(u64),
+    ) -> Result<Packing, PackError> {
         let scene = self.scene;
-        let mut sizes = Xoshiro256PlusPlus::seed_from_u64(scene.seed);
         let mut shapes = Xoshiro256PlusPlus::seed_from_u64(scene.seed ^ SHAPE_STREAM);
         let drawer = self.shape.drawer();
         let count = size_count(&scene.domain, scene.d_min());
@@ -212,8 +218,10 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                         progress(drawn);
                         self.cancel.check()?;
                     }
+                    let Some(u) = genes.next() else {
+                        break;
+                    };
                     drawn += 1;
-                    let u: f64 = sizes.r#gen();
                     self.stats.sizes_drawn += 1;
                     (drawer.draw(scene.grading.sample(u), &mut shapes), 0)
                 }
