@@ -439,13 +439,29 @@ pub(crate) struct RawOptimise {
     pub tolerance: Option<Spanned<f64>>,
     pub window_disks: Option<Spanned<i64>>,
     pub max_psd_ks: Option<Spanned<f64>>,
+    /// `[optimise.shape]`: what the search may move of the `[shape]`.
+    pub shape: Option<Spanned<Table<RawShapeSearch>>>,
 }
 
 impl GaKeys for RawOptimise {
-    const KEYS: &'static [&'static str] = &with_stop_keys::<2, 2, 9>(
+    const KEYS: &'static [&'static str] = &with_stop_keys::<2, 3, 10>(
         ["target_porosity", "tolerance"],
-        ["window_disks", "max_psd_ks"],
+        ["window_disks", "max_psd_ks", "shape"],
     );
+}
+
+/// `[optimise.shape]`: the bounds within which the target-porosity search
+/// moves a superellipse shape, and the constraints its shapes keep.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawShapeSearch {
+    pub aspect: Option<Pair>,
+    pub exponent: Option<Pair>,
+    /// Degrees.
+    pub orientation_spread: Option<Pair>,
+    pub min_sphericity: Option<Spanned<f64>>,
+    pub min_roundness: Option<Spanned<f64>>,
+    pub max_shape_ks: Option<Spanned<f64>>,
 }
 
 /// The keys of a GA search that `[optimise]` and `[layering]` share

@@ -123,6 +123,15 @@ impl Validator<'_> {
                 Some(spec)
             }
         };
+        let optimise = match (optimise, raw.optimise.as_ref()) {
+            (Some(mut settings), Some(table)) => {
+                if let Some(search) = &table.get_ref().shape {
+                    settings.shape = Some(self.shape_search(search, shape.as_ref())?);
+                }
+                Some(settings)
+            }
+            (settings, _) => settings,
+        };
         let limit = self.limit(raw.limits.as_deref())?;
         let particles = self.particles_limit(raw.limits.as_deref())?;
         // Blamed instead of the domain when the sizes dwarf it (a table in µm).

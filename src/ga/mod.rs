@@ -11,6 +11,7 @@ mod optimise;
 mod porosity;
 mod score;
 mod settings;
+mod shapes;
 pub mod window;
 
 pub use crate::layering::StopRules;
@@ -25,3 +26,4 @@ pub use optimise::{
 pub use porosity::{CONCLUSIVE_POPULATION, PorosityProblem, RULE_GENES, Verdict};
 pub use score::Score;
 pub use settings::OptimiseSettings;
+pub use shapes::{AskedShape, DEFAULT_MAX_SHAPE_KS, SHAPE_GENES, ShapeBounds, ShapeMeasures};

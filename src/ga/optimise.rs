@@ -26,10 +26,11 @@ use super::checkpoint::{Checkpoint, ResumeError};
 use super::engine::{Evolution, Generation, Limits, Search, StopReason};
 use super::porosity::{CONCLUSIVE_POPULATION, PorosityProblem, Verdict};
 use super::settings::OptimiseSettings;
+use super::shapes::{AskedShape, ShapeMeasures};
 use super::window::{self, Window};
 use crate::cancel::{Cancel, Cancelled};
 use crate::farm::Farm;
-use crate::metrics::measure;
+use crate::metrics::{measure, porosity, solid_area};
 use crate::packer::{PackError, Packing, pack_observed};
 use crate::{Method, Scene};
 
@@ -137,6 +138,9 @@ pub struct Optimised {
     /// Wall-clock time (s): the search's own (summed over resumed runs),
     /// or all of this run's where windows or densify packed beside it.
     pub seconds: f64,
+    /// With shape genes: the shape found, and its constraint measures on
+    /// the packing written.
+    pub shape: Option<(AskedShape, ShapeMeasures)>,
 }
 
 /// Search for `settings.target_porosity` on `scene` (see the module
@@ -197,10 +201,19 @@ pub fn optimise(
     // A target below every porosity the advancing front packed in
     // generation 0, beyond its tolerance: the densify method packs the
     // drawn sizes at it directly (docs/densify.md), no search needed.
+    // Particle shapes: densify packs disks only, so the search itself
+    // finds the densest packing of the shapes, and the verdict gives it.
+    let shapes = scene.shape.is_some();
     let dense_route = !resume
+        && !shapes
         && initial_range.is_some_and(|[lo, _]| settings.target_porosity < lo - settings.tolerance);
     if !resume && searched_range.is_none_or(|r| !problem.feasible(r)) {
-        observer.warning(initial_warning(settings, initial_range, dense_route));
+        observer.warning(initial_warning(
+            settings,
+            initial_range,
+            dense_route,
+            shapes,
+        ));
     }
     observer.started(if dense_route {
         0
@@ -231,26 +244,43 @@ pub fn optimise(
         (None, None) => {
             let verdict = problem.verdict(&evolution);
             let range = span(evolution.explored);
-            let warning = verdict_warning(settings, &evolution, verdict, range);
+            let warning = verdict_warning(settings, &evolution, verdict, range, shapes);
             (verdict, range, warning, 0, None)
         }
         (None, Some(w)) => {
             let searched = problem.verdict(&evolution);
             let range = whole_range(span(evolution.explored));
+            // With shape genes the whole takes the shape found on the
+            // window, and its dense end is packed again with that shape.
+            let shaped = problem.asked_of(&evolution.genes).and_then(|asked| {
+                let mut s = scene.clone();
+                s.shape = Some(asked.applied_to(scene.shape.as_ref()?));
+                Some(s)
+            });
             let fitted = if searched == Verdict::Interrupted {
                 Err(PackError::Cancelled(Cancelled::Flag))
             } else {
-                window::fit_whole(
-                    scene,
-                    problem.rules_of(&evolution.genes),
-                    w.whole.clone(),
-                    [
-                        settings.target_porosity,
-                        settings.tolerance,
-                        settings.max_psd_ks,
-                    ],
-                    stop,
-                )
+                let whole_scene = shaped.as_ref().unwrap_or(scene);
+                let dense = match &shaped {
+                    None => Ok(w.whole.clone()),
+                    Some(s) => pack_observed(s, &mut |_| {}, stop).map(|p| {
+                        let porosity = porosity(solid_area(&p.disks), p.domain.area());
+                        (p, porosity)
+                    }),
+                };
+                dense.and_then(|dense| {
+                    window::fit_whole(
+                        whole_scene,
+                        problem.rules_of(&evolution.genes),
+                        dense,
+                        [
+                            settings.target_porosity,
+                            settings.tolerance,
+                            settings.max_psd_ks,
+                        ],
+                        stop,
+                    )
+                })
             };
             let whole = match fitted {
                 Ok(whole) => whole,
@@ -268,7 +298,8 @@ pub fn optimise(
                     });
                 }
             };
-            whole_packs = whole.packs;
+            let repacked = shaped.is_some() && searched != Verdict::Interrupted;
+            whole_packs = whole.packs + u32::from(repacked);
             let (verdict, warning) = whole_verdict(settings, w, &whole, searched, range);
             let range = range.map(|[lo, hi]| [lo.min(whole.porosity), hi.max(whole.porosity)]);
             (
@@ -294,7 +325,18 @@ pub fn optimise(
     } else {
         evolution.seconds
     };
+    // The shape found, when the packing written has it (not the whole
+    // packed with the config's own shape after an interrupted window).
+    let shape = problem
+        .shape_bounds()
+        .zip(problem.asked_of(&evolution.genes))
+        .filter(|(_, asked)| {
+            let base = scene.shape.as_ref();
+            best_scene.shape.as_ref() == base.map(|b| asked.applied_to(b)).as_ref()
+        })
+        .map(|(bounds, asked)| (asked, bounds.judge(&asked, &packing.grains)));
     Ok(Optimised {
+        shape,
         packing,
         scene: best_scene,
         verdict,
@@ -316,12 +358,17 @@ fn initial_warning(
     settings: &OptimiseSettings,
     initial_range: Option<[f64; 2]>,
     dense_route: bool,
+    shapes: bool,
 ) -> TargetWarning {
     TargetWarning {
         kind: TargetWarningKind::OutsideInitialRange,
         message: match initial_range {
             Some([lo, hi]) if dense_route => format!(
                 "optimise.target_porosity = {} lies below the range of the initial population, [{lo:.4}, {hi:.4}]: the densify method packs the drawn sizes at it (docs/densify.md)",
+                settings.target_porosity
+            ),
+            Some([lo, hi]) if shapes && settings.target_porosity < lo => format!(
+                "optimise.target_porosity = {} lies below the range of the initial population, [{lo:.4}, {hi:.4}]: the densify method packs disks only, so the search looks for the densest packing of these particle shapes",
                 settings.target_porosity
             ),
             Some([lo, hi]) => format!(
@@ -371,9 +418,9 @@ fn whole_verdict(
             settings.tolerance,
             settings.max_psd_ks,
             if verdict == Verdict::OutOfReach {
-                denser_than(settings.target_porosity, range)
+                denser_than(settings.target_porosity, range, whole.scene.shape.is_some())
             } else {
-                ""
+                String::new()
             }
         ),
     });
@@ -522,13 +569,18 @@ fn span([lo, hi]: [f64; 2]) -> Option<[f64; 2]> {
 }
 
 /// Where a target lies below every porosity the advancing front packed:
-/// the method that packs denser than it, down to the grading's jamming limit.
-fn denser_than(target: f64, range: Option<[f64; 2]>) -> &'static str {
+/// the method that packs denser than it, down to the grading's jamming
+/// limit; with particle shapes (`shapes`), which densify does not pack,
+/// the densest packing found is the measured limit.
+fn denser_than(target: f64, range: Option<[f64; 2]>, shapes: bool) -> String {
     match range {
+        Some([lo, _]) if target < lo && shapes => format!(
+            "; it lies below the densest packing found for these particle shapes, porosity {lo:.4}, the measured limit (the densify method packs disks only; docs/optimise.md)"
+        ),
         Some([lo, _]) if target < lo => {
-            "; [packer] method = \"densify\" with densify_porosity packs the drawn sizes denser than the advancing front, down to near the grading's jamming limit (docs/densify.md)"
+            "; [packer] method = \"densify\" with densify_porosity packs the drawn sizes denser than the advancing front, down to near the grading's jamming limit (docs/densify.md)".to_owned()
         }
-        _ => "",
+        _ => String::new(),
     }
 }
 
@@ -540,6 +592,7 @@ fn verdict_warning<O>(
     evolution: &Evolution<O>,
     verdict: Verdict,
     range: Option<[f64; 2]>,
+    shapes: bool,
 ) -> Option<TargetWarning> {
     let target = settings.target_porosity;
     let generations = evolution.history.len().saturating_sub(1);
@@ -573,7 +626,7 @@ fn verdict_warning<O>(
             TargetWarningKind::OutOfReach,
             format!(
                 "optimise.target_porosity = {target} is out of reach: after {effort}, {seen}{}",
-                denser_than(target, range)
+                denser_than(target, range, shapes)
             ),
         ),
         Verdict::InRange => (
@@ -585,7 +638,12 @@ fn verdict_warning<O>(
         _ => (
             TargetWarningKind::NotReached,
             format!(
-                "optimise.target_porosity = {target} was not reached in {effort}: {seen}; {longer}"
+                "optimise.target_porosity = {target} was not reached in {effort}: {seen}; {longer}{}",
+                if shapes {
+                    denser_than(target, range, shapes)
+                } else {
+                    String::new()
+                }
             ),
         ),
     };
@@ -695,5 +753,110 @@ mod tests {
             &mut Told::default(),
         );
         assert!(matches!(got, Err(OptimiseError::Cancelled)), "{got:?}");
+    }
+
+    /// A 16 mm square of superellipses whose aspect and exponent the
+    /// search may move, their sphericity bounded.
+    fn shaped() -> (Scene, OptimiseSettings) {
+        let scene = Scene::new(
+            Domain::rectangle(16.0, 16.0).expect("a domain"),
+            Grading::uniform(1.0, 2.0, Basis::Number).expect("a grading"),
+        )
+        .with_seed(3);
+        let scene = Scene {
+            shape: Some(crate::ShapeSpec::superellipses(1.0, 2.0)),
+            ..scene
+        };
+        let mut bounds = super::super::ShapeBounds::new([1.0, 3.0], [2.0, 4.0]);
+        bounds.min_sphericity = 0.75;
+        let settings = OptimiseSettings {
+            shape: Some(bounds),
+            ..settings(0.3)
+        };
+        (scene, settings)
+    }
+
+    #[test]
+    fn shape_genes_move_the_shape_within_its_bounds_and_keep_them() {
+        let (scene, settings) = shaped();
+        let found = optimise(
+            &scene,
+            &settings,
+            Start::Seed(2),
+            0,
+            &Local,
+            &Cancel::new(),
+            &mut Told::default(),
+        )
+        .expect("packs");
+        let (asked, measures) = found.shape.expect("the shape found");
+        let bounds = settings.shape.expect("bounds");
+        assert!(bounds.aspect[0] <= asked.aspect[0] && asked.aspect[1] <= bounds.aspect[1]);
+        assert!((2.0..=4.0).contains(&asked.exponent));
+        // The scene written is the shape found, and the packing is of it.
+        assert_eq!(
+            found.scene.shape,
+            Some(asked.applied_to(scene.shape.as_ref().expect("a shape")))
+        );
+        assert_eq!(found.packing.grains.len(), found.packing.disks.len());
+        assert!(!found.packing.grains.is_empty());
+        assert_eq!(measures.aspect_ks, asked.aspect_ks(&found.packing.grains));
+        // The best genome keeps every constraint it can: the roundest
+        // genomes of generation 0 keep them, so the best does too.
+        assert!(measures.sphericity >= 0.75, "{measures:?}");
+        assert!(measures.aspect_ks <= bounds.max_shape_ks, "{measures:?}");
+        let p = &found.packing;
+        let report = crate::check::check_particles(&p.disks, &p.grains, &p.domain, None);
+        assert!(report.valid() && report.overlaps == 0 && report.outside == 0);
+        // The same search again: the same packing.
+        let again = optimise(
+            &scene,
+            &settings,
+            Start::Seed(2),
+            0,
+            &Local,
+            &Cancel::new(),
+            &mut Told::default(),
+        )
+        .expect("packs");
+        assert_eq!(again.packing.disks, found.packing.disks);
+        assert_eq!(again.packing.grains, found.packing.grains);
+    }
+
+    #[test]
+    fn a_target_below_every_shape_packing_gets_the_densest_found_not_densify() {
+        let (scene, settings) = shaped();
+        let mut told = Told::default();
+        let found = optimise(
+            &scene,
+            &OptimiseSettings {
+                target_porosity: 0.02,
+                ..settings
+            },
+            Start::Seed(2),
+            0,
+            &Local,
+            &Cancel::new(),
+            &mut told,
+        )
+        .expect("packs");
+        assert_ne!(
+            found.stop,
+            StopReason::Densified,
+            "densify packs disks only"
+        );
+        assert!(
+            told.warnings[0].message.contains("densest packing"),
+            "{:?}",
+            told.warnings
+        );
+        let warning = found.warning.expect("not reached");
+        let [lo, _] = found.achievable_range.expect("a range");
+        assert!(
+            warning.message.contains(&format!("porosity {lo:.4}")),
+            "{}",
+            warning.message
+        );
+        assert!(found.packing.grains.len() == found.packing.disks.len());
     }
 }

@@ -22,12 +22,19 @@
 //!   grading (measured on AP-4 loose packs: KS ≤ 0.05 in 0 of 400 with 8
 //!   waiting, in 25–87 % with none).
 //!
+//! - With `[optimise.shape]`, [`SHAPE_GENES`] shape genes last: the
+//!   superellipses' aspect range, exponent and orientation spread, within
+//!   the bounds given (see the `shapes` module). The gap gene is unused
+//!   with shapes (one-contact particles keep no gap).
+//!
 //! # Constraint
 //! The KS distance of the packed sizes to the curve (in its basis) above
 //! `max_psd_ks` is the score's violation: a genome within it beats any
 //! genome outside it (see [`Score`]). The initial grading genes are a
 //! low-discrepancy (Kronecker) sequence, so every prefix of them, however
-//! many disks fit, follows the curve closely from the start.
+//! many disks fit, follows the curve closely from the start. With shape
+//! genes, the shape's own constraints add to the violation
+//! ([`ShapeBounds::judge`]).
 
 use rand::Rng;
 use rand_xoshiro::Xoshiro256PlusPlus;
@@ -35,10 +42,12 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use super::engine::{Evaluation, Evolution, Problem, StopReason, Variation};
 use super::score::Score;
 use super::settings::OptimiseSettings;
+use super::shapes::{AskedShape, SHAPE_GENES, ShapeBounds};
 use crate::Scene;
 use crate::cancel::{Cancel, Cancelled};
 use crate::metrics::{porosity, psd_ks, solid_area};
 use crate::packer::{MAX_DEFERRED, MAX_GAP, PackError, Packing, pack_genes_watched, size_count};
+use crate::scene::Family;
 
 /// Packing-rule genes after the grading genes: one-contact share, gap /
 /// [`MAX_GAP`], then 1 − max_deferred / [`MAX_DEFERRED`].
@@ -57,28 +66,55 @@ pub struct PorosityProblem<'a> {
     scene: &'a Scene,
     settings: OptimiseSettings,
     sizes: usize,
+    /// The shape genes' bounds: a superellipse scene with `[optimise.shape]`.
+    shapes: Option<ShapeBounds>,
 }
 
 impl<'a> PorosityProblem<'a> {
     /// The problem of packing `scene` at `settings.target_porosity`.
     pub fn new(scene: &'a Scene, settings: OptimiseSettings) -> Self {
         let sizes = size_count(&scene.domain, scene.d_min()) as usize;
+        let superellipses = scene
+            .shape
+            .as_ref()
+            .is_some_and(|s| matches!(s.family, Family::Superellipse { .. }));
         PorosityProblem {
             scene,
             settings,
             sizes,
+            shapes: settings.shape.filter(|_| superellipses),
         }
     }
 
-    /// The scene a genome packs: the problem's scene with the genome's packing rules.
+    /// The scene a genome packs: the problem's scene with the genome's
+    /// packing rules (and shape, with shape genes).
     pub fn scene_of(&self, genes: &[f64]) -> Scene {
         let mut scene = self.scene.clone();
         let rules = &genes[self.sizes.min(genes.len())..];
         let gene = |i: usize| rules.get(i).copied().unwrap_or(0.0);
         scene.packer.one_contact_share = gene(0);
-        scene.packer.gap = gene(1) * MAX_GAP;
+        scene.packer.gap = if scene.shape.is_some() {
+            0.0
+        } else {
+            gene(1) * MAX_GAP
+        };
         scene.packer.max_deferred = ((1.0 - gene(2)) * MAX_DEFERRED as f64).round() as usize;
+        if let (Some(asked), Some(shape)) = (self.asked_of(genes), &scene.shape) {
+            scene.shape = Some(asked.applied_to(shape));
+        }
         scene
+    }
+
+    /// The shape a genome asks for (`None`: no shape genes).
+    pub fn asked_of(&self, genes: &[f64]) -> Option<AskedShape> {
+        let bounds = self.shapes?;
+        let start = (self.sizes + RULE_GENES).min(genes.len());
+        Some(bounds.asked(&genes[start..]))
+    }
+
+    /// The shape genes' bounds (`None`: the shape, if any, stays as given).
+    pub fn shape_bounds(&self) -> Option<ShapeBounds> {
+        self.shapes
     }
 
     /// The packing-rule genes of a genome (see the module documentation).
@@ -202,7 +238,13 @@ impl Problem for PorosityProblem<'_> {
     type Outcome = Option<Packing>;
 
     fn genes(&self) -> usize {
-        self.sizes + RULE_GENES
+        self.sizes
+            + RULE_GENES
+            + if self.shapes.is_some() {
+                SHAPE_GENES
+            } else {
+                0
+            }
     }
 
     fn sequence(&self) -> usize {
@@ -225,6 +267,13 @@ impl Problem for PorosityProblem<'_> {
             ],
         };
         genes.extend(rules);
+        if let Some(bounds) = &self.shapes {
+            if index < 2 * PINNED_ENDS {
+                genes.extend(bounds.roundest());
+            } else {
+                genes.extend((0..SHAPE_GENES).map(|_| rng.r#gen::<f64>()));
+            }
+        }
         genes
     }
 
@@ -248,8 +297,12 @@ impl Problem for PorosityProblem<'_> {
         };
         let porosity = porosity(solid_area(&packing.disks), packing.domain.area());
         let ks = psd_ks(&packing, &scene);
+        let shaped = match (self.shapes, self.asked_of(genes)) {
+            (Some(bounds), Some(asked)) => bounds.judge(&asked, &packing.grains).violation,
+            _ => 0.0,
+        };
         let score = Score {
-            violation: (ks - self.settings.max_psd_ks).max(0.0),
+            violation: (ks - self.settings.max_psd_ks).max(0.0) + shaped,
             error: (porosity - self.settings.target_porosity).powi(2),
             value: porosity,
         };

@@ -1,6 +1,7 @@
 //! Settings of a target-porosity run (`[optimise]` in a config).
 
 use super::RULE_GENES;
+use super::shapes::{SHAPE_GENES, ShapeBounds};
 use crate::Scene;
 use crate::layering::StopRules;
 use crate::packer::{estimated_peak_bytes, size_count};
@@ -19,6 +20,9 @@ pub struct OptimiseSettings {
     pub window_disks: u64,
     /// Largest KS distance of the packing's sizes to the grading curve (the constraint).
     pub max_psd_ks: f64,
+    /// What the search may move of a superellipse `[shape]`
+    /// (`[optimise.shape]`); `None`: the shape stays as given.
+    pub shape: Option<ShapeBounds>,
 }
 
 /// Default `window_disks`: scenes of this many disks or more are searched on a window.
@@ -36,7 +40,8 @@ impl OptimiseSettings {
     /// and disks scale with the area), beside the packer's peak on the whole
     /// and two packings of the whole (its own rules', and the best tuned).
     pub fn peak_bytes(&self, scene: &Scene) -> f64 {
-        let genes = size_count(&scene.domain, scene.d_min()) as f64 + RULE_GENES as f64;
+        let genes =
+            size_count(&scene.domain, scene.d_min()) as f64 + (RULE_GENES + SHAPE_GENES) as f64;
         let disks = scene.max_disks();
         let population = self.stop.population as f64;
         if super::window::windowed(scene, self.window_disks) {
@@ -56,6 +61,7 @@ impl OptimiseSettings {
             stop: StopRules::default(),
             window_disks: WINDOW_DISKS,
             max_psd_ks: 0.05,
+            shape: None,
         }
     }
 }

@@ -23,7 +23,7 @@ use crate::ga::{
     Optimised, Start, StopReason, TargetWarning, TargetWarningKind, Verdict,
 };
 use crate::metrics::{Metrics, measure};
-use crate::output::{OptimiseSummary, OutputSettings, RunInfo, SearchWindow};
+use crate::output::{OptimiseSummary, OutputSettings, RunInfo, SearchWindow, ShapeFound};
 
 /// The optimise job's rules: it needs an `[optimise]` table.
 pub(super) fn plan(p: &mut Planning<'_>) -> Result<Job, JobError> {
@@ -87,6 +87,7 @@ pub(super) fn run(
         window,
         whole_packs,
         seconds,
+        shape,
         ..
     } = found;
     let interrupted = verdict == Verdict::Interrupted;
@@ -137,13 +138,26 @@ pub(super) fn run(
                 whole_packs: 1 + whole_packs,
             })
         }),
+        shape_found: shape.zip(settings.shape).map(|((asked, m), bounds)| {
+            Box::new(ShapeFound {
+                aspect: asked.aspect,
+                exponent: asked.exponent,
+                orientation_spread_deg: asked.spread.map(f64::to_degrees),
+                mean_sphericity: m.sphericity,
+                mean_roundness: m.roundness,
+                aspect_ks: m.aspect_ks,
+                min_sphericity: bounds.min_sphericity,
+                min_roundness: bounds.min_roundness,
+                max_shape_ks: bounds.max_shape_ks,
+            })
+        }),
     };
     let resumable = interrupted && saved;
     let report = Report::Optimise {
         packing,
         scene: Box::new(best_scene),
         metrics,
-        summary,
+        summary: Box::new(summary),
         history,
         layered,
         resumable,

@@ -125,7 +125,11 @@ impl Plan {
         // runs the methods that can.
         if !matches!(
             kind,
-            JobKind::Pack | JobKind::Sweep | JobKind::Compare | JobKind::Stability
+            JobKind::Pack
+                | JobKind::Sweep
+                | JobKind::Compare
+                | JobKind::Stability
+                | JobKind::Optimise
         ) && config.scene.shape.is_some()
         {
             let what = format!("the {} job", kind.name());

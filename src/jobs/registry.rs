@@ -231,7 +231,7 @@ pub enum Report {
         /// Its measurements.
         metrics: Metrics,
         /// What `summary.json` records of the search.
-        summary: OptimiseSummary,
+        summary: Box<OptimiseSummary>,
         /// One record per generation.
         history: Vec<Generation>,
         /// The layering, when the config has one.

@@ -199,6 +199,49 @@ pub struct OptimiseSummary {
     pub reproducible: bool,
     /// The window the search ran on, for a large scene (`None`: the whole).
     pub window: Option<Box<SearchWindow>>,
+    /// The shape the search found, with `[optimise.shape]` (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shape_found: Option<Box<ShapeFound>>,
+}
+
+/// The particle shape a target-porosity search found (`[optimise.shape]`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ShapeFound {
+    /// Least and greatest aspect ratio drawn (uniform between; equal: one for all).
+    pub aspect: [f64; 2],
+    /// The superellipse exponent α = β.
+    pub exponent: f64,
+    /// Standard deviation of the aligned particles' orientation (degrees);
+    /// `None` (null): the orientation was not searched.
+    pub orientation_spread_deg: Option<f64>,
+    /// Mean Riley sphericity of the shape found (midpoint rule over its aspects).
+    pub mean_sphericity: f64,
+    /// Mean Wadell roundness of the shape found.
+    pub mean_roundness: f64,
+    /// KS distance of the packed aspect ratios to the range found.
+    pub aspect_ks: f64,
+    /// The bounds it kept: `min_sphericity`, `min_roundness`, `max_shape_ks`.
+    pub min_sphericity: f64,
+    /// See `min_sphericity`.
+    pub min_roundness: f64,
+    /// See `min_sphericity`.
+    pub max_shape_ks: f64,
+}
+
+impl ShapeFound {
+    /// The shape in a few words, for the convergence chart.
+    pub fn describe(&self) -> String {
+        let [lo, hi] = self.aspect;
+        let aspect = if hi > lo {
+            format!("aspect {lo:.2}–{hi:.2}")
+        } else {
+            format!("aspect {lo:.2}")
+        };
+        format!(
+            "{aspect}, exponent {:.2}, sphericity {:.2}, roundness {:.2}",
+            self.exponent, self.mean_sphericity, self.mean_roundness
+        )
+    }
 }
 
 /// The window a large scene's search ran on (`ga::window`).

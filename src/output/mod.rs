@@ -32,7 +32,7 @@ pub use export::{
 pub use format::{ClumpOptions, ExportOptions, Format, LengthUnit, OutputSettings};
 pub use json::{
     FractureSummary, LayeringDetails, LayeringSummary, OptimiseSummary, SUMMARY_JSON, SearchWindow,
-    WindowSummary, summary_json,
+    ShapeFound, WindowSummary, summary_json,
 };
 pub use plot::{
     Asked, AskedShape, Colouring, Drawable, LineChart, Mark, ORIENTATION_PNG, ORIENTATION_SVG,

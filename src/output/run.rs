@@ -317,7 +317,11 @@ pub fn render_output_bodies<'a>(
             tasks.add(CONVERGENCE_CSV, || convergence_csv(history));
         }
         tasks.chart((CONVERGENCE_SVG, CONVERGENCE_PNG), move || {
-            convergence_chart(history, summary.target_porosity)
+            convergence_chart(
+                history,
+                summary.target_porosity,
+                summary.shape_found.as_ref().map(|s| s.describe()),
+            )
         });
     }
     if let Some(layering) = &run.layering {

@@ -117,7 +117,7 @@ fn ga_tables_read_the_shared_keys_and_refuse_unknown_ones_at_their_place() {
             domain,
             "[optimise]\ntarget_porosity = 0.3\npopulation = 8\n  populaton = 8\n",
         ),
-        "t.toml:10:3: optimise.populaton: unknown key `populaton`, expected one of `target_porosity`, `tolerance`, `population`, `generations`, `stagnation`, `time_limit_s`, `max_evaluations`, `window_disks`, `max_psd_ks`",
+        "t.toml:10:3: optimise.populaton: unknown key `populaton`, expected one of `target_porosity`, `tolerance`, `population`, `generations`, `stagnation`, `time_limit_s`, `max_evaluations`, `window_disks`, `max_psd_ks`, `shape`",
     );
     fails_with(
         &rect(domain, &format!("{layering}stagnant = 3\n")),
@@ -134,5 +134,82 @@ fn ga_tables_read_the_shared_keys_and_refuse_unknown_ones_at_their_place() {
             "[optimise]\ntarget_porosity = 0.3\nstagnation = 0\n",
         ),
         "t.toml:9:14: optimise.stagnation: must be a whole number ≥ 1, got 0",
+    );
+}
+
+#[test]
+fn the_shape_search_takes_its_bounds_from_shape_and_checks_them() {
+    let domain = "width = 40\nheight = 40";
+    let shape = "[shape]\nkind = \"superellipse\"\naspect = [1.0, 2.5]\nalpha = [2.0, 3.0]\n";
+    let search = "[optimise]\ntarget_porosity = 0.25\n[optimise.shape]\n";
+    // Bounds from [shape] when not given, the constraints as given.
+    let c = parse(
+        &rect(domain, &format!("{shape}{search}min_sphericity = 0.7\n")),
+        "t.toml",
+    )
+    .expect("valid");
+    let b = c.optimise.and_then(|o| o.shape).expect("a shape search");
+    assert_eq!((b.aspect, b.exponent), ([1.0, 2.5], [2.0, 3.0]));
+    assert_eq!(
+        (b.min_sphericity, b.min_roundness, b.spread),
+        (0.7, 0.0, None)
+    );
+    assert_eq!(b.max_shape_ks, crate::ga::DEFAULT_MAX_SHAPE_KS);
+    let c = parse(
+        &rect(
+            domain,
+            &format!("{shape}{search}aspect = [1.2, 2]\nexponent = [2, 5]\nmax_shape_ks = 0.2\n"),
+        ),
+        "t.toml",
+    )
+    .expect("valid");
+    let b = c.optimise.and_then(|o| o.shape).expect("a shape search");
+    assert_eq!(
+        (b.aspect, b.exponent, b.max_shape_ks),
+        ([1.2, 2.0], [2.0, 5.0], 0.2)
+    );
+    // No [shape]: nothing to move.
+    fails_with(
+        &rect(domain, search),
+        "t.toml:9:1: optimise.shape: needs a [shape] table: the search moves the particles' shape within these bounds",
+    );
+    // A range upside down, and below an aspect of 1.
+    fails_with(
+        &rect(domain, &format!("{shape}{search}aspect = [2, 1.5]\n")),
+        "t.toml:14:10: optimise.shape.aspect[1]: must be at least the low end 2: a range is [low, high], got 1.5",
+    );
+    assert!(
+        parse(
+            &rect(domain, &format!("{shape}{search}exponent = [0.5, 2]\n")),
+            "t.toml"
+        )
+        .expect_err("non-convex")
+        .to_string()
+        .starts_with("t.toml:14:12: optimise.shape.exponent[0]: must be at least 1")
+    );
+    // A spread to search needs aligned particles.
+    fails_with(
+        &rect(
+            domain,
+            &format!("{shape}{search}orientation_spread = [0, 20]\n"),
+        ),
+        "t.toml:14:22: optimise.shape.orientation_spread: applies only to shape.orientation = \"aligned\" (random orientations have no spread to move)",
+    );
+    // A bound not even the roundest shape allowed keeps.
+    let long = "[shape]\nkind = \"superellipse\"\naspect = [2.0, 3.0]\n";
+    fails_with(
+        &rect(domain, &format!("{long}{search}min_sphericity = 0.8\n")),
+        "t.toml:13:18: optimise.shape.min_sphericity: must be at most 0.707: the roundest shape the bounds allow (aspect 2, exponent 2) has 0.7071, got 0.8",
+    );
+    // Polygons keep their templates.
+    let polygons =
+        "[shape]\nkind = \"polygon\"\n[[shape.templates]]\nvertices = [[0, 0], [1, 0], [0, 1]]\n";
+    assert!(
+        parse(&rect(domain, &format!("{polygons}{search}")), "t.toml")
+            .expect_err("polygons")
+            .to_string()
+            .contains(
+                "optimise.shape: the search moves the aspect ratio and exponents of superellipses"
+            )
     );
 }

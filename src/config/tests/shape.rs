@@ -418,13 +418,6 @@ fn tables_of_other_jobs_are_refused_with_shapes() {
     fails_with(
         &rect(
             "width = 40\nheight = 40",
-            &format!("{ellipses}[optimise]\ntarget_porosity = 0.2\n"),
-        ),
-        &unsupported("[optimise] (the optimise job)"),
-    );
-    fails_with(
-        &rect(
-            "width = 40\nheight = 40",
             &format!(
                 "{ellipses}[[materials]]\nname = \"a\"\n[[materials]]\nname = \"b\"\n[layering]\nprofile = \"linear\"\n"
             ),

@@ -3,12 +3,18 @@
 use toml::Spanned;
 
 use super::limits::DEFAULT_MAX_MEMORY_MB;
+use super::shape::{Bounds, aspect_bounds, exponent_bounds};
 use super::{KeyAt, Validator};
 use crate::Scene;
 use crate::config::error::ConfigError;
-use crate::config::raw::{RawOptimise, Table, WithStop};
-use crate::ga::{OptimiseSettings, RULE_GENES};
+use crate::config::raw::{Pair, RawOptimise, RawShapeSearch, Table, WithStop};
+use crate::ga::{OptimiseSettings, RULE_GENES, SHAPE_GENES, ShapeBounds};
 use crate::packer::{BYTES_PER_MB, size_count};
+use crate::scene::{Family, Orientation, ShapeSpec};
+
+/// Largest orientation spread `[optimise.shape]` may search (degrees): a
+/// normal spread this wide is as good as random.
+const MAX_SPREAD_DEG: f64 = 90.0;
 
 impl Validator<'_> {
     /// `[optimise]` or `[optimize]`: one table under either spelling, not both.
@@ -85,7 +91,8 @@ impl Validator<'_> {
         if self.force || estimate_mb <= limit_mb {
             return Ok(());
         }
-        let genes = size_count(&scene.domain, scene.d_min()) as f64 + RULE_GENES as f64;
+        let genes =
+            size_count(&scene.domain, scene.d_min()) as f64 + (RULE_GENES + SHAPE_GENES) as f64;
         let disks = scene.max_disks();
         let (key, span, hint) = match (limit_key, &raw.get_ref().stop.population) {
             (Some(k), _) => (k.key, k.span, "; raise it to allow this run".to_owned()),
@@ -112,5 +119,125 @@ impl Validator<'_> {
                 settings.stop.population
             ),
         })
+    }
+
+    /// `[optimise.shape]`, checked against the `[shape]` it moves (`shape`,
+    /// with its table's span for the messages): bounds default to the
+    /// `[shape]`'s own ranges.
+    pub(super) fn shape_search(
+        &self,
+        raw: &Spanned<Table<RawShapeSearch>>,
+        shape: Option<&ShapeSpec>,
+    ) -> Result<ShapeBounds, ConfigError> {
+        let r = raw.get_ref();
+        let refuse = |reason: &str| ConfigError::NotApplicable {
+            at: self.at(&raw.span()),
+            key: "optimise.shape".to_owned(),
+            reason: reason.to_owned(),
+        };
+        let Some(shape) = shape else {
+            return Err(refuse(
+                "needs a [shape] table: the search moves the particles' shape within these bounds",
+            ));
+        };
+        let Family::Superellipse { aspect, alpha, .. } = &shape.family else {
+            return Err(refuse(
+                "the search moves the aspect ratio and exponents of superellipses (shape.kind = \"superellipse\"); polygon templates stay as given: remove [optimise.shape] to search sizes and packing rules only",
+            ));
+        };
+        let pair = |key: &str, given: &Option<Pair>, default: (f64, f64), bounds: &Bounds| {
+            let Some(p) = given else {
+                return Ok([default.0, default.1]);
+            };
+            let [lo, hi] = p.get_ref().0;
+            let lo = self.bounded(&format!("{key}[0]"), lo, &p.span(), bounds)?;
+            let hi = self.bounded(&format!("{key}[1]"), hi, &p.span(), bounds)?;
+            if lo > hi {
+                return Err(ConfigError::OutOfRange {
+                    at: self.at(&p.span()),
+                    key: format!("{key}[1]"),
+                    range: format!("at least the low end {lo}: a range is [low, high]"),
+                    value: hi,
+                });
+            }
+            Ok([lo, hi])
+        };
+        let mut b = ShapeBounds::new(
+            pair(
+                "optimise.shape.aspect",
+                &r.aspect,
+                aspect.bounds(),
+                &aspect_bounds(),
+            )?,
+            pair(
+                "optimise.shape.exponent",
+                &r.exponent,
+                alpha.bounds(),
+                &exponent_bounds(),
+            )?,
+        );
+        if let Some(p) = &r.orientation_spread {
+            if !matches!(shape.orientation, Orientation::Aligned { .. }) {
+                return Err(ConfigError::NotApplicable {
+                    at: self.at(&p.span()),
+                    key: "optimise.shape.orientation_spread".to_owned(),
+                    reason: "applies only to shape.orientation = \"aligned\" (random orientations have no spread to move)".to_owned(),
+                });
+            }
+            let [lo, hi] = p.get_ref().0;
+            let in_range = |v: f64| (0.0..=MAX_SPREAD_DEG).contains(&v);
+            if !(in_range(lo) && in_range(hi) && lo <= hi) {
+                return Err(ConfigError::OutOfRange {
+                    at: self.at(&p.span()),
+                    key: "optimise.shape.orientation_spread".to_owned(),
+                    range: format!("[low, high] in degrees, 0 ≤ low ≤ high ≤ {MAX_SPREAD_DEG}"),
+                    value: if in_range(lo) { hi } else { lo },
+                });
+            }
+            b.spread = Some([lo.to_radians(), hi.to_radians()]);
+        }
+        let unit = |key: &str, v: &Option<Spanned<f64>>| match v {
+            None => Ok(0.0),
+            Some(v) => self.checked(key, v, "in [0, 1]", |v| (0.0..=1.0).contains(&v)),
+        };
+        b.min_sphericity = unit("optimise.shape.min_sphericity", &r.min_sphericity)?;
+        b.min_roundness = unit("optimise.shape.min_roundness", &r.min_roundness)?;
+        if let Some(v) = &r.max_shape_ks {
+            b.max_shape_ks = self.checked("optimise.shape.max_shape_ks", v, "in (0, 1]", |v| {
+                v > 0.0 && v <= 1.0
+            })?;
+        }
+        // The roundest shape allowed must keep the bounds, or no genome can.
+        let (sphericity, roundness) = b.asked(&b.roundest()).means();
+        for (key, least, got, given) in [
+            (
+                "min_sphericity",
+                b.min_sphericity,
+                sphericity,
+                &r.min_sphericity,
+            ),
+            (
+                "min_roundness",
+                b.min_roundness,
+                roundness,
+                &r.min_roundness,
+            ),
+        ] {
+            if let Some(v) = given.as_ref().filter(|_| got < least) {
+                return Err(ConfigError::OutOfRange {
+                    at: self.at(&v.span()),
+                    key: format!("optimise.shape.{key}"),
+                    range: format!(
+                        "at most {:.3}: the roundest shape the bounds allow (aspect {}, exponent {}) has {:.4}",
+                        (got * 1e3).floor() / 1e3,
+                        b.aspect[0],
+                        b.asked(&b.roundest()).exponent,
+                        got
+                    ),
+                    value: least,
+                });
+            }
+        }
+        Ok(b)
     }
 }

@@ -68,7 +68,7 @@ const SIZES: Names<SizeMeasure> = Names {
 };
 
 /// The values a quantity of `[shape]` may take, in words for the messages.
-struct Bounds {
+pub(super) struct Bounds {
     least: f64,
     least_words: String,
     most: f64,
@@ -76,7 +76,7 @@ struct Bounds {
 }
 
 /// `shape.aspect`: from a disk's 1 to [`MAX_ASPECT`].
-fn aspect_bounds() -> Bounds {
+pub(super) fn aspect_bounds() -> Bounds {
     Bounds {
         least: 1.0,
         least_words: "at least 1 (the long axis over the short one, a/b)".to_owned(),
@@ -88,7 +88,7 @@ fn aspect_bounds() -> Bounds {
 }
 
 /// `shape.alpha`, `shape.beta`: from a rhombus' 1 to [`MAX_EXPONENT`].
-fn exponent_bounds() -> Bounds {
+pub(super) fn exponent_bounds() -> Bounds {
     Bounds {
         least: 1.0,
         least_words: "at least 1: an exponent below 1 makes the particle non-convex (its sides curve inwards), and gapack certifies no overlap between non-convex particles; use exponents of 1 or more".to_owned(),
@@ -231,7 +231,7 @@ impl Validator<'_> {
     }
 
     /// A value of a quantity at `key`: positive, finite and within `bounds`.
-    fn bounded(
+    pub(super) fn bounded(
         &self,
         key: &str,
         value: f64,
@@ -463,8 +463,6 @@ impl Validator<'_> {
     ) -> Result<(), ConfigError> {
         let conflict = if raw.fracture.is_some() {
             Some("[fracture] (its wells)".to_owned())
-        } else if raw.optimise.is_some() {
-            Some("[optimise] (the optimise job)".to_owned())
         } else if raw.layering.is_some() {
             Some("[layering] (the layer job and size-graded packing)".to_owned())
         } else if raw.materials.as_ref().is_some_and(|m| !m.is_empty()) {

@@ -6,7 +6,8 @@ use crate::ga::Generation;
 /// Best and mean porosity against generation (0: the initial population,
 /// a dot each when it is the only one), with the target as a dashed line
 /// over generations 0 to the last (at least 1); whole generations on the axis.
-pub fn convergence_chart(history: &[Generation], target: f64) -> LineChart {
+/// The title names the particle shape found, when the search moved it.
+pub fn convergence_chart(history: &[Generation], target: f64, shape: Option<String>) -> LineChart {
     let last = history.last().map_or(1.0, |g| g.index.max(1) as f64);
     let line = |name: &str, value: fn(&Generation) -> f64, colour| Series {
         name: name.to_owned(),
@@ -15,7 +16,10 @@ pub fn convergence_chart(history: &[Generation], target: f64) -> LineChart {
         colour,
     };
     LineChart {
-        title: format!("Convergence towards porosity {target}"),
+        title: match shape {
+            None => format!("Convergence towards porosity {target}"),
+            Some(shape) => format!("Convergence towards porosity {target} ({shape})"),
+        },
         x_label: "generation".to_owned(),
         y_label: "porosity".to_owned(),
         series: vec![
@@ -67,7 +71,7 @@ mod tests {
     /// mean are a dot each at generation 0, and the ticks are whole.
     #[test]
     fn the_initial_population_alone_shows_at_generation_0() {
-        let chart = convergence_chart(&[generation(0, 0.232, 0.41)], 0.21);
+        let chart = convergence_chart(&[generation(0, 0.232, 0.41)], 0.21, None);
         let svg = chart.to_svg().expect("svg");
         // Two filled dots (plotters writes a circle per dot), at one x.
         let dots: Vec<&str> = svg.split("<circle").skip(1).collect();
@@ -84,7 +88,9 @@ mod tests {
         let history: Vec<_> = (0..=7)
             .map(|i| generation(i, 0.3 - 0.01 * i as f64, 0.4))
             .collect();
-        let svg = convergence_chart(&history, 0.21).to_svg().expect("svg");
+        let svg = convergence_chart(&history, 0.21, None)
+            .to_svg()
+            .expect("svg");
         assert!(!svg.contains("<circle"));
         let ticks = generation_ticks(&svg);
         assert!(ticks.len() >= 3, "{ticks:?}");
