@@ -1,5 +1,6 @@
-//! Jobs under `mpirun` (the `mpi` feature): an optimise, a layering GA, a
-//! wells batch, a compare and a sweep give the same files, byte for byte
+//! Jobs under `mpirun` (the `mpi` feature): an optimise (of disks, and of
+//! shapes with their shape searched), a layering GA, a wells batch, a
+//! compare and a sweep give the same files, byte for byte
 //! (times aside), on 1, 2 and 3 ranks as a plain run; a search resumed
 //! under another number of ranks reaches the plain run's result; a job that
 //! fails under MPI ends every rank with one message.
@@ -190,6 +191,19 @@ fn studies_of_shapes_are_the_same_on_any_number_of_ranks() {
     let compare =
         include_str!("../../configs/compare_shapes.toml").replace("repeats = 3", "repeats = 2");
     same_on_any_ranks("compare-shapes", "compare", &compare, 1);
+}
+
+#[test]
+fn a_search_of_shapes_is_the_same_on_any_number_of_ranks() {
+    // Sizes, packing rules and the particles' shape searched: the same
+    // packing.csv, summary.json (shape_found) and convergence on any ranks.
+    let search = include_str!("../../configs/optimise_shapes.toml")
+        .replace("width = 20 ", "width = 14 ")
+        .replace("height = 20 ", "height = 14 ")
+        .replace("population = 6", "population = 8")
+        .replace("max_evaluations = 12 ", "max_evaluations = 16 ");
+    assert!(search.contains("width = 14 ") && search.contains("max_evaluations = 16 "));
+    same_on_any_ranks("optimise-shapes", "optimise", &search, 3);
 }
 
 #[test]

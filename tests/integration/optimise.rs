@@ -155,6 +155,81 @@ fn same_seed_same_packing_with_one_or_two_threads() {
     let _ = fs::remove_dir_all(&dir);
 }
 
+/// A search of the particles' shape: the same packing on one or two
+/// threads, the shape found inside its bounds and keeping its limits, the
+/// packing written made of it and valid.
+#[test]
+fn a_shape_search_keeps_its_bounds_and_its_packing_is_of_the_shape_found() {
+    let dir = scratch("optimise-shapes");
+    let config = shipped("optimise_shapes.toml")
+        .replace("width = 20 ", "width = 12 ")
+        .replace("height = 20 ", "height = 12 ")
+        .replace("population = 6", "population = 4")
+        .replace("max_evaluations = 12 ", "max_evaluations = 8 ");
+    assert!(config.contains("width = 12 ") && config.contains("max_evaluations = 8 "));
+    fs::write(dir.join("shapes.toml"), config).unwrap();
+    let run = |threads| common::gapack_on_threads(&dir, &["optimise", "shapes.toml"], threads);
+    let (one, two) = (run(1), run(2));
+    assert_eq!(
+        fs::read(one.join("packing.csv")).unwrap(),
+        fs::read(two.join("packing.csv")).unwrap()
+    );
+    let s = summary(&one);
+    let found = &s["shape_found"];
+    let num = |v: &serde_json::Value| v.as_f64().expect("a number");
+    let (lo, hi) = (num(&found["aspect"][0]), num(&found["aspect"][1]));
+    let exponent = num(&found["exponent"]);
+    assert!((1.0..=hi).contains(&lo) && hi <= 2.0, "{found}");
+    assert!((2.0..=3.0).contains(&exponent), "{found}");
+    assert!(found["orientation_spread_deg"].is_null());
+    // The roundest genomes of generation 0 keep every limit: so does the best.
+    assert!(num(&found["mean_sphericity"]) >= 0.75, "{found}");
+    assert!(num(&found["mean_roundness"]) >= 0.6, "{found}");
+    assert!(num(&found["aspect_ks"]) <= 0.1, "{found}");
+    // Every particle written is of the shape found.
+    let text = fs::read_to_string(one.join("packing.csv")).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("id,x,y,r,angle,a,b,alpha,beta"));
+    let mut count = 0;
+    for line in lines {
+        let f: Vec<f64> = line.split(',').map(|v| v.parse().unwrap()).collect();
+        let aspect = f[5] / f[6];
+        assert!(
+            aspect >= lo * (1.0 - 1e-9) && aspect <= hi * (1.0 + 1e-9),
+            "{line}"
+        );
+        assert_eq!((f[7], f[8]), (exponent, exponent), "{line}");
+        count += 1;
+    }
+    assert!(count > 20, "{count} particles");
+    let title = fs::read_to_string(one.join("convergence.svg")).unwrap();
+    assert!(
+        title.contains("aspect"),
+        "the chart's title names the shape"
+    );
+    let verify = gapack(
+        &dir,
+        &[
+            "verify",
+            one.join("packing.csv").to_str().unwrap(),
+            "--config",
+            "shapes.toml",
+        ],
+    );
+    assert!(
+        verify.status.success(),
+        "{}",
+        String::from_utf8_lossy(&verify.stdout)
+    );
+    // A disk search's summary has no shape_found.
+    let plain = scratch("optimise-shapes-disks");
+    fs::write(plain.join("ap4.toml"), shipped("ap4.toml")).unwrap();
+    let disks = common::gapack_on_threads(&plain, &["optimise", "ap4.toml", "--seed", "3"], 2);
+    assert!(summary(&disks).get("shape_found").is_none());
+    let _ = fs::remove_dir_all(&dir);
+    let _ = fs::remove_dir_all(&plain);
+}
+
 /// An evaluation budget stops the search at the same place on every run;
 /// a time limit says that its result is not reproducible.
 #[test]
