@@ -92,6 +92,10 @@ pub const EXAMPLES: &[(&str, &str)] = &[
     ("mgf3", include_str!("../../configs/mgf3.toml")),
     ("narrow", include_str!("../../configs/narrow.toml")),
     (
+        "optimise_shapes",
+        include_str!("../../configs/optimise_shapes.toml"),
+    ),
+    (
         "periodic_pfc",
         include_str!("../../configs/periodic_pfc.toml"),
     ),
