@@ -144,23 +144,14 @@ fn measure_core(packing: &Packing, cut: &Fracture, d_max: f64, begun: Instant) -
     let (y0, y1) = (end, cut.length - end);
     let blocks = ((y1 - y0) / (BLOCK_DIAMETERS * d_max)).floor().max(1.0) as usize;
     let block = (y1 - y0) / blocks as f64;
-    let mut solid = vec![0.0; blocks];
-    for d in &packing.disks {
-        let first = ((d.c.y - d.r - y0) / block).floor().max(0.0) as usize;
-        let last = ((d.c.y + d.r - y0) / block).floor();
-        if last < 0.0 || first >= blocks {
-            continue;
-        }
-        for (b, s) in solid
-            .iter_mut()
-            .enumerate()
-            .take((last as usize).min(blocks - 1) + 1)
-            .skip(first)
-        {
-            let (b0, b1) = (y0 + b as f64 * block, y0 + (b + 1) as f64 * block);
-            *s += area_disk_box(d.c, d.r, 0.0, cut.width, b0, b1);
-        }
-    }
+    let (solid, coordination) = if packing.grains.is_empty() {
+        (
+            disk_solid(&packing.disks, cut.width, y0, block, blocks),
+            coordination(&packing.disks, y0, y1),
+        )
+    } else {
+        grain_solid(packing, cut.width, y0, y1, block, blocks)
+    };
     // The aperture at each block's middle (a window is parallel-walled,
     // but measuring a tapered one stays right).
     let area = |b: usize| {
@@ -186,10 +177,62 @@ fn measure_core(packing: &Packing, cut: &Fracture, d_max: f64, begun: Instant) -
         length: cut.length,
         particles: packing.disks.len(),
         porosity,
-        coordination: coordination(&packing.disks, y0, y1),
+        coordination,
         spread,
         seconds: begun.elapsed().as_secs_f64(),
     }
+}
+
+/// The disks' area in each of `blocks` blocks of length `block` from `y0`
+/// across the aperture `0..width`, each disk clipped exactly.
+fn disk_solid(disks: &[Disk], width: f64, y0: f64, block: f64, blocks: usize) -> Vec<f64> {
+    let mut solid = vec![0.0; blocks];
+    for d in disks {
+        let first = ((d.c.y - d.r - y0) / block).floor().max(0.0) as usize;
+        let last = ((d.c.y + d.r - y0) / block).floor();
+        if last < 0.0 || first >= blocks {
+            continue;
+        }
+        for (b, s) in solid
+            .iter_mut()
+            .enumerate()
+            .take((last as usize).min(blocks - 1) + 1)
+            .skip(first)
+        {
+            let (b0, b1) = (y0 + b as f64 * block, y0 + (b + 1) as f64 * block);
+            *s += area_disk_box(d.c, d.r, 0.0, width, b0, b1);
+        }
+    }
+    solid
+}
+
+/// A packing of grains' solid area in each block (as [`disk_solid`]'s)
+/// and the mean contacts of the particles centred in `y0..y1`, measured
+/// on the particles' outlines, not their area-equivalent disks (which
+/// neither cover the same ground nor touch where the outlines do).
+fn grain_solid(
+    packing: &Packing,
+    width: f64,
+    y0: f64,
+    y1: f64,
+    block: f64,
+    blocks: usize,
+) -> (Vec<f64>, f64) {
+    let boxes: Vec<[f64; 4]> = (0..blocks)
+        .map(|b| {
+            let (b0, b1) = (y0 + b as f64 * block, y0 + (b + 1) as f64 * block);
+            [0.0, width, b0, b1]
+        })
+        .collect();
+    let (solid, ends) = metrics::grain_parts(packing, &boxes);
+    let (mut counted, mut contacts) = (0usize, 0usize);
+    for (d, e) in packing.disks.iter().zip(&ends) {
+        if (y0..y1).contains(&d.c.y) {
+            counted += 1;
+            contacts += *e as usize;
+        }
+    }
+    (solid, metrics::coordination(contacts, counted))
 }
 
 /// Mean contacts with other disks of the disks centred in `y0..y1`.
