@@ -28,7 +28,7 @@ const MAX_TEMPLATE_VERTICES: usize = 100;
 
 /// What this version packs particle shapes with, said by every refusal of
 /// a scene that cannot have them.
-const SUPPORTED: &str = "particle shapes are packed in this version by the pack job, sweeps of it and the compare and stability jobs (advancing front and rsa) only, with packer.method = \"advancing-front\" (two or one contact) or \"rsa\", in a [domain] with walls = \"exact\" or as a periodic cell";
+const SUPPORTED: &str = "particle shapes are packed in this version by the pack job, sweeps of it and the compare and stability jobs (advancing front and rsa) only, with packer.method = \"advancing-front\" (two or one contact) or \"rsa\", in a [domain] or [fracture] with walls = \"exact\", or as a periodic cell";
 
 /// The outline families, as `shape.kind` names them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
