@@ -8,7 +8,9 @@
 //! whole fracture. Each window is measured in its *core*: the window less
 //! [`END_DIAMETERS`] largest diameters at each end, where the window's own
 //! end walls (which the real fracture does not have there) order the pack.
-//! The side walls are the fracture's own and stay in.
+//! The side walls are the fracture's own and stay in. Particles that are
+//! not disks are measured on their outlines: each one's area inside each
+//! block, and contacts between outlines (the rules of `metrics`).
 //!
 //! With the default fill (up, along the fracture) a window's pack is the
 //! full pack's first stretch, disk for disk, until the window's top wall
@@ -58,9 +60,10 @@ pub struct WindowStep {
     pub length: f64,
     /// Disks packed in the window.
     pub particles: usize,
-    /// Porosity of the core (the disks' area inside it, clipped exactly).
+    /// Porosity of the core (the particles' area inside it: disks clipped
+    /// exactly, other outlines within 3·10⁻⁵ of the area of each one cut).
     pub porosity: f64,
-    /// Mean disk–disk contacts of the disks centred in the core.
+    /// Mean contacts with other particles of the particles centred in the core.
     pub coordination: f64,
     /// Standard error of the core porosity: the standard deviation of its
     /// blocks' porosities over the square root of their number (NaN with
