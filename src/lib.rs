@@ -69,6 +69,6 @@ pub use packer::{
 };
 pub use scene::{
     Axis, Densify, Drawer, Family, Fill, FrontRules, IndexKind, Limits, MAX_DEFERRED, MAX_GAP,
-    Method, Orientation, PackerSettings, Profile, Relaxation, SHAPE_STREAM, Scene, ShapeSpec,
-    SizeGradient, SizeMeasure, Spread, Strips, template_vertices,
+    Method, Orientation, PackerSettings, Profile, Proppant, Relaxation, SHAPE_STREAM, Scene,
+    ShapeSpec, SizeGradient, SizeMeasure, Spread, Strips, template_vertices,
 };

@@ -189,7 +189,7 @@ pub(crate) struct RawConfig {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawShape {
-    pub kind: Spanned<String>,
+    pub kind: Option<Spanned<String>>,
     pub aspect: Option<Spanned<RawSpread>>,
     pub alpha: Option<Spanned<RawSpread>>,
     pub beta: Option<Spanned<RawSpread>>,
@@ -198,6 +198,8 @@ pub(crate) struct RawShape {
     pub spread: Option<Spanned<f64>>,
     pub size: Option<Spanned<String>>,
     pub templates: Option<Vec<Spanned<Table<RawTemplate>>>>,
+    /// A common proppant's shape (`ceramic`, ...), instead of the family's keys.
+    pub preset: Option<Spanned<String>>,
 }
 
 /// `[[shape.templates]]`: one convex polygon and its share of the particles.

@@ -18,7 +18,9 @@ use crate::config::Config;
 use crate::farm::{self, Local};
 use crate::fracture::{Extent, MM_PER_M, Well, Window, WindowError, settle};
 use crate::metrics::measure;
-use crate::output::{FractureSummary, RunInfo, WELLS_CSV, WellRow, WindowSummary, wells_csv};
+use crate::output::{
+    FractureSummary, RunInfo, WELLS_CSV, WellRow, WellShape, WindowSummary, wells_csv,
+};
 use crate::packer::{PackError, estimated_peak_bytes};
 
 /// Pack every well of the config's `[fracture]`: a batch's shared out,
@@ -252,6 +254,7 @@ fn well(
         psd_ks: metrics.psd_ks,
         coordination: metrics.coordination,
         seconds,
+        shape: metrics.shapes.as_ref().map(WellShape::of),
     };
     if let Some(last) = window.as_ref().and_then(|w| w.last()) {
         row.porosity = last.porosity;
@@ -352,11 +355,11 @@ pub(super) fn lines(at: &str, wells: &[WellOutcome], batch: bool, total: usize) 
     for w in wells {
         let dir = format!("{at}/{}", w.folder.trim_end_matches('/'));
         let dir = dir.trim_end_matches('/');
-        lines.push(match &w.window {
+        let line = match &w.window {
             Some((steps, settled)) if !steps.is_empty() => {
                 let last = &steps[steps.len() - 1];
                 format!(
-                    "{dir}: window {:.1} mm of {:.0} mm ({:.1}%), porosity {:.4} ± {:.4}, coordination {:.2}, {} disks, {} windows in {}{}{}",
+                    "{dir}: window {:.1} mm of {:.0} mm ({:.1}%), porosity {:.4} ± {:.4}, coordination {:.2}, {} {}, {} windows in {}{}{}",
                     last.length,
                     w.length,
                     100.0 * last.length / w.length,
@@ -364,6 +367,11 @@ pub(super) fn lines(at: &str, wells: &[WellOutcome], batch: bool, total: usize) 
                     last.spread,
                     last.coordination,
                     last.particles,
+                    if w.row.shape.is_some() {
+                        "particles"
+                    } else {
+                        "disks"
+                    },
                     steps.len(),
                     duration(w.row.seconds),
                     if *settled {
@@ -375,6 +383,13 @@ pub(super) fn lines(at: &str, wells: &[WellOutcome], batch: bool, total: usize) 
                 )
             }
             _ => pack_line(dir, &w.metrics, w.row.seconds),
+        };
+        lines.push(match &w.row.shape {
+            None => line,
+            Some(shape) => format!(
+                "{line}; particles' mean sphericity {:.3}, roundness {:.3}, aspect {:.2}, fabric anisotropy {:.2}",
+                shape.sphericity, shape.roundness, shape.aspect, shape.anisotropy
+            ),
         });
     }
     if batch {

@@ -25,12 +25,14 @@ use crate::packer::Packing;
 const DIRECTIONS: usize = 360;
 
 /// What the contacts of a packing of grains come to.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub(super) struct GrainContacts {
     /// Largest overlap depth over the radii sum (0 if none).
     pub(super) max_overlap: f64,
     /// Contacts between packed particles.
     pub(super) contacts: usize,
+    /// Each packed particle's contacts with other packed particles.
+    pub(super) ends: Vec<u32>,
     /// Packed particles touching nothing.
     pub(super) isolated: usize,
     /// Smallest distance from a particle to a wall (NaN when periodic).
@@ -73,6 +75,7 @@ pub(super) fn grain_contacts(
     let near = ByRadius::new(&reach, 0..reach.len());
     let periodic = domain.is_periodic();
     let mut touched = vec![false; reach.len()];
+    let mut ends = vec![0u32; packing.disks.len()];
     let (mut max_overlap, mut contacts) = (0.0f64, 0usize);
     for i in nb..reach.len() {
         if i % POLL_EVERY == 0 {
@@ -103,7 +106,11 @@ pub(super) fn grain_contacts(
                 if sep.upper <= CONTACT_REL * sum {
                     touched[i] = true;
                     touched[j] = true;
-                    contacts += usize::from(j >= nb);
+                    if j >= nb {
+                        contacts += 1;
+                        ends[i - nb] += 1;
+                        ends[j - nb] += 1;
+                    }
                 }
             });
         }
@@ -117,6 +124,7 @@ pub(super) fn grain_contacts(
         max_overlap,
         contacts,
         isolated: touched[nb..].iter().filter(|&&t| !t).count(),
+        ends,
         min_wall_clearance,
     })
 }

@@ -296,6 +296,25 @@ fn measure_grains(packing: &Packing, scene: &Scene, cancel: &Cancel) -> Result<M
     })
 }
 
+/// What a part of a packing of grains ([`Packing::grains`], not empty)
+/// measures, outline by outline as [`measure`] does: the solid area inside
+/// each box `[x0, x1, y0, y1]` of `boxes` (`voids.rs`) and each packed
+/// particle's contacts with other packed particles (`grains.rs`, the rule
+/// of [`Metrics::coordination`]). A fracture window measures its core with these.
+pub(crate) fn grain_parts(packing: &Packing, boxes: &[[f64; 4]]) -> (Vec<f64>, Vec<u32>) {
+    let mut memo = shapes::ShapeMemo::default();
+    let ends = match grains::grain_contacts(packing, &mut memo, &Cancel::new()) {
+        Ok(c) => c.ends,
+        Err(_) => unreachable!("a new token is never raised"),
+    };
+    let mut areas = voids::GrainAreas::new(packing, &mut memo);
+    let solid = boxes
+        .iter()
+        .map(|&[x0, x1, y0, y1]| areas.in_box(x0, x1, y0, y1))
+        .collect();
+    (solid, ends)
+}
+
 /// Standard deviation of porosity over square windows of side
 /// [`WINDOW_DIAMETERS`] largest diameters (`r_max` the largest radius),
 /// how many, and whether they were clipped: windows tiling the domain

@@ -14,6 +14,7 @@ use crate::fracture::WindowStep;
 use crate::ga::Generation;
 use crate::geometry::{Grain, Outline, Point};
 use crate::layering::{Material, ProfileRow};
+use crate::metrics::ShapeStats;
 use crate::packer::Packing;
 use crate::stability::{StabilityRun, Status};
 
@@ -48,15 +49,54 @@ pub struct WellRow {
     pub coordination: f64,
     /// Time to pack the well (all its windows in window mode) (s).
     pub seconds: f64,
+    /// The particles' shape, when they are not disks (`None` for disks).
+    #[serde(default)]
+    pub shape: Option<WellShape>,
 }
 
-/// One row per well: `well,width_mm,height_m,particles,porosity,psd_ks,coordination,seconds`.
+/// The shape of a well's particles as `wells.csv` gives it: means over
+/// the particles of the packing written (the last window's in window mode).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct WellShape {
+    /// Mean aspect ratio (greatest over least width).
+    pub aspect: f64,
+    /// Mean Riley sphericity.
+    pub sphericity: f64,
+    /// Mean Wadell roundness.
+    pub roundness: f64,
+    /// Anisotropy of the long axes' fabric (0: no preferred direction, 1: aligned).
+    pub anisotropy: f64,
+}
+
+impl WellShape {
+    /// The figures `wells.csv` gives of `stats`.
+    pub fn of(stats: &ShapeStats) -> WellShape {
+        WellShape {
+            aspect: stats.aspect.mean,
+            sphericity: stats.sphericity.mean,
+            roundness: stats.roundness.mean,
+            anisotropy: stats.fabric.anisotropy,
+        }
+    }
+}
+
+/// The columns `wells.csv` adds when the particles are not disks.
+const WELL_SHAPE_COLUMNS: [&str; 4] = [
+    "aspect_mean",
+    "sphericity_mean",
+    "roundness_mean",
+    "fabric_anisotropy",
+];
+
+/// One row per well: `well,width_mm,height_m,particles,porosity,psd_ks,coordination,seconds`,
+/// and when the particles are not disks `aspect_mean,sphericity_mean,roundness_mean,fabric_anisotropy`.
 ///
 /// # Errors
 /// [`OutputError::Csv`] if the CSV writer fails (it does not on memory).
 pub fn wells_csv(rows: &[WellRow]) -> Result<Vec<u8>, OutputError> {
+    let shapes = rows.iter().any(|r| r.shape.is_some());
     let mut writer = ::csv::Writer::from_writer(Vec::new());
-    writer.write_record([
+    let mut header = vec![
         "well",
         "width_mm",
         "height_m",
@@ -65,9 +105,13 @@ pub fn wells_csv(rows: &[WellRow]) -> Result<Vec<u8>, OutputError> {
         "psd_ks",
         "coordination",
         "seconds",
-    ])?;
+    ];
+    if shapes {
+        header.extend(WELL_SHAPE_COLUMNS);
+    }
+    writer.write_record(&header)?;
     for r in rows {
-        writer.write_record([
+        let mut record = vec![
             r.well.clone(),
             r.width_mm.to_string(),
             r.height_m.to_string(),
@@ -76,7 +120,16 @@ pub fn wells_csv(rows: &[WellRow]) -> Result<Vec<u8>, OutputError> {
             r.psd_ks.to_string(),
             r.coordination.to_string(),
             r.seconds.to_string(),
-        ])?;
+        ];
+        if shapes {
+            match r.shape {
+                Some(s) => record.extend(
+                    [s.aspect, s.sphericity, s.roundness, s.anisotropy].map(|v| v.to_string()),
+                ),
+                None => record.extend([""; 4].map(str::to_owned)),
+            }
+        }
+        writer.write_record(&record)?;
     }
     writer
         .into_inner()

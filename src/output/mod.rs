@@ -47,7 +47,7 @@ pub use sweep_table::SWEEP_CSV;
 
 pub(crate) use csv::{
     COMPARE_CSV, CONVERGENCE_CSV, PACKING_CSV, PROFILE_CSV, STABILITY_CSV, WELLS_CSV, WINDOW_CSV,
-    WellRow, wells_csv,
+    WellRow, WellShape, wells_csv,
 };
 pub(crate) use export::PACKING_JSON;
 pub(crate) use format::{FORMATS, UNITS};

@@ -3,10 +3,12 @@
 //! the profile the sizes follow.
 
 mod profile;
+mod proppant;
 mod settings;
 mod shape;
 
 pub use profile::{Axis, Frame, Profile, SizeGradient};
+pub use proppant::Proppant;
 pub use settings::{
     DEFAULT_ATTEMPTS, Densify, Fill, FrontRules, IndexKind, MAX_DEFERRED, MAX_GAP, Method,
     PackerSettings, Relaxation, Strips,

@@ -32,3 +32,4 @@ mod serve;
 mod shape_properties;
 mod stability;
 mod thesis;
+mod wells_shapes;

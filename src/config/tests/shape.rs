@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::geometry::{Outline, Point};
-use crate::scene::{Family, Orientation, ShapeSpec, SizeMeasure, Spread};
+use crate::scene::{Family, Orientation, Proppant, ShapeSpec, SizeMeasure, Spread};
 
 /// A 40 mm square of 1.2 mm disks with `shape` lines under `[shape]` (line 8 on).
 fn with_shape(shape: &str) -> String {
@@ -268,7 +268,7 @@ fn unknown_names_and_keys_are_refused() {
     );
     fails_with(
         &with_shape("aspect = 2"),
-        "t.toml:7:1: shape.kind: missing key",
+        "t.toml:7:1: shape.kind: missing; give kind = \"superellipse\" or \"polygon\" with its outline, or a proppant's preset (ceramic, resin-coated-sand, angular-sand)",
     );
 }
 
@@ -345,7 +345,7 @@ fn templates_that_are_not_convex_polygons_are_refused() {
 /// The refusal of a shape in a scene this version cannot pack it in.
 fn unsupported(what: &str) -> String {
     format!(
-        "t.toml:7:1: shape: particle shapes cannot be packed with {what}; particle shapes are packed in this version by the pack job, sweeps of it and the compare and stability jobs (advancing front and rsa) only, with packer.method = \"advancing-front\" (two or one contact) or \"rsa\", in a [domain] with walls = \"exact\" or as a periodic cell"
+        "t.toml:7:1: shape: particle shapes cannot be packed with {what}; particle shapes are packed in this version by the pack job, sweeps of it and the compare and stability jobs (advancing front and rsa) only, with packer.method = \"advancing-front\" (two or one contact) or \"rsa\", in a [domain] or [fracture] with walls = \"exact\", or as a periodic cell"
     )
 }
 
@@ -431,12 +431,76 @@ fn tables_of_other_jobs_are_refused_with_shapes() {
         ),
         &unsupported("[[materials]]"),
     );
+}
+
+#[test]
+fn fractures_and_wells_take_shapes_filling_up() {
+    let ellipses = "[shape]\nkind = \"superellipse\"\naspect = 1.5\n";
     let fracture = format!(
         "[fracture]\nwidth_mm = 8.6\nheight_m = 0.0625\n[grading]\nuniform = [0.4, 0.8]\n{ellipses}"
     );
+    let config = parse(&fracture, "t.toml").expect("a fracture of ellipses");
+    assert_eq!(config.scene.shape, Some(ShapeSpec::ellipses(1.5)));
+    let wells = "[fracture]\nextent = \"window\"\n[[fracture.wells]]\nname = \"a\"\nwidth_mm = 2.6\nheight_m = 1\n[[fracture.wells]]\nname = \"b\"\nwidth_mm = 4.2\nheight_m = 1\n";
+    let batch = format!("{wells}[grading]\nconstant = 1.2\n[shape]\npreset = \"ceramic\"\n");
+    let config = parse(&batch, "t.toml").expect("wells of a preset");
+    let run = config.fracture.expect("a fracture run");
+    assert_eq!(run.wells.len(), 2);
+    for well in &run.wells {
+        assert_eq!(
+            well.scene.shape,
+            Some(Proppant::Ceramic.shape()),
+            "{}",
+            well.name
+        );
+    }
+    // A well's own fill = "right" packs disks: refused at the key.
+    let right = batch.replace("height_m = 1\n[[", "height_m = 1\nfill = \"right\"\n[[");
     fails_with(
-        &fracture,
-        &unsupported("[fracture] (its wells)").replace("t.toml:7:1", "t.toml:6:1"),
+        &right,
+        "t.toml:7:8: fracture.wells[0].fill: \"right\" mirrors the scene and packs it as disks, which particle shapes ([shape]) cannot be; leave fill = \"up\"",
+    );
+    // The fracture's wall disks are refused as a domain's are.
+    let disks = batch.replace(
+        "extent = \"window\"",
+        "extent = \"window\"\nwalls = \"disks\"",
+    );
+    let e = err(&disks);
+    assert_eq!(e.key(), Some("shape"), "{e}");
+    assert!(e.to_string().contains("walls = \"disks\""), "{e}");
+}
+
+#[test]
+fn presets_give_their_proppant_and_take_size_and_orientation() {
+    for p in Proppant::ALL {
+        let spec = shape_of(&with_shape(&format!("preset = \"{}\"", p.name())));
+        assert_eq!(spec, p.shape());
+    }
+    let spec = shape_of(&with_shape(
+        "preset = \"angular-sand\"\nsize = \"equivalent\"\norientation = \"aligned\"\nangle = 90",
+    ));
+    assert_eq!(spec.family, Proppant::AngularSand.family());
+    assert_eq!(spec.size, SizeMeasure::Equivalent);
+    assert_eq!(
+        spec.orientation,
+        Orientation::Aligned {
+            mean: 90f64.to_radians(),
+            spread: 0.0
+        }
+    );
+    fails_with(
+        &with_shape("preset = \"ceramic\"\naspect = 1.5"),
+        "t.toml:9:10: shape.aspect: preset = \"ceramic\" gives the particles' outline: give a preset, or kind with aspect, alpha, beta or templates, not both (a preset takes size and orientation)",
+    );
+    let e = err(&with_shape("kind = \"polygon\"\npreset = \"angular-sand\""));
+    assert_eq!(e.key(), Some("shape.kind"), "{e}");
+    let e = err(&with_shape(
+        "preset = \"ceramic\"\n[[shape.templates]]\nvertices = [[0, 0], [1, 0], [0, 1]]",
+    ));
+    assert_eq!(e.key(), Some("shape.templates"), "{e}");
+    fails_with(
+        &with_shape("preset = \"glass\""),
+        "t.toml:8:10: shape.preset: unknown proppant preset \"glass\"; valid: ceramic, resin-coated-sand, angular-sand",
     );
 }
 

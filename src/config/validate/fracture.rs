@@ -357,6 +357,7 @@ impl Validator<'_> {
         plan: &FracturePlan,
         raw: &RawConfig,
     ) -> Result<(), ConfigError> {
+        self.well_fills_with_shape(raw)?;
         let why = match (plan.batch, plan.extent) {
             (true, _) => {
                 "a batch of wells runs with gapack pack; give one fracture to optimise or layer"
@@ -380,6 +381,30 @@ impl Validator<'_> {
                 reason: why.to_owned(),
             }),
         }
+    }
+}
+
+impl Validator<'_> {
+    /// Refuse a well's own `fill = "right"` beside a `[shape]`: filling
+    /// right mirrors the scene and packs disks (`packer.fill` is refused
+    /// with the shape's other settings).
+    fn well_fills_with_shape(&self, raw: &RawConfig) -> Result<(), ConfigError> {
+        let (Some(_), Some(f)) = (&raw.shape, &raw.fracture) else {
+            return Ok(());
+        };
+        let wells = f.get_ref().wells.iter().flatten().enumerate();
+        for (i, well) in wells {
+            if let Some(fill) = &well.get_ref().fill
+                && FILLS.get(fill.get_ref()) == Some(Fill::Right)
+            {
+                return Err(ConfigError::NotApplicable {
+                    at: self.at(&fill.span()),
+                    key: format!("fracture.wells[{i}].fill"),
+                    reason: "\"right\" mirrors the scene and packs it as disks, which particle shapes ([shape]) cannot be; leave fill = \"up\"".to_owned(),
+                });
+            }
+        }
+        Ok(())
     }
 }
 

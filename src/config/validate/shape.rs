@@ -13,7 +13,7 @@ use crate::geometry::{Outline, WallMode};
 use crate::names::{ConfigName, Names};
 use crate::scene::{
     Family, Fill, FrontRules, MAX_ASPECT, MAX_EXPONENT, Method, Orientation, PackerSettings,
-    ShapeSpec, SizeMeasure, Spread, Strips, template_vertices,
+    Proppant, ShapeSpec, SizeMeasure, Spread, Strips, template_vertices,
 };
 
 /// How far from 1 the shares of a table or of the templates may sum.
@@ -28,7 +28,7 @@ const MAX_TEMPLATE_VERTICES: usize = 100;
 
 /// What this version packs particle shapes with, said by every refusal of
 /// a scene that cannot have them.
-const SUPPORTED: &str = "particle shapes are packed in this version by the pack job, sweeps of it and the compare and stability jobs (advancing front and rsa) only, with packer.method = \"advancing-front\" (two or one contact) or \"rsa\", in a [domain] with walls = \"exact\" or as a periodic cell";
+const SUPPORTED: &str = "particle shapes are packed in this version by the pack job, sweeps of it and the compare and stability jobs (advancing front and rsa) only, with packer.method = \"advancing-front\" (two or one contact) or \"rsa\", in a [domain] or [fracture] with walls = \"exact\", or as a periodic cell";
 
 /// The outline families, as `shape.kind` names them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -57,6 +57,16 @@ enum Turning {
 const ORIENTATIONS: Names<Turning> = Names {
     what: "orientation",
     entries: &[("random", Turning::Random), ("aligned", Turning::Aligned)],
+};
+
+/// The proppant presets, as `shape.preset` names them.
+const PRESETS: Names<Proppant> = Names {
+    what: "proppant preset",
+    entries: &[
+        ("ceramic", Proppant::Ceramic),
+        ("resin-coated-sand", Proppant::ResinCoatedSand),
+        ("angular-sand", Proppant::AngularSand),
+    ],
 };
 
 const SIZES: Names<SizeMeasure> = Names {
@@ -119,15 +129,24 @@ impl Validator<'_> {
     /// `[shape]`, its values checked and its templates built.
     pub(super) fn shape(&self, raw: &Spanned<Table<RawShape>>) -> Result<ShapeSpec, ConfigError> {
         let s = raw.get_ref();
-        let kind = KINDS
-            .get(s.kind.get_ref())
-            .ok_or_else(|| ConfigError::UnknownName {
-                at: self.at(&s.kind.span()),
+        if let Some(preset) = &s.preset {
+            return Ok(ShapeSpec {
+                family: self.preset(s, preset)?.family(),
+                orientation: self.orientation(s)?,
+                size: self.name(&SIZES, "shape.size", s.size.as_ref())?,
+            });
+        }
+        let kind = self.name(&KINDS, "shape.kind", s.kind.as_ref())?;
+        if s.kind.is_none() {
+            return Err(ConfigError::Missing {
+                at: self.at(&raw.span()),
                 key: "shape.kind".to_owned(),
-                what: KINDS.what,
-                given: format!("{:?}", s.kind.get_ref()),
-                valid: KINDS.valid(),
-            })?;
+                reason: format!(
+                    "give kind = \"superellipse\" or \"polygon\" with its outline, or a proppant's preset ({})",
+                    PRESETS.valid().join(", ")
+                ),
+            });
+        }
         let family = match kind {
             Kind::Superellipse => {
                 if let Some(t) = s.templates.as_ref().and_then(|t| t.first()) {
@@ -190,6 +209,48 @@ impl Validator<'_> {
             orientation: self.orientation(s)?,
             size: self.name(&SIZES, "shape.size", s.size.as_ref())?,
         })
+    }
+
+    /// `shape.preset`: a known proppant, given without the keys of an
+    /// outline family (the preset is the outline).
+    fn preset(&self, s: &RawShape, preset: &Spanned<String>) -> Result<Proppant, ConfigError> {
+        let proppant = PRESETS
+            .get(preset.get_ref())
+            .ok_or_else(|| ConfigError::UnknownName {
+                at: self.at(&preset.span()),
+                key: "shape.preset".to_owned(),
+                what: PRESETS.what,
+                given: format!("{:?}", preset.get_ref()),
+                valid: PRESETS.valid(),
+            })?;
+        let spans = [
+            ("kind", s.kind.as_ref().map(Spanned::span)),
+            ("aspect", s.aspect.as_ref().map(Spanned::span)),
+            ("alpha", s.alpha.as_ref().map(Spanned::span)),
+            ("beta", s.beta.as_ref().map(Spanned::span)),
+            (
+                "templates",
+                s.templates
+                    .as_ref()
+                    .and_then(|t| t.first())
+                    .map(Spanned::span),
+            ),
+        ];
+        if let Some((key, span)) = spans
+            .into_iter()
+            .filter_map(|(k, span)| span.map(|span| (k, span)))
+            .min_by_key(|(_, span)| span.start)
+        {
+            return Err(ConfigError::NotApplicable {
+                at: self.at(&span),
+                key: format!("shape.{key}"),
+                reason: format!(
+                    "preset = {:?} gives the particles' outline: give a preset, or kind with aspect, alpha, beta or templates, not both (a preset takes size and orientation)",
+                    preset.get_ref()
+                ),
+            });
+        }
+        Ok(proppant)
     }
 
     /// `shape.orientation` with its `angle` and `spread` (degrees in the
@@ -461,9 +522,7 @@ impl Validator<'_> {
         packer: &PackerSettings,
         walls: WallMode,
     ) -> Result<(), ConfigError> {
-        let conflict = if raw.fracture.is_some() {
-            Some("[fracture] (its wells)".to_owned())
-        } else if raw.layering.is_some() {
+        let conflict = if raw.layering.is_some() {
             Some("[layering] (the layer job and size-graded packing)".to_owned())
         } else if raw.materials.as_ref().is_some_and(|m| !m.is_empty()) {
             Some("[[materials]]".to_owned())
