@@ -128,6 +128,10 @@ pub const EXAMPLES: &[(&str, &str)] = &[
     ("trapezoid", include_str!("../../configs/trapezoid.toml")),
     ("wells", include_str!("../../configs/wells.toml")),
     (
+        "wells_shapes",
+        include_str!("../../configs/wells_shapes.toml"),
+    ),
+    (
         "wells_exact",
         include_str!("../../configs/wells_exact.toml"),
     ),

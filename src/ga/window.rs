@@ -141,19 +141,26 @@ pub fn settle(scene: &Scene, tolerance: f64, cancel: &Cancel) -> Result<Window, 
 }
 
 /// The porosity of `packing`'s bounds less `edge` along each side (its
-/// bounds' own porosity if that leaves nothing), the disks' exact areas
-/// inside it counted.
+/// bounds' own porosity if that leaves nothing), the disks' (or grains')
+/// exact areas inside it counted.
 fn core_porosity(packing: &Packing, edge: f64) -> f64 {
     let (lo, hi) = packing.domain.bounds();
     let (x0, x1, y0, y1) = (lo.x + edge, hi.x - edge, lo.y + edge, hi.y - edge);
     if x0 >= x1 || y0 >= y1 {
         return porosity(solid_area(&packing.disks), packing.domain.area());
     }
-    let solid: f64 = packing
-        .disks
-        .iter()
-        .map(|d| area_disk_box(d.c, d.r, x0, x1, y0, y1))
-        .sum();
+    let solid: f64 = if packing.grains.is_empty() {
+        packing
+            .disks
+            .iter()
+            .map(|d| area_disk_box(d.c, d.r, x0, x1, y0, y1))
+            .sum()
+    } else {
+        crate::metrics::grain_solid(packing, &[[x0, x1, y0, y1]])
+            .first()
+            .copied()
+            .unwrap_or(0.0)
+    };
     porosity(solid, (x1 - x0) * (y1 - y0))
 }
 

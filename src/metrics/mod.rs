@@ -303,16 +303,27 @@ fn measure_grains(packing: &Packing, scene: &Scene, cancel: &Cancel) -> Result<M
 /// of [`Metrics::coordination`]). A fracture window measures its core with these.
 pub(crate) fn grain_parts(packing: &Packing, boxes: &[[f64; 4]]) -> (Vec<f64>, Vec<u32>) {
     let mut memo = shapes::ShapeMemo::default();
-    let ends = match grains::grain_contacts(packing, &mut memo, &Cancel::new()) {
-        Ok(c) => c.ends,
-        Err(_) => unreachable!("a new token is never raised"),
-    };
-    let mut areas = voids::GrainAreas::new(packing, &mut memo);
-    let solid = boxes
+    // A token nobody else holds is never raised: no contacts is never the answer.
+    let ends = grains::grain_contacts(packing, &mut memo, &Cancel::new())
+        .map(|c| c.ends)
+        .unwrap_or_default();
+    (solid_in(packing, boxes, &mut memo), ends)
+}
+
+/// The solid area of a packing of grains inside each box `[x0, x1, y0, y1]`
+/// of `boxes`, outline by outline (a large scene's search windows measure
+/// their cores with it).
+pub(crate) fn grain_solid(packing: &Packing, boxes: &[[f64; 4]]) -> Vec<f64> {
+    solid_in(packing, boxes, &mut shapes::ShapeMemo::default())
+}
+
+/// [`grain_solid`] through `memo`.
+fn solid_in(packing: &Packing, boxes: &[[f64; 4]], memo: &mut shapes::ShapeMemo) -> Vec<f64> {
+    let mut areas = voids::GrainAreas::new(packing, memo);
+    boxes
         .iter()
         .map(|&[x0, x1, y0, y1]| areas.in_box(x0, x1, y0, y1))
-        .collect();
-    (solid, ends)
+        .collect()
 }
 
 /// Standard deviation of porosity over square windows of side
