@@ -128,6 +128,17 @@ impl Validator<'_> {
         // Blamed instead of the domain when the sizes dwarf it (a table in µm).
         let sizes_key = grading.as_ref().map(|g| (g.key.clone(), g.at.clone()));
         let (grading, gradient) = self.curves(grading, &raw, &materials, layering.as_ref())?;
+        let walls = match &place {
+            Place::Domain(plan, _) => plan.walls,
+            Place::Fracture(plan) => plan.walls,
+        };
+        let (shape, gradient) = self.material_shapes(
+            &raw,
+            &materials,
+            layering.as_ref(),
+            (shape, gradient),
+            (&packer, walls),
+        )?;
         let seed = raw.seed.as_ref().map_or(0, |s| *s.get_ref());
         // The limits hold during the run too, forced or not: force skips
         // only the refusals made on the upper bounds before the run.

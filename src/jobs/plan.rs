@@ -125,7 +125,7 @@ impl Plan {
         // runs the methods that can.
         if !matches!(
             kind,
-            JobKind::Pack | JobKind::Sweep | JobKind::Compare | JobKind::Stability
+            JobKind::Pack | JobKind::Sweep | JobKind::Compare | JobKind::Stability | JobKind::Layer
         ) && config.scene.shape.is_some()
         {
             let what = format!("the {} job", kind.name());

@@ -345,7 +345,7 @@ fn templates_that_are_not_convex_polygons_are_refused() {
 /// The refusal of a shape in a scene this version cannot pack it in.
 fn unsupported(what: &str) -> String {
     format!(
-        "t.toml:7:1: shape: particle shapes cannot be packed with {what}; particle shapes are packed in this version by the pack job, sweeps of it and the compare and stability jobs (advancing front and rsa) only, with packer.method = \"advancing-front\" (two or one contact) or \"rsa\", in a [domain] with walls = \"exact\" or as a periodic cell"
+        "t.toml:7:1: shape: particle shapes cannot be packed with {what}; particle shapes are packed in this version by the pack job, sweeps of it and the compare, stability and layer jobs (advancing front and rsa) only, with packer.method = \"advancing-front\" (two or one contact) or \"rsa\", in a [domain] with walls = \"exact\" or as a periodic cell"
     )
 }
 
@@ -422,22 +422,13 @@ fn tables_of_other_jobs_are_refused_with_shapes() {
         ),
         &unsupported("[optimise] (the optimise job)"),
     );
-    fails_with(
-        &rect(
-            "width = 40\nheight = 40",
-            &format!(
-                "{ellipses}[[materials]]\nname = \"a\"\n[[materials]]\nname = \"b\"\n[layering]\nprofile = \"linear\"\n"
-            ),
+    // Materials and their layering take shapes (tested in `layering`).
+    shape_of(&rect(
+        "width = 40\nheight = 40",
+        &format!(
+            "{ellipses}[[materials]]\nname = \"a\"\n[[materials]]\nname = \"b\"\n[layering]\nprofile = \"linear\"\n"
         ),
-        &unsupported("[layering] (the layer job and size-graded packing)"),
-    );
-    fails_with(
-        &rect(
-            "width = 40\nheight = 40",
-            &format!("{ellipses}[[materials]]\nname = \"a\"\n"),
-        ),
-        &unsupported("[[materials]]"),
-    );
+    ));
     let fracture = format!(
         "[fracture]\nwidth_mm = 8.6\nheight_m = 0.0625\n[grading]\nuniform = [0.4, 0.8]\n{ellipses}"
     );

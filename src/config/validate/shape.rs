@@ -28,7 +28,7 @@ const MAX_TEMPLATE_VERTICES: usize = 100;
 
 /// What this version packs particle shapes with, said by every refusal of
 /// a scene that cannot have them.
-const SUPPORTED: &str = "particle shapes are packed in this version by the pack job, sweeps of it and the compare and stability jobs (advancing front and rsa) only, with packer.method = \"advancing-front\" (two or one contact) or \"rsa\", in a [domain] with walls = \"exact\" or as a periodic cell";
+const SUPPORTED: &str = "particle shapes are packed in this version by the pack job, sweeps of it and the compare, stability and layer jobs (advancing front and rsa) only, with packer.method = \"advancing-front\" (two or one contact) or \"rsa\", in a [domain] with walls = \"exact\" or as a periodic cell";
 
 /// The outline families, as `shape.kind` names them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -449,8 +449,8 @@ impl Validator<'_> {
             .collect())
     }
 
-    /// Refuse `[shape]` in a config this version cannot pack shapes for:
-    /// another job's table, another method, strips, filling right, a
+    /// Refuse `[shape]` (or a material's shape table) in a config this
+    /// version cannot pack shapes for: another job's table, another method, strips, filling right, a
     /// one-contact gap, the thesis' front rules, or wall disks. A
     /// `[sweep]` is taken: its runs are pack jobs (planning refuses the
     /// others for shapes).
@@ -465,10 +465,6 @@ impl Validator<'_> {
             Some("[fracture] (its wells)".to_owned())
         } else if raw.optimise.is_some() {
             Some("[optimise] (the optimise job)".to_owned())
-        } else if raw.layering.is_some() {
-            Some("[layering] (the layer job and size-graded packing)".to_owned())
-        } else if raw.materials.as_ref().is_some_and(|m| !m.is_empty()) {
-            Some("[[materials]]".to_owned())
         } else if !matches!(packer.method, Method::AdvancingFront | Method::Rsa) {
             Some(format!(
                 "packer.method = \"{}\"",
