@@ -115,6 +115,10 @@ struct MaterialSummary<'a> {
     properties: BTreeMap<&'a str, f64>,
     /// Share of the packing's solid area (null without a layering).
     area_fraction: Option<f64>,
+    /// Particles that are not disks: the shape measures of this
+    /// material's particles, against the shape it was drawn with.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    particle_shape: Option<ShapeStats>,
 }
 
 /// What a layering adds to `summary.json` (filled in by the job).
@@ -321,20 +325,24 @@ pub(super) fn summary<'a>(
         seconds: run.seconds,
         stats: packing.stats.into(),
         optimise: run.optimise.map(|(summary, _)| summary),
-        materials: run
-            .materials
-            .iter()
-            .enumerate()
-            .map(|(i, m)| MaterialSummary {
-                id: i + 1,
-                name: &m.name,
-                properties: m.properties.iter().map(|(k, v)| (k.as_str(), *v)).collect(),
-                area_fraction: run
-                    .layering
-                    .as_ref()
-                    .and_then(|l| l.fractions.get(i).copied()),
-            })
-            .collect(),
+        materials: {
+            let shapes =
+                crate::layering::shape_stats_by_material(packing, scene, run.materials.len());
+            run.materials
+                .iter()
+                .enumerate()
+                .map(|(i, m)| MaterialSummary {
+                    id: i + 1,
+                    name: &m.name,
+                    properties: m.properties.iter().map(|(k, v)| (k.as_str(), *v)).collect(),
+                    area_fraction: run
+                        .layering
+                        .as_ref()
+                        .and_then(|l| l.fractions.get(i).copied()),
+                    particle_shape: shapes.get(i).copied().flatten(),
+                })
+                .collect()
+        },
         layering: run.layering.as_ref().map(|l| &l.summary),
         fracture: run.fracture.as_ref(),
     }

@@ -324,11 +324,9 @@ impl Scene {
     /// The particles' shapes: the scene's, and in size-graded mode the
     /// second material's when it has its own (none for disks).
     pub(crate) fn shapes(&self) -> impl Iterator<Item = &ShapeSpec> {
-        self.shape.iter().chain(
-            self.gradient
-                .as_ref()
-                .and_then(|g| g.second_shape.as_ref()),
-        )
+        self.shape
+            .iter()
+            .chain(self.gradient.as_ref().and_then(|g| g.second_shape.as_ref()))
     }
 
     /// The grading, and the second curve in size-graded mode.

@@ -155,7 +155,12 @@ impl Validator<'_> {
         }
         let resolved: Vec<ShapeSpec> = materials
             .iter()
-            .map(|m| m.shape.clone().or_else(|| shape.clone()).unwrap_or_else(round))
+            .map(|m| {
+                m.shape
+                    .clone()
+                    .or_else(|| shape.clone())
+                    .unwrap_or_else(round)
+            })
             .collect();
         let sizes = layering.is_some_and(|l| l.mode == LayeringMode::Sizes);
         if sizes && let (Some(g), [first, second]) = (gradient.clone(), resolved.as_slice()) {

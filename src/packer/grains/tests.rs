@@ -251,7 +251,10 @@ fn a_size_graded_scene_of_two_shapes_packs_each_material_with_its_own() {
         counts[usize::from(m)] += 1;
         let aspect = g.outline.aspect();
         if m == 0 {
-            assert!((aspect - 1.0).abs() < 1e-9, "a matrix grain of aspect {aspect}");
+            assert!(
+                (aspect - 1.0).abs() < 1e-9,
+                "a matrix grain of aspect {aspect}"
+            );
         } else {
             assert!(
                 (2.5 - 1e-9..=3.0 + 1e-9).contains(&aspect),
