@@ -1,7 +1,6 @@
 //! The area fractions a packing achieves in bins along the axis.
 
-use crate::geometry::{Disk, Point};
-use crate::packer::Packing;
+use crate::geometry::{Disk, Grain, Point};
 use crate::scene::Frame;
 
 /// Points of the polygon a particle that is not a disk is clipped as: its
@@ -67,9 +66,10 @@ impl BinAreas {
         }
     }
 
-    /// Split the area of each particle of `packing` among `bins` equal bins
-    /// of s: its disks' areas ([`BinAreas::new`]), or with grains each
-    /// particle's own outline, clipped.
+    /// Split the area of each particle of a packing among `bins` equal
+    /// bins of s: the `disks`' areas ([`BinAreas::new`]) when `grains` is
+    /// empty, else each particle's own outline (`grains[i]` centred at
+    /// `disks[i]`, whose radius is its area-equivalent one), clipped.
     ///
     /// # Behavior
     /// A grain is clipped by its outline, not by its area-equivalent
@@ -80,17 +80,17 @@ impl BinAreas {
     /// [`OUTLINE_POINTS`] points on it, clipped by slabs (x, y) or annuli
     /// (radial) exactly, and its pieces scaled so they add up to the
     /// grain's true area (the polygon is inscribed, slightly smaller).
-    pub fn of_packing(packing: &Packing, frame: &Frame, bins: usize) -> Self {
-        if packing.grains.is_empty() {
-            return BinAreas::new(&packing.disks, frame, bins);
+    pub fn of_particles(disks: &[Disk], grains: &[Grain], frame: &Frame, bins: usize) -> Self {
+        if grains.is_empty() {
+            return BinAreas::new(disks, frame, bins);
         }
         let bins = bins.max(1);
-        let mut starts = Vec::with_capacity(packing.disks.len() + 1);
-        let mut entries = Vec::with_capacity(packing.disks.len() * 2);
+        let mut starts = Vec::with_capacity(disks.len() + 1);
+        let mut entries = Vec::with_capacity(disks.len() * 2);
         starts.push(0);
         let bin_of = |s: f64| ((s * bins as f64).floor().max(0.0) as usize).min(bins - 1);
         let mut polygon: Vec<Point> = Vec::with_capacity(OUTLINE_POINTS);
-        for (d, g) in packing.disks.iter().zip(&packing.grains) {
+        for (d, g) in disks.iter().zip(grains) {
             let true_area = d.area();
             let turned = g.turned();
             polygon.clear();
@@ -250,7 +250,7 @@ mod tests {
 
     #[test]
     fn bin_areas_of_grains_follow_their_outlines() {
-        use crate::geometry::{Grain, Outline};
+        use crate::geometry::Outline;
         let domain = Domain::rectangle(10.0, 10.0).unwrap();
         // An ellipse 4 × 0.5 lying along x across the bins of x at 2 mm,
         // and the same standing along y: along x the lying one spreads
@@ -260,9 +260,11 @@ mod tests {
             Grain::new(ellipse.clone(), 0.0),
             Grain::new(ellipse.clone(), std::f64::consts::FRAC_PI_2),
         ];
-        let centres = [Point::new(5.0, 5.0), Point::new(3.0, 5.0)];
-        let packing = Packing::of_grains(domain.clone(), grains, &centres);
-        let areas = BinAreas::of_packing(&packing, &Frame::new(Axis::X, &domain), 5);
+        let disks: Vec<Disk> = [(5.0, 5.0), (3.0, 5.0)]
+            .iter()
+            .map(|&(x, y)| Disk::new(x, y, ellipse.equivalent_radius()))
+            .collect();
+        let areas = BinAreas::of_particles(&disks, &grains, &Frame::new(Axis::X, &domain), 5);
         for i in 0..2 {
             let total: f64 = areas.of(i).iter().map(|e| e.1).sum();
             assert!((total - ellipse.area()).abs() < 1e-9, "grain {i}: {total}");
@@ -276,7 +278,7 @@ mod tests {
         assert!((middle - expected).abs() < 2e-3 * expected, "{middle}");
         assert_eq!(areas.of(1).len(), 1);
         // Radial: the areas add up too.
-        let radial = BinAreas::of_packing(&packing, &Frame::new(Axis::Radial, &domain), 6);
+        let radial = BinAreas::of_particles(&disks, &grains, &Frame::new(Axis::Radial, &domain), 6);
         let total: f64 = radial.of(0).iter().map(|e| e.1).sum();
         assert!((total - ellipse.area()).abs() < 1e-9);
         assert!(radial.of(0).len() >= 2);

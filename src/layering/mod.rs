@@ -13,7 +13,6 @@ mod error;
 mod material;
 mod profile;
 mod settings;
-mod shapes;
 
 pub use crate::scene::{Axis, Frame, Profile, SizeGradient};
 pub use baseline::baseline;
@@ -21,4 +20,3 @@ pub use bins::{BinAreas, ProfileRow, profile_rows, rms_error};
 pub use error::LayeringError;
 pub use material::Material;
 pub use settings::{LayeringMode, LayeringSettings, StopRules};
-pub use shapes::{material_shape, shape_stats_by_material};

@@ -43,7 +43,8 @@ fn sizes_with(packing: &Packing, scene: &Scene, memo: &mut ShapeMemo) -> Vec<f64
             .iter()
             .zip(&packing.materials)
             .map(|(g, &m)| {
-                let m = crate::layering::material_shape(scene, usize::from(m))
+                let m = scene
+                    .material_shape(usize::from(m))
                     .map_or(SizeMeasure::Equivalent, |s| s.size);
                 measured(memo.size(&g.outline, m))
             })

@@ -7,7 +7,7 @@ use serde::Serialize;
 use super::error::OutputError;
 use super::run::RunInfo;
 use crate::fracture::WindowStep;
-use crate::metrics::{Metrics, ShapeStats, psd_ks_blend, psd_ks_by_curve};
+use crate::metrics::{Metrics, ShapeStats, psd_ks_blend, psd_ks_by_curve, shape_stats};
 use crate::names::ConfigName;
 use crate::packer::{PackStats, Packing};
 
@@ -277,6 +277,27 @@ pub fn summary_json(
     Ok(bytes)
 }
 
+/// The shape statistics ([`shape_stats`]) of the grains of each material
+/// of `run`, against the shape each was drawn with; empty for a packing of
+/// disks or one without materials, `None` for a material without particles.
+fn shape_stats_by_material(packing: &Packing, run: &RunInfo<'_>) -> Vec<Option<ShapeStats>> {
+    if packing.grains.is_empty() || packing.materials.len() != packing.grains.len() {
+        return Vec::new();
+    }
+    (0..run.materials.len())
+        .map(|m| {
+            let own: Vec<_> = packing
+                .grains
+                .iter()
+                .zip(&packing.materials)
+                .filter(|(_, t)| usize::from(**t) == m)
+                .map(|(g, _)| g.clone())
+                .collect();
+            shape_stats(&own, run.scene.material_shape(m))
+        })
+        .collect()
+}
+
 /// The object `summary.json` holds, also embedded in `packing.json`.
 pub(super) fn summary<'a>(
     packing: &Packing,
@@ -284,6 +305,7 @@ pub(super) fn summary<'a>(
     run: &'a RunInfo<'a>,
 ) -> Summary<'a> {
     let scene = run.scene;
+    let material_shapes = shape_stats_by_material(packing, run);
     Summary {
         gapack_version: env!("CARGO_PKG_VERSION"),
         config: run.config,
@@ -325,24 +347,21 @@ pub(super) fn summary<'a>(
         seconds: run.seconds,
         stats: packing.stats.into(),
         optimise: run.optimise.map(|(summary, _)| summary),
-        materials: {
-            let shapes =
-                crate::layering::shape_stats_by_material(packing, scene, run.materials.len());
-            run.materials
-                .iter()
-                .enumerate()
-                .map(|(i, m)| MaterialSummary {
-                    id: i + 1,
-                    name: &m.name,
-                    properties: m.properties.iter().map(|(k, v)| (k.as_str(), *v)).collect(),
-                    area_fraction: run
-                        .layering
-                        .as_ref()
-                        .and_then(|l| l.fractions.get(i).copied()),
-                    particle_shape: shapes.get(i).copied().flatten(),
-                })
-                .collect()
-        },
+        materials: run
+            .materials
+            .iter()
+            .enumerate()
+            .map(|(i, m)| MaterialSummary {
+                id: i + 1,
+                name: &m.name,
+                properties: m.properties.iter().map(|(k, v)| (k.as_str(), *v)).collect(),
+                area_fraction: run
+                    .layering
+                    .as_ref()
+                    .and_then(|l| l.fractions.get(i).copied()),
+                particle_shape: material_shapes.get(i).copied().flatten(),
+            })
+            .collect(),
         layering: run.layering.as_ref().map(|l| &l.summary),
         fracture: run.fracture.as_ref(),
     }

@@ -329,6 +329,17 @@ impl Scene {
             .chain(self.gradient.as_ref().and_then(|g| g.second_shape.as_ref()))
     }
 
+    /// The shape a particle of material `m` was drawn with: in size-graded
+    /// mode the second material's own shape when it has one, otherwise the
+    /// scene's (`None`: disks).
+    pub fn material_shape(&self, m: usize) -> Option<&ShapeSpec> {
+        let second = self.gradient.as_ref().and_then(|g| g.second_shape.as_ref());
+        match (m, second) {
+            (1, Some(shape)) => Some(shape),
+            _ => self.shape.as_ref(),
+        }
+    }
+
     /// The grading, and the second curve in size-graded mode.
     pub(crate) fn curves(&self) -> impl Iterator<Item = &Grading> {
         std::iter::once(&self.grading).chain(self.gradient.as_ref().map(|g| &g.second))

@@ -335,7 +335,8 @@ pub struct SizeGradient {
     /// The second material's curve.
     pub second: Grading,
     /// The second material's shape, when it is not the scene's (`None`:
-    /// the scene's shape, or disks in a scene without one).
+    /// the scene's shape, or disks in a scene without one). Read only in a
+    /// scene with a shape: a scene of disks is packed by the disk packers.
     pub second_shape: Option<ShapeSpec>,
 }
 

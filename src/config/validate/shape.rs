@@ -450,8 +450,9 @@ impl Validator<'_> {
     }
 
     /// Refuse `[shape]` (or a material's shape table) in a config this
-    /// version cannot pack shapes for: another job's table, another method, strips, filling right, a
-    /// one-contact gap, the thesis' front rules, or wall disks. A
+    /// version cannot pack shapes for: another job's table, another
+    /// method, strips, filling right, a one-contact gap, the thesis' front
+    /// rules, or wall disks. A
     /// `[sweep]` is taken: its runs are pack jobs (planning refuses the
     /// others for shapes).
     pub(super) fn check_shape_support(

@@ -230,7 +230,7 @@ fn graded_scene(side: f64) -> Scene {
 fn profile_rms(packing: &Packing, bins: usize) -> f64 {
     use crate::layering::{BinAreas, Frame, rms_error};
     let frame = Frame::new(crate::Axis::Y, &packing.domain);
-    let areas = BinAreas::of_packing(packing, &frame, bins);
+    let areas = BinAreas::of_particles(&packing.disks, &packing.grains, &frame, bins);
     let mut per_bin = vec![0.0; bins * 2];
     areas.material_areas(2, |i| usize::from(packing.materials[i]), &mut per_bin);
     let targets = crate::Profile::Linear.bin_targets(crate::Axis::Y, bins, 2);
