@@ -20,5 +20,4 @@ pub use error::{ConfigError, Location};
 pub use locate::key_location;
 pub use parse::{Config, DEFAULT_CONFIG, DEFAULT_ORIGIN, ParseOptions, parse, parse_with};
 pub use sweep_points::{SweepPoint, sweep_points};
-pub(crate) use validate::shape_unsupported;
 pub use validate::{DEFAULT_MAX_MEMORY_MB, DEFAULT_MAX_PARTICLES};

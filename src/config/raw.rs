@@ -306,12 +306,15 @@ pub(crate) struct RawCompare {
     pub repeats: Option<Spanned<i64>>,
 }
 
-/// `[[materials]]`: a name, free-form numeric properties, and in size-graded
-/// mode a grading. Any other key is a property (checked to be a number).
+/// `[[materials]]`: a name, free-form numeric properties, in size-graded
+/// mode a grading, and a shape of its own. Any other key is a property
+/// (checked to be a number).
 #[derive(Debug, Deserialize)]
 pub(crate) struct RawMaterial {
     pub name: Spanned<String>,
     pub grading: Option<Spanned<Table<RawGrading>>>,
+    /// `[materials.shape]`: the material's own particle shape.
+    pub shape: Option<Spanned<Table<RawShape>>>,
     #[serde(flatten)]
     pub properties: BTreeMap<String, toml::Value>,
 }

@@ -47,7 +47,6 @@ mod values;
 use domain::{DomainPlan, coordinate_key};
 use fracture::FracturePlan;
 pub use limits::{DEFAULT_MAX_MEMORY_MB, DEFAULT_MAX_PARTICLES};
-pub(crate) use shape::shape_unsupported;
 
 /// The key of a config and where its value is.
 #[derive(Clone)]
@@ -119,7 +118,7 @@ impl Validator<'_> {
                     Place::Domain(plan, _) => plan.walls,
                     Place::Fracture(plan) => plan.walls,
                 };
-                self.check_shape_support(table, &raw, &packer, walls)?;
+                self.check_shape_support(table, &packer, walls)?;
                 Some(spec)
             }
         };
@@ -137,6 +136,17 @@ impl Validator<'_> {
         // Blamed instead of the domain when the sizes dwarf it (a table in µm).
         let sizes_key = grading.as_ref().map(|g| (g.key.clone(), g.at.clone()));
         let (grading, gradient) = self.curves(grading, &raw, &materials, layering.as_ref())?;
+        let walls = match &place {
+            Place::Domain(plan, _) => plan.walls,
+            Place::Fracture(plan) => plan.walls,
+        };
+        let (shape, gradient) = self.material_shapes(
+            &raw,
+            &materials,
+            layering.as_ref(),
+            (shape, gradient),
+            (&packer, walls),
+        )?;
         let seed = raw.seed.as_ref().map_or(0, |s| *s.get_ref());
         // The limits hold during the run too, forced or not: force skips
         // only the refusals made on the upper bounds before the run.

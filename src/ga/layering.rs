@@ -163,7 +163,7 @@ pub fn lay_out(
 ) -> Layered {
     let materials = materials.max(1);
     let frame = Frame::new(settings.axis, &packing.domain);
-    let areas = BinAreas::new(&packing.disks, &frame, settings.bins);
+    let areas = BinAreas::of_particles(&packing.disks, &packing.grains, &frame, settings.bins);
     let targets = settings
         .profile
         .bin_targets(settings.axis, settings.bins, materials);

@@ -140,8 +140,13 @@ pub(super) fn words() -> Words {
 /// The packing and its layout in a line.
 pub(super) fn lines(at: &str, metrics: &Metrics, layered: &Layered) -> Vec<String> {
     let mut lines = vec![format!(
-        "{at}: {} disks, porosity {:.4}, {}{}",
+        "{at}: {} {}, porosity {:.4}, {}{}",
         metrics.particles,
+        if metrics.shapes.is_some() {
+            "particles"
+        } else {
+            "disks"
+        },
         metrics.porosity,
         layering_line(layered),
         grading_note(metrics)

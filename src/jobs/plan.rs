@@ -120,21 +120,6 @@ impl Plan {
             }
         }
         let kind = request.kind.unwrap_or_else(|| JobKind::natural(&config));
-        // A sweep's runs are planned one by one, each refused here if its
-        // job cannot pack shapes; a comparison (and its stability sweep)
-        // runs the methods that can.
-        if !matches!(
-            kind,
-            JobKind::Pack
-                | JobKind::Sweep
-                | JobKind::Compare
-                | JobKind::Stability
-                | JobKind::Optimise
-        ) && config.scene.shape.is_some()
-        {
-            let what = format!("the {} job", kind.name());
-            return Err(config::shape_unsupported(text, origin, &what).into());
-        }
         let mut planning = Planning {
             kind,
             config: &config,
@@ -340,23 +325,18 @@ mod tests {
     use super::*;
 
     #[test]
-    fn jobs_that_cannot_pack_shapes_are_refused_at_the_shape_table() {
-        let text = "[domain]\nshape = \"rectangle\"\nwidth = 40\nheight = 40\n[grading]\nconstant = 1.2\n[shape]\nkind = \"superellipse\"\naspect = 1.5\n";
-        for kind in [JobKind::Optimise, JobKind::Layer] {
-            let e = Plan::load(text, "t.toml", &Request::new(kind)).expect_err("refused");
-            let message = e.to_string();
-            assert!(message.starts_with("t.toml:7:1: shape:"), "{message}");
-            assert!(
-                message.contains(&format!("the {} job", kind.name())),
-                "{message}"
-            );
-        }
-        let plan = Plan::load(text, "t.toml", &Request::natural()).expect("packs");
-        assert_eq!(plan.kind, JobKind::Pack);
-        // The comparison and its stability sweep run the methods that can.
-        for kind in [JobKind::Compare, JobKind::Stability] {
+    fn every_job_plans_a_scene_of_shapes() {
+        let text = "[domain]\nshape = \"rectangle\"\nwidth = 40\nheight = 40\n[grading]\nconstant = 1.2\n[shape]\nkind = \"superellipse\"\naspect = 1.5\n[optimise]\ntarget_porosity = 0.3\n[[materials]]\nname = \"a\"\n[[materials]]\nname = \"b\"\n[layering]\nprofile = \"linear\"\n";
+        for kind in [
+            JobKind::Pack,
+            JobKind::Optimise,
+            JobKind::Layer,
+            JobKind::Compare,
+            JobKind::Stability,
+        ] {
             let plan = Plan::load(text, "t.toml", &Request::new(kind)).expect("planned");
             assert_eq!(plan.kind, kind);
+            assert!(plan.config.scene.shape.is_some());
         }
     }
 

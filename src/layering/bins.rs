@@ -1,7 +1,13 @@
 //! The area fractions a packing achieves in bins along the axis.
 
-use crate::geometry::Disk;
+use crate::geometry::{Disk, Grain, Point};
 use crate::scene::Frame;
+
+/// Points of the polygon a particle that is not a disk is clipped as: its
+/// outline's inscribed polygonisation, whose area falls short of an
+/// ellipse's by about 2π²/(3n²) of it (7·10⁻⁴ at 96 points), and is scaled
+/// back to the particle's true area.
+const OUTLINE_POINTS: usize = 96;
 
 /// The area of every disk in every bin it reaches, computed once: the
 /// packing's geometry stays fixed while materials are assigned.
@@ -46,6 +52,72 @@ impl BinAreas {
                         (bin + 1) as f64 / bins as f64
                     };
                     let area = frame.area_between(d, lo, hi);
+                    if area > 0.0 {
+                        entries.push((bin, area));
+                    }
+                }
+            }
+            starts.push(entries.len());
+        }
+        BinAreas {
+            bins,
+            starts,
+            entries,
+        }
+    }
+
+    /// Split the area of each particle of a packing among `bins` equal
+    /// bins of s: the `disks`' areas ([`BinAreas::new`]) when `grains` is
+    /// empty, else each particle's own outline (`grains[i]` centred at
+    /// `disks[i]`, whose radius is its area-equivalent one), clipped.
+    ///
+    /// # Behavior
+    /// A grain is clipped by its outline, not by its area-equivalent
+    /// circle nor given whole to the bin of its centre: an elongated
+    /// particle lying across a bin boundary puts its area on both sides as
+    /// it really lies (its circle would put too much near its centre, and
+    /// the centre's bin all of it). The outline is a polygon of
+    /// [`OUTLINE_POINTS`] points on it, clipped by slabs (x, y) or annuli
+    /// (radial) exactly, and its pieces scaled so they add up to the
+    /// grain's true area (the polygon is inscribed, slightly smaller).
+    pub fn of_particles(disks: &[Disk], grains: &[Grain], frame: &Frame, bins: usize) -> Self {
+        if grains.is_empty() {
+            return BinAreas::new(disks, frame, bins);
+        }
+        let bins = bins.max(1);
+        let mut starts = Vec::with_capacity(disks.len() + 1);
+        let mut entries = Vec::with_capacity(disks.len() * 2);
+        starts.push(0);
+        let bin_of = |s: f64| ((s * bins as f64).floor().max(0.0) as usize).min(bins - 1);
+        let mut polygon: Vec<Point> = Vec::with_capacity(OUTLINE_POINTS);
+        for (d, g) in disks.iter().zip(grains) {
+            let true_area = d.area();
+            let turned = g.turned();
+            polygon.clear();
+            polygon.extend(
+                g.outline
+                    .boundary(OUTLINE_POINTS)
+                    .into_iter()
+                    .map(|p| d.c + turned.to_world(p)),
+            );
+            let (a, b) = frame.polygon_span(&polygon);
+            let (first, last) = (bin_of(a), bin_of(b));
+            let whole = frame.polygon_area_below(&polygon, b.max(1.0) + 1.0);
+            if first == last || whole <= 0.0 {
+                entries.push((first, true_area));
+            } else {
+                let scale = true_area / whole;
+                let below = |s: f64| frame.polygon_area_below(&polygon, s);
+                let mut under = 0.0;
+                for bin in first..=last {
+                    // The outer bins reach beyond [0, 1] so no sliver is lost.
+                    let upto = if bin == bins - 1 {
+                        whole
+                    } else {
+                        below((bin + 1) as f64 / bins as f64)
+                    };
+                    let area = (upto - under) * scale;
+                    under = upto;
                     if area > 0.0 {
                         entries.push((bin, area));
                     }
@@ -174,6 +246,42 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn bin_areas_of_grains_follow_their_outlines() {
+        use crate::geometry::Outline;
+        let domain = Domain::rectangle(10.0, 10.0).unwrap();
+        // An ellipse 4 × 0.5 lying along x across the bins of x at 2 mm,
+        // and the same standing along y: along x the lying one spreads
+        // over three bins, the standing one stays in its own.
+        let ellipse = Outline::superellipse(2.0, 0.25, 2.0, 2.0).unwrap();
+        let grains = vec![
+            Grain::new(ellipse.clone(), 0.0),
+            Grain::new(ellipse.clone(), std::f64::consts::FRAC_PI_2),
+        ];
+        let disks: Vec<Disk> = [(5.0, 5.0), (3.0, 5.0)]
+            .iter()
+            .map(|&(x, y)| Disk::new(x, y, ellipse.equivalent_radius()))
+            .collect();
+        let areas = BinAreas::of_particles(&disks, &grains, &Frame::new(Axis::X, &domain), 5);
+        for i in 0..2 {
+            let total: f64 = areas.of(i).iter().map(|e| e.1).sum();
+            assert!((total - ellipse.area()).abs() < 1e-9, "grain {i}: {total}");
+        }
+        let lying: Vec<usize> = areas.of(0).iter().map(|e| e.0).collect();
+        assert_eq!(lying, [1, 2, 3]);
+        // Its middle bin (4 ≤ x < 6) holds the ellipse between x = ±1:
+        // (ab)(2·asin(1/2) + sin(2·asin(1/2))) of its πab.
+        let middle = areas.of(0)[1].1;
+        let expected = 0.5 * (std::f64::consts::FRAC_PI_3 + 3f64.sqrt() / 2.0);
+        assert!((middle - expected).abs() < 2e-3 * expected, "{middle}");
+        assert_eq!(areas.of(1).len(), 1);
+        // Radial: the areas add up too.
+        let radial = BinAreas::of_particles(&disks, &grains, &Frame::new(Axis::Radial, &domain), 6);
+        let total: f64 = radial.of(0).iter().map(|e| e.1).sum();
+        assert!((total - ellipse.area()).abs() < 1e-9);
+        assert!(radial.of(0).len() >= 2);
     }
 
     #[test]

@@ -37,6 +37,18 @@ fn measured(size: f64) -> f64 {
 fn sizes_with(packing: &Packing, scene: &Scene, memo: &mut ShapeMemo) -> Vec<f64> {
     let measure = scene.shape.as_ref().map(|s| s.size);
     match measure {
+        // In size-graded mode each material's particles by its own shape's measure.
+        Some(_) if packing.materials.len() == packing.grains.len() => packing
+            .grains
+            .iter()
+            .zip(&packing.materials)
+            .map(|(g, &m)| {
+                let m = scene
+                    .material_shape(usize::from(m))
+                    .map_or(SizeMeasure::Equivalent, |s| s.size);
+                measured(memo.size(&g.outline, m))
+            })
+            .collect(),
         Some(m) if !packing.grains.is_empty() => packing
             .grains
             .iter()

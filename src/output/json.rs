@@ -7,7 +7,7 @@ use serde::Serialize;
 use super::error::OutputError;
 use super::run::RunInfo;
 use crate::fracture::WindowStep;
-use crate::metrics::{Metrics, ShapeStats, psd_ks_blend, psd_ks_by_curve};
+use crate::metrics::{Metrics, ShapeStats, psd_ks_blend, psd_ks_by_curve, shape_stats};
 use crate::names::ConfigName;
 use crate::packer::{PackStats, Packing};
 
@@ -115,6 +115,10 @@ struct MaterialSummary<'a> {
     properties: BTreeMap<&'a str, f64>,
     /// Share of the packing's solid area (null without a layering).
     area_fraction: Option<f64>,
+    /// Particles that are not disks: the shape measures of this
+    /// material's particles, against the shape it was drawn with.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    particle_shape: Option<ShapeStats>,
 }
 
 /// What a layering adds to `summary.json` (filled in by the job).
@@ -316,6 +320,27 @@ pub fn summary_json(
     Ok(bytes)
 }
 
+/// The shape statistics ([`shape_stats`]) of the grains of each material
+/// of `run`, against the shape each was drawn with; empty for a packing of
+/// disks or one without materials, `None` for a material without particles.
+fn shape_stats_by_material(packing: &Packing, run: &RunInfo<'_>) -> Vec<Option<ShapeStats>> {
+    if packing.grains.is_empty() || packing.materials.len() != packing.grains.len() {
+        return Vec::new();
+    }
+    (0..run.materials.len())
+        .map(|m| {
+            let own: Vec<_> = packing
+                .grains
+                .iter()
+                .zip(&packing.materials)
+                .filter(|(_, t)| usize::from(**t) == m)
+                .map(|(g, _)| g.clone())
+                .collect();
+            shape_stats(&own, run.scene.material_shape(m))
+        })
+        .collect()
+}
+
 /// The object `summary.json` holds, also embedded in `packing.json`.
 pub(super) fn summary<'a>(
     packing: &Packing,
@@ -323,6 +348,7 @@ pub(super) fn summary<'a>(
     run: &'a RunInfo<'a>,
 ) -> Summary<'a> {
     let scene = run.scene;
+    let material_shapes = shape_stats_by_material(packing, run);
     Summary {
         gapack_version: env!("CARGO_PKG_VERSION"),
         config: run.config,
@@ -376,6 +402,7 @@ pub(super) fn summary<'a>(
                     .layering
                     .as_ref()
                     .and_then(|l| l.fractions.get(i).copied()),
+                particle_shape: material_shapes.get(i).copied().flatten(),
             })
             .collect(),
         layering: run.layering.as_ref().map(|l| &l.summary),

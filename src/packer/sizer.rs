@@ -26,15 +26,26 @@ struct Graded<'a> {
 
 impl<'a> Sizer<'a> {
     /// The sizer of `scene`: its grading, and its size gradient if it has one.
+    /// With particle shapes, each curve's mean area is its mean disk area
+    /// times its material's shape's mean area ratio (an inclusion of aspect
+    /// 3 sized by sieve covers about 3 times its disk).
     pub fn new(scene: &'a Scene) -> Self {
         Sizer {
             grading: &scene.grading,
-            graded: scene.gradient.as_ref().map(|g| Graded {
-                second: &g.second,
-                profile: &g.profile,
-                frame: Frame::new(g.axis, &scene.domain),
-                areas: [scene.grading.mean_disk_area(), g.second.mean_disk_area()],
-                carry: 0.0,
+            graded: scene.gradient.as_ref().map(|g| {
+                let mut areas = [scene.grading.mean_disk_area(), g.second.mean_disk_area()];
+                if let Some(first) = &scene.shape {
+                    let second = g.second_shape.as_ref().unwrap_or(first);
+                    areas[0] *= first.mean_area_ratio();
+                    areas[1] *= second.mean_area_ratio();
+                }
+                Graded {
+                    second: &g.second,
+                    profile: &g.profile,
+                    frame: Frame::new(g.axis, &scene.domain),
+                    areas,
+                    carry: 0.0,
+                }
             }),
         }
     }

@@ -275,13 +275,20 @@ impl Scene {
     /// With a [`ShapeSpec`], a particle's area is at least
     /// [`ShapeSpec::least_area_ratio`] times the disk of its measured size
     /// (polygons sized by sieve can be smaller than that disk), and the
-    /// bound is divided by that ratio.
+    /// bound is divided by that ratio (the least of the materials' shapes
+    /// in size-graded mode).
     pub fn max_disks(&self) -> f64 {
         let d_min = self.d_min();
         let least_area = std::f64::consts::FRAC_PI_4 * d_min * d_min;
         match &self.shape {
             None => (self.domain.area() / least_area).ceil(),
-            Some(shape) => (self.domain.area() / (least_area * shape.least_area_ratio())).ceil(),
+            Some(_) => {
+                let ratio = self
+                    .shapes()
+                    .map(ShapeSpec::least_area_ratio)
+                    .fold(f64::INFINITY, f64::min);
+                (self.domain.area() / (least_area * ratio)).ceil()
+            }
         }
     }
 
@@ -313,6 +320,25 @@ impl Scene {
                 ..self.packer
             },
             ..self.clone()
+        }
+    }
+
+    /// The particles' shapes: the scene's, and in size-graded mode the
+    /// second material's when it has its own (none for disks).
+    pub(crate) fn shapes(&self) -> impl Iterator<Item = &ShapeSpec> {
+        self.shape
+            .iter()
+            .chain(self.gradient.as_ref().and_then(|g| g.second_shape.as_ref()))
+    }
+
+    /// The shape a particle of material `m` was drawn with: in size-graded
+    /// mode the second material's own shape when it has one, otherwise the
+    /// scene's (`None`: disks).
+    pub fn material_shape(&self, m: usize) -> Option<&ShapeSpec> {
+        let second = self.gradient.as_ref().and_then(|g| g.second_shape.as_ref());
+        match (m, second) {
+            (1, Some(shape)) => Some(shape),
+            _ => self.shape.as_ref(),
         }
     }
 

@@ -3,9 +3,12 @@
 //! of s. The packer's size-graded mode draws sizes by it; `layering`
 //! measures and assigns materials by it.
 
+use nalgebra::Vector2;
+
 use crate::geometry::predicates::{area_disk_box, area_disk_disk};
 use crate::geometry::{Disk, Domain, Point, Shape};
 use crate::grading::Grading;
+use crate::scene::ShapeSpec;
 
 /// The direction along which the fractions change.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -106,6 +109,130 @@ impl Frame {
     }
 }
 
+impl Frame {
+    /// The range of s a convex counter-clockwise polygon (world
+    /// coordinates) covers (unclamped): its vertices' along x or y; for
+    /// radial, from its nearest point to the origin (0 when it holds the
+    /// origin) to its farthest vertex.
+    pub fn polygon_span(&self, polygon: &[Point]) -> (f64, f64) {
+        let (lo, hi) = polygon
+            .iter()
+            .map(|&p| self.t(p))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), t| {
+                (lo.min(t), hi.max(t))
+            });
+        let lo = match self.axis {
+            Axis::X | Axis::Y => lo,
+            Axis::Radial => {
+                let n = polygon.len();
+                let (mut nearest, mut inside) = (lo, n > 2);
+                for i in 0..n {
+                    let a = polygon[i] - self.origin;
+                    let e = polygon[(i + 1) % n] - polygon[i];
+                    inside &= e.x * (-a.y) - e.y * (-a.x) >= 0.0;
+                    let w = (-a.dot(&e) / e.norm_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+                    nearest = nearest.min((a + e * w).norm());
+                }
+                if inside { 0.0 } else { nearest }
+            }
+        };
+        (lo / self.length, hi / self.length)
+    }
+
+    /// Area of the counter-clockwise `polygon` (world coordinates) whose
+    /// points lie at s ≤ `s` (unclamped): the polygon clipped by a
+    /// half-plane for x and y, by a disk about the origin for radial.
+    pub fn polygon_area_below(&self, polygon: &[Point], s: f64) -> f64 {
+        let t = s * self.length;
+        let n = polygon.len();
+        let mut area = 0.0;
+        match self.axis {
+            Axis::X | Axis::Y => {
+                // Sutherland–Hodgman against t(p) ≤ t, summed as it goes
+                // (the shoelace over the clipped polygon's edges).
+                let mut first: Option<Point> = None;
+                let mut last: Option<Point> = None;
+                let mut push = |p: Point| {
+                    if let Some(q) = last {
+                        area += q.x * p.y - p.x * q.y;
+                    } else {
+                        first = Some(p);
+                    }
+                    last = Some(p);
+                };
+                for i in 0..n {
+                    let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+                    let (ta, tb) = (self.t(a), self.t(b));
+                    if ta <= t {
+                        push(a);
+                    }
+                    if (ta <= t) != (tb <= t) {
+                        let w = (t - ta) / (tb - ta);
+                        push(a + (b - a) * w);
+                    }
+                }
+                if let (Some(f), Some(l)) = (first, last) {
+                    area += l.x * f.y - f.x * l.y;
+                }
+                0.5 * area
+            }
+            Axis::Radial => {
+                if t <= 0.0 {
+                    return 0.0;
+                }
+                for i in 0..n {
+                    let a = polygon[i] - self.origin;
+                    let b = polygon[(i + 1) % n] - self.origin;
+                    area += disk_triangle(a, b, t);
+                }
+                area
+            }
+        }
+    }
+
+    /// The coordinate of `p` along the axis (mm from the origin, unclamped).
+    fn t(&self, p: Point) -> f64 {
+        match self.axis {
+            Axis::X => p.x - self.origin.x,
+            Axis::Y => p.y - self.origin.y,
+            Axis::Radial => (p - self.origin).norm(),
+        }
+    }
+}
+
+/// Signed area of the triangle (0, `a`, `b`) within the disk of radius `r`
+/// about 0: the edge split where it crosses the circle, each piece inside
+/// a triangle and each piece outside a circular sector.
+fn disk_triangle(a: Vector2<f64>, b: Vector2<f64>, r: f64) -> f64 {
+    let d = b - a;
+    let (qa, qb, qc) = (d.dot(&d), a.dot(&d), a.dot(&a) - r * r);
+    let mut ts = [0.0, 1.0, 1.0, 1.0];
+    let mut n = 1;
+    let disc = qb * qb - qa * qc;
+    if qa > 0.0 && disc > 0.0 {
+        let root = disc.sqrt();
+        for t in [(-qb - root) / qa, (-qb + root) / qa] {
+            if t > 0.0 && t < 1.0 {
+                ts[n] = t;
+                n += 1;
+            }
+        }
+    }
+    ts[n] = 1.0;
+    let cross = |p: Vector2<f64>, q: Vector2<f64>| p.x * q.y - p.y * q.x;
+    (0..n)
+        .map(|k| {
+            let (p, q) = (a + d * ts[k], a + d * ts[k + 1]);
+            let m = a + d * (0.5 * (ts[k] + ts[k + 1]));
+            if m.norm_squared() <= r * r {
+                0.5 * cross(p, q)
+            } else {
+                0.5 * r * r * cross(p, q).atan2(p.dot(&q))
+            }
+        })
+        .sum()
+}
+
 /// The target fractions of the materials along the axis.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Profile {
@@ -194,6 +321,11 @@ impl Profile {
 /// material) into a second curve (the second material) along an axis,
 /// following a two-material profile; every disk is of the material whose
 /// curve it was drawn from.
+///
+/// With particle shapes, the first material's shape is the scene's
+/// ([`Scene::shape`](crate::Scene::shape)) and the second's is
+/// `second_shape` when it has its own: each particle is drawn with the
+/// shape of the material whose curve it was drawn from.
 #[derive(Debug, Clone)]
 pub struct SizeGradient {
     /// Where the blend runs.
@@ -202,6 +334,32 @@ pub struct SizeGradient {
     pub profile: Profile,
     /// The second material's curve.
     pub second: Grading,
+    /// The second material's shape, when it is not the scene's (`None`:
+    /// the scene's shape, or disks in a scene without one). Read only in a
+    /// scene with a shape: a scene of disks is packed by the disk packers.
+    pub second_shape: Option<ShapeSpec>,
+}
+
+impl SizeGradient {
+    /// A gradient into `second` along `axis` following `profile`, both
+    /// materials of the scene's shape.
+    pub fn new(axis: Axis, profile: Profile, second: Grading) -> Self {
+        SizeGradient {
+            axis,
+            profile,
+            second,
+            second_shape: None,
+        }
+    }
+
+    /// The same gradient with the second material of its own `shape`.
+    #[must_use]
+    pub fn with_second_shape(self, shape: ShapeSpec) -> Self {
+        SizeGradient {
+            second_shape: Some(shape),
+            ..self
+        }
+    }
 }
 
 #[cfg(test)]
@@ -246,6 +404,36 @@ mod tests {
         assert!((second(&table, 0.0)).abs() < 1e-12);
         assert!((second(&table, 0.4) - 0.4).abs() < 1e-12);
         assert!((second(&table, 0.9) - 0.8).abs() < 1e-12);
+    }
+
+    #[test]
+    fn polygon_areas_below_match_the_disk_slabs() {
+        // A 720-gon about a disk: its clipped areas are the disk's within
+        // the polygon's deficit (about 1.3e-5 of the area).
+        let domain = Domain::rectangle(10.0, 6.0).unwrap();
+        let disk = Disk::new(4.3, 2.1, 0.7);
+        let polygon: Vec<Point> = (0..720)
+            .map(|k| {
+                let t = std::f64::consts::TAU * f64::from(k) / 720.0;
+                disk.c + Vector2::new(t.cos(), t.sin()) * disk.r
+            })
+            .collect();
+        for axis in [Axis::X, Axis::Y, Axis::Radial] {
+            let frame = Frame::new(axis, &domain);
+            let (a, b) = frame.span(&disk);
+            assert!((frame.polygon_span(&polygon).0 - a).abs() < 1e-5);
+            for cut in [a + 0.1 * (b - a), 0.5 * (a + b), a + 0.8 * (b - a)] {
+                let below = frame.polygon_area_below(&polygon, cut);
+                let exact = frame.area_between(&disk, a - 1.0, cut);
+                assert!(
+                    (below - exact).abs() < 2e-5 * disk.area(),
+                    "{axis:?} at {cut}: {below} vs {exact}"
+                );
+            }
+            let whole = frame.polygon_area_below(&polygon, b + 1.0);
+            assert!((whole - disk.area()).abs() < 2e-5 * disk.area(), "{axis:?}");
+            assert!(frame.polygon_area_below(&polygon, a - 0.01).abs() < 1e-12);
+        }
     }
 
     #[test]

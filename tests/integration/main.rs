@@ -15,6 +15,7 @@ mod fracture;
 mod generators;
 mod inspect;
 mod jobs;
+mod layer_shapes;
 mod layering;
 mod layers;
 mod memory;

@@ -96,3 +96,104 @@ fn layering_generations_are_bounded_by_the_scores_they_keep() {
     ));
     assert_eq!(e.key(), Some("limits.max_memory_mb"));
 }
+
+/// Two materials of a 40 mm square laid out in `mode`, the second with
+/// the shape table `shape` (none if empty) and `rest` appended.
+fn shaped(mode: &str, shape: &str, rest: &str) -> String {
+    let (grading, top) = if mode == "sizes" {
+        ("", "")
+    } else {
+        ("[grading]\nuniform = [1, 1.6]\n", "")
+    };
+    let graded = |range: &str| {
+        if mode == "sizes" {
+            format!("[materials.grading]\nuniform = {range}\n")
+        } else {
+            String::new()
+        }
+    };
+    format!(
+        "[domain]\nshape = \"rectangle\"\nwidth = 40\nheight = 40\n{grading}{top}\
+         [[materials]]\nname = \"matrix\"\n{}\
+         [[materials]]\nname = \"inclusions\"\n{}{shape}\
+         {rest}[layering]\nmode = \"{mode}\"\nprofile = \"linear\"\n",
+        graded("[0.8, 1.2]"),
+        graded("[1, 1.6]"),
+    )
+}
+
+const ELONGATED: &str = "[materials.shape]\nkind = \"superellipse\"\naspect = [2.5, 3]\n";
+
+#[test]
+fn materials_of_different_shapes_in_materials_mode_are_refused_at_the_shape_table() {
+    fails_with(
+        &shaped("materials", ELONGATED, ""),
+        "t.toml:11:1: materials[1].shape: materials \"matrix\" and \"inclusions\" have different particle shapes: in [layering] mode = \"materials\" the packing is made once and materials are assigned to its particles afterwards, so every material must have the same shape; use mode = \"sizes\" (each particle drawn with its material's shape as it is packed), or give the materials one [shape]",
+    );
+    // The same shape for both, or one [shape]: the layering GA's packing.
+    let both = shaped("materials", "", "").replace(
+        "[[materials]]\nname = \"inclusions\"\n",
+        &format!("{ELONGATED}[[materials]]\nname = \"inclusions\"\n{ELONGATED}"),
+    );
+    let config = parse(&both, "t.toml").expect("one shape for both");
+    let shape = config.scene.shape.expect("the materials' shape");
+    assert_eq!(
+        shape.family,
+        crate::Family::Superellipse {
+            aspect: crate::Spread::Range(2.5, 3.0),
+            alpha: crate::Spread::Fixed(2.0),
+            beta: crate::Spread::Fixed(2.0),
+        }
+    );
+    assert!(config.scene.gradient.is_none());
+}
+
+#[test]
+fn a_shape_per_material_in_sizes_mode_reaches_the_scene() {
+    let config = parse(&shaped("sizes", ELONGATED, ""), "t.toml").expect("valid");
+    // The matrix has no shape and there is no [shape]: circles.
+    assert_eq!(config.scene.shape, Some(crate::ShapeSpec::ellipses(1.0)));
+    let gradient = config.scene.gradient.expect("size-graded");
+    let second = gradient.second_shape.expect("the inclusions' own shape");
+    assert_eq!(
+        second.family,
+        crate::Family::Superellipse {
+            aspect: crate::Spread::Range(2.5, 3.0),
+            alpha: crate::Spread::Fixed(2.0),
+            beta: crate::Spread::Fixed(2.0),
+        }
+    );
+    // With a top-level [shape], the matrix takes it.
+    let top = shaped("sizes", ELONGATED, "").replace(
+        "[[materials]]\nname = \"matrix\"",
+        "[shape]\nkind = \"superellipse\"\naspect = 1.2\n[[materials]]\nname = \"matrix\"",
+    );
+    let config = parse(&top, "t.toml").expect("valid");
+    assert_eq!(config.scene.shape, Some(crate::ShapeSpec::ellipses(1.2)));
+    // Without any shape, disks as before.
+    let disks = parse(&shaped("sizes", "", ""), "t.toml").expect("valid");
+    assert!(disks.scene.shape.is_none());
+    assert!(disks.scene.gradient.expect("graded").second_shape.is_none());
+}
+
+#[test]
+fn a_material_shape_is_checked_as_the_shape_table_is() {
+    let e = err(&shaped(
+        "sizes",
+        "[materials.shape]\nkind = \"superellipse\"\naspect = 0.5\n",
+        "",
+    ));
+    assert_eq!(e.key(), Some("materials[1].shape.aspect"), "{e}");
+    assert!(e.to_string().starts_with("t.toml:15:10: "), "{e}");
+    let e = err(&shaped(
+        "sizes",
+        ELONGATED,
+        "[packer]\nmethod = \"deposition\"\n",
+    ));
+    assert_eq!(e.key(), Some("materials[1].shape"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("particle shapes cannot be packed with packer.method = \"deposition\""),
+        "{e}"
+    );
+}

@@ -345,7 +345,7 @@ fn templates_that_are_not_convex_polygons_are_refused() {
 /// The refusal of a shape in a scene this version cannot pack it in.
 fn unsupported(what: &str) -> String {
     format!(
-        "t.toml:7:1: shape: particle shapes cannot be packed with {what}; particle shapes are packed in this version by the pack job, sweeps of it and the compare and stability jobs (advancing front and rsa) only, with packer.method = \"advancing-front\" (two or one contact) or \"rsa\", in a [domain] or [fracture] with walls = \"exact\", or as a periodic cell"
+        "t.toml:7:1: shape: particle shapes cannot be packed with {what}; particle shapes are packed in this version with packer.method = \"advancing-front\" (two or one contact) or \"rsa\", in a [domain] or [fracture] with walls = \"exact\", or as a periodic cell"
     )
 }
 
@@ -413,24 +413,16 @@ fn methods_walls_and_strips_that_do_not_pack_shapes_are_refused() {
 }
 
 #[test]
-fn tables_of_other_jobs_are_refused_with_shapes() {
+fn materials_and_their_layering_take_shapes() {
     let ellipses = "[shape]\nkind = \"superellipse\"\naspect = 1.5\n";
-    fails_with(
-        &rect(
-            "width = 40\nheight = 40",
-            &format!(
-                "{ellipses}[[materials]]\nname = \"a\"\n[[materials]]\nname = \"b\"\n[layering]\nprofile = \"linear\"\n"
-            ),
+    // Tested further in `layering`.
+    let spec = shape_of(&rect(
+        "width = 40\nheight = 40",
+        &format!(
+            "{ellipses}[[materials]]\nname = \"a\"\n[[materials]]\nname = \"b\"\n[layering]\nprofile = \"linear\"\n"
         ),
-        &unsupported("[layering] (the layer job and size-graded packing)"),
-    );
-    fails_with(
-        &rect(
-            "width = 40\nheight = 40",
-            &format!("{ellipses}[[materials]]\nname = \"a\"\n"),
-        ),
-        &unsupported("[[materials]]"),
-    );
+    ));
+    assert_eq!(spec, ShapeSpec::ellipses(1.5));
 }
 
 #[test]

@@ -226,11 +226,7 @@ impl Validator<'_> {
                 };
                 Ok((
                     first?,
-                    Some(SizeGradient {
-                        axis: l.axis,
-                        profile: l.profile.clone(),
-                        second: second?,
-                    }),
+                    Some(SizeGradient::new(l.axis, l.profile.clone(), second?)),
                 ))
             }
         }

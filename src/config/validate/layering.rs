@@ -61,11 +61,16 @@ impl LayeringMemory {
         let genomes = GENOME_COPIES * population * (genes * 8.0 + GENOME_OVERHEAD);
         let scores = evaluations * SCORE_BYTES;
         // A disk's area is split among the bins it spans: at most every bin,
-        // and at most its diameter over a bin's width plus two.
+        // and at most its diameter over a bin's width plus two (a shape's
+        // reach, its circumscribed diameter, for particles of a shape).
         let (lo, hi) = scene.domain.bounds();
         let side = (hi.x - lo.x).min(hi.y - lo.y);
         let bins = settings.bins as f64;
-        let spanned = bins.min(2.0 + 2.0 * bins * scene.d_max() / side);
+        let reach = scene
+            .shapes()
+            .map(crate::ShapeSpec::reach_ratio)
+            .fold(1.0, f64::max);
+        let spanned = bins.min(2.0 + 2.0 * bins * scene.d_max() * reach / side);
         let areas = genes * (spanned * BIN_ENTRY_BYTES + 3.0 * 8.0);
         LayeringMemory {
             genes,

@@ -6,9 +6,8 @@ use std::ops::Range;
 use toml::Spanned;
 
 use super::Validator;
-use crate::config::error::{ConfigError, Location};
-use crate::config::locate::key_location;
-use crate::config::raw::{RawConfig, RawShape, RawSpread, RawTemplate, Table};
+use crate::config::error::ConfigError;
+use crate::config::raw::{RawShape, RawSpread, RawTemplate, Table};
 use crate::geometry::{Outline, WallMode};
 use crate::names::{ConfigName, Names};
 use crate::scene::{
@@ -28,7 +27,7 @@ const MAX_TEMPLATE_VERTICES: usize = 100;
 
 /// What this version packs particle shapes with, said by every refusal of
 /// a scene that cannot have them.
-const SUPPORTED: &str = "particle shapes are packed in this version by the pack job, sweeps of it and the compare and stability jobs (advancing front and rsa) only, with packer.method = \"advancing-front\" (two or one contact) or \"rsa\", in a [domain] or [fracture] with walls = \"exact\", or as a periodic cell";
+const SUPPORTED: &str = "particle shapes are packed in this version with packer.method = \"advancing-front\" (two or one contact) or \"rsa\", in a [domain] or [fracture] with walls = \"exact\", or as a periodic cell";
 
 /// The outline families, as `shape.kind` names them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -112,17 +111,6 @@ pub(super) fn exponent_bounds() -> Bounds {
 /// `x` to 12 decimals, for a message (`0.3`, not `0.30000000000000004`).
 fn tidy(x: f64) -> f64 {
     (x * 1e12).round() / 1e12
-}
-
-/// The refusal of `[shape]` in a config that does something this version
-/// does not do with shapes (`what`: `"the compare job"`), placed at the
-/// `[shape]` table of `text`.
-pub(crate) fn shape_unsupported(text: &str, origin: &str, what: &str) -> ConfigError {
-    ConfigError::NotApplicable {
-        at: key_location(text, origin, "shape").unwrap_or_else(|| Location::at(origin, text, 0)),
-        key: "shape".to_owned(),
-        reason: format!("particle shapes cannot be packed with {what}; {SUPPORTED}"),
-    }
 }
 
 impl Validator<'_> {
@@ -510,23 +498,19 @@ impl Validator<'_> {
             .collect())
     }
 
-    /// Refuse `[shape]` in a config this version cannot pack shapes for:
-    /// another job's table, another method, strips, filling right, a
-    /// one-contact gap, the thesis' front rules, or wall disks. A
+    /// Refuse `[shape]` (or a material's shape table) in a config this
+    /// version cannot pack shapes for: another job's table, another
+    /// method, strips, filling right, a one-contact gap, the thesis' front
+    /// rules, or wall disks. A
     /// `[sweep]` is taken: its runs are pack jobs (planning refuses the
     /// others for shapes).
     pub(super) fn check_shape_support(
         &self,
         shape: &Spanned<Table<RawShape>>,
-        raw: &RawConfig,
         packer: &PackerSettings,
         walls: WallMode,
     ) -> Result<(), ConfigError> {
-        let conflict = if raw.layering.is_some() {
-            Some("[layering] (the layer job and size-graded packing)".to_owned())
-        } else if raw.materials.as_ref().is_some_and(|m| !m.is_empty()) {
-            Some("[[materials]]".to_owned())
-        } else if !matches!(packer.method, Method::AdvancingFront | Method::Rsa) {
+        let conflict = if !matches!(packer.method, Method::AdvancingFront | Method::Rsa) {
             Some(format!(
                 "packer.method = \"{}\"",
                 packer.method.config_name()

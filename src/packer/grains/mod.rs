@@ -15,7 +15,15 @@
 //! Wall disks (`walls = "disks"`: walls would have to be particles of the
 //! same shape model), the methods that move disks (deposition, relaxation,
 //! densify: their physics is written for disks), strips and filling right
-//! (they cut or mirror the scene as disks), and size-graded scenes.
+//! (they cut or mirror the scene as disks), and size-graded scenes packed
+//! by rsa (a size's material follows the profile where the front grows).
+//!
+//! # Size-graded scenes
+//! As with disks, each size's curve (its material) is chosen at the front
+//! on top by the profile's share ([`Scene::gradient`]); its grain is drawn
+//! with that material's shape (the second material's own
+//! `second_shape`, else the scene's), and `Packing::materials` records
+//! each particle's material.
 //!
 //! [`ShapeSpec`]: crate::ShapeSpec
 //! [`SHAPE_STREAM`]: crate::SHAPE_STREAM
@@ -60,13 +68,14 @@ pub(super) fn pack(
     if scene.walls == WallMode::Disks {
         return refuse("walls = \"disks\"");
     }
-    if scene.gradient.is_some() {
-        return refuse("a size-graded scene");
+    if scene.gradient.is_some() && scene.packer.method != Method::AdvancingFront {
+        // A size's material follows the profile where the front grows.
+        return refuse("a size-graded scene by a method other than the advancing front");
     }
     if scene.packer.fill == Fill::Right {
         return refuse("packer.fill = \"right\"");
     }
-    if let Some(why) = malformed(shape) {
+    if let Some(why) = scene.shapes().chain([shape]).find_map(malformed) {
         return refuse(&why);
     }
     match scene.packer.method {

@@ -75,7 +75,7 @@ pub(super) fn pack(
         match spot {
             Some(p) => {
                 let r_eq = grain.outline.equivalent_radius();
-                front.place(p, grain, reach, inner, r_eq, cos, sin, None)?;
+                front.place(p, grain, 0, reach, inner, r_eq, cos, sin, None)?;
             }
             None => {
                 front.stats.sizes_unplaced += 1;

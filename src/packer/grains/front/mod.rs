@@ -38,6 +38,7 @@ use crate::cancel::Cancel;
 use crate::geometry::{Disk, Grain, Outline, Point, Wall};
 use crate::packer::advancing_front::{PROGRESS_STEP, size_count, work_budget};
 use crate::packer::index::{Grid, MxQuadtree, SpatialIndex};
+use crate::packer::sizer::Sizer;
 use crate::packer::{BYTES_PER_MB, IndexKind, PackError, PackStats, Packing};
 use crate::scene::{SHAPE_STREAM, ShapeSpec};
 use crate::{Scene, WallMode};
@@ -85,6 +86,11 @@ pub(super) struct Front<'a, I> {
     bodies: Vec<Body>,
     grains: Vec<Grain>,
     disks: Vec<Disk>,
+    /// Turns genes into sizes and, in size-graded mode, materials (the
+    /// disk front's rule).
+    sizer: Sizer<'a>,
+    /// Material of each particle placed (size-graded mode only).
+    tags: Vec<u16>,
     /// Per particle, what the neighbour search and the screen read.
     halos: Vec<Halo>,
     index: I,
@@ -132,7 +138,12 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         cancel: &'a Cancel,
     ) -> Result<Self, PackError> {
         let (lo, hi) = scene.domain.bounds();
-        let reach_spec = 0.5 * scene.d_max() * shape.reach_ratio();
+        // The widest reach any material's shape can draw.
+        let reach_ratio = scene
+            .shapes()
+            .map(ShapeSpec::reach_ratio)
+            .fold(shape.reach_ratio(), f64::max);
+        let reach_spec = 0.5 * scene.d_max() * reach_ratio;
         let periodic = scene.walls == WallMode::Periodic;
         if let Some(period) = scene.domain.period() {
             let side = period.x.min(period.y);
@@ -160,6 +171,8 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             bodies: Vec::new(),
             grains: Vec::new(),
             disks: Vec::new(),
+            sizer: Sizer::new(scene),
+            tags: Vec::new(),
             halos: Vec::new(),
             index: I::new(lo, hi, I::BUCKET_DIAMETERS * 2.0 * reach_spec),
             walls: if periodic { Vec::new() } else { walls },
@@ -187,7 +200,10 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         })
     }
 
-    /// Draw the sizes (each gene a percent passing) and place them.
+    /// Draw the sizes (each gene a percent passing) and place them. In
+    /// size-graded mode each size's curve is chosen as the disk front
+    /// chooses it (at the front on top), and its grain is drawn with the
+    /// shape of that material.
     fn run(
         mut self,
         genes: &mut dyn Iterator<Item = f64>,
@@ -195,9 +211,14 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
     ) -> Result<Packing, PackError> {
         let scene = self.scene;
         let mut shapes = Xoshiro256PlusPlus::seed_from_u64(scene.seed ^ SHAPE_STREAM);
-        let drawer = self.shape.drawer();
+        let first = self.shape.drawer();
+        let second = scene
+            .gradient
+            .as_ref()
+            .and_then(|g| g.second_shape.as_ref())
+            .map(ShapeSpec::drawer);
         let count = size_count(&scene.domain, scene.d_min());
-        let mut deferred: VecDeque<(Grain, u32)> = VecDeque::new();
+        let mut deferred: VecDeque<(Grain, u16, u32)> = VecDeque::new();
         let max_deferred = scene.packer.max_deferred;
         // After a placement the oldest waiting size is retried (and the
         // next after it while they fit); a retry that fails waits again,
@@ -205,7 +226,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let mut retry = false;
         let mut drawn = 0;
         loop {
-            let (grain, tries) = match (retry, deferred.pop_front()) {
+            let (grain, tag, tries) = match (retry, deferred.pop_front()) {
                 (true, Some(entry)) => entry,
                 (_, entry) => {
                     if let Some(entry) = entry {
@@ -223,10 +244,15 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                     };
                     drawn += 1;
                     self.stats.sizes_drawn += 1;
-                    (drawer.draw(scene.grading.sample(u), &mut shapes), 0)
+                    let (d, tag) = self.sizer.size(u, self.growth_point());
+                    let drawer = match (tag, &second) {
+                        (1, Some(second)) => second,
+                        _ => &first,
+                    };
+                    (drawer.draw(d, &mut shapes), tag, 0)
                 }
             };
-            if self.try_place(grain.clone())? {
+            if self.try_place(grain.clone(), tag)? {
                 retry = !deferred.is_empty();
                 continue;
             }
@@ -241,7 +267,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 self.stats.sizes_unplaced += 1;
                 break;
             } else {
-                deferred.push_back((grain, tries + 1));
+                deferred.push_back((grain, tag, tries + 1));
             }
         }
         self.stats.sizes_unplaced += deferred.len() as u64;
@@ -252,13 +278,26 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
     pub(super) fn into_packing(self) -> Packing {
         Packing {
             grains: self.grains,
+            materials: self.tags,
             stats: self.stats,
             ..Packing::of_disks(self.scene.domain.clone(), self.disks)
         }
     }
 
-    /// Place `grain` at some front (or as a seed); `false` if it fits nowhere.
-    fn try_place(&mut self, grain: Grain) -> Result<bool, PackError> {
+    /// Where the next particle is expected: the centre of the front on
+    /// top, else of the last particle placed, else the domain's lower
+    /// corner (the disk front's growth point).
+    fn growth_point(&self) -> Point {
+        self.stack
+            .last()
+            .and_then(|e| self.bodies.get(e.front as usize))
+            .or_else(|| self.bodies.last())
+            .map_or_else(|| self.scene.domain.bounds().0, |b| b.c)
+    }
+
+    /// Place `grain` of material `tag` at some front (or as a seed);
+    /// `false` if it fits nowhere.
+    fn try_place(&mut self, grain: Grain, tag: u16) -> Result<bool, PackError> {
         let (reach, inner) = self.radii.of(&grain.outline);
         let (sin, cos) = grain.angle.sin_cos();
         let r_eq = grain.outline.equivalent_radius();
@@ -360,15 +399,18 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         let Some(p) = spot else {
             return Ok(false);
         };
-        self.place(p, grain, reach, inner, r_eq, cos, sin, sampled)?;
+        self.place(p, grain, tag, reach, inner, r_eq, cos, sin, sampled)?;
         Ok(true)
     }
 
+    /// Put `grain` of material `tag` at `p` (its reach, inner and
+    /// equivalent radii and its angle's cosine and sine precomputed).
     #[allow(clippy::too_many_arguments)]
     pub(super) fn place(
         &mut self,
         p: Point,
         grain: Grain,
+        tag: u16,
         reach: f64,
         inner: f64,
         r_eq: f64,
@@ -401,6 +443,9 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
         });
         self.failed_for.push(f64::INFINITY);
         self.grains.push(grain);
+        if self.sizer.graded() {
+            self.tags.push(tag);
+        }
         self.stack.push(Entry::attempt(id));
         self.reach_max = self.reach_max.max(reach);
         Ok(())
