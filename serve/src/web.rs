@@ -86,6 +86,10 @@ pub const EXAMPLES: &[(&str, &str)] = &[
         include_str!("../../configs/infeasible_target.toml"),
     ),
     ("l_shape", include_str!("../../configs/l_shape.toml")),
+    (
+        "layer_shapes",
+        include_str!("../../configs/layer_shapes.toml"),
+    ),
     ("loose", include_str!("../../configs/loose.toml")),
     ("mgf1", include_str!("../../configs/mgf1.toml")),
     ("mgf2", include_str!("../../configs/mgf2.toml")),
