@@ -71,18 +71,23 @@ impl Follow {
                 return None;
             }
             let (shared, id, last) = (Arc::clone(&self.shared), self.id.clone(), self.last);
+            // The job first, then its events: a final state and its event
+            // are written together, so a final job's events are all seen.
             let read = tokio::task::spawn_blocking(move || {
-                let exists = shared.db.get(&id).map(|r| r.is_some());
+                let ended = shared.db.get(&id).map(|r| r.map(|r| r.state.is_final()));
                 let events = shared.db.events_after(&id, last, EVENT_BATCH);
-                (exists, events)
+                (ended, events)
             })
             .await;
             match read {
-                Ok((Ok(true), Ok(events))) if !events.is_empty() => {
+                Ok((Ok(Some(_)), Ok(events))) if !events.is_empty() => {
                     self.pending.extend(events);
                     continue;
                 }
-                Ok((Ok(true), Ok(_))) => {}
+                // Running or queued: wait for more.
+                Ok((Ok(Some(false)), Ok(_))) => {}
+                // Ended with nothing after the resume point (a stream
+                // resumed at or past its last event), deleted, or unreadable.
                 _ => return None,
             }
             // Nothing new: wait for news of this job, a stop, or the poll period.
@@ -186,6 +191,34 @@ mod tests {
             .filter_map(|e| e.2["state"].as_str())
             .collect();
         assert_eq!(states, ["queued", "running", "succeeded"], "{events:?}");
+    }
+
+    #[tokio::test]
+    async fn a_stream_resumed_at_or_past_a_finished_job_s_last_event_ends() {
+        let server = TestServer::new();
+        let id = server.submit("?kind=pack", SQUARE).await;
+        server.run_queued().await;
+        let path = format!("/api/v1/jobs/{id}/events");
+        let all = sse_events(server.get(&path).await.text());
+        assert!(all.len() >= 3, "{all:?}");
+        let last = all.last().map_or(0, |e| e.0);
+        for from in [last, last + 5] {
+            let from = from.to_string();
+            let r = tokio::time::timeout(
+                Duration::from_secs(3),
+                server.call(Method::GET, &path, &[("last-event-id", &from)]),
+            )
+            .await
+            .expect("the stream ends at once");
+            assert_eq!(r.status, StatusCode::OK);
+            assert!(sse_events(r.text()).is_empty(), "after {from}");
+        }
+        // One before the last: that last event alone.
+        let one = (last - 1).to_string();
+        let r = server
+            .call(Method::GET, &path, &[("last-event-id", &one)])
+            .await;
+        assert_eq!(sse_events(r.text()).len(), 1);
     }
 
     #[tokio::test]
