@@ -178,8 +178,11 @@ async fn packing(State(shared): AppState, JobId(id): JobId) -> Result<Json<Packi
             .map_err(ApiError::internal)?;
         let table =
             gapack::output::read_packing_csv(&text, "packing.csv").map_err(ApiError::internal)?;
+        // Planned only for its domain: the job ran, so the ceilings and
+        // [limits] it was forced past are not asked again.
         let request = JobRequest {
             seed: row.seed,
+            force: true,
             ..JobRequest::new(JobKind::Pack)
         };
         let plan = Plan::load(&row.config, ORIGIN, &request)?;
@@ -228,8 +231,21 @@ async fn examples() -> Json<Vec<Example>> {
 mod tests {
     use axum::http::StatusCode;
 
-    use crate::api::testing::TestServer;
+    use crate::api::testing::{SQUARE, TestServer};
     use crate::web::EXAMPLES;
+
+    #[tokio::test]
+    async fn the_packing_of_a_job_forced_past_a_limit_is_shown() {
+        let server = TestServer::with(|o| o.force = true, None);
+        // Refused before the run (the square could hold about 510), packed
+        // whole (about 170).
+        let config = format!("{SQUARE}[limits]\nmax_particles = 300\n");
+        let id = server.submit("?kind=pack&force=true", &config).await;
+        server.run_queued().await;
+        let r = server.get(&format!("/api/v1/jobs/{id}/packing")).await;
+        assert_eq!(r.status, StatusCode::OK, "{}", r.text());
+        assert!(r.json()["x"].as_array().is_some_and(|x| x.len() > 10));
+    }
 
     #[tokio::test]
     async fn the_page_and_its_assets_are_served_revalidated() {
