@@ -11,6 +11,7 @@ use axum::response::IntoResponse;
 use axum::routing::get;
 use axum::{Json, Router};
 use gapack::jobs::Manifest;
+use percent_encoding::{AsciiSet, NON_ALPHANUMERIC, utf8_percent_encode};
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
@@ -84,6 +85,24 @@ pub fn manifest(shared: &Shared, id: &str) -> Result<Manifest, ApiError> {
     Manifest::from_bytes(&bytes).map_err(ApiError::internal)
 }
 
+/// What a URL path segment keeps as it is: RFC 3986's unreserved characters.
+const SEGMENT: &AsciiSet = &NON_ALPHANUMERIC
+    .remove(b'-')
+    .remove(b'.')
+    .remove(b'_')
+    .remove(b'~');
+
+/// The URL of a job's file `name` (a path under the job's folder, `/`
+/// between its parts), each part percent-encoded: a well named `a b#1`
+/// gives `a%20b%231/packing.csv`.
+fn file_url(id: &str, name: &str) -> String {
+    let parts: Vec<String> = name
+        .split('/')
+        .map(|part| utf8_percent_encode(part, SEGMENT).to_string())
+        .collect();
+    format!("/api/v1/jobs/{id}/files/{}", parts.join("/"))
+}
+
 /// A finished job's files, as its `manifest.json` lists them.
 #[utoipa::path(get, path = "/api/v1/jobs/{id}/files", params(("id" = String, Path, description = "Job id")),
     responses((status = 200, body = FileList), (status = 404, body = ErrorBody), (status = 409, description = "Not finished", body = ErrorBody)))]
@@ -97,7 +116,7 @@ async fn files(State(shared): AppState, JobId(id): JobId) -> Result<Json<FileLis
             .cloned()
             .map(|name| FileEntry {
                 bytes: std::fs::metadata(dir.join(&name)).map_or(0, |m| m.len()),
-                url: format!("/api/v1/jobs/{id}/files/{name}"),
+                url: file_url(&id, &name),
                 name,
             })
             .collect();
@@ -167,8 +186,38 @@ async fn file(
 mod tests {
     use axum::http::StatusCode;
 
-    use super::{content_type, inside};
+    use super::{content_type, file_url, inside};
     use crate::api::testing::{NO_JOB, SQUARE, TestServer};
+
+    #[test]
+    fn file_urls_encode_each_part_of_the_name() {
+        assert_eq!(
+            file_url("j", "a b#1/packing.csv"),
+            "/api/v1/jobs/j/files/a%20b%231/packing.csv"
+        );
+        assert_eq!(
+            file_url("j", "c%2?/x.csv"),
+            "/api/v1/jobs/j/files/c%252%3F/x.csv"
+        );
+        assert_eq!(file_url("j", "wells.csv"), "/api/v1/jobs/j/files/wells.csv");
+    }
+
+    #[tokio::test]
+    async fn every_file_url_listed_is_served_whatever_the_well_names() {
+        let server = TestServer::new();
+        let wells = "seed = 1\n[fracture]\n[[fracture.wells]]\nname = \"a b#1\"\nwidth_mm = 6\nheight_m = 0.02\n[[fracture.wells]]\nname = \"c%2?\"\nwidth_mm = 5\nheight_m = 0.02\n[grading]\nuniform = [1.0, 1.5]\n";
+        let id = server.submit("?kind=pack", wells).await;
+        server.run_queued().await;
+        let list = server.get(&format!("/api/v1/jobs/{id}/files")).await;
+        assert_eq!(list.status, StatusCode::OK, "{}", list.text());
+        let files = list.json()["files"].as_array().cloned().unwrap_or_default();
+        assert!(files.len() > 4, "{files:?}");
+        for f in &files {
+            let url = f["url"].as_str().expect("a url");
+            let r = server.get(url).await;
+            assert_eq!(r.status, StatusCode::OK, "{url}: {}", r.text());
+        }
+    }
 
     #[tokio::test]
     async fn only_the_names_the_manifest_lists_are_served() {
