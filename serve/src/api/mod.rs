@@ -30,7 +30,7 @@ use std::time::Instant;
 use axum::Router;
 use axum::extract::{DefaultBodyLimit, Request, State};
 use axum::middleware::{self, Next};
-use axum::response::Response;
+use axum::response::{IntoResponse, Response};
 
 use super::Shared;
 use error::ApiError;
@@ -63,6 +63,7 @@ pub fn router(shared: Arc<Shared>) -> Router {
         .fallback(error::not_found)
         .method_not_allowed_fallback(error::method_not_allowed)
         .layer(DefaultBodyLimit::max(MAX_BODY))
+        .layer(middleware::from_fn(declared_size))
         .layer(middleware::from_fn(log))
         .with_state(shared)
 }
@@ -74,6 +75,25 @@ async fn blocking<T: Send + 'static>(
     tokio::task::spawn_blocking(f)
         .await
         .map_err(ApiError::internal)?
+}
+
+/// A body declared (`Content-Length`) over [`MAX_BODY`] is refused before
+/// any of it is read, so a client announcing gigabytes is answered at once
+/// rather than held open while it sends them.
+async fn declared_size(request: Request, next: Next) -> Response {
+    let declared = request
+        .headers()
+        .get(axum::http::header::CONTENT_LENGTH)
+        .and_then(|v| v.to_str().ok())
+        .and_then(|v| v.trim().parse::<u64>().ok());
+    if declared.is_some_and(|n| n > MAX_BODY as u64) {
+        return ApiError::new(
+            axum::http::StatusCode::PAYLOAD_TOO_LARGE,
+            format!("the request body is over the limit of {MAX_BODY} bytes (1 MiB)"),
+        )
+        .into_response();
+    }
+    next.run(request).await
 }
 
 /// One log line per request: method, path, status, time.
@@ -97,6 +117,33 @@ mod tests {
     use axum::http::{Method, StatusCode};
 
     use super::testing::{SQUARE, TestServer, sse_events};
+
+    #[tokio::test]
+    async fn a_body_declared_over_the_limit_is_refused_before_it_is_read() {
+        let server = TestServer::new();
+        for path in ["/api/v1/jobs?kind=pack", "/api/v1/validate"] {
+            let r = server
+                .call(
+                    Method::POST,
+                    path,
+                    &[
+                        ("content-type", "application/toml"),
+                        ("content-length", "100000000000"),
+                    ],
+                )
+                .await;
+            assert_eq!(
+                r.status,
+                StatusCode::PAYLOAD_TOO_LARGE,
+                "{path}: {}",
+                r.text()
+            );
+            assert_eq!(
+                r.error(),
+                "the request body is over the limit of 1048576 bytes (1 MiB)"
+            );
+        }
+    }
 
     #[tokio::test]
     async fn a_job_from_submission_to_its_files_then_deleted() {
