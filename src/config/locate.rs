@@ -10,7 +10,11 @@ use super::raw::NOT_AN_ARRAY_OF_TABLES;
 
 /// The config error for a failed `toml::from_str`, with line, column and key path.
 pub(crate) fn from_toml_error(err: &toml::de::Error, text: &str, origin: &str) -> ConfigError {
-    let span = err.span().unwrap_or(0..0);
+    // The parser gives no place for a key of too many dotted parts: the
+    // key with the most is the one at fault.
+    let span = err
+        .span()
+        .unwrap_or_else(|| deepest_key(text).map_or(0..0, |at| at..at));
     let at = Location::at(origin, text, span.start);
     let (tree, _) = DeTable::parse_recoverable(text);
     let mut nodes = Vec::new();
@@ -18,11 +22,14 @@ pub(crate) fn from_toml_error(err: &toml::de::Error, text: &str, origin: &str) -
     let message = err.message();
 
     if DeTable::parse(text).is_err() {
+        let key = innermost(&nodes, span.start)
+            .map(str::to_owned)
+            .or_else(|| key_on_line(text, span.start, &nodes));
         return ConfigError::Syntax {
             at,
-            key: innermost(&nodes, span.start)
-                .map(str::to_owned)
-                .or_else(|| key_on_line(text, span.start, &nodes)),
+            // A path as deep as the nesting that broke the parser says
+            // nothing the place does not.
+            key: key.filter(|k| k.matches(['.', '[']).count() < MAX_KEY_PARTS),
             message: message.to_owned(),
         };
     }
@@ -64,6 +71,17 @@ pub(crate) fn from_toml_error(err: &toml::de::Error, text: &str, origin: &str) -
         };
     }
     let key = innermost(&nodes, span.start).unwrap_or("").to_owned();
+    if nodes
+        .iter()
+        .any(|n| n.is_datetime && n.span.start == span.start)
+    {
+        // serde sees a date as a table with one private key: say what it is.
+        let message = match quoted_after(message, "unknown field ") {
+            Some(_) => "invalid type: date-time, expected a table".to_owned(),
+            None => plain_types(&message.replace("invalid type: map", "invalid type: date-time")),
+        };
+        return ConfigError::Schema { at, key, message };
+    }
     let message = match quoted_after(message, "unknown field ") {
         Some(field) => {
             let rest = message
@@ -98,6 +116,7 @@ struct Node {
     span: Range<usize>,
     path: String,
     is_table: bool,
+    is_datetime: bool,
 }
 
 fn collect_table(table: &DeTable<'_>, path: &str, out: &mut Vec<Node>) {
@@ -107,6 +126,7 @@ fn collect_table(table: &DeTable<'_>, path: &str, out: &mut Vec<Node>) {
             span: key.span(),
             path: path.clone(),
             is_table: false,
+            is_datetime: false,
         });
         collect_value(value, path, out);
     }
@@ -126,6 +146,7 @@ fn collect_value(value: &Spanned<DeValue<'_>>, path: String, out: &mut Vec<Node>
         span: value.span(),
         path,
         is_table: matches!(value.get_ref(), DeValue::Table(_)),
+        is_datetime: matches!(value.get_ref(), DeValue::Datetime(_)),
     });
 }
 
@@ -158,6 +179,72 @@ fn key_on_line(text: &str, pos: usize, nodes: &[Node]) -> Option<String> {
         .max_by_key(|n| n.span.start)
         .map_or("", |n| n.path.as_str());
     Some(join(header, key))
+}
+
+/// Most parts (dotted keys and indices) of a key path a syntax error names.
+const MAX_KEY_PARTS: usize = 16;
+
+/// The byte offset of the key of most dotted parts in `text` (`a.b."c".d`,
+/// in a table header or before `=`), if any key has more than one part:
+/// where the TOML parser's nesting limit on keys, which it reports without
+/// a place, was met.
+fn deepest_key(text: &str) -> Option<usize> {
+    let mut best: Option<(usize, usize)> = None;
+    let mut line_start = 0;
+    for line in text.split_inclusive('\n') {
+        if let Some((parts, at)) = dotted_run(line)
+            && parts > 1
+            && best.is_none_or(|(most, _)| parts > most)
+        {
+            best = Some((parts, line_start + at));
+        }
+        line_start += line.len();
+    }
+    best.map(|(_, at)| at)
+}
+
+/// The longest run of dotted key parts on `line`, skipping comments: its
+/// number of parts and where it starts. A quoted string counts as a part.
+fn dotted_run(line: &str) -> Option<(usize, usize)> {
+    let bytes = line.as_bytes();
+    let bare = |b: u8| b.is_ascii_alphanumeric() || b == b'_' || b == b'-';
+    let mut best: Option<(usize, usize)> = None;
+    let mut run: Option<(usize, usize)> = None;
+    let mut i = 0;
+    while i < bytes.len() {
+        let b = bytes[i];
+        if b == b'#' {
+            break;
+        }
+        let start = i;
+        if bare(b) {
+            while i < bytes.len() && bare(bytes[i]) {
+                i += 1;
+            }
+        } else if b == b'"' || b == b'\'' {
+            i += 1;
+            while i < bytes.len() && bytes[i] != b {
+                i += if bytes[i] == b'\\' && b == b'"' { 2 } else { 1 };
+            }
+            i += 1;
+        } else {
+            if b != b'.' && !b.is_ascii_whitespace() {
+                run = None;
+            }
+            i += 1;
+            continue;
+        }
+        // A part: it extends the run if a dot (and blanks) come before it.
+        let joined = line[..start].trim_end().ends_with('.');
+        run = match run {
+            Some((parts, at)) if joined => Some((parts + 1, at)),
+            _ => Some((1, start)),
+        };
+        if run.is_some_and(|(parts, _)| best.is_none_or(|(most, _)| parts > most)) {
+            best = run;
+        }
+    }
+    best
 }
 
 fn join(path: &str, key: &str) -> String {

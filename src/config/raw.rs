@@ -427,12 +427,30 @@ pub(crate) struct RawPacker {
     pub strips: Option<Spanned<RawStrips>>,
 }
 
-/// `packer.strips`: `"auto"` or a number of strips.
-#[derive(Debug, Deserialize)]
-#[serde(untagged)]
+/// `packer.strips`: `"auto"` or a number of strips, or any other value,
+/// kept for the validator to refuse by the key's own rule.
+///
+/// Read by hand, not as an untagged enum: serde refused a value that is
+/// neither (`2.5`, `true`) with its own words ("data did not match any
+/// variant of untagged enum"), naming neither the rule nor the value.
+#[derive(Debug)]
 pub(crate) enum RawStrips {
+    /// A whole number.
     Count(i64),
+    /// A string (`"auto"` is the one name).
     Name(String),
+    /// Anything else: a fraction, a boolean, an array, a table, a date.
+    Other(toml::Value),
+}
+
+impl<'de> Deserialize<'de> for RawStrips {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        Ok(match toml::Value::deserialize(deserializer)? {
+            toml::Value::Integer(n) => RawStrips::Count(n),
+            toml::Value::String(s) => RawStrips::Name(s),
+            other => RawStrips::Other(other),
+        })
+    }
 }
 
 /// `[optimise]` (or `[optimize]`): a target-porosity run (read as a

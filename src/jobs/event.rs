@@ -53,6 +53,9 @@ pub enum WarningKind {
     LargeRun,
     /// A value that reads as if given in another unit (a density in g/cm³).
     Units,
+    /// A finished row of the `sweep.csv` a resume reads holds a value no
+    /// run gives (a porosity outside [0, 1], a NaN): its run is run again.
+    ImpossibleRow,
 }
 
 /// A warning: its kind and a message naming config keys (never a front

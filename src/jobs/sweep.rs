@@ -301,25 +301,37 @@ fn run_study(
             let Some(row) = earlier.rows.get(&run.name) else {
                 continue;
             };
-            if row.values == study.points[run.point].values
-                && row.seed == run.seed
-                && matches!(row.status, Status::Finished(_))
-            {
-                let folder = format!("runs/{}/", run.name);
-                kept.extend(
-                    earlier
-                        .files
-                        .iter()
-                        .filter(|f| f.starts_with(&folder))
-                        .cloned(),
-                );
-                rows[i] = Some(row.clone());
-                observer.event(&Event::Run {
-                    stage: Stage::Sweep,
-                    index: i,
-                    label: format!("{} (resumed)", run.name),
-                });
+            let Status::Finished(measures) = &row.status else {
+                continue;
+            };
+            if row.values != study.points[run.point].values || row.seed != run.seed {
+                continue;
             }
+            if let Some(why) = impossible(measures) {
+                observer.event(&Event::Warning(Warning {
+                    kind: WarningKind::ImpossibleRow,
+                    message: format!(
+                        "{SWEEP_CSV} in {}: the finished row of run {} has {why}, which no run gives: the run is run again",
+                        store.location(),
+                        run.name
+                    ),
+                }));
+                continue;
+            }
+            let folder = format!("runs/{}/", run.name);
+            kept.extend(
+                earlier
+                    .files
+                    .iter()
+                    .filter(|f| f.starts_with(&folder))
+                    .cloned(),
+            );
+            rows[i] = Some(row.clone());
+            observer.event(&Event::Run {
+                stage: Stage::Sweep,
+                index: i,
+                label: format!("{} (resumed)", run.name),
+            });
         }
     }
     let resumed = rows.iter().flatten().count();
@@ -480,6 +492,45 @@ fn measures(plan: &Plan, report: &Report, seconds: f64) -> Option<Measures> {
         }
         _ => None,
     }
+}
+
+/// The first measure of a finished row that no run gives, in words
+/// (`porosity -7, outside [0, 1]`): a row edited or damaged, which a
+/// resume must not keep as a result.
+fn impossible(m: &Measures) -> Option<String> {
+    let fraction = |v: f64| (0.0..=1.0).contains(&v);
+    let not_negative = |v: f64| v.is_finite() && v >= 0.0;
+    let target_error = m.target_error.unwrap_or(0.0);
+    [
+        (
+            "porosity",
+            m.porosity,
+            fraction(m.porosity),
+            "outside [0, 1]",
+        ),
+        ("psd_ks", m.psd_ks, fraction(m.psd_ks), "outside [0, 1]"),
+        (
+            "coordination",
+            m.coordination,
+            not_negative(m.coordination),
+            "not a finite number ≥ 0",
+        ),
+        (
+            "target_error",
+            target_error,
+            not_negative(target_error),
+            "not a finite number ≥ 0",
+        ),
+        (
+            "seconds",
+            m.seconds,
+            not_negative(m.seconds),
+            "not a finite number ≥ 0",
+        ),
+    ]
+    .into_iter()
+    .find(|(_, _, ok, _)| !ok)
+    .map(|(name, value, _, why)| format!("{name} {value}, {why}"))
 }
 
 /// An error and its causes in one line: `cannot pack the scene: …`.
@@ -806,6 +857,74 @@ mod tests {
     }
 
     /// A failure's causes follow it on one line, none said twice.
+    #[test]
+    fn measures_no_run_gives_are_told_apart() {
+        let fine = Measures {
+            particles: 10,
+            porosity: 0.3,
+            psd_ks: 0.05,
+            coordination: 2.5,
+            target_error: Some(0.01),
+            seconds: 0.2,
+        };
+        assert_eq!(impossible(&fine), None);
+        assert_eq!(
+            impossible(&Measures {
+                target_error: None,
+                porosity: 0.0,
+                psd_ks: 1.0,
+                ..fine
+            }),
+            None
+        );
+        for (edited, said) in [
+            (
+                Measures {
+                    porosity: -7.0,
+                    ..fine
+                },
+                "porosity -7, outside [0, 1]",
+            ),
+            (
+                Measures {
+                    porosity: f64::NAN,
+                    ..fine
+                },
+                "porosity NaN, outside [0, 1]",
+            ),
+            (
+                Measures {
+                    psd_ks: 1.5,
+                    ..fine
+                },
+                "psd_ks 1.5, outside [0, 1]",
+            ),
+            (
+                Measures {
+                    coordination: f64::INFINITY,
+                    ..fine
+                },
+                "coordination inf, not a finite number ≥ 0",
+            ),
+            (
+                Measures {
+                    target_error: Some(-0.1),
+                    ..fine
+                },
+                "target_error -0.1, not a finite number ≥ 0",
+            ),
+            (
+                Measures {
+                    seconds: -1.0,
+                    ..fine
+                },
+                "seconds -1, not a finite number ≥ 0",
+            ),
+        ] {
+            assert_eq!(impossible(&edited).as_deref(), Some(said));
+        }
+    }
+
     #[test]
     fn a_failure_is_one_line_with_its_causes() {
         let e = JobError::Pack {

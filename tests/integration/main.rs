@@ -32,5 +32,6 @@ mod scales;
 mod serve;
 mod shape_properties;
 mod stability;
+mod sweep_resume;
 mod thesis;
 mod wells_shapes;

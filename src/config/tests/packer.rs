@@ -176,3 +176,26 @@ fn strips_are_auto_a_count_or_one_piece_by_default() {
         "t.toml:9:10: packer.strips: strips need walls = \"exact\"",
     );
 }
+
+#[test]
+fn strips_of_any_other_value_are_refused_by_their_rule() {
+    let packer = |value: &str| {
+        rect(
+            "width = 200\nheight = 100",
+            &format!("[packer]\nstrips = {value}\n"),
+        )
+    };
+    let rule = "t.toml:8:10: packer.strips: must be a whole number in [1, 100000] or \"auto\", got";
+    for (value, shown) in [
+        ("2.5", "2.5"),
+        ("3.0", "3.0"),
+        ("nan", "nan"),
+        ("true", "true"),
+        ("[1]", "[1]"),
+        ("{ a = 1 }", "{ a = 1 }"),
+        ("1979-05-27", "1979-05-27"),
+        (&format!("[{}]", ["1"; 30].join(", ")), "an array"),
+    ] {
+        fails_with(&packer(value), &format!("{rule} {shown}"));
+    }
+}

@@ -208,3 +208,60 @@ fn a_key_is_located_where_it_is_written() {
         None
     );
 }
+
+#[test]
+fn a_date_is_named_as_a_date_not_a_table() {
+    fails_with(
+        &rect("width = 20\nheight = 30", "[packer]\ngap = 1979-05-27\n"),
+        "t.toml:8:7: packer.gap: invalid type: date-time, expected a number",
+    );
+    fails_with(
+        &rect(
+            "width = 20\nheight = 30",
+            "[[materials]]\nname = \"a\"\nshape = 1979-05-27\n",
+        ),
+        "t.toml:9:9: materials[0].shape: invalid type: date-time, expected a table",
+    );
+    fails_with(
+        &rect(
+            "width = 20\nheight = 30",
+            "[shape]\nkind = \"superellipse\"\naspect = 1979-05-27\n",
+        ),
+        "t.toml:9:10: shape.aspect: invalid type: date-time, expected a table",
+    );
+}
+
+/// The line and column of the error `text` gives, and its message.
+fn place(text: &str) -> (usize, usize, String) {
+    let e = err(text);
+    assert!(matches!(e, ConfigError::Syntax { .. }), "{e}");
+    (e.location().line, e.location().column, e.to_string())
+}
+
+#[test]
+fn nesting_too_deep_is_placed_at_its_line() {
+    let rest = "[packer]\ngap = 0.1\n\n";
+    let keys = vec!["a"; 200].join(".");
+    // A dotted key, and a table header, of 200 parts.
+    for (line, column) in [(format!("{keys} = 1"), 1), (format!("[{keys}]"), 2)] {
+        let (l, c, said) = place(&rect("width = 20\nheight = 30", &format!("{rest}{line}\n")));
+        assert_eq!((l, c), (10, column), "{said}");
+        assert!(said.contains("recursion limit"), "{said}");
+    }
+    // Arrays and inline tables nested 300 deep, on one line and on many.
+    let arrays = format!("x = {}{}", "[".repeat(300), "]".repeat(300));
+    let tables = format!("x = {}1{}", "{ a = ".repeat(300), " }".repeat(300));
+    let lines = format!("x = {}{}", "[\n".repeat(300), "]\n".repeat(300));
+    for (value, line) in [(arrays, 10), (tables, 10), (lines, 90)] {
+        let (l, _, said) = place(&rect(
+            "width = 20\nheight = 30",
+            &format!("{rest}{value}\n"),
+        ));
+        assert_eq!(l, line, "{said}");
+        assert!(said.contains("recursion"), "{said}");
+        assert!(
+            said.len() < 200,
+            "the key path is not 80 levels deep: {said}"
+        );
+    }
+}

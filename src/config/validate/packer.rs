@@ -125,6 +125,14 @@ impl Validator<'_> {
                 given: format!("{name:?}"),
                 valid: Box::new(["auto", "a whole number of strips"]),
             }),
+            RawStrips::Other(value) => Err(ConfigError::Schema {
+                at: self.at(&v.span()),
+                key: "packer.strips".to_owned(),
+                message: format!(
+                    "must be a whole number in [1, {MAX_STRIPS}] or \"auto\", got {}",
+                    written(value)
+                ),
+            }),
             RawStrips::Count(n) => {
                 let n = Spanned::new(v.span(), *n);
                 let n = self.whole("packer.strips", &n, 1, Some(MAX_STRIPS))?;
@@ -208,5 +216,21 @@ impl Validator<'_> {
             key: "packer.method".to_owned(),
             reason: why.to_owned(),
         })
+    }
+}
+
+/// A value as a message quotes it: its TOML text (`2.5`, `true`, `[1]`),
+/// or its type when that text is long.
+fn written(value: &toml::Value) -> String {
+    /// Longest text quoted whole.
+    const LONGEST: usize = 40;
+    let text = value.to_string();
+    if text.len() <= LONGEST && !text.contains('\n') {
+        return text;
+    }
+    match value {
+        toml::Value::Array(_) => "an array".to_owned(),
+        toml::Value::Table(_) => "a table".to_owned(),
+        other => other.type_str().to_owned(),
     }
 }
