@@ -31,7 +31,7 @@ use super::window::{self, Window};
 use crate::cancel::{Cancel, Cancelled};
 use crate::farm::Farm;
 use crate::metrics::{measure, porosity, solid_area};
-use crate::packer::{PackError, Packing, pack_observed};
+use crate::packer::{PackError, Packing, pack_densify_stepped, pack_observed};
 use crate::{Method, Scene};
 
 /// Tries of the densify route between the jamming point and the front's range.
@@ -222,11 +222,15 @@ pub fn optimise(
     });
     let mut dense = None;
     let evolution = if let Some(front) = initial_range.filter(|_| dense_route) {
-        let evolution = search.ended(StopReason::Densified);
+        let mut evolution = search.ended(StopReason::Densified);
         for g in &evolution.history {
             observer.generation(g);
         }
-        dense = Some(densify_to(scene, settings, front, stop)?);
+        // The time limit counts from the start, as the search's does.
+        let capped = stop.with_deadline(limits.time_limit.saturating_sub(started.elapsed()));
+        let found = densify_to(scene, settings, front, &capped)?;
+        evolution.stop = found.stop;
+        dense = Some(found);
         evolution
     } else {
         // The observer is borrowed by both callbacks, one at a time.
@@ -320,7 +324,7 @@ pub fn optimise(
             (packing, problem.scene_of(&evolution.genes))
         }
     };
-    let seconds = if window.is_some() || evolution.stop == StopReason::Densified {
+    let seconds = if window.is_some() || dense_route {
         started.elapsed().as_secs_f64()
     } else {
         evolution.seconds
@@ -430,19 +434,24 @@ fn whole_verdict(
 /// What the densify route found: the verdict on the target, the range
 /// measured (its dense end the densest packing of the true sizes found),
 /// the warning to give, the packings made, and the packing to write with
-/// its scene (`None`: the search's best stands).
+/// its scene (`None`: the search's best stands), and why it stopped
+/// ([`StopReason::Densified`], or [`StopReason::TimeLimit`]).
 struct Dense {
     verdict: Verdict,
     range: Option<[f64; 2]>,
     warning: Option<TargetWarning>,
     packs: u64,
     best: Option<(Packing, Scene)>,
+    stop: StopReason,
 }
 
 /// Pack the drawn sizes at the target with the densify method; if the
 /// disks jam before it, the densest packing of the true sizes found,
 /// from just above the porosity at which they jammed. `front` is the
-/// range the advancing front packed in generation 0.
+/// range the advancing front packed in generation 0. Stopped by `stop`'s
+/// flag, the verdict is interrupted; by its deadline (the time limit), the
+/// densest packing of the true sizes found so far is written, else the
+/// search's best of generation 0, the target not reached.
 fn densify_to(
     scene: &Scene,
     settings: &OptimiseSettings,
@@ -462,9 +471,28 @@ fn densify_to(
         warning: None,
         packs: 1,
         best: None,
+        stop: StopReason::Densified,
+    };
+    // Stopped by the time limit before the true sizes packed: the search's
+    // best of generation 0 stands.
+    let timed_out = |packs: u64, jammed: Option<f64>| Dense {
+        verdict: Verdict::NotReached,
+        range: Some(front),
+        warning: Some(TargetWarning {
+            kind: TargetWarningKind::NotReached,
+            message: format!(
+                "optimise.target_porosity = {target} was not reached: the time limit (optimise.time_limit_s = {}) passed while the densify method packed the drawn sizes{}, before they packed at or near it; the search's best packing of the initial population (whose porosities start at {:.4}) is written",
+                settings.stop.time_limit_s,
+                jammed.map_or(String::new(), |j| format!(" (they jam at porosity {j:.4})")),
+                front[0]
+            ),
+        }),
+        packs,
+        best: None,
+        stop: StopReason::TimeLimit,
     };
     let scene = at(target);
-    let jammed = match pack_observed(&scene, &mut |_| {}, stop) {
+    let jammed = match pack_densify_stepped(&scene, stop) {
         Ok(packing) => {
             let m = measure(&packing, &scene);
             let reached = (m.porosity - target).abs() <= settings.tolerance
@@ -486,9 +514,11 @@ fn densify_to(
                 warning,
                 packs: 1,
                 best: Some((packing, scene)),
+                stop: StopReason::Densified,
             });
         }
         Err(PackError::DensityUnreached { reached, .. }) => reached,
+        Err(PackError::Cancelled(Cancelled::Deadline)) => return Ok(timed_out(1, None)),
         Err(PackError::Cancelled(_)) => return Ok(interrupted()),
         Err(source) => return Err(dense_failure(source)),
     };
@@ -501,38 +531,69 @@ fn densify_to(
             break;
         }
         let scene = at(porosity);
-        match pack_observed(&scene, &mut |_| {}, stop) {
+        match pack_densify_stepped(&scene, stop) {
             Ok(packing) => {
                 let (mut packing, mut scene, mut packs) = (packing, scene, 1 + k as u64);
                 let mut failed = porosity - step;
                 let mut packed = porosity;
+                let mut cut = None;
                 for _ in 0..DENSE_REFINE {
                     let mid = 0.5 * (failed + packed);
                     let trial = at(mid);
                     packs += 1;
-                    match pack_observed(&trial, &mut |_| {}, stop) {
+                    match pack_densify_stepped(&trial, stop) {
                         Ok(p) => (packing, scene, packed) = (p, trial, mid),
                         Err(PackError::DensityUnreached { .. }) => failed = mid,
-                        Err(PackError::Cancelled(_)) => break,
+                        Err(PackError::Cancelled(why)) => {
+                            cut = Some(why);
+                            break;
+                        }
                         Err(source) => return Err(dense_failure(source)),
                     }
                 }
                 let m = measure(&packing, &scene);
+                let (verdict, kind, stopped, because) = match cut {
+                    None => (
+                        Verdict::OutOfReach,
+                        TargetWarningKind::OutOfReach,
+                        StopReason::Densified,
+                        String::new(),
+                    ),
+                    Some(Cancelled::Deadline) => (
+                        Verdict::NotReached,
+                        TargetWarningKind::NotReached,
+                        StopReason::TimeLimit,
+                        format!(
+                            " (the time limit, optimise.time_limit_s = {}, passed before the search for it ended)",
+                            settings.stop.time_limit_s
+                        ),
+                    ),
+                    Some(Cancelled::Flag) => (
+                        Verdict::Interrupted,
+                        TargetWarningKind::NotReached,
+                        StopReason::Densified,
+                        " (interrupted before the search for it ended)".to_owned(),
+                    ),
+                };
                 return Ok(Dense {
-                    verdict: Verdict::OutOfReach,
+                    verdict,
                     range: Some([m.porosity, front[1]]),
                     warning: Some(TargetWarning {
-                        kind: TargetWarningKind::OutOfReach,
+                        kind,
                         message: format!(
-                            "optimise.target_porosity = {target} is below the densest packing found for this grading and domain: the drawn disks jam at porosity {jammed:.4} (densify, their radii scaled down until no overlap is left; jammed polydisperse disks reach about 0.16, O'Hern et al. 2003); the densest packing of the true sizes found, porosity {:.4}, is written",
+                            "optimise.target_porosity = {target} is below the densest packing found for this grading and domain: the drawn disks jam at porosity {jammed:.4} (densify, their radii scaled down until no overlap is left; jammed polydisperse disks reach about 0.16, O'Hern et al. 2003); the densest packing of the true sizes found{because}, porosity {:.4}, is written",
                             m.porosity
                         ),
                     }),
                     packs,
                     best: Some((packing, scene)),
+                    stop: stopped,
                 });
             }
             Err(PackError::DensityUnreached { .. }) => {}
+            Err(PackError::Cancelled(Cancelled::Deadline)) => {
+                return Ok(timed_out(1 + k as u64, Some(jammed)));
+            }
             Err(PackError::Cancelled(_)) => return Ok(interrupted()),
             Err(source) => return Err(dense_failure(source)),
         }
@@ -551,6 +612,7 @@ fn densify_to(
         }),
         packs: 1 + DENSE_STEPS as u64,
         best: None,
+        stop: StopReason::Densified,
     })
 }
 
@@ -753,6 +815,43 @@ mod tests {
             &mut Told::default(),
         );
         assert!(matches!(got, Err(OptimiseError::Cancelled)), "{got:?}");
+    }
+
+    #[test]
+    fn the_densify_route_stops_at_the_time_limit_with_what_it_has() {
+        // Some 2,000 disks far below their jamming point: the route's packs
+        // take much longer than the limit.
+        let scene = Scene::new(
+            Domain::rectangle(80.0, 80.0).expect("a domain"),
+            Grading::uniform(1.0, 2.0, Basis::Number).expect("a grading"),
+        );
+        let mut settings = settings(0.02);
+        settings.stop.time_limit_s = 0.5;
+        let clock = Instant::now();
+        let found = optimise(
+            &scene,
+            &settings,
+            Start::Seed(1),
+            0,
+            &Local,
+            &Cancel::new(),
+            &mut Told::default(),
+        )
+        .expect("packs");
+        let took = clock.elapsed().as_secs_f64();
+        assert_eq!(found.stop, StopReason::TimeLimit, "after {took} s");
+        assert!(!found.stop.reproducible());
+        assert_eq!(found.verdict, Verdict::NotReached);
+        let warning = found.warning.expect("said");
+        assert!(
+            warning.message.contains("time limit"),
+            "{}",
+            warning.message
+        );
+        assert!(took < 30.0, "{took}");
+        // What it had is written: a packing without overlap.
+        let c = crate::check::check(&found.packing.disks, &found.packing.domain, None);
+        assert!(c.valid() && !found.packing.disks.is_empty(), "{c:?}");
     }
 
     /// A 16 mm square of superellipses whose aspect and exponent the

@@ -146,6 +146,16 @@ pub fn pack_observed(
     }
 }
 
+/// [`pack_observed`] with the densify method, without its search for a
+/// looser target that packs when the target is not reached: for a caller
+/// that steps through targets itself (the optimise job's densify route).
+///
+/// # Errors
+/// As [`pack_densify`], `advice` always `None`.
+pub(crate) fn pack_densify_stepped(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackError> {
+    near_origin(scene, |s| densify::pack_densify_unadvised(s, cancel))
+}
+
 /// Pack `scene` with `generate` next to the origin and move the packing back.
 ///
 /// # Behavior

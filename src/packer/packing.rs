@@ -93,13 +93,16 @@ pub struct PackStats {
 /// MX quadtree's measured rate on 10⁵–10⁶ disks (`gapack bench`), rounded down.
 pub const PACK_RATE: f64 = 400_000.0;
 
-/// The target to suggest after a densify run reached `reached` but not
-/// `target`: the densest reached rounded up to 0.001, and looser than the
-/// target (the disks drawn for a target lie within one disk of it, so the
-/// densest reached may round below a target that jammed).
-fn looser(target: f64, reached: f64) -> f64 {
-    let up = (reached.max(target) * 1000.0).ceil() / 1000.0;
-    if up > target { up } else { up + 0.001 }
+/// The end of a densify error: the target to ask for instead, found by
+/// packing it (`advice`), or that none of the looser targets tried packed.
+fn advise(advice: Option<std::num::NonZeroU16>) -> String {
+    match advice {
+        Some(t) => format!(
+            "; ask for a porosity of {:.3} or more: these sizes were packed at it",
+            f64::from(t.get()) / 1000.0
+        ),
+        None => "; no looser target tried (up to 0.031 looser) packed".to_owned(),
+    }
 }
 
 /// Why a scene cannot be packed.
@@ -233,10 +236,10 @@ pub enum PackError {
     /// steps than allowed. No packing is returned (one with overlaps is
     /// never written); `reached` says which target to ask for instead.
     #[error(
-        "packer.densify_porosity = {target} was not reached without overlap ({}, after {steps} minimisation steps): these disks (porosity {:.4} at their size) were packed without overlap only at {scale:.4} of their size, porosity {reached:.4}; ask for a porosity of {:.3} or more{}",
+        "packer.densify_porosity = {target} was not reached without overlap ({}, after {steps} minimisation steps): these disks (porosity {:.4} at their size) were packed without overlap only at {scale:.4} of their size, porosity {reached:.4}{}{}",
         if *.jammed { "the disks jammed: their overlaps are held in balance" } else { "the step budget ran out" },
         1.0 - (1.0 - .reached) / (.scale * .scale),
-        looser(*.target, *.reached),
+        advise(*.advice),
         if *.jammed { "" } else { ", or raise packer.densify_iterations" }
     )]
     DensityUnreached {
@@ -253,6 +256,12 @@ pub enum PackError {
         steps: u32,
         /// Whether the disks jammed at the target (rather than running out of steps).
         jammed: bool,
+        /// A looser target at which the same method packed these sizes, to
+        /// ask for instead, in thousandths (162 for 0.162; looser than the
+        /// target, so not 0, and below 1000; kept small so that the error
+        /// stays small); `None` when none of those tried packed, or none
+        /// was tried.
+        advice: Option<std::num::NonZeroU16>,
     },
     /// Particles that are not disks (a `[shape]`) asked of something that
     /// packs disks only.

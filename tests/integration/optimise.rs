@@ -544,6 +544,37 @@ fn dense_targets_go_through_densify_with_an_honest_verdict() {
     );
 }
 
+/// The densify route honours `time_limit_s`: a target far below the
+/// jamming point of some 2,000 disks (a route of about 20 s unlimited)
+/// stops at a limit of 1 s, says so, is not reproducible and writes a
+/// packing without overlap, not called out of reach.
+#[test]
+fn the_densify_route_stops_at_the_time_limit() {
+    let dir = scratch("optimise-dense-time");
+    fs::write(
+        dir.join("dense.toml"),
+        "seed = 1\n[domain]\nshape = \"rectangle\"\nwidth = 80\nheight = 80\n\
+         [grading]\nuniform = [1.0, 2.0]\n[optimise]\ntarget_porosity = 0.02\n\
+         population = 4\ngenerations = 2\ntime_limit_s = 1\n",
+    )
+    .unwrap();
+    let t0 = Instant::now();
+    let out = gapack(&dir, &["optimise", "dense.toml", "--out", "a"]);
+    let took = t0.elapsed().as_secs_f64();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let s = summary(&dir.join("a"));
+    assert_eq!(s["stop"], "time limit", "{s}");
+    assert_eq!(s["reproducible"], false, "{s}");
+    assert_ne!(s["verdict"], "out of reach", "{s}");
+    assert!(took < 15.0, "{took} s");
+    assert!(max_overlap(&disks(&dir.join("a"))) <= OVERLAP_REL);
+    let _ = fs::remove_dir_all(&dir);
+}
+
 /// A large scene is searched on a window of it and the target verified on
 /// the whole: a 240 mm square of 1–1.66 mm disks (about 33,000), searched
 /// on windows from 20,000 disks up. A loose target goes through the

@@ -69,6 +69,10 @@ const SQUEEZES: [(f64, u64); 3] = [(0.08, 250), (0.04, 1000), (0.02, 2500)];
 /// Bisection steps of the scale in the search for the densest porosity reached.
 const SEARCH_STEPS: u32 = 10;
 
+/// Looser targets packed, at most, to find one to suggest ([`advice`]):
+/// up to 0.031 looser than the densest reached.
+const ADVICE_TRIES: u32 = 6;
+
 /// Pack `scene` by densification at `packer.densify.porosity`.
 ///
 /// # Errors
@@ -77,7 +81,7 @@ const SEARCH_STEPS: u32 = 10;
 /// [`PackError::DensityUnreached`] when the target porosity is not reached
 /// without overlap within `packer.densify.iterations` steps.
 pub fn pack_densify(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackError> {
-    densify(scene, cancel, None)
+    densify(scene, cancel, None, true)
 }
 
 /// The convergence of a densify run ([`densify_traced`]).
@@ -102,35 +106,47 @@ pub fn densify_traced(
     cancel: &Cancel,
 ) -> (Result<Packing, PackError>, DensifyTrace) {
     let mut trace = DensifyTrace::default();
-    let result = densify(scene, cancel, Some(&mut trace));
+    let result = densify(scene, cancel, Some(&mut trace), true);
     (result, trace)
 }
 
-/// [`pack_densify`], its trace into `trace` when given.
+/// [`pack_densify`] without the search for a target that packs when the
+/// target is not reached (its error's `advice` is `None`): for callers that
+/// step through targets themselves.
+///
+/// # Errors
+/// As [`pack_densify`].
+pub(crate) fn pack_densify_unadvised(scene: &Scene, cancel: &Cancel) -> Result<Packing, PackError> {
+    densify(scene, cancel, None, false)
+}
+
+/// [`pack_densify`], its trace into `trace` when given; when the target is
+/// not reached and `advise`, looser targets are packed ([`advice`]) until
+/// one is, to name it.
 fn densify(
     scene: &Scene,
     cancel: &Cancel,
     mut trace: Option<&mut DensifyTrace>,
+    advise: bool,
 ) -> Result<Packing, PackError> {
     check_fits(scene)?;
     let settings = scene.packer.densify;
-    let domain = &scene.domain;
     let placed = Placed::new(scene);
-    let free = (domain.area() - domain.perimeter() * placed.wall_r).max(0.0);
-    let r = sizes(scene, free * (1.0 - settings.porosity), cancel)?;
-    let n = r.len();
-    let solid: f64 = r.iter().map(|x| std::f64::consts::PI * x * x).sum();
-    let centres = start(domain, &r, scene.seed);
-    let mut sys = System::new(
-        domain,
-        &centres,
-        r,
-        (&placed.disks, &placed.grid, placed.wall_r),
-    );
-    drop(centres);
-    if trace.is_some() {
-        sys.start_trace();
-    }
+    let free = (scene.domain.area() - scene.domain.perimeter() * placed.wall_r).max(0.0);
+    let Run {
+        mut sys,
+        outcome,
+        mut steps,
+        n,
+        solid,
+    } = run(
+        scene,
+        &placed,
+        free,
+        settings.porosity,
+        cancel,
+        trace.is_some(),
+    )?;
     let mut record = |sys: &System<'_>| {
         if let Some(t) = trace.as_deref_mut() {
             t.disks = n;
@@ -140,17 +156,8 @@ fn densify(
             }));
         }
     };
-    let mut steps = 0u64;
-    let budget = settings.iterations as u64;
-    let outcome = squeeze(
-        &mut sys,
-        1.0 - settings.porosity,
-        budget,
-        &mut steps,
-        cancel,
-    )?;
     // The exact recount: converged means every gap is at least MARGIN / 2.
-    if outcome == Outcome::Converged && sys.clearance() > 1.0 {
+    if packed(&sys, outcome) {
         record(&sys);
         let disks = sys.disks();
         drop(sys);
@@ -163,16 +170,123 @@ fn densify(
         return Ok(packing);
     }
     let jammed = outcome == Outcome::Jammed;
+    let budget = settings.iterations as u64;
     let scale = densest_scale(&mut sys, budget, &mut steps, cancel)?;
     record(&sys);
+    drop(sys);
+    // Of the same area as the target, so that asking for it packs as many disks.
+    let reached = 1.0 - scale * scale * solid / free;
+    let advice = if advise {
+        advice(scene, &placed, free, reached, cancel)?
+    } else {
+        None
+    };
     Err(PackError::DensityUnreached {
         target: settings.porosity,
-        // Of the same area as the target, so that asking for it packs as many disks.
-        reached: 1.0 - scale * scale * solid / free,
+        reached,
         scale,
         steps: u32::try_from(steps).unwrap_or(u32::MAX),
         jammed,
+        advice,
     })
+}
+
+/// A minimisation of the drawn sizes at a porosity ([`run`]).
+struct Run<'a> {
+    /// The disks where it ended.
+    sys: System<'a>,
+    /// How it ended.
+    outcome: Outcome,
+    /// Steps taken.
+    steps: u64,
+    /// Disks drawn.
+    n: usize,
+    /// The disks' area.
+    solid: f64,
+}
+
+/// Draw the sizes for `porosity` of the area `free`, start them at random
+/// centres and squeeze them to it ([`squeeze`]): the whole of a densify run
+/// but its search for the densest scale, the same for the same scene and
+/// porosity. `trace`: record the convergence.
+///
+/// # Errors
+/// The scene's particle and memory limits, [`PackError::Cancelled`].
+fn run<'a>(
+    scene: &'a Scene,
+    placed: &'a Placed<'a>,
+    free: f64,
+    porosity: f64,
+    cancel: &Cancel,
+    trace: bool,
+) -> Result<Run<'a>, PackError> {
+    let r = sizes(scene, free * (1.0 - porosity), cancel)?;
+    let n = r.len();
+    let solid: f64 = r.iter().map(|x| std::f64::consts::PI * x * x).sum();
+    let centres = start(&scene.domain, &r, scene.seed);
+    let mut sys = System::new(
+        &scene.domain,
+        &centres,
+        r,
+        (&placed.disks, &placed.grid, placed.wall_r),
+    );
+    drop(centres);
+    if trace {
+        sys.start_trace();
+    }
+    let mut steps = 0u64;
+    let budget = scene.packer.densify.iterations as u64;
+    let outcome = squeeze(&mut sys, 1.0 - porosity, budget, &mut steps, cancel)?;
+    Ok(Run {
+        sys,
+        outcome,
+        steps,
+        n,
+        solid,
+    })
+}
+
+/// Whether a minimisation packed its disks: converged, and the exact
+/// recount finds every gap at least [`MARGIN`]/2.
+fn packed(sys: &System<'_>, outcome: Outcome) -> bool {
+    outcome == Outcome::Converged && sys.clearance() > 1.0
+}
+
+/// The target to suggest after a run reached `reached` but not its target:
+/// the first of [`ADVICE_TRIES`] looser targets that packs, each packed as
+/// asking for it would pack it ([`run`]). The first is `reached` rounded up
+/// to 0.001 (and looser than the target: the disks drawn for a target lie
+/// within one disk of it, so the densest reached may round below it); each
+/// next one is looser by twice the last step (0.001, 0.002, 0.004, …). A
+/// fresh run from random centres may jam looser than the densest scale
+/// found from the jammed state, hence the tries. `None` when none packs
+/// (or the next would not be below 1).
+///
+/// # Errors
+/// [`PackError::Cancelled`], the scene's limits.
+fn advice(
+    scene: &Scene,
+    placed: &Placed<'_>,
+    free: f64,
+    reached: f64,
+    cancel: &Cancel,
+) -> Result<Option<std::num::NonZeroU16>, PackError> {
+    let target = scene.packer.densify.porosity;
+    let up = (reached.max(target) * 1000.0).ceil();
+    let mut thousandths = if up / 1000.0 > target { up } else { up + 1.0 };
+    for k in 0..ADVICE_TRIES {
+        let porosity = thousandths / 1000.0;
+        if porosity >= 1.0 {
+            break;
+        }
+        let Run { sys, outcome, .. } = run(scene, placed, free, porosity, cancel, false)?;
+        if packed(&sys, outcome) {
+            // Above the target and below 1: 1 to 999 thousandths.
+            return Ok(std::num::NonZeroU16::new(thousandths as u16));
+        }
+        thousandths += f64::from(1u32 << k);
+    }
+    Ok(None)
 }
 
 /// The radii: the first sizes `pack` draws whose area comes nearest to
@@ -500,5 +614,57 @@ mod tests {
             pack_densify(&s, &cancel),
             Err(PackError::Cancelled(_))
         ));
+    }
+
+    /// The porosity the error's message asks for, as a user would read it.
+    fn asked_for(error: &PackError) -> Option<f64> {
+        let text = error.to_string();
+        let (_, rest) = text.split_once("ask for a porosity of ")?;
+        rest.split_whitespace()
+            .next()?
+            .trim_end_matches(':')
+            .parse()
+            .ok()
+    }
+
+    #[test]
+    fn the_porosity_advised_packs_in_a_small_periodic_cell_and_a_small_box() {
+        // Seeds whose densest reached, rounded up, does not pack afresh:
+        // the disks jam looser from random centres than from the jammed ones.
+        let mut cell = scene(8.0, 8.0, 0.1)
+            .with_walls(WallMode::Periodic)
+            .with_seed(1);
+        cell.domain = cell.domain.with_periodic(true);
+        let boxed = scene(10.0, 10.0, 0.1).with_seed(2);
+        for s in [cell, boxed] {
+            let error = pack(&s).unwrap_err();
+            let PackError::DensityUnreached {
+                reached, advice, ..
+            } = error
+            else {
+                panic!("{error:?}");
+            };
+            let asked = asked_for(&error).unwrap_or_else(|| panic!("{error}"));
+            assert_eq!(Some(asked), advice.map(|t| f64::from(t.get()) / 1000.0));
+            assert!(asked > reached && asked < 1.0, "{asked} {reached}");
+            let mut again = s.clone();
+            again.packer.densify.porosity = asked;
+            let packing = pack(&again).unwrap_or_else(|e| panic!("{asked}: {e}"));
+            let c = crate::check::check(&packing.disks, &packing.domain, None);
+            assert!(c.valid(), "{c:?}");
+        }
+    }
+
+    #[test]
+    fn no_porosity_is_advised_when_none_tried_packs() {
+        // One step packs nothing: no target is advised (not 1.000).
+        let mut s = scene(10.0, 10.0, 0.3);
+        s.packer.densify.iterations = 1;
+        let error = pack(&s).unwrap_err();
+        assert!(
+            matches!(error, PackError::DensityUnreached { advice: None, .. }),
+            "{error:?}"
+        );
+        assert_eq!(asked_for(&error), None, "{error}");
     }
 }
