@@ -45,7 +45,7 @@ pub mod study;
 pub use cancel::{Cancel, Cancelled};
 pub use check::{
     Check, GradingCheck, KS_MARGIN, MIN_GRADING_DISKS, check, check_particles,
-    check_particles_sized, grading_kept, ks_limit,
+    check_cancellable, check_particles_sized, grading_kept, ks_limit,
 };
 pub use geometry::predicates::OVERLAP_REL;
 pub use geometry::{
