@@ -33,4 +33,5 @@ mod serve;
 mod shape_properties;
 mod stability;
 mod thesis;
+mod verify_r3;
 mod wells_shapes;
