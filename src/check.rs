@@ -205,7 +205,14 @@ pub fn check_particles_sized(
     grading: Option<&Grading>,
     sizes: &[f64],
 ) -> Check {
-    never_stopped(run(disks, grains, domain, grading, Some(sizes), &Cancel::new()))
+    never_stopped(run(
+        disks,
+        grains,
+        domain,
+        grading,
+        Some(sizes),
+        &Cancel::new(),
+    ))
 }
 
 /// [`check_particles_sized`] (with `sizes` `None`, the diameters 2·r:
@@ -303,12 +310,12 @@ fn run(
         Vec::new()
     };
     let turned: Vec<Turned> = grains.iter().map(Grain::turned).collect();
-    let (overlaps, worst_overlap, pairs_certified) = if shaped {
-        let p = particles::pairs(disks, &turned, &reach, &ok, domain, cancel)?;
-        (p.overlaps, p.worst, p.certified)
+    let p = if shaped {
+        particles::pairs(disks, &turned, &reach, &ok, domain, cancel)?
     } else {
         overlapping_pairs(disks, &ok, domain, cancel)?
     };
+    let (overlaps, worst_overlap, pairs_certified) = (p.overlaps, p.worst, p.certified);
 
     let sized = if shaped { &reach } else { disks };
     let r_max = ok_ids().fold(0.0f64, |m, i| m.max(sized[i].r));
@@ -403,9 +410,13 @@ fn overlapping_pairs(
     ok: &[u32],
     domain: &Domain,
     cancel: &Cancel,
-) -> Result<(usize, Option<(usize, usize, f64)>, usize), Cancelled> {
+) -> Result<particles::Pairs, Cancelled> {
     if ok.len() < 2 && !domain.is_periodic() {
-        return Ok((0, None, 0));
+        return Ok(particles::Pairs {
+            overlaps: 0,
+            worst: None,
+            certified: 0,
+        });
     }
     let groups = Groups::of(disks, ok);
     let ids = || groups.firsts.iter().map(|&i| i as usize);
@@ -449,7 +460,11 @@ fn overlapping_pairs(
             });
         }
     }
-    Ok((count, worst, apart))
+    Ok(particles::Pairs {
+        overlaps: count,
+        worst,
+        certified: apart,
+    })
 }
 
 /// Make `worst` the deeper of itself and `pair` (of equally deep pairs,
@@ -497,7 +512,8 @@ impl Groups {
             if let [g0, g1, ..] = *group {
                 // Concentric: overlap (sum − 0) / sum = 1.
                 let pairs = k as u64 * (k as u64 - 1) / 2;
-                inner_pairs = inner_pairs.saturating_add(usize::try_from(pairs).unwrap_or(usize::MAX));
+                inner_pairs =
+                    inner_pairs.saturating_add(usize::try_from(pairs).unwrap_or(usize::MAX));
                 deeper(&mut inner_worst, (g0 as usize, g1 as usize, 1.0));
             }
         }
@@ -607,7 +623,11 @@ mod tests {
         // image; the disk at (0.3, 5) overlaps its own images across the
         // edge of the 1.6 mm wide cell.
         let domain = Domain::periodic_rectangle(1.6, 10.0).unwrap();
-        let base = [disk(0.3, 5.0, 1.0), disk(1.2, 2.0, 0.4), disk(1.2, 8.0, 0.3)];
+        let base = [
+            disk(0.3, 5.0, 1.0),
+            disk(1.2, 2.0, 0.4),
+            disk(1.2, 8.0, 0.3),
+        ];
         let copies: Vec<Disk> = (0..5).flat_map(|_| base).collect();
         let near: Vec<Disk> = copies
             .iter()

@@ -44,8 +44,8 @@ pub mod study;
 
 pub use cancel::{Cancel, Cancelled};
 pub use check::{
-    Check, GradingCheck, KS_MARGIN, MIN_GRADING_DISKS, check, check_particles,
-    check_cancellable, check_particles_sized, grading_kept, ks_limit,
+    Check, GradingCheck, KS_MARGIN, MIN_GRADING_DISKS, check, check_cancellable, check_particles,
+    check_particles_sized, grading_kept, ks_limit,
 };
 pub use geometry::predicates::OVERLAP_REL;
 pub use geometry::{

@@ -78,7 +78,7 @@ pub(super) fn well_formed(d: &Disk, g: &Grain) -> bool {
         && reach_finite
 }
 
-/// What the pair test found.
+/// What a pair test found (the particles' or the disks').
 pub(super) struct Pairs {
     /// Pairs not proved apart.
     pub(super) overlaps: usize,

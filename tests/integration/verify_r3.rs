@@ -13,7 +13,8 @@ fn stderr(out: &std::process::Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
-const SQUARE: &str = "[domain]\nshape = \"rectangle\"\nwidth = 10\nheight = 10\n[grading]\nuniform = [0.8, 1.2]\n";
+const SQUARE: &str =
+    "[domain]\nshape = \"rectangle\"\nwidth = 10\nheight = 10\n[grading]\nuniform = [0.8, 1.2]\n";
 
 #[test]
 fn the_error_names_the_deepest_pair_by_id_and_line() {
@@ -26,7 +27,10 @@ fn the_error_names_the_deepest_pair_by_id_and_line() {
         "id,x,y,r\n3,1,1,0.5\n7,3,8,0.5\n12,5,5,0.5\n9,3.95,8,0.5\n40,5.9,5,0.5\n",
     )
     .unwrap();
-    let out = gapack(&dir, &["verify", "bad.csv", "--config", "sq.toml", "--quiet"]);
+    let out = gapack(
+        &dir,
+        &["verify", "bad.csv", "--config", "sq.toml", "--quiet"],
+    );
     assert_eq!(out.status.code(), Some(1));
     let err = stderr(&out);
     assert!(

@@ -577,11 +577,9 @@ fn why_invalid(c: &Check, table: &PackingTable, periodic: bool) -> String {
     let mut faults = Vec::new();
     if let Some((a, b, depth)) = c.worst_overlap {
         let pair = match (table.ids.get(a), table.ids.get(b)) {
-            (Some(ia), Some(ib)) => format!(
-                "disks {ia} and {ib} (lines {} and {})",
-                line(a),
-                line(b)
-            ),
+            (Some(ia), Some(ib)) => {
+                format!("disks {ia} and {ib} (lines {} and {})", line(a), line(b))
+            }
             _ => format!("the disks on lines {} and {}", line(a), line(b)),
         };
         let of = if c.overlaps > 1 {
