@@ -27,6 +27,7 @@ use std::collections::HashMap;
 use crate::geometry::predicates::OVERLAP_REL;
 use nalgebra::Vector2;
 
+use crate::cancel::{Cancel, Cancelled};
 use crate::geometry::{Disk, Domain, Grain, Outline, Turned};
 use crate::grading::Grading;
 use crate::metrics::near::ByRadius;
@@ -143,9 +144,11 @@ impl Check {
 ///
 /// # Performance
 /// O(n log n): one sort of the disks by cell, then the pairs of each cell
-/// and its neighbours.
+/// and its neighbours. Identical disks (centre and radius equal bit for
+/// bit) are counted together, their pairs by their number: 10⁵ copies of
+/// one disk cost one sort, not 5·10⁹ tests.
 pub fn check(disks: &[Disk], domain: &Domain, grading: Option<&Grading>) -> Check {
-    run(disks, &[], domain, grading, None)
+    never_stopped(run(disks, &[], domain, grading, None, &Cancel::new()))
 }
 
 /// Check particles of any shape in `domain`: `disks[i]` the centre and
@@ -188,7 +191,7 @@ pub fn check_particles(
     domain: &Domain,
     grading: Option<&Grading>,
 ) -> Check {
-    run(disks, grains, domain, grading, None)
+    never_stopped(run(disks, grains, domain, grading, None, &Cancel::new()))
 }
 
 /// [`check_particles`] with the grading checked on `sizes[i]`, the size of
@@ -202,7 +205,41 @@ pub fn check_particles_sized(
     grading: Option<&Grading>,
     sizes: &[f64],
 ) -> Check {
-    run(disks, grains, domain, grading, Some(sizes))
+    never_stopped(run(
+        disks,
+        grains,
+        domain,
+        grading,
+        Some(sizes),
+        &Cancel::new(),
+    ))
+}
+
+/// [`check_particles_sized`] (with `sizes` `None`, the diameters 2·r:
+/// [`check_particles`]; with `grains` empty too, [`check`]) that stops when
+/// `cancel` is raised: a front end's check of a large table a user may
+/// interrupt.
+///
+/// # Errors
+/// [`Cancelled`] when `cancel` stops it (polled once per particle in the
+/// pair search, the one part that may take long).
+pub fn check_cancellable(
+    disks: &[Disk],
+    grains: &[Grain],
+    domain: &Domain,
+    grading: Option<&Grading>,
+    sizes: Option<&[f64]>,
+    cancel: &Cancel,
+) -> Result<Check, Cancelled> {
+    run(disks, grains, domain, grading, sizes, cancel)
+}
+
+/// The result of a check whose token is never raised and has no deadline.
+fn never_stopped(check: Result<Check, Cancelled>) -> Check {
+    match check {
+        Ok(check) => check,
+        Err(_) => unreachable!("a fresh token without a deadline never stops a check"),
+    }
 }
 
 /// The check of [`check`], [`check_particles`] and
@@ -214,7 +251,8 @@ fn run(
     domain: &Domain,
     grading: Option<&Grading>,
     sizes: Option<&[f64]>,
-) -> Check {
+    cancel: &Cancel,
+) -> Result<Check, Cancelled> {
     let shaped = !grains.is_empty();
     let particles = if shaped {
         disks.len().max(grains.len())
@@ -272,12 +310,12 @@ fn run(
         Vec::new()
     };
     let turned: Vec<Turned> = grains.iter().map(Grain::turned).collect();
-    let (overlaps, worst_overlap, pairs_certified) = if shaped {
-        let p = particles::pairs(disks, &turned, &reach, &ok, domain);
-        (p.overlaps, p.worst, p.certified)
+    let p = if shaped {
+        particles::pairs(disks, &turned, &reach, &ok, domain, cancel)?
     } else {
-        overlapping_pairs(disks, &ok, domain)
+        overlapping_pairs(disks, &ok, domain, cancel)?
     };
+    let (overlaps, worst_overlap, pairs_certified) = (p.overlaps, p.worst, p.certified);
 
     let sized = if shaped { &reach } else { disks };
     let r_max = ok_ids().fold(0.0f64, |m, i| m.max(sized[i].r));
@@ -307,7 +345,7 @@ fn run(
 
     let domain_area = domain.area();
     let solid_area = solid_area(ok_ids().map(|i| &disks[i]));
-    Check {
+    Ok(Check {
         particles,
         malformed: particles - ok.len(),
         overlaps,
@@ -326,7 +364,7 @@ fn run(
             })
         }),
         ks_limit: ks_limit(ok.len()),
-    }
+    })
 }
 
 /// The largest KS distance `n` sizes may lie from their grading and still
@@ -350,6 +388,11 @@ pub fn grading_kept(n: usize, ks: f64) -> bool {
 /// equally deep pairs, the first by index); count too the pairs that meet
 /// without overlapping beyond the tolerance.
 ///
+/// Identical disks (centre and radius equal bit for bit) are tested as one
+/// ([`Groups`]): a group of k overlaps itself in k(k − 1)/2 pairs, and each
+/// pair of groups (or a group and its own image) found below stands for the
+/// product of their sizes. Without it, n copies of one disk cost n²/2 tests.
+///
 /// The disks are bucketed by size class ([`ByRadius`]): each looks for
 /// partners in every class as far as its own radius plus that class's
 /// largest radius, and tests those of lower index. Cells sized by the
@@ -359,22 +402,33 @@ pub fn grading_kept(n: usize, ks: f64) -> bool {
 /// lattice shift whose images reach it ([`Domain::image_shifts`]), and
 /// tests the partners found there at their shifted image; a disk meets its
 /// own images (each pair of opposite shifts once) as a pair with itself.
+///
+/// # Errors
+/// [`Cancelled`] when `cancel` stops it (polled once per disk).
 fn overlapping_pairs(
     disks: &[Disk],
     ok: &[u32],
     domain: &Domain,
-) -> (usize, Option<(usize, usize, f64)>, usize) {
+    cancel: &Cancel,
+) -> Result<particles::Pairs, Cancelled> {
     if ok.len() < 2 && !domain.is_periodic() {
-        return (0, None, 0);
+        return Ok(particles::Pairs {
+            overlaps: 0,
+            worst: None,
+            certified: 0,
+        });
     }
-    let ids = || ok.iter().map(|&i| i as usize);
+    let groups = Groups::of(disks, ok);
+    let ids = || groups.firsts.iter().map(|&i| i as usize);
     let near = ByRadius::new(disks, ids());
     let r_max = ids().fold(0.0f64, |m, i| m.max(disks[i].r));
-    let mut count = 0;
-    let mut apart = 0;
-    let mut worst: Option<(usize, usize, f64)> = None;
+    let mut count = groups.inner_pairs;
+    let mut apart = 0usize;
+    let mut worst = groups.inner_worst;
     for a in ids() {
+        cancel.check()?;
         let p = &disks[a];
+        let ka = groups.size[a] as usize;
         // The box of every centre within reach of an overlap with `p`.
         let (lo, hi) = Disk::new(p.c.x, p.c.y, p.r + r_max).bounds();
         for v in domain.image_shifts(lo, hi) {
@@ -385,25 +439,92 @@ fn overlapping_pairs(
                 if b > a || (b == a && (zero || (v.y, v.x) < (0.0, 0.0))) {
                     return;
                 }
+                // The member pairs this pair stands for: every member of one
+                // group with every member of the other; a group with its own
+                // image at ±v, k² (each member with its own image once, and
+                // with each other member's at v and at −v).
+                let members = ka.saturating_mul(groups.size[b] as usize);
                 let q = &disks[b];
                 let sum = p.r + q.r;
                 let at = if zero { q.c } else { q.c + v };
                 let overlap = (sum - (p.c - at).norm()) / sum;
                 if (0.0..=OVERLAP_REL).contains(&overlap) {
-                    apart += 1;
+                    apart = apart.saturating_add(members);
                 }
                 if overlap > OVERLAP_REL {
-                    count += 1;
-                    let pair = (b, a);
-                    if worst.is_none_or(|(x, y, w)| overlap > w || (overlap == w && pair < (x, y)))
-                    {
-                        worst = Some((b, a, overlap));
-                    }
+                    count = count.saturating_add(members);
+                    // The groups' first members: the first pair of these
+                    // groups by index.
+                    deeper(&mut worst, (b, a, overlap));
                 }
             });
         }
     }
-    (count, worst, apart)
+    Ok(particles::Pairs {
+        overlaps: count,
+        worst,
+        certified: apart,
+    })
+}
+
+/// Make `worst` the deeper of itself and `pair` (of equally deep pairs,
+/// the first by index).
+fn deeper(worst: &mut Option<(usize, usize, f64)>, pair: (usize, usize, f64)) {
+    let (b, a, overlap) = pair;
+    if worst.is_none_or(|(x, y, w)| overlap > w || (overlap == w && (b, a) < (x, y))) {
+        *worst = Some(pair);
+    }
+}
+
+/// The well-formed disks with identical ones (centre and radius equal bit
+/// for bit) taken together, found by one sort: O(n log n).
+struct Groups {
+    /// The first member (lowest index) of each group, in index order.
+    firsts: Vec<u32>,
+    /// Per disk index, the size of the group it is the first of (0 for
+    /// the others).
+    size: Vec<u32>,
+    /// The overlapping pairs inside the groups: k(k − 1)/2 for k copies.
+    inner_pairs: usize,
+    /// The first pair inside a group by index (overlap 1, the deepest
+    /// there is), if any group has two members.
+    inner_worst: Option<(usize, usize, f64)>,
+}
+
+impl Groups {
+    /// The groups of `disks[ok]`.
+    fn of(disks: &[Disk], ok: &[u32]) -> Self {
+        let key = |i: u32| {
+            let d = &disks[i as usize];
+            (d.c.x.to_bits(), d.c.y.to_bits(), d.r.to_bits())
+        };
+        let mut sorted = ok.to_vec();
+        sorted.sort_unstable_by_key(|&i| (key(i), i));
+        let mut firsts = Vec::new();
+        let mut size = vec![0u32; disks.len()];
+        let mut inner_pairs = 0usize;
+        let mut inner_worst = None;
+        for group in sorted.chunk_by(|&i, &j| key(i) == key(j)) {
+            let first = group[0];
+            let k = group.len();
+            firsts.push(first);
+            size[first as usize] = k as u32;
+            if let [g0, g1, ..] = *group {
+                // Concentric: overlap (sum − 0) / sum = 1.
+                let pairs = k as u64 * (k as u64 - 1) / 2;
+                inner_pairs =
+                    inner_pairs.saturating_add(usize::try_from(pairs).unwrap_or(usize::MAX));
+                deeper(&mut inner_worst, (g0 as usize, g1 as usize, 1.0));
+            }
+        }
+        firsts.sort_unstable();
+        Groups {
+            firsts,
+            size,
+            inner_pairs,
+            inner_worst,
+        }
+    }
 }
 
 #[cfg(test)]
@@ -451,6 +572,107 @@ mod tests {
             assert_eq!(c.overlaps, brute_force(&disks));
             assert!(c.overlaps > 0);
         }
+    }
+
+    /// The deepest pair by brute force (of equally deep, the first by index).
+    fn brute_worst(disks: &[Disk]) -> Option<(usize, usize, f64)> {
+        let mut worst = None;
+        for j in 0..disks.len() {
+            for i in 0..j {
+                let sum = disks[i].r + disks[j].r;
+                let overlap = (sum - (disks[i].c - disks[j].c).norm()) / sum;
+                if overlap > OVERLAP_REL {
+                    deeper(&mut worst, (i, j, overlap));
+                }
+            }
+        }
+        worst
+    }
+
+    #[test]
+    fn copies_of_disks_count_as_the_brute_force_counts() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(11);
+        let domain = Domain::rectangle(30.0, 20.0).unwrap();
+        for _ in 0..20 {
+            let mut disks: Vec<Disk> = (0..200)
+                .map(|_| {
+                    disk(
+                        rng.gen_range(0.0..30.0),
+                        rng.gen_range(0.0..20.0),
+                        rng.gen_range(0.05..0.6),
+                    )
+                })
+                .collect();
+            // Copies of some, anywhere in the list.
+            for _ in 0..100 {
+                let copy = disks[rng.gen_range(0..disks.len())];
+                disks.insert(rng.gen_range(0..=disks.len()), copy);
+            }
+            let c = check(&disks, &domain, None);
+            assert_eq!(c.overlaps, brute_force(&disks));
+            assert_eq!(c.worst_overlap, brute_worst(&disks));
+            assert_eq!(c.worst_overlap.map(|w| w.2), Some(1.0));
+        }
+    }
+
+    #[test]
+    fn copies_count_as_near_copies_do_in_a_periodic_cell() {
+        // Copies against copies moved by 10⁻⁹ mm, which the pair search
+        // tests one by one: the same pairs overlap and meet, at every
+        // image; the disk at (0.3, 5) overlaps its own images across the
+        // edge of the 1.6 mm wide cell.
+        let domain = Domain::periodic_rectangle(1.6, 10.0).unwrap();
+        let base = [
+            disk(0.3, 5.0, 1.0),
+            disk(1.2, 2.0, 0.4),
+            disk(1.2, 8.0, 0.3),
+        ];
+        let copies: Vec<Disk> = (0..5).flat_map(|_| base).collect();
+        let near: Vec<Disk> = copies
+            .iter()
+            .enumerate()
+            .map(|(k, d)| disk(d.c.x + 1e-9 * k as f64, d.c.y, d.r))
+            .collect();
+        let (a, b) = (check(&copies, &domain, None), check(&near, &domain, None));
+        assert!(a.overlaps > 5 * 4 / 2 * 3, "{a:?}");
+        assert_eq!(
+            (a.overlaps, a.pairs_certified),
+            (b.overlaps, b.pairs_certified)
+        );
+        assert_eq!(a.worst_overlap, Some((0, 3, 1.0)));
+    }
+
+    #[test]
+    fn copies_of_one_disk_are_counted_without_testing_each_pair() {
+        // 20 000 copies: 2·10⁸ pairs, all overlapping, counted from one group.
+        let n = 20_000;
+        let disks = vec![disk(5.0, 5.0, 1.0); n];
+        let domain = Domain::rectangle(10.0, 10.0).unwrap();
+        crate::metrics::near::VISITED.with(|v| v.set(0));
+        let c = check(&disks, &domain, None);
+        let visited = crate::metrics::near::VISITED.with(std::cell::Cell::get);
+        assert!(visited < 10, "{visited} disks visited");
+        assert!(!c.valid());
+        assert_eq!(c.overlaps, n * (n - 1) / 2);
+        assert_eq!(c.worst_overlap, Some((0, 1, 1.0)));
+        // And one other disk beside them overlaps each copy.
+        let mut more = disks;
+        more.push(disk(6.0, 5.0, 1.0));
+        let c = check(&more, &domain, None);
+        assert_eq!(c.overlaps, n * (n - 1) / 2 + n);
+    }
+
+    #[test]
+    fn a_raised_token_stops_the_check() {
+        let disks = vec![disk(5.0, 5.0, 1.0), disk(6.0, 5.0, 1.0)];
+        let domain = Domain::rectangle(10.0, 10.0).unwrap();
+        let cancel = Cancel::new();
+        let told = check_cancellable(&disks, &[], &domain, None, None, &cancel);
+        assert_eq!(told.map(|c| c.overlaps), Ok(1));
+        cancel.cancel();
+        let told = check_cancellable(&disks, &[], &domain, None, None, &cancel);
+        assert_eq!(told, Err(Cancelled::Flag));
     }
 
     #[test]

@@ -44,7 +44,7 @@ pub mod study;
 
 pub use cancel::{Cancel, Cancelled};
 pub use check::{
-    Check, GradingCheck, KS_MARGIN, MIN_GRADING_DISKS, check, check_particles,
+    Check, GradingCheck, KS_MARGIN, MIN_GRADING_DISKS, check, check_cancellable, check_particles,
     check_particles_sized, grading_kept, ks_limit,
 };
 pub use geometry::predicates::OVERLAP_REL;

@@ -162,14 +162,28 @@ def verify(
     proved inside by support functions, the grading checked on the size
     the config's ``[shape]`` measures."""
     text, origin, _ = _load(config)
-    floats = lambda v: np.ascontiguousarray(v, dtype=np.float64).reshape(-1)  # noqa: E731
-    arrays = [floats(v) for v in (x, y, r)]
-    m = None if material is None else np.ascontiguousarray(material, dtype=np.int64).reshape(-1)
+    arrays = [_column(name, v, np.float64) for name, v in (("x", x), ("y", y), ("r", r))]
+    m = None if material is None else _column("material", material, np.int64)
     given = [v for v in (angle, a, b, alpha, beta) if v is not None]
     if given and len(given) != 5:
         raise ValueError("give all of angle, a, b, alpha and beta, or none")
-    shapes = [floats(v) for v in (angle, a, b, alpha, beta)] if given else None
+    names = ("angle", "a", "b", "alpha", "beta")
+    shapes = (
+        [_column(n, v, np.float64) for n, v in zip(names, (angle, a, b, alpha, beta))]
+        if given
+        else None
+    )
     return _gapack.verify(*arrays, text, origin, m, shapes)
+
+
+def _column(name: str, values: Any, dtype: Any) -> np.ndarray:
+    """``values`` as a contiguous one-dimensional array of ``dtype``; a
+    table of any other shape is refused rather than flattened (a 2-D array
+    flattened row by row would check disks that were never there)."""
+    array = np.ascontiguousarray(values, dtype=dtype)
+    if array.ndim != 1:
+        raise ValueError(f"{name} must be a one-dimensional array, got shape {array.shape}")
+    return array
 
 
 def run(

@@ -7,15 +7,19 @@ use gapack::ga::Generation;
 use gapack::layering::Material;
 use gapack::output::Format;
 use gapack::{
-    Disk, Domain, GradingCheck, Grain, Outline, Packing, Shape, check, check_particles_sized,
-    grading_sizes, psd_ks,
+    Cancel, Cancelled, Check, Disk, Domain, GradingCheck, Grain, Outline, Packing, Shape,
+    check_cancellable, grading_sizes, psd_ks,
 };
 use numpy::{PyArray1, PyArray2, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::errors::input_error;
+use std::sync::Mutex;
+use std::sync::mpsc::{self, RecvTimeoutError};
+use std::time::Duration;
+
+use crate::errors::{gapack_error, input_error};
 
 /// Every output format, in the order `[output] formats` documents them.
 const FORMATS: [Format; 13] = [
@@ -182,6 +186,62 @@ pub(crate) fn history<'py>(
     Ok(told)
 }
 
+/// How often a waiting check looks for a `KeyboardInterrupt`.
+const POLL: Duration = Duration::from_millis(20);
+
+/// Run `work` on a thread of its own, the GIL released, while this thread
+/// looks for a `KeyboardInterrupt` every [`POLL`]: one raises `work`'s
+/// token (the check polls it once per disk), and is returned once `work`
+/// has stopped.
+///
+/// # Errors
+/// The `KeyboardInterrupt` (or any error a signal handler raised); a
+/// `GapackError` if the check's thread panicked.
+fn interruptible(
+    py: Python<'_>,
+    work: impl FnOnce(&Cancel) -> Result<Check, Cancelled> + Send,
+) -> PyResult<Check> {
+    let cancel = Cancel::new();
+    let (tx, rx) = mpsc::channel::<()>();
+    // Waited on with the GIL released, hence from a closure that must be Send.
+    let rx = Mutex::new(rx);
+    let mut interrupt: Option<PyErr> = None;
+    let joined = std::thread::scope(|scope| {
+        let token = &cancel;
+        let worker = scope.spawn(move || {
+            let done = work(token);
+            // The sender dropped says the work is over; nothing is sent.
+            drop(tx);
+            done
+        });
+        loop {
+            let got = py.detach(|| match rx.lock() {
+                Ok(rx) => rx.recv_timeout(POLL),
+                Err(_) => Err(RecvTimeoutError::Disconnected),
+            });
+            // Nothing is sent: anything but a timeout means the work is over.
+            if !matches!(got, Err(RecvTimeoutError::Timeout)) {
+                break;
+            }
+            if let Err(e) = py.check_signals() {
+                cancel.cancel();
+                interrupt = Some(e);
+                break;
+            }
+        }
+        py.detach(move || worker.join())
+    });
+    if let Some(e) = interrupt {
+        return Err(e);
+    }
+    match joined {
+        Ok(Ok(check)) => Ok(check),
+        // Only the interrupt above raises the token.
+        Ok(Err(stopped)) => Err(gapack_error(py, &format!("the check stopped: {stopped}"))),
+        Err(_) => Err(gapack_error(py, "the check failed unexpectedly")),
+    }
+}
+
 /// `gapack.verify`: the independent check of the disks against the
 /// config's domain and grading (each material against its own curve in a
 /// size-graded config, when `material` is given), as a dict.
@@ -211,6 +271,13 @@ pub(crate) fn verify(
             y.len(),
             r.len()
         )));
+    }
+    // An empty table is no packing: "valid" with porosity 1 would pass
+    // whatever went wrong upstream.
+    if x.is_empty() {
+        return Err(PyValueError::new_err(
+            "no disks to verify: x, y and r are empty",
+        ));
     }
     let materials: Option<Vec<u16>> = match &material {
         None => None,
@@ -271,16 +338,23 @@ pub(crate) fn verify(
     };
     let scene = &config.scene;
     let graded = scene.gradient.is_some();
-    let result = py.detach(|| {
+    let result = interruptible(py, |cancel| {
         let grading = (!graded).then_some(&scene.grading);
         let mut result = if grains.is_empty() {
-            check(&disks, &scene.domain, grading)
+            check_cancellable(&disks, &[], &scene.domain, grading, None, cancel)?
         } else {
             // The grading on the size it measures, as `gapack verify` does.
             let packing =
                 Packing::of_disks(scene.domain.clone(), disks.clone()).with_grains(grains.clone());
             let sizes = grading_sizes(&packing, scene);
-            check_particles_sized(&disks, &grains, &scene.domain, grading, &sizes)
+            check_cancellable(
+                &disks,
+                &grains,
+                &scene.domain,
+                grading,
+                Some(&sizes),
+                cancel,
+            )?
         };
         if graded && let Some(materials) = materials {
             let mut packing = Packing::of_disks(scene.domain.clone(), disks);
@@ -290,8 +364,8 @@ pub(crate) fn verify(
                 psd_ks(&packing, scene)
             });
         }
-        result
-    });
+        Ok(result)
+    })?;
     let told = PyDict::new(py);
     let kept = result.grading_kept();
     let verdict = match (result.valid() && kept, result.grading) {

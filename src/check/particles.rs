@@ -22,6 +22,7 @@ use std::f64::consts::TAU;
 
 use nalgebra::Vector2;
 
+use crate::cancel::{Cancel, Cancelled};
 use crate::geometry::predicates::OVERLAP_REL;
 use crate::geometry::{Disk, Domain, Grain, Outline, Point, Turned, Wall, grain_separation};
 use crate::geometry::{Separation, separation};
@@ -77,7 +78,7 @@ pub(super) fn well_formed(d: &Disk, g: &Grain) -> bool {
         && reach_finite
 }
 
-/// What the pair test found.
+/// What a pair test found (the particles' or the disks').
 pub(super) struct Pairs {
     /// Pairs not proved apart.
     pub(super) overlaps: usize,
@@ -94,25 +95,30 @@ pub(super) struct Pairs {
 /// The bounding circles are bucketed by size class ([`ByRadius`]): each
 /// particle meets the candidates of its neighbourhood only; a GJK search
 /// (a few support evaluations) per candidate pair.
+///
+/// # Errors
+/// [`Cancelled`] when `cancel` stops it (polled once per particle).
 pub(super) fn pairs(
     disks: &[Disk],
     turned: &[Turned],
     reach: &[Disk],
     ok: &[u32],
     domain: &Domain,
-) -> Pairs {
+    cancel: &Cancel,
+) -> Result<Pairs, Cancelled> {
     let mut out = Pairs {
         overlaps: 0,
         worst: None,
         certified: 0,
     };
     if ok.len() < 2 && !domain.is_periodic() {
-        return out;
+        return Ok(out);
     }
     let ids = || ok.iter().map(|&i| i as usize);
     let near = ByRadius::new(reach, ids());
     let r_max = ids().fold(0.0f64, |m, i| m.max(reach[i].r));
     for a in ids() {
+        cancel.check()?;
         let (ca, ra) = (disks[a].c, reach[a].r);
         let (lo, hi) = Disk::new(ca.x, ca.y, ra + r_max).bounds();
         for v in domain.image_shifts(lo, hi) {
@@ -145,7 +151,7 @@ pub(super) fn pairs(
             });
         }
     }
-    out
+    Ok(out)
 }
 
 /// A certified lower bound of the distance between two grains (negative:

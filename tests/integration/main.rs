@@ -34,4 +34,5 @@ mod shape_properties;
 mod stability;
 mod sweep_resume;
 mod thesis;
+mod verify_r3;
 mod wells_shapes;

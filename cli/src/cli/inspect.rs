@@ -122,8 +122,9 @@ pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
     }
     if !result.valid() {
         return Err(Failure::Run(anyhow!(
-            "{}: the packing is not valid (overlaps or disks outside the domain)",
-            args.packing.display()
+            "{}: the packing is not valid: {}",
+            args.packing.display(),
+            why_invalid(&result, &table, scene.domain.is_periodic())
         )));
     }
     if !result.grading_kept() {
@@ -560,6 +561,60 @@ fn findings(c: &Check, table: &PackingTable, periodic: bool) -> Vec<String> {
         _ => "grading: not checked".to_owned(),
     });
     lines
+}
+
+/// Why `gapack verify` fails a packing, each fault by its worst case named
+/// as a person finds it in the file: by `id` and file line (line 1 the
+/// header), e.g. `overlap: disks 12 and 40 (lines 14 and 42) overlap by
+/// 3.1e-3 of their radii sum`.
+fn why_invalid(c: &Check, table: &PackingTable, periodic: bool) -> String {
+    let line = |i: usize| table.lines.get(i).copied().unwrap_or(0);
+    let sum = if table.grains.is_empty() {
+        "radii"
+    } else {
+        "circumradii"
+    };
+    let mut faults = Vec::new();
+    if let Some((a, b, depth)) = c.worst_overlap {
+        let pair = match (table.ids.get(a), table.ids.get(b)) {
+            (Some(ia), Some(ib)) => {
+                format!("disks {ia} and {ib} (lines {} and {})", line(a), line(b))
+            }
+            _ => format!("the disks on lines {} and {}", line(a), line(b)),
+        };
+        let of = if c.overlaps > 1 {
+            format!(" (the deepest of {} overlapping pairs)", c.overlaps)
+        } else {
+            String::new()
+        };
+        faults.push(format!(
+            "overlap: {pair} overlap by {depth:.1e} of their {sum} sum{of}"
+        ));
+    }
+    if let Some((i, by)) = c.worst_outside {
+        let disk = match table.ids.get(i) {
+            Some(id) => format!("disk {id} (line {})", line(i)),
+            None => format!("the disk on line {}", line(i)),
+        };
+        let place = if periodic {
+            format!("its centre lies {by:.1e} mm outside the periodic cell")
+        } else {
+            format!("it reaches {by:.1e} mm outside the domain")
+        };
+        let of = if c.outside > 1 {
+            format!(" (the farthest of {} disks outside)", c.outside)
+        } else {
+            String::new()
+        };
+        faults.push(format!("outside: {disk}: {place}{of}"));
+    }
+    if c.malformed > 0 {
+        faults.push(format!(
+            "malformed: {} with a non-finite value or a size that is not positive",
+            count(c.malformed, "disk", "disks")
+        ));
+    }
+    faults.join("; ")
 }
 
 /// `1 pair`, `3 pairs`.
