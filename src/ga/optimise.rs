@@ -747,6 +747,20 @@ mod tests {
         fn checkpoint(&mut self, _: &Checkpoint) {}
     }
 
+    /// `optimise` from `seed`, on one thread, never stopped, its events dropped.
+    fn search(scene: &Scene, settings: &OptimiseSettings, seed: u64) -> Optimised {
+        optimise(
+            scene,
+            settings,
+            Start::Seed(seed),
+            0,
+            &Local,
+            &Cancel::new(),
+            &mut Told::default(),
+        )
+        .expect("packs")
+    }
+
     fn settings(target: f64) -> OptimiseSettings {
         let mut settings = OptimiseSettings::new(target);
         settings.stop.population = 4;
@@ -828,16 +842,7 @@ mod tests {
         let mut settings = settings(0.02);
         settings.stop.time_limit_s = 0.5;
         let clock = Instant::now();
-        let found = optimise(
-            &scene,
-            &settings,
-            Start::Seed(1),
-            0,
-            &Local,
-            &Cancel::new(),
-            &mut Told::default(),
-        )
-        .expect("packs");
+        let found = search(&scene, &settings, 1);
         let took = clock.elapsed().as_secs_f64();
         assert_eq!(found.stop, StopReason::TimeLimit, "after {took} s");
         assert!(!found.stop.reproducible());
@@ -878,16 +883,7 @@ mod tests {
     #[test]
     fn shape_genes_move_the_shape_within_its_bounds_and_keep_them() {
         let (scene, settings) = shaped();
-        let found = optimise(
-            &scene,
-            &settings,
-            Start::Seed(2),
-            0,
-            &Local,
-            &Cancel::new(),
-            &mut Told::default(),
-        )
-        .expect("packs");
+        let found = search(&scene, &settings, 2);
         let (asked, measures) = found.shape.expect("the shape found");
         let bounds = settings.shape.expect("bounds");
         assert!(bounds.aspect[0] <= asked.aspect[0] && asked.aspect[1] <= bounds.aspect[1]);
@@ -908,16 +904,7 @@ mod tests {
         let report = crate::check::check_particles(&p.disks, &p.grains, &p.domain, None);
         assert!(report.valid() && report.overlaps == 0 && report.outside == 0);
         // The same search again: the same packing.
-        let again = optimise(
-            &scene,
-            &settings,
-            Start::Seed(2),
-            0,
-            &Local,
-            &Cancel::new(),
-            &mut Told::default(),
-        )
-        .expect("packs");
+        let again = search(&scene, &settings, 2);
         assert_eq!(again.packing.disks, found.packing.disks);
         assert_eq!(again.packing.grains, found.packing.grains);
     }

@@ -19,8 +19,8 @@
 //! Beside the grading's KS, a genome must keep (each excess adds to the
 //! score's violation):
 //! - the mean Riley sphericity and mean Wadell roundness of the shape it
-//!   asks for (a midpoint rule over its aspect range, [`ASPECT_NODES`]
-//!   outlines) at least the bounds: proppant specifications bound these
+//!   asks for (a midpoint rule over its aspect range, five outlines) at
+//!   least the bounds: proppant specifications bound these
 //!   means;
 //! - the packed particles' aspect ratios within `max_shape_ks` (KS
 //!   distance) of the distribution asked: the search may not reach a
@@ -34,9 +34,6 @@ use crate::scene::{Family, Orientation, ShapeSpec, Spread};
 
 /// Shape genes after the packing-rule genes (see the module documentation).
 pub const SHAPE_GENES: usize = 4;
-
-/// Outlines over an aspect range whose measures are averaged.
-const ASPECT_NODES: usize = 5;
 
 /// What the search may move of a superellipse shape, and the constraints
 /// its shapes keep (`[optimise.shape]`).
@@ -159,24 +156,28 @@ impl AskedShape {
         spec
     }
 
-    /// Mean Riley sphericity and Wadell roundness of the outlines asked: a
-    /// midpoint rule of [`ASPECT_NODES`] over the aspect range.
+    /// Mean Riley sphericity and Wadell roundness of the outlines asked:
+    /// the midpoint rule of [`Spread`]'s nodes over the aspect range.
     pub fn means(&self) -> (f64, f64) {
         let [lo, hi] = self.aspect;
-        let nodes = if hi > lo { ASPECT_NODES } else { 1 };
-        let (mut s, mut r) = (0.0, 0.0);
-        for k in 0..nodes {
-            let a = lo + (hi - lo) * (k as f64 + 0.5) / nodes as f64;
+        let aspects = if hi > lo {
+            Spread::Range(lo, hi)
+        } else {
+            Spread::Fixed(lo)
+        };
+        // Equal weights: the plain mean of the nodes' measures.
+        let nodes = aspects.nodes();
+        let (s, r) = nodes.iter().fold((0.0, 0.0), |(s, r), &(a, _)| {
             let o = Outline::Superellipse {
                 a,
                 b: 1.0,
                 alpha: self.exponent,
                 beta: self.exponent,
             };
-            s += sphericity(&o);
-            r += roundness(&o);
-        }
-        (s / nodes as f64, r / nodes as f64)
+            (s + sphericity(&o), r + roundness(&o))
+        });
+        let n = nodes.len() as f64;
+        (s / n, r / n)
     }
 
     /// KS distance of the packed superellipses' aspect ratios a/b to the

@@ -93,7 +93,7 @@ impl Spread {
     /// Values and weights (summing to 1) whose weighted mean approximates
     /// the mean of any smooth function of a draw: the value itself, a
     /// table's rows, or a range's [`RANGE_NODES`] midpoints.
-    fn nodes(&self) -> Vec<(f64, f64)> {
+    pub(crate) fn nodes(&self) -> Vec<(f64, f64)> {
         match self {
             Spread::Fixed(v) => vec![(*v, 1.0)],
             Spread::Range(lo, hi) => (0..RANGE_NODES)
