@@ -391,12 +391,17 @@ pub(super) fn lines(
         )
     });
     let mut lines = vec![format!(
-        "{at}: porosity {:.4} (target {}, error {:.4}), psd_ks {:.3}, {} disks, {} evaluations in {} generations, {} ({}{verdict}{window}){layering}{}",
+        "{at}: porosity {:.4} (target {}, error {:.4}), psd_ks {:.3}, {} {}, {} evaluations in {} generations, {} ({}{verdict}{window}){layering}{}",
         metrics.porosity,
         summary.target_porosity,
         summary.error,
         metrics.psd_ks,
         metrics.particles,
+        if metrics.shapes.is_some() {
+            "particles"
+        } else {
+            "disks"
+        },
         summary.evaluations,
         summary.generations,
         duration(seconds),
