@@ -506,11 +506,20 @@ fn malformed_requests_are_refused_with_json_errors() {
             .send(&body),
     );
     assert_eq!(r.status, 201);
-    // Oversized body.
-    let huge = format!("{SQUARE}#{}\n", "x".repeat(1 << 20));
-    let r = post_toml(&server, "/api/v1/jobs?kind=pack", &huge);
-    assert_eq!(r.status, 413);
-    assert!(r.error().contains("1 MiB"), "{}", r.error());
+    // Oversized body: refused on its declared length, before a byte of it
+    // is read (the body is never sent; the reply still comes).
+    let (status, body) = server.raw(
+        format!(
+            "POST /api/v1/jobs?kind=pack HTTP/1.1\r\nHost: {}\r\n\
+             Content-Type: application/toml\r\nContent-Length: {}\r\n\
+             Connection: close\r\n\r\n",
+            server.addr(),
+            (1 << 20) + 1
+        )
+        .as_bytes(),
+    );
+    assert_eq!(status, 413, "{body}");
+    assert!(body.contains("1 MiB"), "{body}");
     // [output] dir.
     let r = post_toml(
         &server,

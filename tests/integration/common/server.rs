@@ -55,6 +55,39 @@ impl Server {
         format!("{}{path}", self.base)
     }
 
+    /// The server's `host:port`.
+    pub fn addr(&self) -> &str {
+        self.base.trim_start_matches("http://")
+    }
+
+    /// Send `request` as raw bytes on a new connection and read the reply
+    /// until the server closes it (at most 20 s): the status and the body.
+    /// For requests no well-behaved client sends (a body declared but never
+    /// written, a body dribbled in).
+    pub fn raw(&self, request: &[u8]) -> (u16, String) {
+        use std::io::{Read, Write};
+        let mut stream = std::net::TcpStream::connect(self.addr()).expect("connect");
+        stream
+            .set_read_timeout(Some(Duration::from_secs(20)))
+            .expect("timeout");
+        stream.write_all(request).expect("write request");
+        let mut reply = Vec::new();
+        // A reset after the reply (the server dropping unread bytes) ends
+        // the read as a close does.
+        let _ = stream.read_to_end(&mut reply);
+        let reply = String::from_utf8_lossy(&reply).into_owned();
+        let status = reply
+            .split(' ')
+            .nth(1)
+            .and_then(|s| s.parse().ok())
+            .unwrap_or_else(|| panic!("no status in {reply:?}"));
+        let body = reply
+            .split_once("\r\n\r\n")
+            .map(|(_, b)| b.to_owned())
+            .unwrap_or_default();
+        (status, body)
+    }
+
     /// Send SIGTERM and wait for the exit (at most 60 s).
     pub fn terminate(mut self) {
         let pid = self.child.id().to_string();
