@@ -250,7 +250,7 @@ pub fn run(args: &Options, listening: impl FnOnce(SocketAddr)) -> Result<(), Fai
     }
     if args.header_timeout.is_zero() || args.request_timeout.is_zero() {
         return Err(Failure::Input(anyhow::anyhow!(
-            "--header-timeout and --request-timeout must be at least 1 s"
+            "--header-timeout and --request-timeout must be longer than zero"
         )));
     }
     let token = match &args.token_file {
