@@ -72,7 +72,7 @@ pub fn router(shared: Arc<Shared>) -> Router {
 }
 
 /// `routes` with the layers every request passes, innermost first: the
-/// body limit (declared, then read), the time limit on an answer, panics
+/// body limit (as read, then as declared), the time limit on an answer, panics
 /// caught, the log line.
 fn layered(routes: Router<Arc<Shared>>, timeout: Duration) -> Router<Arc<Shared>> {
     routes
