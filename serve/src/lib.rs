@@ -7,11 +7,20 @@
 //! - `api`: the routes, one module per group (jobs, events, files, the
 //!   page and its data, health and metrics, the OpenAPI document) merged
 //!   into one router, with the bearer token and one JSON error type;
-//! - this file: the options, the shared state, startup and shutdown.
+//! - this file: the options, the shared state, startup, the accept loop
+//!   and shutdown.
 //!
-//! SIGINT or SIGTERM: the server stops taking jobs, cancels the running ones
-//! (an optimise keeps its best packing and its checkpoint), puts them back
-//! in the queue to resume at the next start, ends the event streams, and exits.
+//! The accept loop bounds the connections open at once (beyond the bound,
+//! new ones wait in the kernel's backlog) and closes a connection whose
+//! request headers are not all in within `header_timeout`, so slow or
+//! stalled clients cannot hold every slot; the router bounds the time to
+//! answer a request (`request_timeout`, its body read included).
+//!
+//! SIGINT or SIGTERM: the server stops taking jobs and connections, cancels
+//! the running jobs (an optimise keeps its best packing and its checkpoint),
+//! puts them back in the queue to resume at the next start, ends the event
+//! streams, lets the open connections finish (for at most the longer of
+//! the two timeouts), and exits.
 
 mod api;
 mod db;
@@ -19,7 +28,6 @@ mod metrics;
 mod web;
 mod worker;
 
-use axum::serve::ListenerExt as _;
 use std::collections::BTreeMap;
 use std::net::SocketAddr;
 use std::path::PathBuf;
@@ -29,7 +37,10 @@ use std::time::Duration;
 
 use anyhow::Context;
 use gapack::jobs::Cancel;
-use tokio::sync::{broadcast, watch};
+use hyper_util::rt::{TokioIo, TokioTimer};
+use hyper_util::service::TowerToHyperService;
+use tokio::net::{TcpListener, TcpStream};
+use tokio::sync::{OwnedSemaphorePermit, Semaphore, broadcast, watch};
 
 use db::Db;
 use metrics::Metrics;
@@ -58,6 +69,16 @@ pub struct Options {
     pub force: bool,
     /// optimise: save a checkpoint every N generations.
     pub checkpoint_every: usize,
+    /// Connections open at once (at least 1); more wait to be accepted.
+    pub max_connections: u32,
+    /// Longest a client may take to send a request's headers (from the
+    /// connection's start, or from the previous answer on a kept-alive
+    /// connection); the connection is then closed.
+    pub header_timeout: Duration,
+    /// Longest the server takes to answer a request once its headers are
+    /// in, reading its body included; it then answers `408`. An answer's
+    /// body (an event stream, a file) is not bounded.
+    pub request_timeout: Duration,
 }
 
 impl Default for Options {
@@ -73,6 +94,9 @@ impl Default for Options {
             max_seconds: 3600,
             force: false,
             checkpoint_every: 10,
+            max_connections: 512,
+            header_timeout: Duration::from_secs(10),
+            request_timeout: Duration::from_secs(60),
         }
     }
 }
@@ -117,9 +141,11 @@ pub struct Shared {
     wake: (Mutex<u64>, Condvar),
     /// The id of each job with a new event (or state), for the streams.
     events: broadcast::Sender<String>,
-    /// Turns true at shutdown: the streams end.
+    /// Turns true at shutdown: the streams end, the connections close.
     shutdown: watch::Sender<bool>,
     metrics: Metrics,
+    /// Longest time to answer a request (the router's timeout).
+    request_timeout: Duration,
 }
 
 impl Limits {
@@ -158,6 +184,7 @@ impl Shared {
             events,
             shutdown,
             metrics: Metrics::default(),
+            request_timeout: args.request_timeout,
         };
         Ok((shared, recovered))
     }
@@ -213,8 +240,19 @@ impl Shared {
 ///
 /// # Errors
 /// [`Failure::Input`] for bad options (a non-loopback address without a
-/// token), [`Failure::Run`] when the store or the socket cannot be opened.
+/// token, no connection allowed, a zero timeout), [`Failure::Run`] when the
+/// store or the socket cannot be opened.
 pub fn run(args: &Options, listening: impl FnOnce(SocketAddr)) -> Result<(), Failure> {
+    if args.max_connections == 0 {
+        return Err(Failure::Input(anyhow::anyhow!(
+            "--max-connections must be at least 1"
+        )));
+    }
+    if args.header_timeout.is_zero() || args.request_timeout.is_zero() {
+        return Err(Failure::Input(anyhow::anyhow!(
+            "--header-timeout and --request-timeout must be longer than zero"
+        )));
+    }
     let token = match &args.token_file {
         Some(path) => {
             let text = std::fs::read_to_string(path)
@@ -270,23 +308,127 @@ pub fn run(args: &Options, listening: impl FnOnce(SocketAddr)) -> Result<(), Fai
         })
         .collect();
     let router = api::router(Arc::clone(&shared));
-    // Small writes (an SSE event, a short answer) go out at once: with
-    // Nagle's algorithm each waited for the client's delayed ACK (40 ms).
-    let listener = listener.tap_io(|tcp| {
-        if let Err(e) = tcp.set_nodelay(true) {
-            tracing::warn!(error = %e, "cannot set TCP_NODELAY");
-        }
-    });
-    let served = runtime.block_on(async {
-        axum::serve(listener, router)
-            .with_graceful_shutdown(stop_signal(Arc::clone(&shared)))
-            .await
-    });
+    let edges = Edges {
+        max_connections: args.max_connections,
+        header_timeout: args.header_timeout,
+        drain: args.header_timeout.max(args.request_timeout),
+    };
+    runtime.block_on(serve(listener, router, &edges, &shared));
     for thread in threads {
         let _ = thread.join();
     }
     tracing::info!("stopped");
-    served.context("the server failed").map_err(Failure::Run)
+    Ok(())
+}
+
+/// How the accept loop guards the service against slow or stalled clients.
+struct Edges {
+    /// Connections open at once.
+    max_connections: u32,
+    /// Longest wait for a request's headers.
+    header_timeout: Duration,
+    /// Longest wait, after the stop signal, for the open connections to end.
+    drain: Duration,
+}
+
+/// Accept connections and serve `router` on each until SIGINT or SIGTERM,
+/// then let the open connections finish (for at most `edges.drain`).
+async fn serve(listener: TcpListener, router: axum::Router, edges: &Edges, shared: &Arc<Shared>) {
+    let slots = Arc::new(Semaphore::new(edges.max_connections as usize));
+    let stop = stop_signal(Arc::clone(shared));
+    tokio::pin!(stop);
+    // Runs until the stop signal: a server has no other end.
+    loop {
+        let slot = tokio::select! {
+            slot = Arc::clone(&slots).acquire_owned() => match slot {
+                Ok(slot) => slot,
+                // Never closed; were it, no connection could be served.
+                Err(_) => break,
+            },
+            () = &mut stop => break,
+        };
+        let tcp = tokio::select! {
+            accepted = listener.accept() => match accepted {
+                Ok((tcp, _)) => tcp,
+                Err(e) => {
+                    accept_failed(&e).await;
+                    continue;
+                }
+            },
+            () = &mut stop => break,
+        };
+        tokio::spawn(connection(
+            tcp,
+            router.clone(),
+            edges.header_timeout,
+            shared.shutdown.subscribe(),
+            slot,
+        ));
+    }
+    // New clients are refused from here on.
+    drop(listener);
+    // Every slot back: every connection has ended.
+    let all = slots.acquire_many(edges.max_connections);
+    if tokio::time::timeout(edges.drain, all).await.is_err() {
+        tracing::warn!(
+            open = edges.max_connections as usize - slots.available_permits(),
+            "connections still open after {} s are dropped",
+            edges.drain.as_secs()
+        );
+    }
+}
+
+/// Serve one connection (HTTP/1.1, kept alive) holding `slot` until it
+/// ends: closed by the client, timed out reading headers, or, once
+/// `shutdown` turns true, after its request in flight is answered.
+async fn connection(
+    tcp: TcpStream,
+    router: axum::Router,
+    header_timeout: Duration,
+    mut shutdown: watch::Receiver<bool>,
+    slot: OwnedSemaphorePermit,
+) {
+    // Small writes (an SSE event, a short answer) go out at once: with
+    // Nagle's algorithm each waited for the client's delayed ACK (40 ms).
+    if let Err(e) = tcp.set_nodelay(true) {
+        tracing::warn!(error = %e, "cannot set TCP_NODELAY");
+    }
+    let served = hyper::server::conn::http1::Builder::new()
+        .timer(TokioTimer::new())
+        .header_read_timeout(header_timeout)
+        .serve_connection(TokioIo::new(tcp), TowerToHyperService::new(router));
+    tokio::pin!(served);
+    let stopping = async {
+        // The sender gone means the server is going too.
+        let _ = shutdown.wait_for(|stopping| *stopping).await;
+    };
+    let ended = tokio::select! {
+        ended = served.as_mut() => ended,
+        () = stopping => {
+            served.as_mut().graceful_shutdown();
+            served.await
+        }
+    };
+    // A client gone or too slow is its own affair: not worth a log line.
+    if let Err(e) = ended {
+        tracing::debug!(error = %e, "connection ended");
+    }
+    drop(slot);
+}
+
+/// After a failed accept: a connection reset before it was accepted is
+/// skipped; anything else (out of file descriptors) is logged and the loop
+/// pauses a second rather than spin.
+async fn accept_failed(e: &std::io::Error) {
+    use std::io::ErrorKind::{ConnectionAborted, ConnectionRefused, ConnectionReset};
+    if matches!(
+        e.kind(),
+        ConnectionAborted | ConnectionRefused | ConnectionReset
+    ) {
+        return;
+    }
+    tracing::error!(error = %e, "cannot accept a connection");
+    tokio::time::sleep(Duration::from_secs(1)).await;
 }
 
 /// Resolves at SIGINT or SIGTERM, after the server stopped taking jobs,

@@ -30,6 +30,7 @@ mod reliability;
 mod replay;
 mod scales;
 mod serve;
+mod serve_edges;
 mod shape_properties;
 mod stability;
 mod sweep_resume;

@@ -3,6 +3,7 @@
 
 use std::net::SocketAddr;
 use std::path::PathBuf;
+use std::time::Duration;
 
 use clap::Args;
 
@@ -45,6 +46,22 @@ pub struct ServeArgs {
     /// optimise: save a checkpoint every N generations (a restart resumes from it).
     #[arg(long, default_value_t = 10, value_name = "N")]
     checkpoint_every: usize,
+    /// Connections open at once; more wait to be accepted until one closes.
+    #[arg(long, default_value_t = 512, value_name = "N",
+          value_parser = clap::value_parser!(u32).range(1..))]
+    max_connections: u32,
+    /// Longest a client may take to send a request's headers (s), counted
+    /// from the connection's start or the previous answer; the connection
+    /// is then closed.
+    #[arg(long, default_value_t = 10, value_name = "S",
+          value_parser = clap::value_parser!(u64).range(1..))]
+    header_timeout: u64,
+    /// Longest the server takes to answer a request once its headers are in
+    /// (s), reading its body included; it then answers 408. Event streams
+    /// and file downloads are not cut.
+    #[arg(long, default_value_t = 60, value_name = "S",
+          value_parser = clap::value_parser!(u64).range(1..))]
+    request_timeout: u64,
 }
 
 /// Run the service with `args`; its address is the first line on stdout.
@@ -60,6 +77,9 @@ pub fn run(args: &ServeArgs) -> Result<(), Failure> {
         max_seconds: args.max_seconds,
         force: args.force,
         checkpoint_every: args.checkpoint_every,
+        max_connections: args.max_connections,
+        header_timeout: Duration::from_secs(args.header_timeout),
+        request_timeout: Duration::from_secs(args.request_timeout),
     };
     gapack_serve::run(&options, |addr| {
         print_line(format!("listening on http://{addr}"));

@@ -1,7 +1,8 @@
 //! The HTTP API: one module per route group, each with its `router()`,
 //! merged here into the service's router with its layers (the token in
-//! front of the API and `/metrics`, the body limit, a log line per
-//! request) and the JSON fallbacks.
+//! front of the API and `/metrics`, the body limit, the time limit on an
+//! answer, panics caught into a `500`, a log line per request) and the
+//! JSON fallbacks.
 //!
 //! - [`jobs`]: submit, validate, list, get, cancel, delete ([`submission`]
 //!   reads and plans what a submission asks);
@@ -24,13 +25,18 @@ mod submission;
 #[cfg(test)]
 mod testing;
 
+use std::any::Any;
 use std::sync::Arc;
-use std::time::Instant;
+use std::time::Duration;
 
 use axum::Router;
 use axum::extract::{DefaultBodyLimit, Request, State};
+use axum::http::StatusCode;
 use axum::middleware::{self, Next};
 use axum::response::{IntoResponse, Response};
+use tower_http::catch_panic::CatchPanicLayer;
+use tower_http::trace::{MakeSpan, OnResponse, TraceLayer};
+use tracing::Span;
 
 use super::Shared;
 use error::ApiError;
@@ -41,7 +47,7 @@ pub const MAX_BODY: usize = 1 << 20;
 /// The state every handler reads.
 type AppState = State<Arc<Shared>>;
 
-/// The service's routes.
+/// The service's routes, with their layers.
 pub fn router(shared: Arc<Shared>) -> Router {
     let api = Router::new()
         .merge(jobs::router())
@@ -49,7 +55,7 @@ pub fn router(shared: Arc<Shared>) -> Router {
         .merge(files::router())
         .merge(page::data())
         .merge(openapi::router());
-    Router::new()
+    let routes = Router::new()
         .nest("/api/v1", api)
         .merge(service::metrics())
         .layer(middleware::from_fn_with_state(
@@ -61,11 +67,25 @@ pub fn router(shared: Arc<Shared>) -> Router {
         // serves them to anyone, and the page asks for the token.
         .merge(page::web())
         .fallback(error::not_found)
-        .method_not_allowed_fallback(error::method_not_allowed)
+        .method_not_allowed_fallback(error::method_not_allowed);
+    layered(routes, shared.request_timeout).with_state(shared)
+}
+
+/// `routes` with the layers every request passes, innermost first: the
+/// body limit (as read, then as declared), the time limit on an answer, panics
+/// caught, the log line.
+fn layered(routes: Router<Arc<Shared>>, timeout: Duration) -> Router<Arc<Shared>> {
+    routes
         .layer(DefaultBodyLimit::max(MAX_BODY))
         .layer(middleware::from_fn(declared_size))
-        .layer(middleware::from_fn(log))
-        .with_state(shared)
+        .layer(middleware::from_fn_with_state(timeout, time_limit))
+        .layer(CatchPanicLayer::custom(panicked))
+        .layer(
+            TraceLayer::new_for_http()
+                .make_span_with(RequestSpan)
+                .on_request(())
+                .on_response(LogLine),
+        )
 }
 
 /// Run a blocking store or file call off the async threads.
@@ -96,27 +116,226 @@ async fn declared_size(request: Request, next: Next) -> Response {
     next.run(request).await
 }
 
-/// One log line per request: method, path, status, time.
-async fn log(request: Request, next: Next) -> Response {
-    let method = request.method().clone();
-    let path = request.uri().path().to_owned();
-    let start = Instant::now();
-    let response = next.run(request).await;
-    tracing::info!(
-        %method,
-        path = %path,
-        status = response.status().as_u16(),
-        ms = start.elapsed().as_secs_f64() * 1e3,
-        "request"
-    );
-    response
+/// A request not answered within `limit` (its body read included: a
+/// client that stops sending it is not waited for) is answered `408`, and
+/// its connection closed. What comes after the answer's head (an event
+/// stream, a file) is not timed.
+async fn time_limit(State(limit): State<Duration>, request: Request, next: Next) -> Response {
+    match tokio::time::timeout(limit, next.run(request)).await {
+        Ok(response) => response,
+        Err(_) => {
+            let mut response = ApiError::new(
+                StatusCode::REQUEST_TIMEOUT,
+                format!(
+                    "the request was not answered within {} s (was its body sent whole?)",
+                    limit.as_secs_f64()
+                ),
+            )
+            .into_response();
+            response.headers_mut().insert(
+                axum::http::header::CONNECTION,
+                axum::http::HeaderValue::from_static("close"),
+            );
+            response
+        }
+    }
+}
+
+/// The answer to a handler's panic: a `500` with the JSON error body,
+/// whose message carries a fresh id, logged with the panic's message
+/// under the same id so the two can be matched.
+fn panicked(panic: Box<dyn Any + Send + 'static>) -> Response {
+    let what = panic
+        .downcast_ref::<String>()
+        .map(String::as_str)
+        .or_else(|| panic.downcast_ref::<&str>().copied())
+        .unwrap_or("(no message)");
+    let id = format!("{:016x}", rand::random::<u64>());
+    tracing::error!(id, panic = what, "a handler panicked");
+    ApiError::new(
+        StatusCode::INTERNAL_SERVER_ERROR,
+        format!(
+            "internal error {id}: the server failed on this request; its log says why under this id"
+        ),
+    )
+    .into_response()
+}
+
+/// Each request's span: its method and path, on every line logged while
+/// it is handled (the answer's line, an error, a panic).
+#[derive(Clone, Copy)]
+struct RequestSpan;
+
+impl<B> MakeSpan<B> for RequestSpan {
+    fn make_span(&mut self, request: &axum::http::Request<B>) -> Span {
+        tracing::info_span!(
+            "request",
+            method = %request.method(),
+            path = %request.uri().path()
+        )
+    }
+}
+
+/// One log line per request, once its answer's head is sent: the status
+/// and the time taken (ms), under the request's span.
+#[derive(Clone, Copy)]
+struct LogLine;
+
+impl<B> OnResponse<B> for LogLine {
+    fn on_response(self, response: &axum::http::Response<B>, latency: Duration, _: &Span) {
+        tracing::info!(
+            status = response.status().as_u16(),
+            ms = latency.as_secs_f64() * 1e3,
+            "answered"
+        );
+    }
 }
 
 #[cfg(test)]
 mod tests {
-    use axum::http::{Method, StatusCode};
+    use std::io::Write;
+    use std::sync::{Arc, Mutex, OnceLock, PoisonError};
+    use std::time::{Duration, Instant};
+
+    use axum::Router;
+    use axum::body::Body;
+    use axum::http::{Method, Request, StatusCode};
+    use axum::routing::get;
+    use http_body_util::BodyExt;
+    use tower::ServiceExt;
 
     use super::testing::{SQUARE, TestServer, sse_events};
+
+    /// Log lines written while the tests run.
+    #[derive(Clone, Default)]
+    struct Captured(Arc<Mutex<Vec<u8>>>);
+
+    /// The tests' log, kept in memory: set once as the process's global
+    /// subscriber (a per-thread one misses events whose call sites other
+    /// tests' threads reached first).
+    fn captured_log() -> &'static Captured {
+        static LOG: OnceLock<Captured> = OnceLock::new();
+        LOG.get_or_init(|| {
+            let log = Captured::default();
+            let sink = log.clone();
+            let subscriber = tracing_subscriber::fmt()
+                .with_writer(move || sink.clone())
+                .with_ansi(false)
+                .with_max_level(tracing::Level::INFO)
+                .finish();
+            tracing::subscriber::set_global_default(subscriber)
+                .expect("the only global subscriber");
+            log
+        })
+    }
+
+    impl Write for Captured {
+        fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+            self.0
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner)
+                .extend_from_slice(bytes);
+            Ok(bytes.len())
+        }
+
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    impl Captured {
+        fn text(&self) -> String {
+            String::from_utf8_lossy(&self.0.lock().unwrap_or_else(PoisonError::into_inner))
+                .into_owned()
+        }
+    }
+
+    /// The service's layers over `routes`, with a `timeout` on answers,
+    /// answering `path`: its status, its headers and its JSON body.
+    async fn layered_reply(
+        routes: Router<Arc<crate::Shared>>,
+        timeout: Duration,
+        path: &str,
+    ) -> (StatusCode, axum::http::HeaderMap, serde_json::Value) {
+        let server = TestServer::new();
+        let router = super::layered(routes, timeout).with_state(Arc::clone(&server.shared));
+        let request = Request::get(path).body(Body::empty()).expect("request");
+        let response = router
+            .oneshot(request)
+            .await
+            .expect("the router never fails");
+        let (parts, body) = response.into_parts();
+        let bytes = body.collect().await.expect("a body").to_bytes();
+        let json = serde_json::from_slice(&bytes).expect("a JSON body");
+        (parts.status, parts.headers, json)
+    }
+
+    #[tokio::test]
+    async fn a_panic_is_answered_500_with_an_id_the_log_gives_with_its_message() {
+        let log = captured_log();
+        async fn boom() -> &'static str {
+            panic!("the disk caught fire")
+        }
+        let routes = Router::new().route("/boom", get(boom));
+        let (status, headers, body) = layered_reply(routes, Duration::from_secs(60), "/boom").await;
+        assert_eq!(status, StatusCode::INTERNAL_SERVER_ERROR);
+        assert_eq!(
+            headers.get("content-type").and_then(|v| v.to_str().ok()),
+            Some("application/json")
+        );
+        let error = body["error"].as_str().expect("an error message");
+        let id = error
+            .strip_prefix("internal error ")
+            .and_then(|rest| rest.split(':').next())
+            .expect("an id after \"internal error \"");
+        assert!(
+            id.len() == 16 && id.chars().all(|c| c.is_ascii_hexdigit()),
+            "{error}"
+        );
+        // The message stays in the log, not in the answer.
+        assert!(!error.contains("caught fire"), "{error}");
+        let log = log.text();
+        let panicked = log
+            .lines()
+            .find(|l| l.contains("a handler panicked"))
+            .unwrap_or_else(|| panic!("no panic line in {log}"));
+        assert!(panicked.contains(&format!("id=\"{id}\"")), "{panicked}");
+        assert!(panicked.contains("the disk caught fire"), "{panicked}");
+        assert!(panicked.contains("path=/boom"), "{panicked}");
+        // And the request's own line says 500.
+        let answered = log
+            .lines()
+            .find(|l| l.contains("answered") && l.contains("path=/boom"))
+            .unwrap_or_else(|| panic!("no request line in {log}"));
+        for part in ["method=GET", "path=/boom", "status=500", "ms="] {
+            assert!(answered.contains(part), "{part}: {answered}");
+        }
+    }
+
+    #[tokio::test]
+    async fn an_answer_late_past_the_time_limit_is_a_408_that_closes() {
+        let routes = Router::new().route(
+            "/stuck",
+            get(|| async {
+                tokio::time::sleep(Duration::from_secs(3600)).await;
+                "late"
+            }),
+        );
+        let start = Instant::now();
+        let (status, headers, body) =
+            layered_reply(routes, Duration::from_millis(200), "/stuck").await;
+        let took = start.elapsed();
+        assert_eq!(status, StatusCode::REQUEST_TIMEOUT);
+        assert!(took < Duration::from_secs(5), "{took:?}");
+        assert_eq!(
+            headers.get("connection").and_then(|v| v.to_str().ok()),
+            Some("close")
+        );
+        assert_eq!(
+            body["error"],
+            "the request was not answered within 0.2 s (was its body sent whole?)"
+        );
+    }
 
     #[tokio::test]
     async fn a_body_declared_over_the_limit_is_refused_before_it_is_read() {
