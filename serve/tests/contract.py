@@ -8,7 +8,7 @@ server with every check, the coverage, fuzzing and stateful phases and a
 fixed seed. Prints the figures (operations, test cases generated,
 failures) and exits non-zero on any failure. Stops the server at the end.
 
-Usage: contract.py GAPACK_BINARY [--max-examples N] [--seed S]
+Usage: contract.py GAPACK_BINARY [--max-examples N] [--seed S] [--reports DIR]
 Needs: pip install schemathesis openapi-spec-validator
 """
 
@@ -89,6 +89,7 @@ def main():
     parser.add_argument("binary", help="the gapack binary (target/debug/gapack)")
     parser.add_argument("--max-examples", type=int, default=100)
     parser.add_argument("--seed", type=int, default=20261206)
+    parser.add_argument("--reports", help="keep schemathesis' NDJSON report in this folder")
     args = parser.parse_args()
     token = secrets.token_hex(16)
     with tempfile.TemporaryDirectory(prefix="gapack-contract-") as tmp:
@@ -107,7 +108,7 @@ def main():
             if checked.returncode != 0:
                 sys.exit("contract: the served document is not valid OpenAPI")
             print("== schemathesis", flush=True)
-            reports = folder / "reports"
+            reports = Path(args.reports).resolve() if args.reports else folder / "reports"
             command = [
                 "schemathesis", "--config-file", str(CONFIG), "run",
                 "--checks", "all",
