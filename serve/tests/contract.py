@@ -45,7 +45,7 @@ def start(binary, folder, token):
             "--workers", "2",
             "--max-particles", "5000",
             "--max-memory-mb", "256",
-            "--max-seconds", "5",
+            "--max-seconds", "3",
             "--max-queue", "100000",
         ],
         stdout=subprocess.PIPE,

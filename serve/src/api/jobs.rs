@@ -128,7 +128,15 @@ pub struct Accepted {
         )),
     responses(
         (status = 201, description = "Queued", body = Accepted,
-            headers(("Location" = String, description = "The job's URL"))),
+            headers(("Location" = String, description = "The job's URL")),
+            links(
+                ("status" = (operation_id = "status", parameters(("id" = "$response.body#/id")), description = "Read the job")),
+                ("events" = (operation_id = "events", parameters(("id" = "$response.body#/id")), description = "Follow its events")),
+                ("files" = (operation_id = "files", parameters(("id" = "$response.body#/id")), description = "List its files once finished")),
+                ("packing" = (operation_id = "packing", parameters(("id" = "$response.body#/id")), description = "Its packing once finished")),
+                ("cancel" = (operation_id = "cancel", parameters(("id" = "$response.body#/id")), description = "Cancel it")),
+                ("delete" = (operation_id = "delete", parameters(("id" = "$response.body#/id")), description = "Delete it once finished")),
+            )),
         (status = 400, description = "Bad query, JSON, job kind, or a config that is not UTF-8", body = ErrorBody),
         (status = 403, description = "`force` asked of a server not started with --force", body = ErrorBody),
         (status = 413, description = "Body over 1 MiB", body = ErrorBody),
