@@ -15,11 +15,13 @@ Needs: pip install schemathesis openapi-spec-validator
 import argparse
 import json
 import os
+import queue
 import secrets
+import shutil
 import subprocess
 import sys
 import tempfile
-import time
+import threading
 import urllib.request
 from pathlib import Path
 
@@ -52,11 +54,25 @@ def start(binary, folder, token):
         stderr=open(folder / "server.log", "wb"),
         text=True,
     )
-    deadline = time.monotonic() + START_SECONDS
-    line = server.stdout.readline()
-    if not line.startswith(LISTENING) or time.monotonic() > deadline:
+    # Its stdout is read to the end (so that it never fills), the first
+    # line handed over.
+    first = queue.Queue()
+
+    def drain():
+        for n, line in enumerate(server.stdout):
+            if n == 0:
+                first.put(line)
+        first.put("")
+
+    threading.Thread(target=drain, daemon=True).start()
+    try:
+        line = first.get(timeout=START_SECONDS)
+    except queue.Empty:
+        line = ""
+    if not line.startswith(LISTENING):
         server.kill()
-        sys.exit(f"contract: the server did not start: {line!r}")
+        server.wait()
+        sys.exit(f"contract: the server did not start: {line!r}; see {folder / 'server.log'}")
     return server, line[len(LISTENING):].strip()
 
 
@@ -89,8 +105,11 @@ def main():
     parser.add_argument("binary", help="the gapack binary (target/debug/gapack)")
     parser.add_argument("--max-examples", type=int, default=100)
     parser.add_argument("--seed", type=int, default=20261206)
-    parser.add_argument("--reports", help="keep schemathesis' NDJSON report in this folder")
+    parser.add_argument("--reports", help="keep schemathesis' NDJSON report and the server's log in this folder")
     args = parser.parse_args()
+    missing = [t for t in ("schemathesis", "openapi-spec-validator") if shutil.which(t) is None]
+    if missing:
+        sys.exit(f"contract: {', '.join(missing)} not found: pip install schemathesis openapi-spec-validator")
     token = secrets.token_hex(16)
     with tempfile.TemporaryDirectory(prefix="gapack-contract-") as tmp:
         folder = Path(tmp)
@@ -157,6 +176,8 @@ def main():
             except subprocess.TimeoutExpired:
                 server.kill()
                 server.wait()
+            if args.reports:
+                shutil.copy(folder / "server.log", Path(args.reports) / "server.log")
 
 
 if __name__ == "__main__":
