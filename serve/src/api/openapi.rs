@@ -224,7 +224,7 @@ mod tests {
                         response["description"].is_string(),
                         "{method} {path} {status}"
                     );
-                    // Every refusal but a range's and a cache's carries an ErrorBody.
+                    // Every refusal but a range's (416, no body) carries an ErrorBody.
                     if status.starts_with('4') && status != "416" {
                         assert_eq!(
                             response["content"]["application/json"]["schema"], error,
