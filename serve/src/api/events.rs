@@ -14,6 +14,9 @@ use axum::response::sse::{Event as SseEvent, KeepAlive, Sse};
 use axum::routing::get;
 use futures_util::Stream;
 use serde_json::Value;
+use utoipa::openapi::RefOr;
+use utoipa::openapi::schema::{ObjectBuilder, Schema, Type};
+use utoipa::{PartialSchema, ToSchema};
 
 use super::error::{ApiError, ErrorBody};
 use super::jobs::JobId;
@@ -25,6 +28,42 @@ use crate::db::State as JobState;
 pub fn router() -> Router<Arc<Shared>> {
     Router::new().route("/jobs/{id}/events", get(events))
 }
+
+/// One event of the stream, as the document describes it: its number
+/// (`id:`), its kind (`event:`) and its JSON (`data:`).
+pub struct StreamEvent;
+
+impl PartialSchema for StreamEvent {
+    fn schema() -> RefOr<Schema> {
+        let text = |description: &str| {
+            ObjectBuilder::new()
+                .schema_type(Type::String)
+                .description(Some(description))
+        };
+        ObjectBuilder::new()
+            .schema_type(Type::Object)
+            .property(
+                "id",
+                text("The event's number, from 1 (resume after it with Last-Event-ID)")
+                    .pattern(Some("^[0-9]+$")),
+            )
+            .property(
+                "event",
+                text("Its kind: state, started, stage, progress, generation, warning, written, …"),
+            )
+            .property(
+                "data",
+                text("Its JSON: an object whose `event` is the kind")
+                    .content_media_type("application/json"),
+            )
+            .required("id")
+            .required("event")
+            .required("data")
+            .into()
+    }
+}
+
+impl ToSchema for StreamEvent {}
 
 /// Events read from the store at a time.
 const EVENT_BATCH: usize = 256;
@@ -107,7 +146,8 @@ impl Follow {
     }
 }
 
-/// The number in a `Last-Event-ID` header (0, from the first, without one).
+/// The number in a `Last-Event-ID` header (0, from the first, without
+/// one): a whole number from 0 (events are numbered from 1).
 fn last_event_id(headers: &HeaderMap) -> Result<i64, ApiError> {
     match headers.get("last-event-id") {
         None => Ok(0),
@@ -115,6 +155,7 @@ fn last_event_id(headers: &HeaderMap) -> Result<i64, ApiError> {
             .to_str()
             .ok()
             .and_then(|s| s.trim().parse::<i64>().ok())
+            .filter(|n| *n >= 0)
             .ok_or_else(|| ApiError::bad_request("Last-Event-ID must be an event number")),
     }
 }
@@ -123,8 +164,15 @@ fn last_event_id(headers: &HeaderMap) -> Result<i64, ApiError> {
 /// `Last-Event-ID`) to its final state. Each event's `event:` is its kind
 /// (`state`, `started`, `stage`, `progress`, `generation`, `warning`,
 /// `written`, …), its `id:` its number, its `data:` its JSON.
-#[utoipa::path(get, path = "/api/v1/jobs/{id}/events", params(("id" = String, Path, description = "Job id"), ("Last-Event-ID" = Option<i64>, Header, description = "Resume after this event")),
-    responses((status = 200, description = "A text/event-stream of the job's events"), (status = 404, body = ErrorBody)))]
+#[utoipa::path(get, path = "/api/v1/jobs/{id}/events",
+    params(super::jobs::IdParam,
+        ("Last-Event-ID" = Option<i64>, Header, nullable = false, minimum = 0,
+            description = "Resume after this event number (0: from the first)")),
+    responses(
+        (status = 200, description = "The job's events, to its final state", content_type = "text/event-stream", body = StreamEvent),
+        (status = 400, description = "A Last-Event-ID that is not an event number, or an id that is not UTF-8", body = ErrorBody),
+        (status = 404, description = "No such job", body = ErrorBody),
+    ))]
 async fn events(
     State(shared): AppState,
     JobId(id): JobId,
@@ -225,7 +273,7 @@ mod tests {
     async fn a_bad_resume_point_or_an_unknown_job_is_refused() {
         let server = TestServer::new();
         let id = server.submit("?kind=pack", SQUARE).await;
-        for bad in ["abc", "1.5", ""] {
+        for bad in ["abc", "1.5", "", "-1"] {
             let r = server
                 .call(
                     Method::GET,

@@ -104,8 +104,13 @@ fn file_url(id: &str, name: &str) -> String {
 }
 
 /// A finished job's files, as its `manifest.json` lists them.
-#[utoipa::path(get, path = "/api/v1/jobs/{id}/files", params(("id" = String, Path, description = "Job id")),
-    responses((status = 200, body = FileList), (status = 404, body = ErrorBody), (status = 409, description = "Not finished", body = ErrorBody)))]
+#[utoipa::path(get, path = "/api/v1/jobs/{id}/files", params(super::jobs::IdParam),
+    responses(
+        (status = 200, description = "The files, as the manifest lists them", body = FileList),
+        (status = 400, description = "An id that is not UTF-8", body = ErrorBody),
+        (status = 404, description = "No such job, or it wrote no files (cancelled before it ran)", body = ErrorBody),
+        (status = 409, description = "Not finished", body = ErrorBody),
+    ))]
 async fn files(State(shared): AppState, JobId(id): JobId) -> Result<Json<FileList>, ApiError> {
     let list = blocking(move || {
         let manifest = manifest(&shared, &id)?;
@@ -155,8 +160,23 @@ struct NameParam {
 }
 
 /// One file of a finished job: only the names its manifest lists.
-#[utoipa::path(get, path = "/api/v1/jobs/{id}/files/{name}", params(("id" = String, Path, description = "Job id"), ("name" = String, Path, description = "File name as the manifest lists it")),
-    responses((status = 200, description = "The file, with its content type"), (status = 404, body = ErrorBody), (status = 409, body = ErrorBody)))]
+#[utoipa::path(get, path = "/api/v1/jobs/{id}/files/{name}",
+    params(super::jobs::IdParam,
+        ("name" = String, Path, description = "File name as the manifest lists it (`packing.csv`, `well_a/packing.csv`)"),
+        ("Range" = Option<String>, Header, nullable = false, description = "A byte range (`bytes=0-1023`): 206 with that part"),
+        ("If-None-Match" = Option<String>, Header, nullable = false, description = "The ETag of a copy held: 304 if the file is unchanged")),
+    responses(
+        (status = 200, description = "The file, with its content type (text/csv, application/json, image/svg+xml, image/png, text/plain, …)", content_type = "*/*", body = serde_json::Value,
+            headers(("ETag" = String, description = "The file's version"))),
+        (status = 206, description = "The byte range asked for", content_type = "*/*", body = serde_json::Value,
+            headers(("Content-Range" = String, description = "The range sent and the file's size"))),
+        (status = 304, description = "Not modified since the ETag given"),
+        (status = 400, description = "An id or a name that is not UTF-8", body = ErrorBody),
+        (status = 404, description = "No such job, or no such file in its manifest", body = ErrorBody),
+        (status = 409, description = "Not finished", body = ErrorBody),
+        (status = 416, description = "A range outside the file",
+            headers(("Content-Range" = String, description = "`bytes */SIZE`"))),
+    ))]
 async fn file(
     State(shared): AppState,
     JobId(id): JobId,

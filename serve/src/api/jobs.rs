@@ -40,9 +40,14 @@ pub fn router() -> Router<Arc<Shared>> {
 /// the store or a path: any other is an unknown job (404).
 pub struct JobId(pub String);
 
-/// The path parameter a [`JobId`] is read from (others are ignored).
-#[derive(Deserialize)]
-struct IdParam {
+/// The path parameter a [`JobId`] is read from (others are ignored), as
+/// the document describes it.
+#[derive(Deserialize, IntoParams)]
+#[into_params(parameter_in = Path)]
+pub struct IdParam {
+    /// The job's id, as `POST /api/v1/jobs` gave it: 32 lowercase hex
+    /// digits (any other is no job: 404).
+    #[param(pattern = "^[0-9a-f]{32}$")]
     id: String,
 }
 
@@ -116,14 +121,29 @@ pub struct Accepted {
 /// The body is the TOML config (`Content-Type: application/toml`, kind and
 /// seed as query parameters) or JSON (`{kind, config, seed}`).
 #[utoipa::path(post, path = "/api/v1/jobs", params(SubmitQuery),
-    request_body(content = SubmitBody, description = "TOML text (application/toml) or this JSON", content_type = "application/json"),
+    request_body(description = "The config as TOML text (kind, seed and force as query parameters), or this JSON",
+        content(
+            (String = "application/toml"),
+            (SubmitBody = "application/json"),
+        )),
     responses(
-        (status = 201, description = "Queued", body = Accepted),
-        (status = 400, description = "Bad query, JSON or job kind", body = ErrorBody),
+        (status = 201, description = "Queued", body = Accepted,
+            headers(("Location" = String, description = "The job's URL")),
+            links(
+                ("status" = (operation_id = "status", parameters(("id" = "$response.body#/id")), description = "Read the job")),
+                ("events" = (operation_id = "events", parameters(("id" = "$response.body#/id")), description = "Follow its events")),
+                ("files" = (operation_id = "files", parameters(("id" = "$response.body#/id")), description = "List its files once finished")),
+                ("packing" = (operation_id = "packing", parameters(("id" = "$response.body#/id")), description = "Its packing once finished")),
+                ("cancel" = (operation_id = "cancel", parameters(("id" = "$response.body#/id")), description = "Cancel it")),
+                ("delete" = (operation_id = "delete", parameters(("id" = "$response.body#/id")), description = "Delete it once finished")),
+            )),
+        (status = 400, description = "Bad query, JSON, job kind, or a config that is not UTF-8", body = ErrorBody),
+        (status = 403, description = "`force` asked of a server not started with --force", body = ErrorBody),
         (status = 413, description = "Body over 1 MiB", body = ErrorBody),
         (status = 415, description = "Neither TOML nor JSON", body = ErrorBody),
         (status = 422, description = "Bad config, or over the server's ceilings", body = ErrorBody),
-        (status = 503, description = "Queue full or server stopping (Retry-After)", body = ErrorBody),
+        (status = 503, description = "Queue full or server stopping", body = ErrorBody,
+            headers(("Retry-After" = u64, description = "Seconds to wait before trying again"))),
     ))]
 async fn submit(State(shared): AppState, s: Submission) -> Result<impl IntoResponse, ApiError> {
     if shared.stopping.load(std::sync::atomic::Ordering::SeqCst) {
@@ -183,10 +203,18 @@ pub struct Validated {
 
 /// Check a config and return the plan and estimates, without running it.
 #[utoipa::path(post, path = "/api/v1/validate", params(SubmitQuery),
-    request_body(content = SubmitBody, description = "as for POST /jobs", content_type = "application/json"),
+    request_body(description = "As for POST /api/v1/jobs",
+        content(
+            (String = "application/toml"),
+            (SubmitBody = "application/json"),
+        )),
     responses(
-        (status = 200, description = "Valid", body = Validated),
-        (status = 422, description = "Bad config", body = ErrorBody),
+        (status = 200, description = "Valid: the plan and estimates", body = Validated),
+        (status = 400, description = "Bad query, JSON, job kind, or a config that is not UTF-8", body = ErrorBody),
+        (status = 403, description = "`force` asked of a server not started with --force", body = ErrorBody),
+        (status = 413, description = "Body over 1 MiB", body = ErrorBody),
+        (status = 415, description = "Neither TOML nor JSON", body = ErrorBody),
+        (status = 422, description = "Bad config, or over the server's ceilings", body = ErrorBody),
     ))]
 async fn validate(State(shared): AppState, s: Submission) -> Result<Json<Validated>, ApiError> {
     let validated = blocking(move || {
@@ -443,8 +471,12 @@ impl From<JobRow> for JobView {
 }
 
 /// A job's state, progress, timings, and its summary or error.
-#[utoipa::path(get, path = "/api/v1/jobs/{id}", params(("id" = String, Path, description = "Job id")),
-    responses((status = 200, body = JobView), (status = 404, body = ErrorBody)))]
+#[utoipa::path(get, path = "/api/v1/jobs/{id}", params(IdParam),
+    responses(
+        (status = 200, description = "The job", body = JobView),
+        (status = 400, description = "An id that is not UTF-8", body = ErrorBody),
+        (status = 404, description = "No such job", body = ErrorBody),
+    ))]
 async fn status(State(shared): AppState, JobId(id): JobId) -> Result<Json<JobView>, ApiError> {
     let row = blocking(move || {
         shared
@@ -461,10 +493,13 @@ async fn status(State(shared): AppState, JobId(id): JobId) -> Result<Json<JobVie
 #[into_params(parameter_in = Query)]
 pub struct ListQuery {
     /// Only jobs in this state.
+    #[param(value_type = Option<JobState>, nullable = false)]
     state: Option<String>,
     /// Jobs per page, 1 to 500 [default 50].
+    #[param(nullable = false, minimum = 1, maximum = 500)]
     limit: Option<usize>,
-    /// The `next` cursor of the previous page.
+    /// The `next` cursor of the previous page: jobs submitted before it.
+    #[param(nullable = false)]
     before: Option<i64>,
 }
 
@@ -479,7 +514,10 @@ pub struct JobPage {
 
 /// The jobs, newest first, paged, filtered by state.
 #[utoipa::path(get, path = "/api/v1/jobs", params(ListQuery),
-    responses((status = 200, body = JobPage), (status = 400, body = ErrorBody)))]
+    responses(
+        (status = 200, description = "A page of jobs", body = JobPage),
+        (status = 400, description = "Bad query: an unknown state, a limit out of range", body = ErrorBody),
+    ))]
 async fn list(
     State(shared): AppState,
     query: Result<Query<ListQuery>, QueryRejection>,
@@ -516,8 +554,13 @@ async fn list(
 
 /// Cancel a job (idempotent): a queued one at once; a running one stops
 /// at its next check and keeps what it finished (an optimise its best packing).
-#[utoipa::path(post, path = "/api/v1/jobs/{id}/cancel", params(("id" = String, Path, description = "Job id")),
-    responses((status = 202, description = "Stopping", body = JobView), (status = 200, description = "Cancelled or already finished", body = JobView), (status = 404, body = ErrorBody)))]
+#[utoipa::path(post, path = "/api/v1/jobs/{id}/cancel", params(IdParam),
+    responses(
+        (status = 200, description = "Cancelled, or already finished", body = JobView),
+        (status = 202, description = "Running: stopping at its next check", body = JobView),
+        (status = 400, description = "An id that is not UTF-8", body = ErrorBody),
+        (status = 404, description = "No such job", body = ErrorBody),
+    ))]
 async fn cancel(State(shared): AppState, JobId(id): JobId) -> Result<impl IntoResponse, ApiError> {
     let (outcome, row) = blocking({
         let shared = Arc::clone(&shared);
@@ -551,8 +594,13 @@ async fn cancel(State(shared): AppState, JobId(id): JobId) -> Result<impl IntoRe
 }
 
 /// Delete a finished job and its files.
-#[utoipa::path(delete, path = "/api/v1/jobs/{id}", params(("id" = String, Path, description = "Job id")),
-    responses((status = 204, description = "Deleted"), (status = 404, body = ErrorBody), (status = 409, description = "Not finished", body = ErrorBody)))]
+#[utoipa::path(delete, path = "/api/v1/jobs/{id}", params(IdParam),
+    responses(
+        (status = 204, description = "Deleted"),
+        (status = 400, description = "An id that is not UTF-8", body = ErrorBody),
+        (status = 404, description = "No such job", body = ErrorBody),
+        (status = 409, description = "Not finished: cancel it first", body = ErrorBody),
+    ))]
 async fn delete(State(shared): AppState, JobId(id): JobId) -> Result<StatusCode, ApiError> {
     let dir = job_dir(&shared, &id);
     blocking(move || match shared.db.delete(&id)? {
@@ -629,6 +677,37 @@ mod tests {
                 StatusCode::BAD_REQUEST,
                 "unknown job kind \"bake\"; valid: ",
             ),
+            // The query's kind is checked even when the JSON names one.
+            (
+                "?kind=bake",
+                json,
+                json!({"kind": "pack", "config": SQUARE}).to_string().into(),
+                StatusCode::BAD_REQUEST,
+                "unknown job kind \"bake\"; valid: ",
+            ),
+            // A property the body does not have is refused, as the
+            // document's `additionalProperties: false` says.
+            (
+                "",
+                json,
+                json!({"config": SQUARE, "sede": 4}).to_string().into(),
+                StatusCode::BAD_REQUEST,
+                "bad JSON body: unknown field `sede`, expected one of ",
+            ),
+            (
+                "",
+                json,
+                json!({"config": SQUARE, "seed": 4.5}).to_string().into(),
+                StatusCode::BAD_REQUEST,
+                "bad JSON body: seed 4.5: expected a whole number from 0 to ",
+            ),
+            (
+                "",
+                json,
+                json!({"config": SQUARE, "seed": -1}).to_string().into(),
+                StatusCode::BAD_REQUEST,
+                "bad JSON body: seed -1: expected a whole number from 0 to ",
+            ),
             (
                 "?seed=abc",
                 toml,
@@ -673,6 +752,17 @@ mod tests {
         assert_eq!(
             (&r.json()["kind"], &r.json()["seed"]),
             (&"pack".into(), &4.into())
+        );
+        // A whole number written as a float is that number, as in JSON
+        // Schema; null is as absent.
+        let body = json!({"kind": null, "config": SQUARE, "seed": 5.0, "force": null});
+        let r = server
+            .post("/api/v1/jobs", "application/json", body.to_string())
+            .await;
+        assert_eq!(r.status, StatusCode::CREATED, "{}", r.text());
+        assert_eq!(
+            (&r.json()["kind"], &r.json()["seed"]),
+            (&"pack".into(), &5.into())
         );
         // Without a kind: the config's natural one; without a seed: its own.
         let r = server

@@ -7,7 +7,9 @@ use axum::Router;
 use axum::http::header;
 use axum::response::{IntoResponse, Response};
 use axum::routing::get;
-use utoipa::OpenApi;
+use utoipa::openapi::security::{HttpAuthScheme, HttpBuilder, SecurityScheme};
+use utoipa::openapi::{Content, HeaderBuilder, ObjectBuilder, Ref, ResponseBuilder, Type};
+use utoipa::{Modify, OpenApi};
 
 use super::error::{ApiError, ErrorBody};
 use super::files::{FileEntry, FileList};
@@ -55,16 +57,79 @@ pub fn router() -> Router<Arc<Shared>> {
         SubmitBody,
         PackingView,
         Example
-    ))
+    )),
+    modifiers(&Guarded),
+    security(("bearer" = []))
 )]
 struct ApiDoc;
 
+/// What every operation shares, added to each: the bearer token's scheme
+/// and its 401 (the guard in front of every route of the API), and the
+/// 500 of a failed store, file or task, or of a panic caught.
+struct Guarded;
+
+impl Modify for Guarded {
+    fn modify(&self, doc: &mut utoipa::openapi::OpenApi) {
+        let scheme = HttpBuilder::new()
+            .scheme(HttpAuthScheme::Bearer)
+            .description(Some(
+                "The token of a server started with --token-file (needed on any address but \
+                 loopback); a server without one takes any request.",
+            ))
+            .build();
+        doc.components
+            .get_or_insert_with(Default::default)
+            .add_security_scheme("bearer", SecurityScheme::Http(scheme));
+        let error = || Content::new(Some(Ref::from_schema_name("ErrorBody")));
+        let unauthorized = ResponseBuilder::new()
+            .description("No token, or the wrong one (the server has a token)")
+            .content("application/json", error())
+            .header(
+                "WWW-Authenticate",
+                HeaderBuilder::new()
+                    .schema(Some(ObjectBuilder::new().schema_type(Type::String)))
+                    .description(Some("`Bearer`, when no token was given"))
+                    .build(),
+            )
+            .build();
+        let internal = ResponseBuilder::new()
+            .description("The store, a file or a task failed (logged with its cause)")
+            .content("application/json", error())
+            .build();
+        for item in doc.paths.paths.values_mut() {
+            for operation in [
+                &mut item.get,
+                &mut item.post,
+                &mut item.delete,
+                &mut item.put,
+                &mut item.patch,
+            ]
+            .into_iter()
+            .flatten()
+            {
+                let responses = &mut operation.responses.responses;
+                responses
+                    .entry("401".to_owned())
+                    .or_insert_with(|| unauthorized.clone().into());
+                responses
+                    .entry("500".to_owned())
+                    .or_insert_with(|| internal.clone().into());
+            }
+        }
+    }
+}
+
 /// This API's OpenAPI document.
 async fn openapi() -> Response {
-    match ApiDoc::openapi().to_json() {
+    match document() {
         Ok(json) => ([(header::CONTENT_TYPE, "application/json")], json).into_response(),
         Err(e) => ApiError::internal(e).into_response(),
     }
+}
+
+/// The document's text, pretty-printed (the committed copy is this text).
+fn document() -> Result<String, serde_json::Error> {
+    ApiDoc::openapi().to_pretty_json()
 }
 
 #[cfg(test)]
@@ -124,6 +189,76 @@ mod tests {
             Value::Array(items) => items.iter().for_each(|v| refs(v, out)),
             _ => {}
         }
+    }
+
+    /// The committed copy of the document, for review of every change.
+    const COMMITTED: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/openapi.json");
+
+    #[tokio::test]
+    async fn the_served_document_is_the_committed_copy() {
+        let server = TestServer::new();
+        let reply = server.get("/api/v1/openapi.json").await;
+        let served = reply.text();
+        if std::env::var_os("GAPACK_BLESS").is_some() {
+            std::fs::write(COMMITTED, format!("{served}\n")).expect("write serve/openapi.json");
+        }
+        let committed = std::fs::read_to_string(COMMITTED).unwrap_or_default();
+        assert!(
+            served.trim_end() == committed.trim_end(),
+            "the served OpenAPI document differs from serve/openapi.json: review the change \
+             (git diff after refreshing), then refresh the copy with \
+             GAPACK_BLESS=1 cargo test -p gapack-serve the_served_document_is_the_committed_copy"
+        );
+    }
+
+    #[tokio::test]
+    async fn every_operation_declares_its_refusals_with_the_error_body() {
+        let server = TestServer::new();
+        let doc = server.get("/api/v1/openapi.json").await.json();
+        let error = serde_json::json!({"$ref": "#/components/schemas/ErrorBody"});
+        for (path, item) in doc["paths"].as_object().expect("paths") {
+            for (method, op) in item.as_object().expect("an item") {
+                let responses = op["responses"].as_object().expect("responses");
+                for (status, response) in responses {
+                    assert!(
+                        response["description"].is_string(),
+                        "{method} {path} {status}"
+                    );
+                    // Every refusal but a range's (416, no body) carries an ErrorBody.
+                    if status.starts_with('4') && status != "416" {
+                        assert_eq!(
+                            response["content"]["application/json"]["schema"], error,
+                            "{method} {path} {status}"
+                        );
+                    }
+                }
+                for status in ["401", "500"] {
+                    assert!(responses.contains_key(status), "{method} {path} {status}");
+                }
+                if path.contains("{id}") {
+                    assert!(responses.contains_key("404"), "{method} {path}");
+                }
+            }
+        }
+        assert_eq!(doc["security"], serde_json::json!([{"bearer": []}]));
+        assert_eq!(
+            doc["components"]["securitySchemes"]["bearer"]["scheme"],
+            "bearer"
+        );
+        // The JSON submission refuses what it does not know, and says so.
+        let body = &doc["components"]["schemas"]["SubmitBody"];
+        assert_eq!(body["additionalProperties"], false, "{body}");
+        assert_eq!(body["required"], serde_json::json!(["config"]));
+        let kinds: Vec<&str> = gapack::jobs::JobKind::ALL
+            .iter()
+            .map(|k| k.name())
+            .collect();
+        let mut kinds = serde_json::json!(kinds);
+        kinds
+            .as_array_mut()
+            .expect("kinds")
+            .push(serde_json::Value::Null);
+        assert_eq!(body["properties"]["kind"]["enum"], kinds);
     }
 
     #[tokio::test]

@@ -159,8 +159,13 @@ impl ShapesView {
 const OUTLINE_SEGMENTS: usize = 256;
 
 /// The packing of a finished job that wrote `packing.csv`, as columns.
-#[utoipa::path(get, path = "/api/v1/jobs/{id}/packing", params(("id" = String, Path, description = "Job id")),
-    responses((status = 200, body = PackingView), (status = 404, body = ErrorBody), (status = 409, description = "Not finished", body = ErrorBody)))]
+#[utoipa::path(get, path = "/api/v1/jobs/{id}/packing", params(super::jobs::IdParam),
+    responses(
+        (status = 200, description = "The packing as columns", body = PackingView),
+        (status = 400, description = "An id that is not UTF-8", body = ErrorBody),
+        (status = 404, description = "No such job, or it wrote no packing.csv", body = ErrorBody),
+        (status = 409, description = "Not finished", body = ErrorBody),
+    ))]
 async fn packing(State(shared): AppState, JobId(id): JobId) -> Result<Json<PackingView>, ApiError> {
     let view = blocking(move || {
         let manifest = manifest(&shared, &id)?;
@@ -217,7 +222,8 @@ pub struct Example {
 }
 
 /// The shipped example configs, the default scene first.
-#[utoipa::path(get, path = "/api/v1/examples", responses((status = 200, body = Vec<Example>)))]
+#[utoipa::path(get, path = "/api/v1/examples",
+    responses((status = 200, description = "The examples, the default scene first", body = Vec<Example>)))]
 async fn examples() -> Json<Vec<Example>> {
     Json(
         web::EXAMPLES

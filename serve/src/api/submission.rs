@@ -9,6 +9,7 @@ use axum::extract::{FromRequest, FromRequestParts, Query, Request};
 use axum::http::{HeaderMap, StatusCode, header};
 use gapack::jobs::{JobKind, Plan, Request as JobRequest};
 use serde::{Deserialize, Serialize};
+use utoipa::openapi::schema::{Object, ObjectBuilder, SchemaType, Type};
 use utoipa::{IntoParams, ToSchema};
 
 use super::MAX_BODY;
@@ -16,32 +17,79 @@ use super::error::ApiError;
 use crate::Shared;
 use crate::worker::ORIGIN;
 
-/// Query parameters of a submission (with a TOML body).
+/// Query parameters of a submission (with a TOML body; a JSON body's own
+/// fields take precedence, but these are checked whichever body comes).
 #[derive(Debug, Deserialize, IntoParams)]
 #[into_params(parameter_in = Query)]
 pub struct SubmitQuery {
     /// `pack`, `optimise`, `layer`, `compare`, `stability` or `sweep`
     /// [default: sweep with a [sweep] table, else optimise with an
     /// [optimise] one, else layer with a [layering] one, else pack].
+    #[param(schema_with = kind_schema)]
     kind: Option<String>,
     /// Overrides the config's seed.
+    #[param(nullable = false)]
     seed: Option<u64>,
     /// Run over the config's and the server's limits (only if the server
-    /// was started with `--force`).
+    /// was started with `--force`; else 403).
+    #[param(nullable = false)]
     force: Option<bool>,
 }
 
-/// A submission as JSON.
+/// A submission as JSON: a property not listed here is refused (400).
 #[derive(Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
 pub struct SubmitBody {
-    /// The job kind (see the query parameter).
+    /// The job kind (see the query parameter `kind`).
+    #[schema(schema_with = kind_or_null_schema)]
     kind: Option<String>,
     /// The config, TOML text.
     config: String,
     /// Overrides the config's seed.
+    #[serde(default, deserialize_with = "whole_number")]
     seed: Option<u64>,
-    /// See the query parameter.
+    /// Run over the limits (see the query parameter `force`).
     force: Option<bool>,
+}
+
+/// A JSON whole number from 0 to 2⁶⁴ − 1, or null: JSON (and the schema's
+/// `integer`) make no difference between `7` and `7.0`, so neither does this.
+fn whole_number<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<u64>, D::Error> {
+    /// The largest float below 2⁶⁴ is the last one a u64 holds.
+    const ABOVE_U64: f64 = 18_446_744_073_709_551_616.0;
+    let Some(n) = Option::<serde_json::Number>::deserialize(d)? else {
+        return Ok(None);
+    };
+    if let Some(n) = n.as_u64() {
+        return Ok(Some(n));
+    }
+    match n.as_f64() {
+        Some(f) if f.fract() == 0.0 && (0.0..ABOVE_U64).contains(&f) => Ok(Some(f as u64)),
+        _ => Err(serde::de::Error::custom(format!(
+            "seed {n}: expected a whole number from 0 to 18446744073709551615"
+        ))),
+    }
+}
+
+/// The schema of a job kind: one of the kinds' names.
+pub fn kind_schema() -> Object {
+    ObjectBuilder::new()
+        .schema_type(Type::String)
+        .enum_values(Some(JobKind::ALL.map(JobKind::name)))
+        .build()
+}
+
+/// The schema of a JSON submission's kind: a kind's name, or null (the
+/// config's natural kind, as when absent).
+pub fn kind_or_null_schema() -> Object {
+    let names = JobKind::ALL.map(|k| serde_json::Value::from(k.name()));
+    ObjectBuilder::new()
+        .schema_type(SchemaType::from_iter([Type::String, Type::Null]))
+        .enum_values(Some(names.into_iter().chain([serde_json::Value::Null])))
+        .description(Some(
+            "The job kind (see the query parameter `kind`); null or absent: the config's own",
+        ))
+        .build()
 }
 
 /// A submission, whichever way it came.
@@ -100,9 +148,11 @@ impl Submission {
             String::from_utf8(bytes.to_vec())
                 .map_err(|_| ApiError::bad_request("the config is not UTF-8 text"))
         };
+        // The query's kind is checked even when a JSON body names its own.
+        let query_kind = query.kind.as_deref().map(job_kind).transpose()?;
         match media.as_deref() {
             Some("application/toml") => Ok(Submission {
-                kind: query.kind.as_deref().map(job_kind).transpose()?,
+                kind: query_kind,
                 config: text(body)?,
                 seed: query.seed,
                 force: query.force.unwrap_or(false),
@@ -113,10 +163,10 @@ impl Submission {
                 Ok(Submission {
                     kind: json
                         .kind
-                        .or(query.kind)
                         .as_deref()
                         .map(job_kind)
-                        .transpose()?,
+                        .transpose()?
+                        .or(query_kind),
                     config: json.config,
                     seed: json.seed.or(query.seed),
                     force: json.force.or(query.force).unwrap_or(false),
