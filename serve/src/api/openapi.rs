@@ -64,8 +64,10 @@ pub fn router() -> Router<Arc<Shared>> {
 struct ApiDoc;
 
 /// What every operation shares, added to each: the bearer token's scheme
-/// and its 401 (the guard in front of every route of the API), and the
-/// 500 of a failed store, file or task, or of a panic caught.
+/// and its 401 (the guard in front of every route of the API), the 408 of
+/// the request deadline and the 413 of a body declared over the limit
+/// (layers in front of every route), and the 500 of a failed store, file
+/// or task, or of a panic caught.
 struct Guarded;
 
 impl Modify for Guarded {
@@ -96,6 +98,17 @@ impl Modify for Guarded {
             .description("The store, a file or a task failed (logged with its cause)")
             .content("application/json", error())
             .build();
+        let timeout = ResponseBuilder::new()
+            .description(
+                "Not answered within the server's --request-timeout (a body too slow to \
+                 arrive, or work too long); the connection is closed",
+            )
+            .content("application/json", error())
+            .build();
+        let too_large = ResponseBuilder::new()
+            .description("A body declared (Content-Length) over 1 MiB, refused before it is read")
+            .content("application/json", error())
+            .build();
         for item in doc.paths.paths.values_mut() {
             for operation in [
                 &mut item.get,
@@ -111,6 +124,12 @@ impl Modify for Guarded {
                 responses
                     .entry("401".to_owned())
                     .or_insert_with(|| unauthorized.clone().into());
+                responses
+                    .entry("408".to_owned())
+                    .or_insert_with(|| timeout.clone().into());
+                responses
+                    .entry("413".to_owned())
+                    .or_insert_with(|| too_large.clone().into());
                 responses
                     .entry("500".to_owned())
                     .or_insert_with(|| internal.clone().into());
@@ -232,7 +251,7 @@ mod tests {
                         );
                     }
                 }
-                for status in ["401", "500"] {
+                for status in ["401", "408", "413", "500"] {
                     assert!(responses.contains_key(status), "{method} {path} {status}");
                 }
                 if path.contains("{id}") {
