@@ -7,11 +7,11 @@
 
 use super::plan::Plan;
 use super::registry::{Job, JobKind};
+use crate::Scene;
 use crate::config::{Config, layering_peak_bytes};
 use crate::layering::LayeringMode;
 use crate::packer::estimated_peak_bytes;
 use crate::stability::Case;
-use crate::Scene;
 
 /// The largest scene and the most memory over every run of a plan, each
 /// with the run (and the part of it) it comes from.
@@ -177,7 +177,10 @@ mod tests {
         let packing = plan(SQUARE, Some(JobKind::Pack)).largest();
         assert_eq!(big.peak_bytes_in, "the layering search on the scene");
         assert!(small.peak_bytes > packing.peak_bytes);
-        assert!(big.peak_bytes > 100.0 * small.peak_bytes, "{big:?} {small:?}");
+        assert!(
+            big.peak_bytes > 100.0 * small.peak_bytes,
+            "{big:?} {small:?}"
+        );
         // The pack job lays nothing out: the packing alone.
         let packed = plan(&layered.replace("POP", "20000"), Some(JobKind::Pack)).largest();
         assert_eq!(packed.peak_bytes, packing.peak_bytes);

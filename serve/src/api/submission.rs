@@ -475,8 +475,7 @@ mod tests {
             )
             .await;
         assert_eq!(alone.status, StatusCode::UNPROCESSABLE_ENTITY);
-        let disks = alone
-            .json()["message"]
+        let disks = alone.json()["message"]
             .as_str()
             .expect("message")
             .trim_start_matches("the scene could hold ")
@@ -503,7 +502,14 @@ mod tests {
         assert_eq!(r.status, StatusCode::OK, "{}", r.text());
         let e = &r.json()["estimates"];
         assert_eq!(e["largest_max_disks_in"], "point width=600: the scene");
-        assert_eq!(e["largest_max_disks"].as_f64().expect("disks").round().to_string(), disks);
+        assert_eq!(
+            e["largest_max_disks"]
+                .as_f64()
+                .expect("disks")
+                .round()
+                .to_string(),
+            disks
+        );
         assert!(e["largest_max_disks"].as_f64() > e["max_disks"].as_f64());
     }
 
@@ -541,7 +547,10 @@ mod tests {
             .and_then(|n| n.parse().ok())
             .expect("MB");
         assert!(mb > 64.0 && mb < 4096.0, "{message}");
-        assert!(message.ends_with("over this server's ceiling of 64 MB"), "{message}");
+        assert!(
+            message.ends_with("over this server's ceiling of 64 MB"),
+            "{message}"
+        );
     }
 
     #[tokio::test]
@@ -565,9 +574,7 @@ mod tests {
             "{}[sweep]\n\"layering.population\" = [10, 200000]\n",
             layering(10, "max_memory_mb = 100000\n")
         );
-        let r = server
-            .post("/api/v1/jobs", "application/toml", study)
-            .await;
+        let r = server.post("/api/v1/jobs", "application/toml", study).await;
         assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY, "{}", r.text());
         assert!(
             r.error().starts_with(
