@@ -9,7 +9,7 @@
 //! neighbours and point `p`'s seed `k` is run `p · seeds + k`.
 //!
 //! Plain data and arithmetic only: the config layer reads the table and
-//! builds each point's config (`config::sweep_points`), the jobs layer runs
+//! builds each point's config (`config::SweepConfigs`), the jobs layer runs
 //! them, and the output layer writes the rows and draws the chart.
 
 use std::ops::Range;
@@ -326,7 +326,11 @@ fn value_names(key: &SweptKey) -> Vec<String> {
         })
         .collect();
     let unusable = |n: &String| n.is_empty() || n.len() > NAME_VALUE_CHARS;
-    let clash = (0..names.len()).any(|i| names[..i].contains(&names[i]));
+    // A set, not a pairwise search: a study may sweep 100,000 values.
+    let clash = {
+        let mut seen = std::collections::HashSet::with_capacity(names.len());
+        !names.iter().all(|n| seen.insert(n.as_str()))
+    };
     if clash || names.iter().any(unusable) {
         names = (0..names.len()).map(|i| format!("v{i}")).collect();
     }

@@ -19,5 +19,5 @@ pub use crate::names::{ConfigName, METHOD};
 pub use error::{ConfigError, Location};
 pub use locate::key_location;
 pub use parse::{Config, DEFAULT_CONFIG, DEFAULT_ORIGIN, ParseOptions, parse, parse_with};
-pub use sweep_points::{SweepPoint, sweep_points};
-pub use validate::{DEFAULT_MAX_MEMORY_MB, DEFAULT_MAX_PARTICLES};
+pub use sweep_points::{SweepConfigs, SweepPoint};
+pub use validate::{DEFAULT_MAX_MEMORY_MB, DEFAULT_MAX_PARTICLES, layering_peak_bytes};

@@ -5,7 +5,7 @@
 use super::error::{ConfigError, Location};
 use super::locate::from_toml_error;
 use super::parse::{Config, ParseOptions, parse_with};
-use crate::study::{SweepSettings, SweptKey, point_names, points};
+use crate::study::{SweepSettings, SweptKey};
 
 /// One point of a study: a value of every swept key.
 #[derive(Debug, Clone)]
@@ -30,96 +30,139 @@ const GRADING_SOURCES: [&str; 4] = ["table", "uniform", "constant", "preset"];
 /// for itself: swept, they set every well's (the wells' own are removed).
 const WELL_KEYS: [&str; 3] = ["width_mm", "height_m", "tip_width_mm"];
 
-/// The configs of the study `settings` describes on the config `text`
-/// (named `origin`), one per point in product order ([`crate::study::points`]).
+/// The configs of a study, made a point at a time ([`SweepConfigs::point`]):
+/// the study's config without `[sweep]`, and what places a fault.
 ///
-/// # Behavior
-/// A swept key's value replaces the config's: `fracture.width_mm` (and
-/// `height_m`, `tip_width_mm`) on a batch of `[[fracture.wells]]` sets
-/// every well's; one of `grading.table`, `uniform`, `constant`, `preset`
-/// replaces the curve the config gives. Each value is first checked alone
-/// on the study's config, then every point: a fault is placed at the
-/// `[sweep]` entry that makes it (`study.toml:14:23: sweep."fracture.width_mm"[2]: …`).
-/// A point whose scene cannot be packed (`ConfigError::Scene` or
-/// `ConfigError::Memory`: a value valid in itself that the rest of the
-/// config cannot pack) is not a fault of the study: its runs fail alone.
-///
-/// # Errors
-/// The first value (or key) found at fault, placed at its entry of
-/// `[sweep]`; a fault only a combination of values makes is placed at the
-/// first swept key and names the point.
-pub fn sweep_points(
-    text: &str,
-    origin: &str,
+/// # Performance
+/// Holds the study's config once, whatever the number of points: a point's
+/// config is made (one parse of a short text) when it is asked for, and a
+/// caller that walks the points keeps only what it needs of each.
+#[derive(Debug, Clone)]
+pub struct SweepConfigs {
+    /// The study's config as a TOML tree, `[sweep]` removed.
+    doc: toml::Table,
+    /// The study's text (for the places of faults).
+    text: String,
+    /// Names the study's config in messages.
+    origin: String,
+    /// How each point's config is parsed.
     options: ParseOptions,
-    settings: &SweepSettings,
-) -> Result<Vec<SweepPoint>, ConfigError> {
-    let mut doc: toml::Table =
-        toml::from_str(text).map_err(|e| from_toml_error(&e, text, origin))?;
-    doc.remove("sweep");
-    let at = |span: &std::ops::Range<usize>| Location::at(origin, text, span.start);
-    let write = |doc: &toml::Table, key: &SweptKey, i: usize| {
-        toml::to_string(doc).map_err(|e| ConfigError::Schema {
-            at: at(&key.value_spans[i]),
-            key: key.value_label(i),
-            message: format!("cannot be set in the config: {e}"),
+}
+
+impl SweepConfigs {
+    /// The configs of the study of `text` (named `origin`), each point
+    /// parsed with `options`.
+    ///
+    /// # Errors
+    /// The text's TOML fault, placed as [`super::parse`] places it.
+    pub fn new(text: &str, origin: &str, options: ParseOptions) -> Result<Self, ConfigError> {
+        let mut doc: toml::Table =
+            toml::from_str(text).map_err(|e| from_toml_error(&e, text, origin))?;
+        doc.remove("sweep");
+        Ok(SweepConfigs {
+            doc,
+            text: text.to_owned(),
+            origin: origin.to_owned(),
+            options,
         })
-    };
-    for key in &settings.keys {
-        for (i, value) in key.values.iter().enumerate() {
-            let mut one = doc.clone();
-            set(&mut one, &key.path, value);
-            let alone = write(&one, key, i)?;
-            match parse_with(&alone, origin, options) {
-                Ok(_) => {}
-                Err(e) if cannot_pack(&e) => {}
-                Err(e) if names_the_key(&e, key) => {
-                    return Err(ConfigError::NotApplicable {
-                        at: at(&key.span),
-                        key: key.label(),
-                        reason: format!("not a config key: {}", e.message()),
-                    });
-                }
-                Err(e) if e.key() == Some(key.path.as_str()) => {
-                    return Err(e.relocated(at(&key.value_spans[i]), key.value_label(i)));
-                }
-                Err(e) => {
-                    return Err(ConfigError::Schema {
-                        at: at(&key.value_spans[i]),
-                        key: key.value_label(i),
-                        message: e.detail(),
-                    });
-                }
-            }
-        }
     }
-    let names = point_names(&settings.keys);
-    let mut out = Vec::new();
-    for (point, name) in points(&settings.keys).into_iter().zip(names) {
-        let mut config = doc.clone();
-        for (key, &i) in settings.keys.iter().zip(&point) {
+
+    /// The point of `settings` whose value indices are `values` (one per
+    /// key, each in range: [`crate::study::points`] gives them).
+    ///
+    /// # Behavior
+    /// A swept key's value replaces the config's: `fracture.width_mm` (and
+    /// `height_m`, `tip_width_mm`) on a batch of `[[fracture.wells]]` sets
+    /// every well's; one of `grading.table`, `uniform`, `constant`, `preset`
+    /// replaces the curve the config gives. A point whose scene cannot be
+    /// packed (`ConfigError::Scene` or `ConfigError::Memory`: values valid
+    /// in themselves that the rest of the config cannot pack) is not a
+    /// fault of the study: its runs fail alone. Any other fault is placed
+    /// at the `[sweep]` entry that makes it: each of the point's values is
+    /// then checked alone on the study's config
+    /// (`study.toml:14:23: sweep."fracture.width_mm"[2]: …`).
+    ///
+    /// # Errors
+    /// The point's first value (or key) at fault alone, placed at its
+    /// entry of `[sweep]`; a fault only the values together make is
+    /// placed at the first swept key and names the point (`name`).
+    pub fn point(
+        &self,
+        settings: &SweepSettings,
+        values: &[usize],
+        name: &str,
+    ) -> Result<SweepPoint, ConfigError> {
+        let mut config = self.doc.clone();
+        for (key, &i) in settings.keys.iter().zip(values) {
             set(&mut config, &key.path, &key.values[i]);
         }
-        let first = &settings.keys[0];
-        let text = write(&config, first, point[0])?;
-        let config = match parse_with(&text, origin, options) {
+        let Some(first) = settings.keys.first() else {
+            return Err(ConfigError::NotApplicable {
+                at: Location::at(&self.origin, &self.text, 0),
+                key: "sweep".to_owned(),
+                reason: "no key is swept".to_owned(),
+            });
+        };
+        let text = self.write(&config, first, values.first().copied().unwrap_or(0))?;
+        let config = match parse_with(&text, &self.origin, self.options) {
             Ok(config) => Ok(config),
             Err(e) if cannot_pack(&e) => Err(e.detail()),
             Err(e) => {
+                for (key, &i) in settings.keys.iter().zip(values) {
+                    self.alone(key, i)?;
+                }
                 return Err(ConfigError::NotApplicable {
-                    at: at(&first.span),
+                    at: self.at(&first.span),
                     key: "sweep".to_owned(),
                     reason: format!("the values {name} together: {}", e.detail()),
                 });
             }
         };
-        out.push(SweepPoint {
-            values: point,
+        Ok(SweepPoint {
+            values: values.to_vec(),
             text,
             config,
-        });
+        })
     }
-    Ok(out)
+
+    /// Check value `i` of `key` alone on the study's config: its fault
+    /// placed at its entry (or at the key, when the key is none).
+    fn alone(&self, key: &SweptKey, i: usize) -> Result<(), ConfigError> {
+        let mut one = self.doc.clone();
+        set(&mut one, &key.path, &key.values[i]);
+        let alone = self.write(&one, key, i)?;
+        match parse_with(&alone, &self.origin, self.options) {
+            Ok(_) => Ok(()),
+            Err(e) if cannot_pack(&e) => Ok(()),
+            Err(e) if names_the_key(&e, key) => Err(ConfigError::NotApplicable {
+                at: self.at(&key.span),
+                key: key.label(),
+                reason: format!("not a config key: {}", e.message()),
+            }),
+            Err(e) if e.key() == Some(key.path.as_str()) => {
+                Err(e.relocated(self.at(&key.value_spans[i]), key.value_label(i)))
+            }
+            Err(e) => Err(ConfigError::Schema {
+                at: self.at(&key.value_spans[i]),
+                key: key.value_label(i),
+                message: e.detail(),
+            }),
+        }
+    }
+
+    /// `doc` as TOML text; a fault placed at value `i` of `key`.
+    fn write(&self, doc: &toml::Table, key: &SweptKey, i: usize) -> Result<String, ConfigError> {
+        toml::to_string(doc).map_err(|e| ConfigError::Schema {
+            at: self.at(&key.value_spans[i]),
+            key: key.value_label(i),
+            message: format!("cannot be set in the config: {e}"),
+        })
+    }
+
+    /// The place in the study's text where `span` starts.
+    fn at(&self, span: &std::ops::Range<usize>) -> Location {
+        Location::at(&self.origin, &self.text, span.start)
+    }
 }
 
 /// A scene that cannot be packed, though each value is valid.
@@ -172,6 +215,22 @@ fn set(doc: &mut toml::Table, path: &str, value: &toml::Value) {
 mod tests {
     use super::*;
     use crate::config::parse;
+    use crate::study::{point_names, points};
+
+    /// Every point of the study, in product order; the first fault.
+    fn sweep_points(
+        text: &str,
+        origin: &str,
+        options: ParseOptions,
+        settings: &SweepSettings,
+    ) -> Result<Vec<SweepPoint>, ConfigError> {
+        let configs = SweepConfigs::new(text, origin, options)?;
+        points(&settings.keys)
+            .iter()
+            .zip(point_names(&settings.keys))
+            .map(|(values, name)| configs.point(settings, values, &name))
+            .collect()
+    }
 
     const STUDY: &str = "seed = 3
 [fracture]

@@ -46,6 +46,7 @@ mod values;
 
 use domain::{DomainPlan, coordinate_key};
 use fracture::FracturePlan;
+pub use layering::layering_peak_bytes;
 pub use limits::{DEFAULT_MAX_MEMORY_MB, DEFAULT_MAX_PARTICLES};
 
 /// The key of a config and where its value is.

@@ -20,22 +20,24 @@ use std::error::Error;
 use serde::{Deserialize, Serialize};
 
 use super::contract::Manifest;
-use super::describe::{Words, duration, interrupted_runs};
+use super::describe::{Words, duration, interrupted_runs, memory};
 use super::error::JobError;
 use super::event::{Event, Observer, Stage, Warning, WarningKind};
+use super::largest::Largest;
 use super::plan::{Plan, Planning, Request};
 use super::registry::{Job, JobKind, Report};
 use super::run::{MANIFEST_JSON, Running, run_on};
 use super::store::{MemoryStore, Store, StoreError};
 use crate::cancel::Cancel;
 use crate::config::{
-    Config, ConfigError, ConfigName, Location, ParseOptions, key_location, sweep_points,
+    Config, ConfigError, ConfigName, Location, ParseOptions, SweepConfigs, key_location,
 };
 use crate::farm::{self, Farm, Local};
 use crate::fracture::Extent;
 use crate::output::{SUMMARY_JSON, SWEEP_CSV, read_sweep_csv, render_sweep};
 use crate::study::{
-    Keep, Measure, Measures, Row, RunJob, Status, SweepSettings, SweptKey, point_names, run_name,
+    Keep, Measure, Measures, Row, RunJob, Status, SweepSettings, SweptKey, point_names, points,
+    run_name,
 };
 
 /// Runs per worker (thread × process) in a wave: the runs of a wave are
@@ -45,13 +47,15 @@ const WAVE_PER_WORKER: usize = 2;
 /// Runs named in a warning that several runs gave, before `and N more`.
 const NAMED_RUNS: usize = 3;
 
-/// A parameter study, planned: its points (each a config) and its runs
-/// (each a point and a seed).
+/// A parameter study, planned: its points and its runs (each a point and
+/// a seed), and the largest scene and memory of any run.
 ///
 /// # Performance
-/// A study holds one config per point, not one plan per run: a run's plan
-/// is made when it runs ([`Study::run_plan`]), so a study of many seeds
-/// costs no more memory than one of a single seed.
+/// A study holds no config per point nor plan per run: a point's config is
+/// made when its runs run ([`Study::run_plan`]) from the study's config
+/// held once ([`SweepConfigs`]), so a study of 100,000 points costs little
+/// more memory than their names, and one of many seeds no more than one
+/// of a single seed.
 #[derive(Debug, Clone)]
 #[non_exhaustive]
 pub struct Study {
@@ -65,6 +69,11 @@ pub struct Study {
     pub runs: Vec<StudyRun>,
     /// Keep the finished rows of the store's `sweep.csv` and run the others.
     pub resume: bool,
+    /// The largest scene and memory over every point's runs, found when
+    /// the study was planned (the points that cannot run left out).
+    pub largest: Largest,
+    /// Every point's config, made on demand.
+    configs: SweepConfigs,
     /// The config's origin, which the runs' messages and files name.
     origin: String,
     /// Skip the `[limits]` refusals (the request's `force`).
@@ -81,10 +90,8 @@ pub struct StudyPoint {
     pub name: String,
     /// The value of each swept key, as `sweep.csv` shows it.
     pub values: Vec<String>,
-    /// Its config as TOML text (for the runs' identity).
-    pub text: String,
-    /// Its config, or why its scene cannot be packed (its runs fail with it).
-    pub config: Result<Config, String>,
+    /// The index of each swept key's value.
+    pub indices: Vec<usize>,
 }
 
 /// One run of a study.
@@ -100,6 +107,21 @@ pub struct StudyRun {
 }
 
 impl Study {
+    /// Point `p`'s config as TOML text (for its runs' identity), and its
+    /// config or why its scene cannot be packed (its runs fail with it).
+    ///
+    /// # Errors
+    /// A fault of the point's config (none of a point of a planned study:
+    /// planning made every one), in one line.
+    pub fn point_config(&self, p: usize) -> Result<(String, Result<Config, String>), String> {
+        let point = self.points.get(p).ok_or("no such point")?;
+        let made = self
+            .configs
+            .point(&self.settings, &point.indices, &point.name)
+            .map_err(|e| e.to_string().replace(['\n', '\r'], " "))?;
+        Ok((made.text, made.config))
+    }
+
     /// The plan of `run`: its point's config, its seed, the study's job;
     /// without `keep = "all"` no file but `summary.json` is made.
     ///
@@ -107,23 +129,26 @@ impl Study {
     /// Why the run cannot run: its point's scene cannot be packed, or the
     /// job refuses its config, in one line.
     pub fn run_plan(&self, run: &StudyRun) -> Result<Plan, String> {
-        let point = self.points.get(run.point).ok_or("no such point")?;
-        let config = point.config.as_ref().map_err(Clone::clone)?;
-        let request = Request {
-            kind: Some(self.kind),
-            seed: Some(run.seed),
-            force: self.force,
-            resume: false,
-            checkpoint_every: 0,
-            time_cap: self.time_cap,
-        };
-        let mut plan = Plan::new(config.clone(), &point.text, &self.origin, &request)
-            .map_err(|e| one_line(&e))?;
+        let (text, config) = self.point_config(run.point)?;
+        let mut plan = self.plan_point(config?, &text, run.seed)?;
         // The runs' other files are not kept: not made either.
         if self.settings.keep != Keep::All {
             plan.config.output.formats.clear();
         }
         Ok(plan)
+    }
+
+    /// The plan of the study's job on a point's `config` (of `text`) with `seed`.
+    fn plan_point(&self, config: Config, text: &str, seed: u64) -> Result<Plan, String> {
+        let request = Request {
+            kind: Some(self.kind),
+            seed: Some(seed),
+            force: self.force,
+            resume: false,
+            checkpoint_every: 0,
+            time_cap: self.time_cap,
+        };
+        Plan::new(config, text, &self.origin, &request).map_err(|e| one_line(&e))
     }
 }
 
@@ -137,8 +162,9 @@ pub(super) fn plan(p: &mut Planning<'_>) -> Result<Job, JobError> {
 }
 
 /// Plan the study of `config` (of `text`, named `origin`): every point's
-/// config, checked by planning its first run; each run's warnings once in
-/// `warnings`.
+/// config made and checked by planning its first run, a point at a time
+/// (each dropped once its largest scene and memory are kept); each run's
+/// warnings once in `warnings`.
 ///
 /// # Errors
 /// [`JobError::Input`] without a `[sweep]` table; [`JobError::Config`]
@@ -177,21 +203,18 @@ fn study(
     let options = ParseOptions {
         force: request.force,
     };
-    let names = point_names(&settings.keys);
     let texts: Vec<Vec<String>> = settings.keys.iter().map(SweptKey::texts).collect();
-    let points: Vec<StudyPoint> = sweep_points(text, origin, options, &settings)?
+    let points: Vec<StudyPoint> = points(&settings.keys)
         .into_iter()
-        .zip(names)
-        .map(|(point, name)| StudyPoint {
+        .zip(point_names(&settings.keys))
+        .map(|(indices, name)| StudyPoint {
             name,
-            values: point
-                .values
+            values: indices
                 .iter()
                 .enumerate()
                 .map(|(k, &i)| texts[k][i].clone())
                 .collect(),
-            text: point.text,
-            config: point.config,
+            indices,
         })
         .collect();
     let mut study = Study {
@@ -199,6 +222,8 @@ fn study(
         points,
         runs: Vec::with_capacity(settings.runs()),
         resume: request.resume,
+        largest: Largest::none(),
+        configs: SweepConfigs::new(text, origin, options)?,
         origin: origin.to_owned(),
         force: request.force,
         time_cap: request.time_cap,
@@ -214,32 +239,39 @@ fn study(
             });
         }
     }
-    // Each point's first run planned now: a job that refuses a point's
-    // config refuses the study, and each warning is said once, before it runs.
-    for run in study.runs.iter().step_by(study.settings.seeds.max(1)) {
-        let Ok(config) = &study.points[run.point].config else {
+    // Each point's first run planned now: a point's fault, or a job that
+    // refuses a point's config, refuses the study; each warning is said
+    // once, before it runs; the largest scene and memory are kept.
+    let first_seed = config.scene.seed;
+    let mut largest = Largest::none();
+    for point in &study.points {
+        let made = study
+            .configs
+            .point(&study.settings, &point.indices, &point.name)?;
+        let Ok(config) = made.config else {
             continue;
         };
-        let request = Request {
-            kind: Some(kind),
-            seed: Some(run.seed),
-            force: request.force,
-            resume: false,
-            checkpoint_every: 0,
-            time_cap: request.time_cap,
-        };
         let plan = Plan::new(
-            config.clone(),
-            &study.points[run.point].text,
+            config,
+            &made.text,
             origin,
-            &request,
+            &Request {
+                kind: Some(kind),
+                seed: Some(first_seed),
+                force: request.force,
+                resume: false,
+                checkpoint_every: 0,
+                time_cap: request.time_cap,
+            },
         )?;
+        largest.merge(&plan.largest(), &point.name);
         for w in plan.warnings {
             if !warnings.contains(&w) {
                 warnings.push(w);
             }
         }
     }
+    study.largest = largest;
     Ok(study)
 }
 
@@ -725,11 +757,12 @@ fn point_lines(study: &Study) -> Vec<String> {
     let mut lines: Vec<String> = study
         .points
         .iter()
+        .enumerate()
         .take(LISTED_POINTS)
-        .map(|point| {
+        .map(|(p, point)| {
             let name = &point.name;
-            match &point.config {
-                Ok(config) => {
+            match study.point_config(p) {
+                Ok((_, Ok(config))) => {
                     let (disks, window) = match &config.fracture {
                         Some(f) => (
                             f.wells
@@ -749,13 +782,23 @@ fn point_lines(study: &Study) -> Vec<String> {
                         }
                     )
                 }
-                Err(why) => format!("point {name}: its runs fail: {why}"),
+                Ok((_, Err(why))) | Err(why) => format!("point {name}: its runs fail: {why}"),
             }
         })
         .collect();
     let points = study.points.len();
     if points > LISTED_POINTS {
         lines.push(format!("… and {} more points", points - LISTED_POINTS));
+    }
+    let largest = &study.largest;
+    if largest.max_disks_in != "no run" {
+        lines.push(format!(
+            "largest run: {}, at most {:.0} disks; most memory: {}, about {}",
+            largest.max_disks_in,
+            largest.max_disks,
+            largest.peak_bytes_in,
+            memory(largest.peak_bytes)
+        ));
     }
     lines
 }

@@ -226,54 +226,58 @@ fn job_kind(name: &str) -> Result<JobKind, ApiError> {
     })
 }
 
-/// The server's ceilings, which no config can raise.
+/// The server's ceilings, which no config can raise: held against the
+/// largest scene and the most memory of every run the job makes
+/// ([`Plan::largest`]: every well, window, study point, and the
+/// optimise or layering search), whatever the config's `[limits]` allow.
 fn ceilings(shared: &Shared, plan: &Plan) -> Result<(), ApiError> {
     let limits = &shared.limits;
-    let mut scenes = vec![&plan.config.scene];
-    if let Some(run) = &plan.config.fracture {
-        scenes.extend(run.wells.iter().map(|w| &w.scene));
-    }
+    let largest = plan.largest();
     let mb = |bytes: f64| bytes / (1024.0 * 1024.0);
-    for scene in scenes {
-        let disks = scene.max_disks();
-        if disks > limits.max_particles as f64 {
-            return Err(ApiError::config(
-                "limits.max_particles",
-                format!(
-                    "the scene could hold {disks:.0} disks, over this server's ceiling of {}",
-                    limits.max_particles
-                ),
-                None,
-            ));
-        }
-        let mut bytes = gapack::estimated_peak_bytes(scene);
-        if let (JobKind::Optimise, Some(o)) = (plan.kind, &plan.config.optimise) {
-            bytes = bytes.max(o.peak_bytes(scene));
-        }
-        if bytes > limits.max_memory_bytes {
-            return Err(ApiError::config(
-                "limits.max_memory_mb",
-                format!(
-                    "the run would need about {:.0} MB, over this server's ceiling of {:.0} MB",
-                    mb(bytes),
-                    mb(limits.max_memory_bytes)
-                ),
-                None,
-            ));
-        }
+    if largest.max_disks > limits.max_particles as f64 {
+        return Err(ApiError::config(
+            "limits.max_particles",
+            format!(
+                "{} could hold {:.0} disks, over this server's ceiling of {}",
+                largest.max_disks_in, largest.max_disks, limits.max_particles
+            ),
+            None,
+        ));
+    }
+    if largest.peak_bytes > limits.max_memory_bytes {
+        return Err(ApiError::config(
+            "limits.max_memory_mb",
+            format!(
+                "{} would need about {:.0} MB, over this server's ceiling of {:.0} MB",
+                largest.peak_bytes_in,
+                mb(largest.peak_bytes),
+                mb(limits.max_memory_bytes)
+            ),
+            None,
+        ));
     }
     Ok(())
 }
 
-/// A scene's estimates.
+/// A job's estimates: its first scene's, and the largest over its runs.
 #[derive(Debug, Serialize, ToSchema)]
 pub struct Estimates {
-    /// Disks a packing is expected to hold.
+    /// Disks a packing of the first scene is expected to hold.
     disks: f64,
-    /// The most disks it could hold.
+    /// The most disks the first scene could hold.
     max_disks: f64,
-    /// Peak memory of a packing (bytes, an upper bound).
+    /// Peak memory of a packing of the first scene (bytes, an upper bound).
     peak_bytes: f64,
+    /// The most disks the scene of any run could hold (every well, window
+    /// and study point): what `--max-particles` is held against.
+    largest_max_disks: f64,
+    /// Which scene that is (`the scene`, `well "a"`, `point width=600: the scene`).
+    largest_max_disks_in: String,
+    /// The most memory any run is estimated to need (bytes, an upper
+    /// bound; a packing's or a search's): what `--max-memory-mb` is held against.
+    largest_peak_bytes: f64,
+    /// What needs it (`the scene`, `the layering search on the scene`, …).
+    largest_peak_bytes_in: String,
     /// Packings the job makes at most: 1 for a pack; for a search the
     /// initial population and, per generation, under three per member
     /// (offspring and immigrants); absent for batches and sweeps.
@@ -287,7 +291,7 @@ pub struct Estimates {
 const GUIDE_DISKS_PER_SECOND: f64 = 1e6;
 
 impl Estimates {
-    /// The estimates of `plan`'s first scene.
+    /// The estimates of `plan`'s first scene, and the largest over its runs.
     pub fn of(plan: &Plan) -> Self {
         let scene = &plan.config.scene;
         let search = |population: usize, generations: usize| {
@@ -312,10 +316,15 @@ impl Estimates {
             _ => None,
         };
         let disks = scene.estimated_disks();
+        let largest = plan.largest();
         Estimates {
             disks,
             max_disks: scene.max_disks(),
             peak_bytes: gapack::estimated_peak_bytes(scene),
+            largest_max_disks: largest.max_disks,
+            largest_max_disks_in: largest.max_disks_in,
+            largest_peak_bytes: largest.peak_bytes,
+            largest_peak_bytes_in: largest.peak_bytes_in,
             packings,
             seconds: packings.map(|n| disks * n as f64 / GUIDE_DISKS_PER_SECOND),
         }
@@ -486,6 +495,144 @@ mod tests {
             .post("/api/v1/validate?force=true", "application/toml", SQUARE)
             .await;
         assert_eq!(r.status, StatusCode::OK, "{}", r.text());
+    }
+
+    /// A 10 mm square of 0.5 mm disks swept over widths up to 600 mm.
+    const WIDE_STUDY: &str = "[domain]\nshape = \"rectangle\"\nwidth = 10\nheight = 300\n[grading]\nconstant = 0.5\n[sweep]\n\"domain.width\" = [10, 100, 600]\n";
+
+    #[tokio::test]
+    async fn every_point_of_a_study_is_held_to_the_ceilings() {
+        let server = TestServer::with(|o| o.max_particles = 100_000, None);
+        // The first point alone is well under the ceiling.
+        let first = WIDE_STUDY.split("[sweep]").next().expect("the scene");
+        let r = server
+            .post("/api/v1/validate?kind=pack", "application/toml", first)
+            .await;
+        assert_eq!(r.status, StatusCode::OK, "{}", r.text());
+        let r = server
+            .post("/api/v1/jobs", "application/toml", WIDE_STUDY)
+            .await;
+        assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY, "{}", r.text());
+        let v = r.json();
+        assert_eq!(v["key"], "limits.max_particles");
+        let message = v["message"].as_str().expect("message");
+        // 600 × 300 mm over the area of a 0.5 mm disk, as the scene alone is refused.
+        let alone = server
+            .post(
+                "/api/v1/validate?kind=pack",
+                "application/toml",
+                first.replace("width = 10", "width = 600"),
+            )
+            .await;
+        assert_eq!(alone.status, StatusCode::UNPROCESSABLE_ENTITY);
+        let disks = alone.json()["message"]
+            .as_str()
+            .expect("message")
+            .trim_start_matches("the scene could hold ")
+            .split(' ')
+            .next()
+            .expect("a number")
+            .to_owned();
+        assert!(disks.parse::<f64>().expect("disks") > 900_000.0, "{disks}");
+        assert_eq!(
+            message,
+            format!(
+                "point width=600: the scene could hold {disks} disks, over this server's ceiling of 100000"
+            )
+        );
+        assert_eq!(
+            server.get("/api/v1/jobs").await.json()["jobs"],
+            serde_json::json!([])
+        );
+        // The estimates name the largest run.
+        let server = TestServer::new();
+        let r = server
+            .post("/api/v1/validate", "application/toml", WIDE_STUDY)
+            .await;
+        assert_eq!(r.status, StatusCode::OK, "{}", r.text());
+        let e = &r.json()["estimates"];
+        assert_eq!(e["largest_max_disks_in"], "point width=600: the scene");
+        assert_eq!(
+            e["largest_max_disks"]
+                .as_f64()
+                .expect("disks")
+                .round()
+                .to_string(),
+            disks
+        );
+        assert!(e["largest_max_disks"].as_f64() > e["max_disks"].as_f64());
+    }
+
+    /// [`SQUARE`] laid out by a layering search of `population` genomes,
+    /// with the `[limits]` lines given.
+    fn layering(population: u64, limits: &str) -> String {
+        format!(
+            "{SQUARE}[[materials]]\nname = \"a\"\n[[materials]]\nname = \"b\"\n[layering]\nprofile = \"linear\"\npopulation = {population}\n[limits]\n{limits}"
+        )
+    }
+
+    #[tokio::test]
+    async fn a_layering_search_is_held_to_the_memory_ceiling() {
+        let server = TestServer::with(|o| o.max_memory_mb = 64, None);
+        let r = server
+            .post("/api/v1/validate", "application/toml", layering(100, ""))
+            .await;
+        assert_eq!(r.status, StatusCode::OK, "{}", r.text());
+        // Within the config's own limit (4096 MB), over the server's.
+        let r = server
+            .post("/api/v1/jobs", "application/toml", layering(20_000, ""))
+            .await;
+        assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY, "{}", r.text());
+        let v = r.json();
+        assert_eq!(v["key"], "limits.max_memory_mb");
+        let message = v["message"].as_str().expect("message");
+        assert!(
+            message.starts_with("the layering search on the scene would need about "),
+            "{message}"
+        );
+        let mb: f64 = message
+            .trim_start_matches("the layering search on the scene would need about ")
+            .split(' ')
+            .next()
+            .and_then(|n| n.parse().ok())
+            .expect("MB");
+        assert!(mb > 64.0 && mb < 4096.0, "{message}");
+        assert!(
+            message.ends_with("over this server's ceiling of 64 MB"),
+            "{message}"
+        );
+    }
+
+    #[tokio::test]
+    async fn a_configs_limits_do_not_lift_the_servers_ceilings() {
+        let server = TestServer::new();
+        // About 3.8 GB: over the config's default limit, which it raises.
+        let big = layering(200_000, "max_memory_mb = 100000\n");
+        let r = server
+            .post("/api/v1/validate", "application/toml", big.clone())
+            .await;
+        assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY, "{}", r.text());
+        let v = r.json();
+        assert_eq!(v["key"], "limits.max_memory_mb");
+        assert!(
+            r.error().ends_with("over this server's ceiling of 1024 MB"),
+            "{}",
+            r.error()
+        );
+        // Swept, the search is held to the ceiling at its largest point.
+        let study = format!(
+            "{}[sweep]\n\"layering.population\" = [10, 200000]\n",
+            layering(10, "max_memory_mb = 100000\n")
+        );
+        let r = server.post("/api/v1/jobs", "application/toml", study).await;
+        assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY, "{}", r.text());
+        assert!(
+            r.error().starts_with(
+                "config.toml: limits.max_memory_mb: point population=200000: the layering search on the scene would need about "
+            ),
+            "{}",
+            r.error()
+        );
     }
 
     #[tokio::test]

@@ -82,6 +82,18 @@ impl LayeringMemory {
     }
 }
 
+/// An upper bound of the memory (bytes) a layering run of `settings`
+/// needs on a packing of `scene`: the packing, the bin areas, the GA's
+/// genomes and scores ([`LayeringMemory`]); a size-graded layout
+/// (`mode = "sizes"`) runs no search, so the packing's alone.
+pub fn layering_peak_bytes(scene: &Scene, settings: &LayeringSettings) -> f64 {
+    if settings.mode == LayeringMode::Sizes {
+        estimated_peak_bytes(scene)
+    } else {
+        LayeringMemory::of(scene, settings).total
+    }
+}
+
 impl Validator<'_> {
     /// `[layering]` for the given materials.
     pub(super) fn layering(

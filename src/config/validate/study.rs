@@ -2,7 +2,7 @@
 //! a table the config has, with the places the table writes them, and the
 //! study's options (`seeds`, `keep`, `measure`, `job`). Whether each value
 //! fits its key is checked on the configs the values make, when the study
-//! is planned ([`crate::config::sweep_points`]).
+//! is planned ([`crate::config::SweepConfigs`]).
 
 use std::ops::Range;
 
