@@ -211,7 +211,8 @@ async fn file(
         }
     })
     .await?;
-    // The file served is `path` whatever the URI: of the request, only its
+    // Streamed from disk (a file of any size costs one read buffer). The
+    // file served is `path` whatever the URI: of the request, only its
     // method and its headers (`Range`, `If-…`) count.
     let (parts, _) = request.into_parts();
     let served = ServeFile::new(&path)

@@ -47,10 +47,9 @@ pub fn web() -> Router<Arc<Shared>> {
 
 /// A finished job's packing, for drawing: the domain's outline and the
 /// disks as columns; for particles that are not disks, their outlines too.
-///
-/// Its columns are written as the body is sent, each from its own pass
-/// over `packing.csv` (see [`Rows`]), so that a packing of any size costs
-/// the server a batch of rows rather than the whole view.
+// Its columns are written as the body is sent, each from its own pass over
+// `packing.csv` (see `Rows`), so that a packing of any size costs the
+// server a batch of rows rather than the whole view.
 #[derive(Serialize, ToSchema)]
 pub struct PackingView {
     /// The domain's boundary, a closed polyline (mm; circles as 256 segments).
@@ -242,8 +241,9 @@ impl Serialize for Names {
 }
 
 /// Bytes of `packing.csv` parsed at a time, about (whole rows): what one
-/// request for the view holds of it, whatever the packing's size.
-const BATCH_BYTES: usize = 1 << 20;
+/// request for the view holds of it, whatever the packing's size (with
+/// its parsed table, about three times as much).
+const BATCH_BYTES: usize = 256 << 10;
 
 /// Bytes of the view handed to the connection at a time.
 const CHUNK_BYTES: usize = 64 << 10;
@@ -564,6 +564,10 @@ async fn packing(State(shared): AppState, JobId(id): JobId) -> Result<Response, 
             buf: Vec::with_capacity(CHUNK_BYTES),
         };
         if let Err(e) = write_view(&view, out) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                tracing::debug!("the client left before the packing view's end");
+                return;
+            }
             tracing::warn!(error = %e, "the packing view was cut short");
             // Ends the body with an error: the client sees it cut, not whole.
             let _ = tx.blocking_send(Err(e));
