@@ -31,6 +31,7 @@ mod replay;
 mod scales;
 mod serve;
 mod serve_edges;
+mod serve_files;
 mod shape_properties;
 mod stability;
 mod sweep_resume;

@@ -5,14 +5,16 @@
 
 use std::sync::Arc;
 
-use axum::extract::{Path, State};
-use axum::http::{StatusCode, header};
-use axum::response::IntoResponse;
+use axum::body::Body;
+use axum::extract::{Path, Request, State};
+use axum::http::{HeaderValue, StatusCode, header};
+use axum::response::{IntoResponse, Response};
 use axum::routing::get;
 use axum::{Json, Router};
 use gapack::jobs::Manifest;
 use percent_encoding::{AsciiSet, NON_ALPHANUMERIC, utf8_percent_encode};
 use serde::{Deserialize, Serialize};
+use tower_http::services::ServeFile;
 use utoipa::ToSchema;
 
 use super::error::{ApiError, ErrorBody};
@@ -159,7 +161,20 @@ struct NameParam {
     name: String,
 }
 
+/// The answer "no such file" for `name` of job `id`.
+fn no_file(id: &str, name: &str) -> ApiError {
+    ApiError::new(
+        StatusCode::NOT_FOUND,
+        format!("job {id} has no file {name:?}; GET /api/v1/jobs/{id}/files lists them"),
+    )
+}
+
 /// One file of a finished job: only the names its manifest lists.
+// Streamed from disk with `Content-Length`; one byte range (`Range`: 206,
+// or 416 when outside the file; several ranges get the whole file); a
+// strong `ETag` (size and modification time) and `Last-Modified` for
+// conditional requests (`If-None-Match`, `If-Modified-Since`: 304;
+// `If-Match`, `If-Unmodified-Since`: 412).
 #[utoipa::path(get, path = "/api/v1/jobs/{id}/files/{name}",
     params(super::jobs::IdParam,
         ("name" = String, Path, description = "File name as the manifest lists it (`packing.csv`, `well_a/packing.csv`)"),
@@ -174,37 +189,81 @@ struct NameParam {
         (status = 400, description = "An id or a name that is not UTF-8", body = ErrorBody),
         (status = 404, description = "No such job, or no such file in its manifest", body = ErrorBody),
         (status = 409, description = "Not finished", body = ErrorBody),
-        (status = 416, description = "A range outside the file",
+        (status = 412, description = "If-Match or If-Unmodified-Since names another version", body = ErrorBody),
+        (status = 416, description = "A range outside the file", body = ErrorBody,
             headers(("Content-Range" = String, description = "`bytes */SIZE`"))),
     ))]
 async fn file(
     State(shared): AppState,
     JobId(id): JobId,
     Path(NameParam { name }): Path<NameParam>,
-) -> Result<impl IntoResponse, ApiError> {
-    let bytes = blocking({
-        let name = name.clone();
+    request: Request,
+) -> Result<Response, ApiError> {
+    let path = blocking({
+        let (id, name) = (id.clone(), name.clone());
         move || {
             let manifest = manifest(&shared, &id)?;
             let known = name == gapack::jobs::MANIFEST_JSON || manifest.files.contains(&name);
             if !known || !inside(&name) {
-                return Err(ApiError::new(
-                    StatusCode::NOT_FOUND,
-                    format!(
-                        "job {id} has no file {name:?}; GET /api/v1/jobs/{id}/files lists them"
-                    ),
-                ));
+                return Err(no_file(&id, &name));
             }
-            std::fs::read(job_dir(&shared, &id).join(&name)).map_err(ApiError::internal)
+            Ok(job_dir(&shared, &id).join(&name))
         }
     })
     .await?;
-    Ok(([(header::CONTENT_TYPE, content_type(&name))], bytes))
+    // Streamed from disk (a file of any size costs one read buffer). The
+    // file served is `path` whatever the URI: of the request, only its
+    // method and its headers (`Range`, `If-…`) count.
+    let (parts, _) = request.into_parts();
+    let served = ServeFile::new(&path)
+        .ignore_multi_range_requests(true)
+        .try_call(Request::from_parts(parts, Body::empty()))
+        .await;
+    let (mut parts, body) = match served {
+        Ok(response) => response.into_parts(),
+        // Removed since the manifest was read (the job was deleted).
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(no_file(&id, &name)),
+        Err(e) => return Err(ApiError::internal(e)),
+    };
+    let refusal = match parts.status {
+        StatusCode::OK | StatusCode::PARTIAL_CONTENT => {
+            parts.headers.insert(
+                header::CONTENT_TYPE,
+                HeaderValue::from_static(content_type(&name)),
+            );
+            return Ok(Response::from_parts(parts, Body::new(body)));
+        }
+        StatusCode::NOT_MODIFIED => return Ok(Response::from_parts(parts, Body::empty())),
+        StatusCode::NOT_FOUND => no_file(&id, &name),
+        StatusCode::RANGE_NOT_SATISFIABLE => {
+            let size = parts
+                .headers
+                .get(header::CONTENT_RANGE)
+                .and_then(|v| v.to_str().ok())
+                .and_then(|v| v.strip_prefix("bytes */"))
+                .unwrap_or("?");
+            ApiError::new(
+                StatusCode::RANGE_NOT_SATISFIABLE,
+                format!("the range asked for is not within {name:?} ({size} bytes)"),
+            )
+        }
+        StatusCode::PRECONDITION_FAILED => ApiError::new(
+            StatusCode::PRECONDITION_FAILED,
+            format!("{name:?} is not the version If-Match or If-Unmodified-Since names"),
+        ),
+        status => ApiError::new(status, format!("{name:?} could not be served")),
+    };
+    // A refusal answers JSON like every other, keeping `Content-Range`.
+    let mut response = refusal.into_response();
+    if let Some(range) = parts.headers.remove(header::CONTENT_RANGE) {
+        response.headers_mut().insert(header::CONTENT_RANGE, range);
+    }
+    Ok(response)
 }
 
 #[cfg(test)]
 mod tests {
-    use axum::http::StatusCode;
+    use axum::http::{Method, StatusCode};
 
     use super::{content_type, file_url, inside};
     use crate::api::testing::{NO_JOB, SQUARE, TestServer};
@@ -321,5 +380,200 @@ mod tests {
         assert_eq!(content_type("packing.vtk"), "text/plain; charset=utf-8");
         assert_eq!(content_type("checkpoint.bin"), "application/octet-stream");
         assert_eq!(content_type("noextension"), "application/octet-stream");
+    }
+
+    /// A finished pack of [`SQUARE`] (with its pictures, packing.json, VTK
+    /// and the DEM exports); its id and folder.
+    async fn finished(server: &TestServer) -> (String, std::path::PathBuf) {
+        let config = format!(
+            "{SQUARE}[output]\nformats = [\"csv\", \"json\", \"svg\", \"png\", \"vtk\", \"lammps\", \"yade\", \"pfc\"]\n"
+        );
+        let id = server.submit("?kind=pack", &config).await;
+        server.run_queued().await;
+        let dir = server.data().join("jobs").join(&id);
+        (id, dir)
+    }
+
+    #[tokio::test]
+    async fn a_range_is_served_alone_with_its_place_in_the_file() {
+        let server = TestServer::new();
+        let (id, dir) = finished(&server).await;
+        let url = format!("/api/v1/jobs/{id}/files/packing.csv");
+        let whole = std::fs::read(dir.join("packing.csv")).expect("the csv");
+        let n = whole.len();
+        assert!(n > 1000, "{n}");
+        for (range, from, to) in [
+            ("bytes=10-49".to_owned(), 10, 49),
+            ("bytes=0-0".to_owned(), 0, 0),
+            (format!("bytes={}-", n - 7), n - 7, n - 1),
+            ("bytes=-25".to_owned(), n - 25, n - 1),
+            (format!("bytes=100-{}", n + 1000), 100, n - 1),
+        ] {
+            let r = server.call(Method::GET, &url, &[("range", &range)]).await;
+            assert_eq!(r.status, StatusCode::PARTIAL_CONTENT, "{range}");
+            assert_eq!(r.body, whole[from..=to], "{range}");
+            assert_eq!(
+                r.header("content-range"),
+                Some(format!("bytes {from}-{to}/{n}").as_str()),
+                "{range}"
+            );
+            assert_eq!(
+                r.header("content-length"),
+                Some((to - from + 1).to_string().as_str()),
+                "{range}"
+            );
+            assert_eq!(r.header("content-type"), Some("text/csv; charset=utf-8"));
+        }
+        // Outside the file, or not a range: 416, saying the file's size.
+        for range in [
+            format!("bytes={n}-"),
+            format!("bytes={}-{}", n + 5, n + 9),
+            "bytes=9-3".to_owned(),
+            "lines=1-2".to_owned(),
+        ] {
+            let r = server.call(Method::GET, &url, &[("range", &range)]).await;
+            assert_eq!(r.status, StatusCode::RANGE_NOT_SATISFIABLE, "{range}");
+            assert_eq!(
+                r.header("content-range"),
+                Some(format!("bytes */{n}").as_str()),
+                "{range}"
+            );
+            assert_eq!(
+                r.error(),
+                format!("the range asked for is not within \"packing.csv\" ({n} bytes)")
+            );
+        }
+        // Several ranges: the whole file.
+        let r = server
+            .call(Method::GET, &url, &[("range", "bytes=0-1,5-9")])
+            .await;
+        assert_eq!(r.status, StatusCode::OK);
+        assert_eq!(r.body, whole);
+        assert_eq!(r.header("accept-ranges"), Some("bytes"));
+    }
+
+    #[tokio::test]
+    async fn a_file_known_to_the_client_is_not_sent_again() {
+        let server = TestServer::new();
+        let (id, _) = finished(&server).await;
+        let url = format!("/api/v1/jobs/{id}/files/packing.svg");
+        let first = server.get(&url).await;
+        assert_eq!(first.status, StatusCode::OK);
+        let etag = first.header("etag").expect("an ETag").to_owned();
+        assert!(
+            etag.starts_with('"') && etag.ends_with('"'),
+            "strong: {etag}"
+        );
+        let modified = first.header("last-modified").expect("a date").to_owned();
+        for (name, value) in [
+            ("if-none-match", etag.clone()),
+            ("if-none-match", format!("\"other\", W/{etag}")),
+            ("if-none-match", "*".to_owned()),
+            ("if-modified-since", modified.clone()),
+        ] {
+            let r = server.call(Method::GET, &url, &[(name, &value)]).await;
+            assert_eq!(r.status, StatusCode::NOT_MODIFIED, "{name}: {value}");
+            assert!(r.body.is_empty(), "{name}: {value}");
+            assert_eq!(r.header("etag"), Some(etag.as_str()));
+        }
+        // Another version: the file.
+        for (name, value) in [
+            ("if-none-match", "\"not-this-one\"".to_owned()),
+            (
+                "if-modified-since",
+                "Thu, 01 Jan 1970 00:00:01 GMT".to_owned(),
+            ),
+        ] {
+            let r = server.call(Method::GET, &url, &[(name, &value)]).await;
+            assert_eq!(r.status, StatusCode::OK, "{name}: {value}");
+            assert_eq!(r.body, first.body, "{name}: {value}");
+        }
+        // A precondition on another version: 412, as JSON.
+        let r = server
+            .call(Method::GET, &url, &[("if-match", "\"not-this-one\"")])
+            .await;
+        assert_eq!(r.status, StatusCode::PRECONDITION_FAILED);
+        assert!(r.error().contains("packing.svg"), "{}", r.error());
+        let r = server.call(Method::GET, &url, &[("if-match", &etag)]).await;
+        assert_eq!(r.status, StatusCode::OK);
+        // A range of the version the client has.
+        let r = server
+            .call(
+                Method::GET,
+                &url,
+                &[("if-match", &etag), ("range", "bytes=0-4")],
+            )
+            .await;
+        assert_eq!(r.status, StatusCode::PARTIAL_CONTENT);
+        assert_eq!(r.body, first.body[..5]);
+    }
+
+    #[tokio::test]
+    async fn every_file_is_sent_whole_with_its_length_and_type() {
+        let server = TestServer::new();
+        let (id, dir) = finished(&server).await;
+        let list = server.get(&format!("/api/v1/jobs/{id}/files")).await.json();
+        let names: Vec<String> = list["files"]
+            .as_array()
+            .expect("files")
+            .iter()
+            .filter_map(|f| f["name"].as_str().map(str::to_owned))
+            .collect();
+        let mut seen = std::collections::BTreeSet::new();
+        for name in &names {
+            let kind = match name.rsplit('.').next() {
+                Some("csv") => "text/csv; charset=utf-8",
+                Some("json") => "application/json",
+                Some("svg") => "image/svg+xml",
+                Some("png") => "image/png",
+                Some("vtk" | "txt" | "data" | "py" | "p4p" | "geo" | "dat") => {
+                    "text/plain; charset=utf-8"
+                }
+                _ => "application/octet-stream",
+            };
+            let url = format!("/api/v1/jobs/{id}/files/{name}");
+            let on_disk = std::fs::read(dir.join(name)).expect("on disk");
+            let r = server.get(&url).await;
+            assert_eq!(r.status, StatusCode::OK, "{name}");
+            assert_eq!(r.header("content-type"), Some(kind), "{name}");
+            assert_eq!(
+                r.header("content-length"),
+                Some(on_disk.len().to_string().as_str()),
+                "{name}"
+            );
+            assert!(r.body == on_disk, "{name}");
+            seen.insert(kind);
+            // HEAD: the same headers, no body.
+            let head = server.call(Method::HEAD, &url, &[]).await;
+            assert_eq!(head.status, StatusCode::OK, "{name}");
+            assert_eq!(head.header("content-length"), r.header("content-length"));
+            assert_eq!(head.header("etag"), r.header("etag"));
+            assert!(head.body.is_empty(), "{name}");
+        }
+        for kind in [
+            "text/csv; charset=utf-8",
+            "application/json",
+            "image/svg+xml",
+            "image/png",
+            "text/plain; charset=utf-8",
+        ] {
+            assert!(seen.contains(kind), "{kind}: {names:?}");
+        }
+    }
+
+    #[tokio::test]
+    async fn a_listed_file_gone_from_disk_is_no_file() {
+        let server = TestServer::new();
+        let (id, dir) = finished(&server).await;
+        std::fs::remove_file(dir.join("packing.svg")).expect("removed");
+        let r = server
+            .get(&format!("/api/v1/jobs/{id}/files/packing.svg"))
+            .await;
+        assert_eq!(r.status, StatusCode::NOT_FOUND);
+        assert!(
+            r.error().contains("has no file \"packing.svg\""),
+            "{}",
+            r.error()
+        );
     }
 }
