@@ -27,6 +27,9 @@ use crate::geometry::predicates::OVERLAP_REL;
 use crate::geometry::{Disk, Domain, Grain, Outline, Point, Turned, Wall, grain_separation};
 use crate::geometry::{Separation, separation};
 use crate::metrics::near::ByRadius;
+use std::ops::ControlFlow;
+
+use super::Search;
 
 /// Directions of the scan that sharpens a lower bound the GJK search left
 /// below the tolerance (overlapping or barely touching sets).
@@ -86,6 +89,9 @@ pub(super) struct Pairs {
     pub(super) worst: Option<(usize, usize, f64)>,
     /// Pairs whose bounding circles meet, proved apart.
     pub(super) certified: usize,
+    /// Whether every pair within reach was tested (no search stopped
+    /// short after an overlap: [`Search`]).
+    pub(super) complete: bool,
 }
 
 /// Test every pair of `ok` particles whose bounding circles (centre,
@@ -110,6 +116,7 @@ pub(super) fn pairs(
         overlaps: 0,
         worst: None,
         certified: 0,
+        complete: true,
     };
     if ok.len() < 2 && !domain.is_periodic() {
         return Ok(out);
@@ -117,28 +124,32 @@ pub(super) fn pairs(
     let ids = || ok.iter().map(|&i| i as usize);
     let near = ByRadius::new(reach, ids());
     let r_max = ids().fold(0.0f64, |m, i| m.max(reach[i].r));
+    let mut search = Search::default();
     for a in ids() {
         cancel.check()?;
         let (ca, ra) = (disks[a].c, reach[a].r);
         let (lo, hi) = Disk::new(ca.x, ca.y, ra + r_max).bounds();
+        search.start();
         for v in domain.image_shifts(lo, hi) {
             let zero = v == Vector2::zeros();
-            near.visit(ca - v, ra, |b| {
+            let stopped = near.try_visit(ca - v, ra, |b| {
+                search.visit()?;
                 // Each pair once, as the disks' test takes them.
                 if b > a || (b == a && (zero || (v.y, v.x) < (0.0, 0.0))) {
-                    return;
+                    return ControlFlow::Continue(());
                 }
                 let cb = if zero { disks[b].c } else { disks[b].c + v };
                 let sum = ra + reach[b].r;
                 if (cb - ca).norm() > sum * (1.0 + 4.0 * f64::EPSILON) {
-                    return;
+                    return ControlFlow::Continue(());
                 }
                 let tol = OVERLAP_REL * sum;
                 let lower = pair_lower(&turned[a], ca, &turned[b], cb, tol);
                 if lower >= -tol {
                     out.certified += 1;
-                    return;
+                    return ControlFlow::Continue(());
                 }
+                search.overlapped = true;
                 out.overlaps += 1;
                 let depth = -lower / sum;
                 let pair = (b, a);
@@ -148,9 +159,14 @@ pub(super) fn pairs(
                 {
                     out.worst = Some((b, a, depth));
                 }
+                ControlFlow::Continue(())
             });
+            if stopped.is_break() {
+                break;
+            }
         }
     }
+    out.complete = search.complete;
     Ok(out)
 }
 

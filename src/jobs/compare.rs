@@ -9,6 +9,7 @@ use super::registry::{Job, Report};
 use super::run::Running;
 use crate::cancel::Cancel;
 use crate::compare::{CompareRun, Variant, compare};
+use crate::config::{ConfigError, Location, key_location};
 use crate::fracture::{Extent, FIRST_DIAMETERS, FractureRun, MM_PER_M};
 use crate::output::{render_compare, variant_label};
 
@@ -19,7 +20,7 @@ pub(super) fn plan(p: &mut Planning<'_>) -> Result<Job, JobError> {
         p.ignore("layering", "every generator packs the scene alone");
     }
     if let Some(run) = &p.config.fracture {
-        compare_fracture(run, p.origin, &mut p.more)?;
+        compare_fracture(run, p.text, p.origin, &mut p.more)?;
     }
     Ok(Job::Compare {
         target: p.config.optimise.map(|o| o.target_porosity),
@@ -28,12 +29,14 @@ pub(super) fn plan(p: &mut Planning<'_>) -> Result<Job, JobError> {
 
 /// The compare job on a `[fracture]` config runs every generator on the
 /// first well's scene, packed whole. A window (`fracture.extent =
-/// "window"`) is refused: the user asked not to pack the whole fracture,
-/// and a comparison of generators on it would pack it whole every run. A
-/// batch of full wells is compared on its first well, with a warning
-/// naming `fracture.wells`.
+/// "window"`) is refused at that key of the config's `text`, as a config
+/// error: the user asked not to pack the whole fracture, and a comparison
+/// of generators on it would pack it whole every run. A batch of full
+/// wells is compared on its first well, with a warning naming
+/// `fracture.wells`.
 fn compare_fracture(
     run: &FractureRun,
+    text: &str,
     origin: &str,
     warnings: &mut Vec<Warning>,
 ) -> Result<(), JobError> {
@@ -42,17 +45,23 @@ fn compare_fracture(
     };
     let others = run.wells.len() - 1;
     if let Extent::Window { .. } = run.extent {
-        return Err(JobError::Input(format!(
-            "{origin}: fracture.extent = \"window\": the compare job packs one scene whole with every generator and grows no windows, so it would pack all {} m of well \"{}\"{} instead of a window; set fracture.extent = \"full\" to compare on the whole fracture, or give a [domain] the size of a window (its first is {FIRST_DIAMETERS}·d_max = {} mm long) to compare on one",
-            first.fracture.length / MM_PER_M,
-            first.name,
-            if others > 0 {
-                format!(" (and none of the other {others} of fracture.wells)")
-            } else {
-                String::new()
-            },
-            FIRST_DIAMETERS * first.scene.d_max(),
-        )));
+        return Err(ConfigError::NotApplicable {
+            at: key_location(text, origin, "fracture.extent")
+                .unwrap_or_else(|| Location::at(origin, text, 0)),
+            key: "fracture.extent".to_owned(),
+            reason: format!(
+                "the compare job packs one scene whole with every generator and grows no windows, so with fracture.extent = \"window\" it would pack all {} m of well \"{}\"{} instead of a window; set fracture.extent = \"full\" to compare on the whole fracture, or give a [domain] the size of a window (its first is {FIRST_DIAMETERS}·d_max = {} mm long) to compare on one",
+                first.fracture.length / MM_PER_M,
+                first.name,
+                if others > 0 {
+                    format!(" (and none of the other {others} of fracture.wells)")
+                } else {
+                    String::new()
+                },
+                FIRST_DIAMETERS * first.scene.d_max(),
+            ),
+        }
+        .into());
     }
     if others > 0 {
         warnings.push(Warning {

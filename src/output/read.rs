@@ -126,6 +126,16 @@ pub fn read_packing_csv(text: &str, origin: &str) -> Result<PackingTable, ReadEr
         column,
         message,
     };
+    // Lines ended by a carriage return alone (old Mac files) ended by a
+    // line feed instead: one byte for one, so positions stay, and every
+    // line count below sees them. CRLF stays as it is.
+    let lf: String;
+    let text = if has_bare_cr(text) {
+        lf = bare_cr_to_lf(text);
+        &lf
+    } else {
+        text
+    };
     // Where each line starts, to locate a field from its line.
     let starts: Vec<usize> = std::iter::once(0)
         .chain(text.match_indices('\n').map(|(i, _)| i + 1))
@@ -166,7 +176,13 @@ pub fn read_packing_csv(text: &str, origin: &str) -> Result<PackingTable, ReadEr
         .chain(read.match_indices('\n').map(|(i, _)| i + 1))
         .collect();
     let line_of = |p: &::csv::Position| {
-        let mut line = read_starts.partition_point(|&s| s as u64 <= p.byte());
+        // After a CRLF the reader's record starts at the LF: the line is
+        // the one after it.
+        let at = usize::try_from(p.byte()).unwrap_or(usize::MAX);
+        let at = read.get(at..).map_or(at, |rest| {
+            at + rest.len() - rest.trim_start_matches(['\r', '\n']).len()
+        });
+        let mut line = read_starts.partition_point(|&s| s <= at);
         while let Some(&next) = read_starts.get(line) {
             let this = &read[read_starts[line - 1]..next];
             if !(this.trim().is_empty() || this.starts_with('#')) {
@@ -614,6 +630,29 @@ fn csv_fault(
 }
 
 /// Character column (from 1) of field `field` on line `line` (from 1) of
+/// Whether `text` has a carriage return not followed by a line feed.
+fn has_bare_cr(text: &str) -> bool {
+    let bytes = text.as_bytes();
+    bytes
+        .iter()
+        .enumerate()
+        .any(|(i, &b)| b == b'\r' && bytes.get(i + 1) != Some(&b'\n'))
+}
+
+/// `text` with each carriage return not followed by a line feed made a line feed.
+fn bare_cr_to_lf(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut chars = text.chars().peekable();
+    while let Some(c) = chars.next() {
+        out.push(if c == '\r' && chars.peek() != Some(&'\n') {
+            '\n'
+        } else {
+            c
+        });
+    }
+    out
+}
+
 /// `text`, whose lines start at `starts`, its fields separated by `sep`.
 fn column_at(text: &str, starts: &[usize], line: u64, field: usize, sep: Separator) -> usize {
     let start = usize::try_from(line.max(1) - 1)
@@ -772,6 +811,26 @@ mod tests {
         assert_eq!(t.disk_name(0), "the disk on line 2");
         let t = read_packing_csv("id,x,y,r\na,1,2,0.5\n3,3,4,0.5\n", "p.csv").unwrap();
         assert!(t.ids.is_empty());
+    }
+
+    #[test]
+    fn crlf_and_cr_line_ends_keep_the_file_lines() {
+        // The same table with LF, CRLF and CR line ends, comma, semicolon,
+        // tab or blank separated: each disk on the line it is written on.
+        for sep in [",", ";", "\t", " "] {
+            let lf = format!(
+                "# by hand\nid{sep}x{sep}y{sep}r\n3{sep}1{sep}1{sep}0.5\n\n12{sep}5{sep}5{sep}0.5\n"
+            );
+            for end in ["\n", "\r\n", "\r"] {
+                let text = lf.replace('\n', end);
+                let t = read_packing_csv(&text, "p.csv").unwrap();
+                assert_eq!(t.lines, [3, 5], "{text:?}");
+                assert_eq!(t.disk_name(1), "disk id 12 (line 5)", "{text:?}");
+                let bad = text.replace("12", "x12").replace("0.5", "0.5e");
+                let e = read_packing_csv(&bad, "p.csv").unwrap_err();
+                assert_eq!((e.line, e.column), (3, 7), "{bad:?}: {e}");
+            }
+        }
     }
 
     #[test]

@@ -28,6 +28,7 @@ mod pipeline;
 mod readme;
 mod reliability;
 mod replay;
+mod round3;
 mod scales;
 mod serve;
 mod serve_edges;

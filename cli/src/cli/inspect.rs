@@ -525,7 +525,8 @@ fn findings(c: &Check, table: &PackingTable, periodic: bool) -> Vec<String> {
     lines.push(match c.worst_overlap {
         None => format!("overlaps: none (tolerance {OVERLAP_REL:.0e} of the radii sum{images})"),
         Some((a, b, depth)) => format!(
-            "overlaps: {}{images}; the deepest {depth:.2e} of the radii sum ({} and {})",
+            "overlaps: {}{}{images}; the deepest {depth:.2e} of the radii sum ({} and {})",
+            if c.overlaps_complete { "" } else { "at least " },
             count(c.overlaps, "pair", "pairs"),
             row(a),
             row(b)
@@ -582,7 +583,12 @@ fn why_invalid(c: &Check, table: &PackingTable, periodic: bool) -> String {
             }
             _ => format!("the disks on lines {} and {}", line(a), line(b)),
         };
-        let of = if c.overlaps > 1 {
+        let of = if !c.overlaps_complete {
+            format!(
+                " (the deepest of at least {} overlapping pairs: the disks pile up, and each disk's search stopped soon after its first overlap)",
+                c.overlaps
+            )
+        } else if c.overlaps > 1 {
             format!(" (the deepest of {} overlapping pairs)", c.overlaps)
         } else {
             String::new()

@@ -7,6 +7,7 @@ mod compare;
 mod convergence;
 mod packing;
 mod particles;
+mod pile;
 mod porosity_map;
 mod profile;
 mod psd;
