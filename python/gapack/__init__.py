@@ -151,7 +151,9 @@ def verify(
     generator's. A dict: ``verdict`` (``"valid"``, ``"valid, grading not
     checked"`` or ``"FAILED"``), ``valid`` (no overlap beyond 1e-9 of the
     radii sum, nothing outside), ``grading_kept``, ``particles``,
-    ``malformed``, ``overlaps``, ``worst_overlap`` (``(i, j, depth)`` or
+    ``malformed``, ``overlaps``, ``overlaps_complete`` (``False`` when
+    disks pile up and ``overlaps`` is a lower bound: each disk's search stops
+    soon after its first overlap), ``worst_overlap`` (``(i, j, depth)`` or
     ``None``), ``outside``, ``worst_outside`` (``(i, mm)``), ``domain_area``,
     ``solid_area``, ``porosity``, ``psd_ks`` and ``ks_limit``.
     ``material`` (indices into the config's materials) checks a size-graded

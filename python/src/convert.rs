@@ -381,6 +381,7 @@ pub(crate) fn verify(
     told.set_item("particles", result.particles)?;
     told.set_item("malformed", result.malformed)?;
     told.set_item("overlaps", result.overlaps)?;
+    told.set_item("overlaps_complete", result.overlaps_complete)?;
     told.set_item("worst_overlap", result.worst_overlap)?;
     told.set_item("outside", result.outside)?;
     told.set_item("worst_outside", result.worst_outside)?;

@@ -46,8 +46,21 @@ def test_copies_of_one_disk_are_counted_and_named():
     n = 100_000
     told = gapack.verify(np.full(n, 5.0), np.full(n, 5.0), np.full(n, 1.0), SQUARE)
     assert not told["valid"] and told["verdict"] == "FAILED"
-    assert told["overlaps"] == n * (n - 1) // 2
+    assert told["overlaps"] == n * (n - 1) // 2 and told["overlaps_complete"]
     assert told["worst_overlap"] == (0, 1, 1.0)
+
+
+def test_piled_disks_give_a_bounded_count_that_says_so():
+    # 20 000 disks jittered about one point: every pair overlaps; each
+    # disk's search stops soon after its first overlap, so the count is a
+    # lower bound and the dict says so.
+    rng = np.random.default_rng(2)
+    n = 20_000
+    x = 5.0 + rng.uniform(-1e-3, 1e-3, n)
+    y = 5.0 + rng.uniform(-1e-3, 1e-3, n)
+    told = gapack.verify(x, y, np.full(n, 1.0), SQUARE)
+    assert not told["valid"] and not told["overlaps_complete"], told
+    assert 0 < told["overlaps"] < n * (n - 1) // 2, told
 
 
 def test_keyboard_interrupt_stops_a_long_check():

@@ -591,16 +591,7 @@ fn draw_legend<DB: DrawingBackend>(
     let text_width = |s: &str| -> Result<i32, DrawingAreaErrorKind<DB::ErrorType>> {
         Ok(area.estimate_text_size(s, &text)?.0 as i32)
     };
-    let counts = format!(
-        "{} {}, porosity {:.3}",
-        packing.disks.len(),
-        if packing.grains.is_empty() {
-            "disks"
-        } else {
-            "particles"
-        },
-        porosity(solid_area(&packing.disks), packing.domain.area())
-    );
+    let counts = legend_counts(packing);
     let end = font.color(&BLACK).pos(Pos::new(HPos::Right, VPos::Center));
     let bar_mm = scale_bar_mm(f64::from(width), scale);
     let bar_px = (bar_mm * scale).round() as i32;
@@ -733,6 +724,27 @@ fn draw_legend<DB: DrawingBackend>(
     Ok(())
 }
 
+/// The legend's count and porosity. Disks summing to more than the frame
+/// overlap (a table drawn without its config, piled up): a negative
+/// porosity would be no measure, so the legend says they overlap.
+fn legend_counts(packing: &Packing) -> String {
+    let phi = porosity(solid_area(&packing.disks), packing.domain.area());
+    format!(
+        "{} {}, {}",
+        packing.disks.len(),
+        if packing.grains.is_empty() {
+            "disks"
+        } else {
+            "particles"
+        },
+        if phi >= 0.0 {
+            format!("porosity {phi:.3}")
+        } else {
+            "overlapping".to_owned()
+        }
+    )
+}
+
 /// Three tick labels from `lo` to `hi`, all with the decimals needed to
 /// show either end to 4 significant digits and to tell the ticks apart.
 fn ticks(lo: f64, hi: f64) -> Vec<String> {
@@ -758,6 +770,19 @@ mod tests {
     use crate::geometry::Domain;
     use crate::output::diameter_range;
     use crate::output::plot::testing::{png_rgb, png_size};
+
+    #[test]
+    fn piled_disks_are_said_to_overlap_not_given_a_negative_porosity() {
+        let square = || Domain::rectangle(10.0, 10.0).expect("rectangle");
+        let apart = Packing::of_disks(
+            square(),
+            vec![Disk::new(2.0, 2.0, 1.0), Disk::new(6.0, 6.0, 1.0)],
+        );
+        let phi = 1.0 - 2.0 * std::f64::consts::PI / 100.0;
+        assert_eq!(legend_counts(&apart), format!("2 disks, porosity {phi:.3}"));
+        let piled = Packing::of_disks(square(), vec![Disk::new(5.0, 5.0, 4.0); 10]);
+        assert_eq!(legend_counts(&piled), "10 disks, overlapping");
+    }
 
     #[test]
     fn a_tall_domain_is_1600_px_high_and_centred_in_a_legend_wide_image() {
