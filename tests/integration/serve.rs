@@ -789,7 +789,7 @@ fn the_page_and_the_data_it_draws() {
     wait_for(&server, &compare, &["succeeded"]);
     assert_eq!(
         get(&server, &format!("/api/v1/jobs/{compare}/packing")).status,
-        404
+        409
     );
 }
 
@@ -1003,8 +1003,14 @@ fn a_failed_write_fails_its_job_and_the_next_jobs_run() {
     assert!(error.contains(&doomed), "names the folder: {error}");
     let events = follow(&server, &doomed, None);
     assert_eq!(events.last().expect("events").2["error"], error);
+    // Failed before it wrote anything: no files, said as a conflict.
     let r = get(&server, &format!("/api/v1/jobs/{doomed}/files"));
-    assert_eq!(r.status, 404);
+    assert_eq!(r.status, 409);
+    assert!(
+        r.error().contains("finished without writing files"),
+        "{}",
+        r.error()
+    );
     let next = submit(&server, "pack", 2, SQUARE);
     assert_eq!(
         wait_for(&server, &next, &["succeeded", "failed"])["state"],

@@ -77,9 +77,11 @@ pub fn manifest(shared: &Shared, id: &str) -> Result<Manifest, ApiError> {
                 std::io::ErrorKind::NotFound | std::io::ErrorKind::NotADirectory
             ) =>
         {
+            // The job is there; its state (cancelled or failed before it
+            // wrote anything) has no files: a conflict, not a missing job.
             return Err(ApiError::new(
-                StatusCode::NOT_FOUND,
-                format!("job {id} wrote no files"),
+                StatusCode::CONFLICT,
+                format!("job {id} finished without writing files"),
             ));
         }
         Err(e) => return Err(ApiError::internal(e)),
@@ -110,8 +112,8 @@ fn file_url(id: &str, name: &str) -> String {
     responses(
         (status = 200, description = "The files, as the manifest lists them", body = FileList),
         (status = 400, description = "An id that is not UTF-8", body = ErrorBody),
-        (status = 404, description = "No such job, or it wrote no files (cancelled before it ran)", body = ErrorBody),
-        (status = 409, description = "Not finished", body = ErrorBody),
+        (status = 404, description = "No such job", body = ErrorBody),
+        (status = 409, description = "Not finished, or finished without writing files (cancelled or failed before it wrote any)", body = ErrorBody),
     ))]
 async fn files(State(shared): AppState, JobId(id): JobId) -> Result<Json<FileList>, ApiError> {
     let list = blocking(move || {
@@ -188,7 +190,7 @@ fn no_file(id: &str, name: &str) -> ApiError {
         (status = 304, description = "Not modified since the ETag given"),
         (status = 400, description = "An id or a name that is not UTF-8", body = ErrorBody),
         (status = 404, description = "No such job, or no such file in its manifest", body = ErrorBody),
-        (status = 409, description = "Not finished", body = ErrorBody),
+        (status = 409, description = "Not finished, or finished without writing files", body = ErrorBody),
         (status = 412, description = "If-Match or If-Unmodified-Since names another version", body = ErrorBody),
         (status = 416, description = "A range outside the file", body = ErrorBody,
             headers(("Content-Range" = String, description = "`bytes */SIZE`"))),

@@ -506,8 +506,11 @@ mod tests {
         assert_eq!(states, ["queued", "cancelled"]);
         // Cancelled before it ran: nothing to serve, nothing left to run.
         let r = server.get(&format!("{base}/files")).await;
-        assert_eq!(r.status, StatusCode::NOT_FOUND);
-        assert_eq!(r.error(), format!("job {id} wrote no files"));
+        assert_eq!(r.status, StatusCode::CONFLICT);
+        assert_eq!(
+            r.error(),
+            format!("job {id} finished without writing files")
+        );
         server.run_queued().await;
         assert_eq!(server.get(&base).await.json()["state"], "cancelled");
         assert_eq!(

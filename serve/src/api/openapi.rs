@@ -8,7 +8,7 @@ use axum::http::header;
 use axum::response::{IntoResponse, Response};
 use axum::routing::get;
 use utoipa::openapi::security::{HttpAuthScheme, HttpBuilder, SecurityScheme};
-use utoipa::openapi::{Content, HeaderBuilder, ObjectBuilder, Ref, ResponseBuilder, Type};
+use utoipa::openapi::{Content, HeaderBuilder, ObjectBuilder, Ref, RefOr, ResponseBuilder, Type};
 use utoipa::{Modify, OpenApi};
 
 use super::error::{ApiError, ErrorBody};
@@ -67,7 +67,7 @@ struct ApiDoc;
 /// and its 401 (the guard in front of every route of the API), the 408 of
 /// the request deadline and the 413 of a body declared over the limit
 /// (layers in front of every route), and the 500 of a failed store, file
-/// or task, or of a panic caught.
+/// or task, or of a panic caught; and a file's bytes left without a schema.
 struct Guarded;
 
 impl Modify for Guarded {
@@ -133,6 +133,15 @@ impl Modify for Guarded {
                 responses
                     .entry("500".to_owned())
                     .or_insert_with(|| internal.clone().into());
+                // A file (`*/*`) is any bytes, a range of a JSON file no
+                // JSON: its media type carries no schema to check it by.
+                for response in responses.values_mut() {
+                    if let RefOr::T(response) = response
+                        && let Some(RefOr::T(raw)) = response.content.get_mut("*/*")
+                    {
+                        raw.schema = None;
+                    }
+                }
             }
         }
     }

@@ -526,16 +526,16 @@ impl PackingView {
     responses(
         (status = 200, description = "The packing as columns", body = PackingView),
         (status = 400, description = "An id that is not UTF-8", body = ErrorBody),
-        (status = 404, description = "No such job, or it wrote no packing.csv", body = ErrorBody),
-        (status = 409, description = "Not finished", body = ErrorBody),
+        (status = 404, description = "No such job", body = ErrorBody),
+        (status = 409, description = "Not finished, or it wrote no packing.csv", body = ErrorBody),
     ))]
 async fn packing(State(shared): AppState, JobId(id): JobId) -> Result<Response, ApiError> {
     let view = blocking(move || {
         let manifest = manifest(&shared, &id)?;
         if !manifest.files.iter().any(|f| f == "packing.csv") {
             return Err(ApiError::new(
-                StatusCode::NOT_FOUND,
-                format!("job {id} wrote no packing.csv"),
+                StatusCode::CONFLICT,
+                format!("job {id} wrote no packing.csv (a comparison or a study has none to draw)"),
             ));
         }
         let row = shared
