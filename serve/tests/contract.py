@@ -9,7 +9,7 @@ fixed seed. Prints the figures (operations, test cases generated,
 failures) and exits non-zero on any failure. Stops the server at the end.
 
 Usage: contract.py GAPACK_BINARY [--max-examples N] [--seed S] [--reports DIR]
-Needs: pip install schemathesis openapi-spec-validator
+Needs: pip install schemathesis==4.32.5 openapi-spec-validator==0.9.0
 """
 
 import argparse
@@ -109,7 +109,7 @@ def main():
     args = parser.parse_args()
     missing = [t for t in ("schemathesis", "openapi-spec-validator") if shutil.which(t) is None]
     if missing:
-        sys.exit(f"contract: {', '.join(missing)} not found: pip install schemathesis openapi-spec-validator")
+        sys.exit(f"contract: {', '.join(missing)} not found: pip install schemathesis==4.32.5 openapi-spec-validator==0.9.0")
     token = secrets.token_hex(16)
     with tempfile.TemporaryDirectory(prefix="gapack-contract-") as tmp:
         folder = Path(tmp)
