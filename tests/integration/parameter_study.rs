@@ -9,7 +9,7 @@ use std::fs;
 use std::path::Path;
 use std::process::{Command, Output};
 
-use common::{gapack, scratch};
+use common::{gapack, records, scratch};
 use gapack::jobs::{self, Cancel, Event, JobError, JobKind, MemoryStore, Plan, Report, Request};
 use gapack::study::{Row, Status};
 
@@ -45,18 +45,6 @@ fn ok(out: &Output) -> String {
         String::from_utf8_lossy(&out.stderr)
     );
     String::from_utf8_lossy(&out.stdout).into_owned()
-}
-
-/// The records of a CSV file, header first.
-fn records(path: &Path) -> Vec<Vec<String>> {
-    let mut reader = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .from_path(path)
-        .expect("a csv file");
-    reader
-        .records()
-        .map(|r| r.expect("a record").iter().map(str::to_owned).collect())
-        .collect()
 }
 
 /// The records without the `seconds` column (times differ run to run).

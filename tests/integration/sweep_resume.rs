@@ -5,9 +5,8 @@
 use crate::common;
 
 use std::fs;
-use std::path::Path;
 
-use common::{gapack, scratch};
+use common::{gapack, records, scratch};
 
 /// A small rectangle packed at three gaps, one seed each.
 const STUDY: &str = "seed = 3
@@ -22,17 +21,6 @@ gap = 0.0
 [sweep]
 \"packer.gap\" = [0.0, 0.05, 0.1]
 ";
-
-/// The records of a CSV file, header first.
-fn records(path: &Path) -> Vec<Vec<String>> {
-    csv::ReaderBuilder::new()
-        .has_headers(false)
-        .from_path(path)
-        .expect("a csv file")
-        .records()
-        .map(|r| r.expect("a record").iter().map(str::to_owned).collect())
-        .collect()
-}
 
 /// `records` without the column `name`.
 fn without(records: &[Vec<String>], name: &str) -> Vec<Vec<String>> {
