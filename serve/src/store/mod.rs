@@ -23,6 +23,8 @@
 //! Calls block: handlers make them on `spawn_blocking` threads, workers on
 //! their own threads (the jobs layer's observer is synchronous).
 
+#[cfg(test)]
+mod conformance;
 pub mod migrations;
 pub mod postgres;
 pub mod sqlite;

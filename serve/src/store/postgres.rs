@@ -1,0 +1,1111 @@
+//! The shared store: a PostgreSQL database that any number of fronts
+//! (`gapack serve`) and workers (`gapack worker`) use at once, from any
+//! number of machines.
+//!
+//! Every timestamp comes from the database server (`gapack_now_ms()`), so
+//! the machines' clocks do not matter to leases. Concurrent claims and
+//! reaps skip each other's rows (`FOR UPDATE SKIP LOCKED`); an event's
+//! number comes from its job's counter, bumped under the row's lock.
+//! Each change also notifies (`pg_notify`, delivered at commit) the
+//! other processes: `gapack_events` with a job's id when it has a new
+//! event or state, `gapack_queue` when a job is queued, `gapack_cancel`
+//! with a job's id when a cancel is asked for while it runs.
+//!
+//! The calls block. The store drives its connections on a small runtime
+//! of its own, so that it serves plain threads and the `spawn_blocking`
+//! threads of any other runtime alike; a call from async code (a task
+//! being polled) is refused by tokio.
+
+use std::future::Future;
+use std::sync::mpsc;
+use std::time::Duration;
+
+use deadpool_postgres::{
+    GenericClient, Manager, ManagerConfig, Pool, PoolError, RecyclingMethod, Transaction,
+};
+use futures_util::StreamExt;
+use serde_json::json;
+use tokio_postgres::types::ToSql;
+use tokio_postgres::{AsyncMessage, NoTls, Row};
+
+use super::migrations::{LATEST, MIGRATIONS};
+use super::{
+    Beat, Caller, CancelOutcome, Claimed, Ending, JobRow, JobStore, MAX_ATTEMPTS, NewJob, Notice,
+    QueueLimits, Reaped, Role, State, StoreError, User, UserCount, WorkerRow, millis, state_event,
+};
+
+/// The advisory lock that makes processes opening the store together
+/// apply each schema step once.
+const MIGRATION_LOCK: i64 = 0x6761_7061_636b_0001;
+
+/// The advisory lock that serialises submissions, so that concurrent
+/// inserts cannot both see room for one more job.
+const QUEUE_LOCK: i64 = 0x6761_7061_636b_0002;
+
+/// Connections in the pool.
+const POOL_SIZE: usize = 8;
+
+/// How long a new connection may take.
+const CONNECT_TIMEOUT: Duration = Duration::from_secs(5);
+
+/// How long a call waits for a connection of the pool (all busy, or the
+/// database unreachable) before it fails.
+const WAIT_TIMEOUT: Duration = Duration::from_secs(10);
+
+/// How long a whole call may take before it fails (a connection that
+/// stopped answering without closing).
+const CALL_TIMEOUT: Duration = Duration::from_secs(30);
+
+/// How long the listener waits before connecting again after it lost
+/// its connection.
+const RELISTEN: Duration = Duration::from_secs(1);
+
+/// The channels the listener follows.
+const LISTEN: &str = "LISTEN gapack_events; LISTEN gapack_queue; LISTEN gapack_cancel";
+
+/// The columns of a [`JobRow`], in the order [`job_row`] reads them (`j`
+/// the jobs, `u` the owner).
+const COLUMNS: &str = "j.seq, j.id, u.name, j.kind, j.config, j.seed, j.force_limits, \
+     j.checkpoint_every, j.state, j.created_ms, j.started_ms, j.finished_ms, j.attempts, \
+     j.resume, j.cancel_requested, j.worker, j.progress, j.summary, j.error";
+
+/// The jobs with their owners, for [`COLUMNS`].
+const FROM: &str = "jobs j JOIN users u ON u.id = j.owner";
+
+/// A job the caller `$2` (admin: `$3`) may see, by id `$1`.
+const VISIBLE: &str = "j.id = $1 AND ($3 OR j.owner = $2)";
+
+/// The columns of a [`User`], for [`user_row`].
+const USER_COLUMNS: &str = "u.id, u.name, u.role, u.max_queued, u.max_particles, \
+     (SELECT count(*) FROM tokens t WHERE t.user_id = u.id AND t.revoked_ms IS NULL)";
+
+/// Why the queue is left: the reaper's reason, in events and errors.
+const LOST: &str = "its worker was lost";
+
+impl From<tokio_postgres::Error> for StoreError {
+    fn from(e: tokio_postgres::Error) -> Self {
+        // The message names no connection parameter (so no password).
+        StoreError::Postgres(e.to_string())
+    }
+}
+
+impl From<PoolError> for StoreError {
+    fn from(e: PoolError) -> Self {
+        StoreError::Postgres(match e {
+            PoolError::Backend(e) => e.to_string(),
+            PoolError::Timeout(_) => format!(
+                "no connection to PostgreSQL within {} s (is it running?)",
+                WAIT_TIMEOUT.as_secs()
+            ),
+            other => other.to_string(),
+        })
+    }
+}
+
+type PgResult<T> = Result<T, tokio_postgres::Error>;
+
+fn job_row(r: &Row) -> PgResult<JobRow> {
+    let state: String = r.try_get(8)?;
+    Ok(JobRow {
+        seq: r.try_get(0)?,
+        id: r.try_get(1)?,
+        owner: r.try_get(2)?,
+        kind: r.try_get(3)?,
+        config: r.try_get(4)?,
+        // Seeds are stored as the i64 of the same bits.
+        seed: r.try_get::<_, Option<i64>>(5)?.map(|s| s as u64),
+        force: r.try_get(6)?,
+        checkpoint_every: r.try_get(7)?,
+        state: State::parse(&state).unwrap_or(State::Failed),
+        created_ms: r.try_get(9)?,
+        started_ms: r.try_get(10)?,
+        finished_ms: r.try_get(11)?,
+        attempts: r.try_get(12)?,
+        resume: r.try_get(13)?,
+        cancel_requested: r.try_get(14)?,
+        worker: r.try_get(15)?,
+        progress: r.try_get(16)?,
+        summary: r.try_get(17)?,
+        error: r.try_get(18)?,
+    })
+}
+
+fn user_row(r: &Row) -> PgResult<User> {
+    let role: String = r.try_get(2)?;
+    Ok(User {
+        id: r.try_get(0)?,
+        name: r.try_get(1)?,
+        role: Role::parse(&role),
+        max_queued: r.try_get(3)?,
+        max_particles: r.try_get(4)?,
+        tokens: r.try_get(5)?,
+    })
+}
+
+/// Parameters of a statement.
+type Params<'a> = [&'a (dyn ToSql + Sync)];
+
+/// The rows `sql` gives (a statement prepared once per connection).
+async fn rows(c: &impl GenericClient, sql: &str, params: &Params<'_>) -> PgResult<Vec<Row>> {
+    let statement = c.prepare_cached(sql).await?;
+    c.query(&statement, params).await
+}
+
+/// The row `sql` gives, if any.
+async fn opt(c: &impl GenericClient, sql: &str, params: &Params<'_>) -> PgResult<Option<Row>> {
+    let statement = c.prepare_cached(sql).await?;
+    c.query_opt(&statement, params).await
+}
+
+/// The one row `sql` gives.
+async fn one(c: &impl GenericClient, sql: &str, params: &Params<'_>) -> PgResult<Row> {
+    let statement = c.prepare_cached(sql).await?;
+    c.query_one(&statement, params).await
+}
+
+/// Run `sql`; how many rows it changed.
+async fn exec(c: &impl GenericClient, sql: &str, params: &Params<'_>) -> PgResult<u64> {
+    let statement = c.prepare_cached(sql).await?;
+    c.execute(&statement, params).await
+}
+
+/// Append an event to `id`'s list, numbered one past its last (the
+/// counter is bumped under the job row's lock, so concurrent appends
+/// never share a number), and tell the listeners at commit.
+async fn append(tx: &Transaction<'_>, id: &str, data: &serde_json::Value) -> PgResult<i64> {
+    let seq: i64 = one(
+        tx,
+        "UPDATE jobs SET last_event = last_event + 1 WHERE id = $1 RETURNING last_event",
+        &[&id],
+    )
+    .await?
+    .try_get(0)?;
+    exec(
+        tx,
+        "INSERT INTO events (job, seq, data) VALUES ($1, $2, $3)",
+        &[&id, &seq, &data.to_string()],
+    )
+    .await?;
+    notify(tx, "gapack_events", id).await?;
+    Ok(seq)
+}
+
+/// Notify `channel` with `payload` at commit.
+async fn notify(tx: &Transaction<'_>, channel: &str, payload: &str) -> PgResult<()> {
+    exec(tx, "SELECT pg_notify($1, $2)", &[&channel, &payload]).await?;
+    Ok(())
+}
+
+/// Whether `lease` is the current lease of running job `id` (the row
+/// locked until commit, so that the lease cannot be reaped meanwhile).
+async fn holds(tx: &Transaction<'_>, id: &str, lease: i64) -> PgResult<bool> {
+    Ok(opt(
+        tx,
+        "SELECT 1 FROM jobs WHERE id = $1 AND state = 'running' AND lease = $2 FOR UPDATE",
+        &[&id, &lease],
+    )
+    .await?
+    .is_some())
+}
+
+/// Put running job `id` (locked), whose worker was lost, back in the
+/// queue; its new state. A job its user asked to cancel is cancelled
+/// instead, and one that had its [`MAX_ATTEMPTS`] fails.
+async fn requeue(tx: &Transaction<'_>, id: &str, attempts: i64, cancel: bool) -> PgResult<State> {
+    if cancel {
+        // Its user wanted it stopped: it is, without its worker's summary.
+        exec(
+            tx,
+            "UPDATE jobs SET state = 'cancelled', finished_ms = gapack_now_ms(), worker = NULL, \
+             lease = NULL, lease_until_ms = NULL WHERE id = $1",
+            &[&id],
+        )
+        .await?;
+        append(
+            tx,
+            id,
+            &json!({"event": "state", "state": "cancelled", "reason": LOST}),
+        )
+        .await?;
+        Ok(State::Cancelled)
+    } else if attempts >= MAX_ATTEMPTS {
+        let error = format!("{LOST} {attempts} times; not tried again");
+        exec(
+            tx,
+            "UPDATE jobs SET state = 'failed', finished_ms = gapack_now_ms(), error = $2, \
+             worker = NULL, lease = NULL, lease_until_ms = NULL WHERE id = $1",
+            &[&id, &error],
+        )
+        .await?;
+        append(
+            tx,
+            id,
+            &json!({"event": "state", "state": "failed", "error": error}),
+        )
+        .await?;
+        Ok(State::Failed)
+    } else {
+        exec(
+            tx,
+            "UPDATE jobs SET state = 'queued', resume = TRUE, worker = NULL, lease = NULL, \
+             lease_until_ms = NULL WHERE id = $1",
+            &[&id],
+        )
+        .await?;
+        append(
+            tx,
+            id,
+            &json!({"event": "state", "state": "queued", "reason": LOST}),
+        )
+        .await?;
+        Ok(State::Queued)
+    }
+}
+
+fn limit_i64(limit: usize) -> i64 {
+    i64::try_from(limit).unwrap_or(i64::MAX)
+}
+
+/// The PostgreSQL job store.
+pub struct PgStore {
+    /// The connections the calls use.
+    pool: Pool,
+    /// Where the listeners connect (each its own connection, not pooled:
+    /// a pooled one would drop its `LISTEN` when handed back).
+    config: tokio_postgres::Config,
+    /// The store's runtime: it drives the connections between calls.
+    /// `None` only while the store is dropped.
+    runtime: Option<tokio::runtime::Runtime>,
+}
+
+impl PgStore {
+    /// Connect to the database at `url` (`postgres://USER[:PASSWORD]@HOST[:PORT]/DATABASE`),
+    /// its schema brought up to date.
+    ///
+    /// # Errors
+    /// [`StoreError::Url`] for a URL that does not parse;
+    /// [`StoreError::Postgres`] if the database cannot be reached or set
+    /// up; [`StoreError::TooNew`] for a store a newer gapack made.
+    pub fn open(url: &str) -> Result<PgStore, StoreError> {
+        let mut config: tokio_postgres::Config = url.parse().map_err(|e| {
+            StoreError::Url(format!(
+                "--store {}: {e}",
+                super::StoreUrl::Postgres(url.to_owned()).shown()
+            ))
+        })?;
+        config
+            .connect_timeout(CONNECT_TIMEOUT)
+            .keepalives(true)
+            .keepalives_idle(Duration::from_secs(30))
+            .application_name("gapack");
+        let runtime = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(2)
+            .thread_name("gapack-postgres")
+            .enable_all()
+            .build()
+            .map_err(|e| StoreError::Postgres(format!("cannot start its runtime: {e}")))?;
+        let manager = Manager::from_config(
+            config.clone(),
+            NoTls,
+            ManagerConfig {
+                // A connection is tried before it is handed out: after the
+                // server restarted, calls get fresh connections, not
+                // errors from dead ones.
+                recycling_method: RecyclingMethod::Verified,
+            },
+        );
+        let pool = Pool::builder(manager)
+            .max_size(POOL_SIZE)
+            .wait_timeout(Some(WAIT_TIMEOUT))
+            .create_timeout(Some(CONNECT_TIMEOUT))
+            .recycle_timeout(Some(CONNECT_TIMEOUT))
+            .runtime(deadpool_postgres::Runtime::Tokio1)
+            .build()
+            .map_err(|e| StoreError::Postgres(format!("cannot make its pool: {e}")))?;
+        let store = PgStore {
+            pool,
+            config,
+            runtime: Some(runtime),
+        };
+        store.run(async {
+            let mut client = store.pool.get().await?;
+            migrate(&mut client).await
+        })?;
+        Ok(store)
+    }
+
+    /// Run `work` on the store's runtime, waiting for it, within
+    /// [`CALL_TIMEOUT`].
+    fn run<T>(&self, work: impl Future<Output = Result<T, StoreError>>) -> Result<T, StoreError> {
+        let Some(runtime) = &self.runtime else {
+            return Err(StoreError::Postgres("the store is closed".to_owned()));
+        };
+        runtime.block_on(async {
+            tokio::time::timeout(CALL_TIMEOUT, work)
+                .await
+                .unwrap_or_else(|_| {
+                    Err(StoreError::Postgres(format!(
+                        "PostgreSQL did not answer within {} s",
+                        CALL_TIMEOUT.as_secs()
+                    )))
+                })
+        })
+    }
+
+    /// Run `f` in a transaction, committed if it returns `Ok` (rolled back
+    /// otherwise).
+    fn write<T>(
+        &self,
+        f: impl AsyncFnOnce(&Transaction<'_>) -> Result<T, StoreError>,
+    ) -> Result<T, StoreError> {
+        self.run(async {
+            let mut client = self.pool.get().await?;
+            let tx = client.transaction().await?;
+            let value = f(&tx).await?;
+            tx.commit().await?;
+            Ok(value)
+        })
+    }
+
+    /// Run `f` on a connection of the pool (one statement, or reads).
+    fn read<T>(
+        &self,
+        f: impl AsyncFnOnce(&deadpool_postgres::Client) -> Result<T, StoreError>,
+    ) -> Result<T, StoreError> {
+        self.run(async {
+            let client = self.pool.get().await?;
+            f(&client).await
+        })
+    }
+}
+
+impl Drop for PgStore {
+    fn drop(&mut self) {
+        // Without waiting (this may run in async code): its connections
+        // and listeners end with it.
+        if let Some(runtime) = self.runtime.take() {
+            runtime.shutdown_background();
+        }
+    }
+}
+
+/// Apply the steps past the store's version, each in its own transaction
+/// under [`MIGRATION_LOCK`].
+async fn migrate(client: &mut deadpool_postgres::Client) -> Result<(), StoreError> {
+    for step in &MIGRATIONS {
+        let tx = client.transaction().await?;
+        tx.execute("SELECT pg_advisory_xact_lock($1)", &[&MIGRATION_LOCK])
+            .await?;
+        tx.batch_execute(
+            "CREATE TABLE IF NOT EXISTS schema_version \
+             (version BIGINT PRIMARY KEY, applied_ms BIGINT NOT NULL)",
+        )
+        .await?;
+        let version: i64 = tx
+            .query_one("SELECT COALESCE(MAX(version), 0) FROM schema_version", &[])
+            .await?
+            .try_get(0)?;
+        if version > LATEST {
+            return Err(StoreError::TooNew {
+                found: version,
+                known: LATEST,
+            });
+        }
+        if version >= step.version {
+            // Applied already (by this process earlier, or another one).
+            tx.commit().await?;
+            continue;
+        }
+        tx.batch_execute(step.postgres).await?;
+        tx.execute(
+            "INSERT INTO schema_version (version, applied_ms) \
+             VALUES ($1, (extract(epoch from clock_timestamp()) * 1000)::BIGINT)",
+            &[&step.version],
+        )
+        .await?;
+        tx.commit().await?;
+    }
+    Ok(())
+}
+
+/// Follow the store's channels on a connection of its own, sending what
+/// comes to `to`, until `to`'s receiver is gone. A lost connection is
+/// made again every [`RELISTEN`]; then [`Notice::Resync`] says that
+/// news may have been missed.
+async fn listen(config: tokio_postgres::Config, to: mpsc::Sender<Notice>) {
+    let mut missed = false;
+    // Ends when the receiver is gone (a send fails), or with the store's
+    // runtime.
+    loop {
+        if let Ok((client, mut connection)) = config.connect(NoTls).await {
+            let (found, mut news) = tokio::sync::mpsc::unbounded_channel();
+            let driver = tokio::spawn(async move {
+                let mut messages =
+                    futures_util::stream::poll_fn(move |cx| connection.poll_message(cx));
+                while let Some(Ok(message)) = messages.next().await {
+                    if let AsyncMessage::Notification(n) = message
+                        && found
+                            .send((n.channel().to_owned(), n.payload().to_owned()))
+                            .is_err()
+                    {
+                        break;
+                    }
+                }
+            });
+            if client.batch_execute(LISTEN).await.is_ok() {
+                if missed && to.send(Notice::Resync).is_err() {
+                    driver.abort();
+                    return;
+                }
+                // Until the connection ends (the driver drops `found`).
+                while let Some((channel, payload)) = news.recv().await {
+                    let notice = match channel.as_str() {
+                        "gapack_events" => Notice::Event(payload),
+                        "gapack_queue" => Notice::Queued,
+                        "gapack_cancel" => Notice::Cancel(payload),
+                        _ => continue,
+                    };
+                    if to.send(notice).is_err() {
+                        driver.abort();
+                        return;
+                    }
+                }
+            }
+            driver.abort();
+        }
+        missed = true;
+        tokio::time::sleep(RELISTEN).await;
+    }
+}
+
+impl JobStore for PgStore {
+    fn engine(&self) -> &'static str {
+        "postgres"
+    }
+
+    /// Nothing: jobs whose worker died come back through their leases
+    /// ([`JobStore::reap`]), while the other processes' jobs run on.
+    fn recover(&self) -> Result<usize, StoreError> {
+        Ok(0)
+    }
+
+    fn insert(&self, job: &NewJob<'_>, limits: QueueLimits) -> Result<(), StoreError> {
+        self.write(async |tx| {
+            tx.execute("SELECT pg_advisory_xact_lock($1)", &[&QUEUE_LOCK])
+                .await?;
+            let counted = one(
+                tx,
+                "SELECT count(*), count(*) FILTER (WHERE owner = $1) FROM jobs \
+                 WHERE state = 'queued'",
+                &[&job.owner.id],
+            )
+            .await?;
+            let (queued, mine): (i64, i64) = (counted.try_get(0)?, counted.try_get(1)?);
+            if usize::try_from(queued).unwrap_or(usize::MAX) >= limits.total {
+                return Err(StoreError::QueueFull(limits.total));
+            }
+            let share = job
+                .owner
+                .max_queued
+                .map_or(limits.per_user, |n| usize::try_from(n).unwrap_or(0));
+            if usize::try_from(mine).unwrap_or(usize::MAX) >= share {
+                return Err(StoreError::UserQueueFull(share));
+            }
+            exec(
+                tx,
+                "INSERT INTO jobs (id, owner, kind, config, seed, force_limits, checkpoint_every, \
+                 state, created_ms) VALUES ($1, $2, $3, $4, $5, $6, $7, 'queued', gapack_now_ms())",
+                &[
+                    &job.id,
+                    &job.owner.id,
+                    &job.kind,
+                    &job.config,
+                    &job.seed.map(|s| s as i64),
+                    &job.force,
+                    &job.checkpoint_every,
+                ],
+            )
+            .await?;
+            append(tx, job.id, &state_event(State::Queued)).await?;
+            notify(tx, "gapack_queue", "").await?;
+            Ok(())
+        })
+    }
+
+    fn claim(&self, worker: &str, ttl: Duration) -> Result<Option<Claimed>, StoreError> {
+        let ttl = millis(ttl);
+        self.write(async |tx| {
+            let Some(found) = opt(
+                tx,
+                "SELECT j.seq FROM jobs j WHERE j.state = 'queued' ORDER BY \
+                 (SELECT count(*) FROM jobs r WHERE r.owner = j.owner AND r.state = 'running'), \
+                 j.seq LIMIT 1 FOR UPDATE SKIP LOCKED",
+                &[],
+            )
+            .await?
+            else {
+                return Ok(None);
+            };
+            let seq: i64 = found.try_get(0)?;
+            let claimed = one(
+                tx,
+                "UPDATE jobs SET state = 'running', started_ms = gapack_now_ms(), \
+                 attempts = attempts + 1, worker = $2, lease = nextval('lease_numbers'), \
+                 lease_until_ms = gapack_now_ms() + $3 WHERE seq = $1 RETURNING id, lease",
+                &[&seq, &worker, &ttl],
+            )
+            .await?;
+            let (id, lease): (String, i64) = (claimed.try_get(0)?, claimed.try_get(1)?);
+            exec(
+                tx,
+                "INSERT INTO workers (name, seen_ms, claimed) VALUES ($1, gapack_now_ms(), 1) \
+                 ON CONFLICT (name) DO UPDATE SET seen_ms = EXCLUDED.seen_ms, \
+                 claimed = workers.claimed + 1",
+                &[&worker],
+            )
+            .await?;
+            let job = job_row(
+                &one(
+                    tx,
+                    &format!("SELECT {COLUMNS} FROM {FROM} WHERE j.seq = $1"),
+                    &[&seq],
+                )
+                .await?,
+            )?;
+            append(
+                tx,
+                &id,
+                &json!({"event": "state", "state": "running", "attempt": job.attempts, "resume": job.resume}),
+            )
+            .await?;
+            Ok(Some(Claimed { job, lease }))
+        })
+    }
+
+    fn heartbeat(
+        &self,
+        worker: &str,
+        id: &str,
+        lease: i64,
+        ttl: Duration,
+    ) -> Result<Beat, StoreError> {
+        let ttl = millis(ttl);
+        self.write(async |tx| {
+            let asked = opt(
+                tx,
+                "UPDATE jobs SET lease_until_ms = gapack_now_ms() + $3 WHERE id = $1 \
+                 AND state = 'running' AND lease = $2 RETURNING cancel_requested",
+                &[&id, &lease, &ttl],
+            )
+            .await?;
+            match asked {
+                Some(r) => {
+                    let cancel_requested: bool = r.try_get(0)?;
+                    exec(
+                        tx,
+                        "UPDATE workers SET seen_ms = gapack_now_ms() WHERE name = $1",
+                        &[&worker],
+                    )
+                    .await?;
+                    Ok(Beat::Held { cancel_requested })
+                }
+                None => {
+                    exec(
+                        tx,
+                        "UPDATE workers SET leases_lost = leases_lost + 1 WHERE name = $1",
+                        &[&worker],
+                    )
+                    .await?;
+                    Ok(Beat::Lost)
+                }
+            }
+        })
+    }
+
+    fn event(
+        &self,
+        id: &str,
+        lease: i64,
+        data: &serde_json::Value,
+        progress: bool,
+    ) -> Result<Option<i64>, StoreError> {
+        self.write(async |tx| {
+            if !holds(tx, id, lease).await? {
+                return Ok(None);
+            }
+            let seq = append(tx, id, data).await?;
+            if progress {
+                exec(
+                    tx,
+                    "UPDATE jobs SET progress = $2 WHERE id = $1",
+                    &[&id, &data.to_string()],
+                )
+                .await?;
+            }
+            Ok(Some(seq))
+        })
+    }
+
+    fn finish(
+        &self,
+        worker: &str,
+        id: &str,
+        lease: i64,
+        ending: &Ending,
+    ) -> Result<bool, StoreError> {
+        self.write(async |tx| {
+            if !holds(tx, id, lease).await? {
+                return Ok(false);
+            }
+            match ending {
+                Ending::Final {
+                    state,
+                    summary,
+                    error,
+                } => {
+                    exec(
+                        tx,
+                        "UPDATE jobs SET state = $2, finished_ms = gapack_now_ms(), summary = $3, \
+                         error = $4, worker = NULL, lease = NULL, lease_until_ms = NULL \
+                         WHERE id = $1",
+                        &[&id, &state.name(), summary, error],
+                    )
+                    .await?;
+                    let mut event = state_event(*state);
+                    if let Some(error) = error {
+                        event["error"] = json!(error);
+                    }
+                    append(tx, id, &event).await?;
+                }
+                Ending::Requeue => {
+                    exec(
+                        tx,
+                        "UPDATE jobs SET state = 'queued', resume = TRUE, worker = NULL, \
+                         lease = NULL, lease_until_ms = NULL WHERE id = $1",
+                        &[&id],
+                    )
+                    .await?;
+                    append(
+                        tx,
+                        id,
+                        &json!({"event": "state", "state": "queued", "reason": "its worker stopped"}),
+                    )
+                    .await?;
+                    notify(tx, "gapack_queue", "").await?;
+                }
+            }
+            exec(
+                tx,
+                "UPDATE workers SET finished = finished + 1, seen_ms = gapack_now_ms() \
+                 WHERE name = $1",
+                &[&worker],
+            )
+            .await?;
+            Ok(true)
+        })
+    }
+
+    fn reap(&self) -> Result<Vec<Reaped>, StoreError> {
+        self.write(async |tx| {
+            let expired = rows(
+                tx,
+                "SELECT id, worker, attempts, cancel_requested FROM jobs \
+                 WHERE state = 'running' AND lease_until_ms < gapack_now_ms() \
+                 ORDER BY seq FOR UPDATE SKIP LOCKED",
+                &[],
+            )
+            .await?;
+            let mut reaped = Vec::with_capacity(expired.len());
+            for r in &expired {
+                let id: String = r.try_get(0)?;
+                let worker: Option<String> = r.try_get(1)?;
+                let state = requeue(tx, &id, r.try_get(2)?, r.try_get(3)?).await?;
+                reaped.push(Reaped { id, state, worker });
+            }
+            if reaped.iter().any(|r| r.state == State::Queued) {
+                notify(tx, "gapack_queue", "").await?;
+            }
+            // The workers' counters, in the order of their names (two
+            // reapers lock them in one order: no deadlock).
+            let mut lost: Vec<&str> = reaped.iter().filter_map(|r| r.worker.as_deref()).collect();
+            lost.sort_unstable();
+            for worker in lost {
+                exec(
+                    tx,
+                    "UPDATE workers SET leases_lost = leases_lost + 1 WHERE name = $1",
+                    &[&worker],
+                )
+                .await?;
+            }
+            Ok(reaped)
+        })
+    }
+
+    fn cancel(&self, who: &Caller, id: &str) -> Result<Option<CancelOutcome>, StoreError> {
+        self.write(async |tx| {
+            let Some(found) = opt(
+                tx,
+                &format!("SELECT j.state FROM jobs j WHERE {VISIBLE} FOR UPDATE"),
+                &[&id, &who.id, &who.admin],
+            )
+            .await?
+            else {
+                return Ok(None);
+            };
+            let state: String = found.try_get(0)?;
+            let Some(state) = State::parse(&state) else {
+                return Ok(None);
+            };
+            Ok(Some(match state {
+                State::Queued => {
+                    exec(
+                        tx,
+                        "UPDATE jobs SET state = 'cancelled', finished_ms = gapack_now_ms() \
+                         WHERE id = $1",
+                        &[&id],
+                    )
+                    .await?;
+                    append(tx, id, &state_event(State::Cancelled)).await?;
+                    CancelOutcome::Dequeued
+                }
+                State::Running => {
+                    exec(
+                        tx,
+                        "UPDATE jobs SET cancel_requested = TRUE WHERE id = $1",
+                        &[&id],
+                    )
+                    .await?;
+                    notify(tx, "gapack_cancel", id).await?;
+                    CancelOutcome::Stopping
+                }
+                done => CancelOutcome::Finished(done),
+            }))
+        })
+    }
+
+    fn cancel_requested(&self, id: &str) -> Result<bool, StoreError> {
+        self.read(async |c| {
+            let found = opt(c, "SELECT cancel_requested FROM jobs WHERE id = $1", &[&id]).await?;
+            Ok(match found {
+                Some(r) => r.try_get(0)?,
+                None => false,
+            })
+        })
+    }
+
+    fn get(&self, who: &Caller, id: &str) -> Result<Option<JobRow>, StoreError> {
+        self.read(async |c| {
+            let found = opt(
+                c,
+                &format!("SELECT {COLUMNS} FROM {FROM} WHERE {VISIBLE}"),
+                &[&id, &who.id, &who.admin],
+            )
+            .await?;
+            Ok(found.as_ref().map(job_row).transpose()?)
+        })
+    }
+
+    fn list(
+        &self,
+        who: &Caller,
+        state: Option<State>,
+        before: Option<i64>,
+        limit: usize,
+    ) -> Result<Vec<JobRow>, StoreError> {
+        self.read(async |c| {
+            let found = rows(
+                c,
+                &format!(
+                    "SELECT {COLUMNS} FROM {FROM} WHERE ($1::TEXT IS NULL OR j.state = $1::TEXT) \
+                     AND j.seq < $2 AND ($5 OR j.owner = $4) ORDER BY j.seq DESC LIMIT $3"
+                ),
+                &[
+                    &state.map(State::name),
+                    &before.unwrap_or(i64::MAX),
+                    &limit_i64(limit),
+                    &who.id,
+                    &who.admin,
+                ],
+            )
+            .await?;
+            Ok(found.iter().map(job_row).collect::<PgResult<_>>()?)
+        })
+    }
+
+    fn delete(&self, who: &Caller, id: &str) -> Result<Option<Result<(), State>>, StoreError> {
+        self.write(async |tx| {
+            let Some(found) = opt(
+                tx,
+                &format!("SELECT j.state FROM jobs j WHERE {VISIBLE} FOR UPDATE"),
+                &[&id, &who.id, &who.admin],
+            )
+            .await?
+            else {
+                return Ok(None);
+            };
+            let state: String = found.try_get(0)?;
+            let Some(state) = State::parse(&state) else {
+                return Ok(None);
+            };
+            if !state.is_final() {
+                return Ok(Some(Err(state)));
+            }
+            exec(tx, "DELETE FROM events WHERE job = $1", &[&id]).await?;
+            exec(tx, "DELETE FROM jobs WHERE id = $1", &[&id]).await?;
+            // Streams following it elsewhere look again, and end.
+            notify(tx, "gapack_events", id).await?;
+            Ok(Some(Ok(())))
+        })
+    }
+
+    fn events_after(
+        &self,
+        id: &str,
+        after: i64,
+        limit: usize,
+    ) -> Result<Vec<(i64, String)>, StoreError> {
+        self.read(async |c| {
+            let found = rows(
+                c,
+                "SELECT seq, data FROM events WHERE job = $1 AND seq > $2 ORDER BY seq LIMIT $3",
+                &[&id, &after, &limit_i64(limit)],
+            )
+            .await?;
+            Ok(found
+                .iter()
+                .map(|r| Ok((r.try_get(0)?, r.try_get(1)?)))
+                .collect::<PgResult<_>>()?)
+        })
+    }
+
+    fn counts(&self) -> Result<Vec<(State, i64)>, StoreError> {
+        self.read(async |c| {
+            let found: Vec<(String, i64)> =
+                rows(c, "SELECT state, count(*) FROM jobs GROUP BY state", &[])
+                    .await?
+                    .iter()
+                    .map(|r| Ok((r.try_get(0)?, r.try_get(1)?)))
+                    .collect::<PgResult<_>>()?;
+            Ok(State::ALL
+                .into_iter()
+                .map(|s| {
+                    let n = found
+                        .iter()
+                        .find(|(name, _)| name == s.name())
+                        .map_or(0, |(_, n)| *n);
+                    (s, n)
+                })
+                .collect())
+        })
+    }
+
+    fn counts_by_user(&self) -> Result<Vec<UserCount>, StoreError> {
+        self.read(async |c| {
+            // Ordered by bytes, as SQLite orders them, whatever the
+            // database's collation.
+            let found: Vec<(String, String, i64)> = rows(
+                c,
+                "SELECT u.name, j.state, count(*) FROM jobs j JOIN users u ON u.id = j.owner \
+                 GROUP BY u.name, j.state ORDER BY u.name COLLATE \"C\", j.state COLLATE \"C\"",
+                &[],
+            )
+            .await?
+            .iter()
+            .map(|r| Ok((r.try_get(0)?, r.try_get(1)?, r.try_get(2)?)))
+            .collect::<PgResult<_>>()?;
+            Ok(found
+                .into_iter()
+                .filter_map(|(user, state, jobs)| {
+                    State::parse(&state).map(|state| UserCount { user, state, jobs })
+                })
+                .collect())
+        })
+    }
+
+    fn workers(&self) -> Result<Vec<WorkerRow>, StoreError> {
+        self.read(async |c| {
+            Ok(rows(
+                c,
+                "SELECT name, seen_ms, claimed, finished, leases_lost FROM workers \
+                 ORDER BY name COLLATE \"C\"",
+                &[],
+            )
+            .await?
+            .iter()
+            .map(|r| {
+                Ok(WorkerRow {
+                    name: r.try_get(0)?,
+                    seen_ms: r.try_get(1)?,
+                    claimed: r.try_get(2)?,
+                    finished: r.try_get(3)?,
+                    leases_lost: r.try_get(4)?,
+                })
+            })
+            .collect::<PgResult<_>>()?)
+        })
+    }
+
+    fn add_user(
+        &self,
+        name: &str,
+        role: Role,
+        token_hash: &[u8; 32],
+        max_queued: Option<i64>,
+        max_particles: Option<i64>,
+    ) -> Result<User, StoreError> {
+        self.write(async |tx| {
+            // A name taken, even by a user added at the same moment,
+            // inserts nothing.
+            let Some(added) = opt(
+                tx,
+                "INSERT INTO users (name, role, created_ms, max_queued, max_particles) \
+                 VALUES ($1, $2, gapack_now_ms(), $3, $4) ON CONFLICT (name) DO NOTHING \
+                 RETURNING id",
+                &[&name, &role.name(), &max_queued, &max_particles],
+            )
+            .await?
+            else {
+                return Err(StoreError::UserExists(name.to_owned()));
+            };
+            let id: i64 = added.try_get(0)?;
+            exec(
+                tx,
+                "INSERT INTO tokens (hash, user_id, created_ms) VALUES ($1, $2, gapack_now_ms())",
+                &[&&token_hash[..], &id],
+            )
+            .await?;
+            Ok(User {
+                id,
+                name: name.to_owned(),
+                role,
+                max_queued,
+                max_particles,
+                tokens: 1,
+            })
+        })
+    }
+
+    fn revoke_user(&self, name: &str) -> Result<bool, StoreError> {
+        self.write(async |tx| {
+            let Some(found) = opt(tx, "SELECT id FROM users WHERE name = $1", &[&name]).await?
+            else {
+                return Ok(false);
+            };
+            let id: i64 = found.try_get(0)?;
+            exec(
+                tx,
+                "UPDATE tokens SET revoked_ms = gapack_now_ms() \
+                 WHERE user_id = $1 AND revoked_ms IS NULL",
+                &[&id],
+            )
+            .await?;
+            Ok(true)
+        })
+    }
+
+    fn users(&self) -> Result<Vec<User>, StoreError> {
+        self.read(async |c| {
+            Ok(rows(
+                c,
+                &format!("SELECT {USER_COLUMNS} FROM users u ORDER BY u.id"),
+                &[],
+            )
+            .await?
+            .iter()
+            .map(user_row)
+            .collect::<PgResult<_>>()?)
+        })
+    }
+
+    fn user_by_token(&self, token_hash: &[u8; 32]) -> Result<Option<Caller>, StoreError> {
+        self.read(async |c| {
+            let found = opt(
+                c,
+                &format!(
+                    "SELECT {USER_COLUMNS} FROM tokens t JOIN users u ON u.id = t.user_id \
+                     WHERE t.hash = $1 AND t.revoked_ms IS NULL"
+                ),
+                &[&&token_hash[..]],
+            )
+            .await?;
+            Ok(found.as_ref().map(user_row).transpose()?.map(Caller::from))
+        })
+    }
+
+    fn user_named(&self, name: &str) -> Result<Option<Caller>, StoreError> {
+        self.read(async |c| {
+            let found = opt(
+                c,
+                &format!("SELECT {USER_COLUMNS} FROM users u WHERE u.name = $1"),
+                &[&name],
+            )
+            .await?;
+            Ok(found.as_ref().map(user_row).transpose()?.map(Caller::from))
+        })
+    }
+
+    fn has_tokens(&self) -> Result<bool, StoreError> {
+        self.read(async |c| {
+            Ok(one(
+                c,
+                "SELECT count(*) > 0 FROM tokens WHERE revoked_ms IS NULL",
+                &[],
+            )
+            .await?
+            .try_get(0)?)
+        })
+    }
+
+    /// Every call starts a listener of its own (its own connection to the
+    /// database, outside the pool) and returns its receiver: the listener
+    /// ends at its first notice after the receiver is dropped, or with the
+    /// store (then the receiver reports the sender gone).
+    fn subscribe(&self) -> Option<mpsc::Receiver<Notice>> {
+        let runtime = self.runtime.as_ref()?;
+        let (to, from) = mpsc::channel();
+        runtime.spawn(listen(self.config.clone(), to));
+        Some(from)
+    }
+}
+
+/// A fresh database for a test, on the cluster `GAPACK_TEST_POSTGRES`
+/// names (a URL to a database there, as a user who may create
+/// databases): its URL. `None`, having said how to run the test, when the
+/// variable is unset, unless `GAPACK_POSTGRES_TESTS=required` (then the
+/// test fails). The databases are left behind, for a throwaway cluster.
+#[cfg(test)]
+pub fn test_database() -> Option<String> {
+    let Ok(url) = std::env::var("GAPACK_TEST_POSTGRES") else {
+        assert!(
+            std::env::var("GAPACK_POSTGRES_TESTS").as_deref() != Ok("required"),
+            "GAPACK_POSTGRES_TESTS=required but GAPACK_TEST_POSTGRES is unset"
+        );
+        println!(
+            "skipped: the PostgreSQL store tests run with \
+             GAPACK_TEST_POSTGRES=postgres://USER@HOST:PORT/postgres (a user who may create databases)"
+        );
+        return None;
+    };
+    let name = format!("gapack_t_{:016x}", rand::random::<u64>());
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("a runtime for the test");
+    runtime.block_on(async {
+        let (client, connection) = tokio_postgres::connect(&url, NoTls)
+            .await
+            .unwrap_or_else(|e| panic!("cannot connect to GAPACK_TEST_POSTGRES: {e}"));
+        let driver = tokio::spawn(connection);
+        client
+            .batch_execute(&format!("CREATE DATABASE {name}"))
+            .await
+            .unwrap_or_else(|e| panic!("cannot create database {name}: {e}"));
+        drop(client);
+        let _ = driver.await;
+    });
+    // The same URL with the new database as its path.
+    let (scheme, rest) = url.split_once("://").expect("a URL with a scheme");
+    let authority = rest.split(['/', '?']).next().unwrap_or(rest);
+    let query = rest.find('?').map_or("", |at| &rest[at..]);
+    Some(format!("{scheme}://{authority}/{name}{query}"))
+}
