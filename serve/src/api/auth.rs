@@ -1,6 +1,11 @@
-//! The bearer token: when the server has one, every guarded route (the
-//! API and `/metrics`) needs `Authorization: Bearer TOKEN`; the router
-//! puts [`require_token`] in front of exactly those routes.
+//! Who is asking: every guarded route (the API and `/metrics`) needs
+//! `Authorization: Bearer TOKEN`, the router puts [`require_token`] in
+//! front of exactly those routes. A token is the `--token-file` one (it
+//! signs in as the store's first user, `admin`) or a user's (`gapack user
+//! add`), found by its SHA-256 (the store keeps no token in clear). A
+//! loopback server with neither lets every request in as `admin`. The
+//! caller goes on to the handlers as a request extension; each job they
+//! read or change must be theirs (an admin's: any).
 
 use axum::extract::{Request, State};
 use axum::http::{HeaderValue, StatusCode, header};
@@ -9,23 +14,52 @@ use axum::response::{IntoResponse, Response};
 
 use super::AppState;
 use super::error::ApiError;
+use crate::store::Caller;
+use crate::users::token_hash;
 
-/// Passes a request on if the server has no token or the request carries
-/// it (compared in constant time); else 401, with `WWW-Authenticate:
-/// Bearer` when no token was given at all.
-pub async fn require_token(State(shared): AppState, request: Request, next: Next) -> Response {
-    let Some(token) = &shared.token else {
-        return next.run(request).await;
-    };
+/// Passes a request on, with its [`Caller`], if the server needs no token
+/// or the request carries a live one; else 401, with `WWW-Authenticate:
+/// Bearer` when no token was given at all. Refusals are logged.
+pub async fn require_token(State(shared): AppState, mut request: Request, next: Next) -> Response {
     let given = request
         .headers()
         .get(header::AUTHORIZATION)
         .and_then(|v| v.to_str().ok())
-        .and_then(|v| v.strip_prefix("Bearer "));
-    match given {
-        Some(given) if same(given.trim().as_bytes(), token.as_bytes()) => next.run(request).await,
-        Some(_) => ApiError::new(StatusCode::UNAUTHORIZED, "wrong bearer token").into_response(),
-        None => {
+        .and_then(|v| v.strip_prefix("Bearer "))
+        .map(|t| t.trim().to_owned());
+    let caller = {
+        let shared = std::sync::Arc::clone(&shared);
+        tokio::task::spawn_blocking(move || -> Result<Option<Caller>, ApiError> {
+            match given {
+                Some(given) => {
+                    if let Some(token) = &shared.token
+                        && same(given.as_bytes(), token.as_bytes())
+                    {
+                        return Ok(Some(shared.admin.clone()));
+                    }
+                    match shared.store.user_by_token(&token_hash(&given))? {
+                        Some(caller) => Ok(Some(caller)),
+                        None => Err(ApiError::new(StatusCode::UNAUTHORIZED, "wrong bearer token")),
+                    }
+                }
+                None if shared.token.is_none() && !shared.store.has_tokens()? => {
+                    Ok(Some(shared.admin.clone()))
+                }
+                None => Ok(None),
+            }
+        })
+        .await
+        .map_err(ApiError::internal)
+        .and_then(|found| found)
+    };
+    match caller {
+        Ok(Some(caller)) => {
+            tracing::Span::current().record("user", caller.name.as_str());
+            request.extensions_mut().insert(caller);
+            next.run(request).await
+        }
+        Ok(None) => {
+            tracing::warn!("refused: no bearer token");
             let mut response = ApiError::new(
                 StatusCode::UNAUTHORIZED,
                 "this server needs a token: Authorization: Bearer TOKEN",
@@ -35,6 +69,10 @@ pub async fn require_token(State(shared): AppState, request: Request, next: Next
                 .headers_mut()
                 .insert(header::WWW_AUTHENTICATE, HeaderValue::from_static("Bearer"));
             response
+        }
+        Err(e) => {
+            tracing::warn!("refused: a bearer token no user holds");
+            e.into_response()
         }
     }
 }

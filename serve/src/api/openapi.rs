@@ -17,7 +17,7 @@ use super::jobs::{Accepted, JobPage, JobView, Links, SummaryView, Validated};
 use super::page::{Example, PackingView};
 use super::submission::{Estimates, SubmitBody};
 use crate::Shared;
-use crate::db::State as JobState;
+use crate::store::State as JobState;
 // The handlers' path descriptions, named without their module: utoipa
 // would take a module prefix (`jobs::submit`) for the operation's tag.
 use super::events::__path_events;

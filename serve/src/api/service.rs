@@ -41,8 +41,14 @@ async fn healthz(State(shared): AppState) -> impl IntoResponse {
 /// evaluations, packed disks.
 async fn prometheus(State(shared): AppState) -> Result<impl IntoResponse, ApiError> {
     let text = blocking(move || {
-        let counts = shared.db.counts()?;
-        Ok(shared.metrics.render(&counts))
+        let counts = shared.store.counts()?;
+        let users = shared.store.counts_by_user()?;
+        let workers = shared.store.workers()?;
+        Ok(shared.metrics.render(&crate::metrics::Stored {
+            counts: &counts,
+            users: &users,
+            workers: &workers,
+        }))
     })
     .await?;
     Ok((

@@ -126,8 +126,9 @@ impl TestServer {
     pub async fn run_queued(&self) {
         let shared = Arc::clone(&self.shared);
         tokio::task::spawn_blocking(move || {
-            while let Some(job) = shared.db.claim().expect("claim") {
-                worker::run_one(&shared, job);
+            let name = worker::worker_name(&shared, 0);
+            while let Some(job) = shared.store.claim(&name, shared.lease).expect("claim") {
+                worker::run_one(&shared, &name, job);
             }
         })
         .await
