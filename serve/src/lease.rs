@@ -52,7 +52,9 @@ impl Running {
 
 /// The time between two heartbeats of a lease of `ttl`.
 pub fn beat(ttl: Duration) -> Duration {
-    (ttl / 4).min(Duration::from_secs(1)).max(Duration::from_millis(10))
+    (ttl / 4)
+        .min(Duration::from_secs(1))
+        .max(Duration::from_millis(10))
 }
 
 /// The keeper's loop, until this process's workers have all ended.
@@ -61,7 +63,9 @@ pub fn keep(shared: &Arc<Shared>) {
     // A lease not renewed for this long is given up here: the store lets
     // another worker take the job only once the whole lease has passed.
     let give_up = shared.lease.saturating_sub(beat);
-    let mut last_reap = Instant::now().checked_sub(shared.lease).unwrap_or_else(Instant::now);
+    let mut last_reap = Instant::now()
+        .checked_sub(shared.lease)
+        .unwrap_or_else(Instant::now);
     while !shared.crew_done.load(Ordering::SeqCst) {
         let started = Instant::now();
         renew(shared, give_up);

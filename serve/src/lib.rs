@@ -308,7 +308,10 @@ pub fn run(args: &Options, listening: impl FnOnce(SocketAddr)) -> Result<(), Fai
     let (shared, recovered) = Shared::open(args, token).map_err(Failure::Run)?;
     let shared = Arc::new(shared);
     if shared.token.is_none() && !args.listen.ip().is_loopback() {
-        let users = shared.store.has_tokens().map_err(|e| Failure::Run(e.into()))?;
+        let users = shared
+            .store
+            .has_tokens()
+            .map_err(|e| Failure::Run(e.into()))?;
         if !users {
             return Err(Failure::Input(anyhow::anyhow!(
                 "listening on {} (not loopback) needs --token-file or users with tokens (gapack user add)",
@@ -364,7 +367,9 @@ pub fn work(args: &Options, name: Option<&str>) -> Result<(), Failure> {
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
     let workers = args.workers.unwrap_or((cores / 2).max(1));
     if workers == 0 {
-        return Err(Failure::Input(anyhow::anyhow!("--workers must be at least 1")));
+        return Err(Failure::Input(anyhow::anyhow!(
+            "--workers must be at least 1"
+        )));
     }
     let (mut shared, _) = Shared::open(args, None).map_err(Failure::Run)?;
     if let Some(name) = name {

@@ -166,7 +166,10 @@ impl Metrics {
 
 /// The store's per-user and per-worker figures.
 fn render_stored(out: &mut String, stored: &Stored<'_>) {
-    let _ = writeln!(out, "# HELP gapack_user_jobs Jobs in the store by owner and state.");
+    let _ = writeln!(
+        out,
+        "# HELP gapack_user_jobs Jobs in the store by owner and state."
+    );
     let _ = writeln!(out, "# TYPE gapack_user_jobs gauge");
     for c in stored.users {
         let _ = writeln!(
@@ -179,9 +182,24 @@ fn render_stored(out: &mut String, stored: &Stored<'_>) {
     }
     let now = now_ms();
     let series: [(&str, &str, &str, fn(&WorkerRow) -> i64); 3] = [
-        ("gapack_worker_claimed_total", "counter", "Jobs each worker claimed.", |w| w.claimed),
-        ("gapack_worker_finished_total", "counter", "Attempts each worker ended (a final state, or back to the queue at a stop).", |w| w.finished),
-        ("gapack_worker_leases_lost_total", "counter", "Leases each worker lost (reaped after it went silent, or found gone).", |w| w.leases_lost),
+        (
+            "gapack_worker_claimed_total",
+            "counter",
+            "Jobs each worker claimed.",
+            |w| w.claimed,
+        ),
+        (
+            "gapack_worker_finished_total",
+            "counter",
+            "Attempts each worker ended (a final state, or back to the queue at a stop).",
+            |w| w.finished,
+        ),
+        (
+            "gapack_worker_leases_lost_total",
+            "counter",
+            "Leases each worker lost (reaped after it went silent, or found gone).",
+            |w| w.leases_lost,
+        ),
     ];
     for (name, kind, help, value) in series {
         let _ = writeln!(out, "# HELP {name} {help}");

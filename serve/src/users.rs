@@ -43,9 +43,7 @@ pub struct NewUser<'a> {
 #[derive(Debug, thiserror::Error)]
 pub enum UserError {
     /// A name the service does not take.
-    #[error(
-        "user name {0:?}: give 1 to 64 letters, digits, '.', '_', '-' or '@'"
-    )]
+    #[error("user name {0:?}: give 1 to 64 letters, digits, '.', '_', '-' or '@'")]
     BadName(String),
     /// No user has that name.
     #[error("no user named {0:?}")]
@@ -119,10 +117,7 @@ mod tests {
         assert!(a.starts_with("gpk_") && a[4..].chars().all(|c| c.is_ascii_hexdigit()));
         assert_ne!(token_hash(&a), token_hash(&b));
         // SHA-256 of "abc" (FIPS 180-2's first example).
-        assert_eq!(
-            token_hash("abc")[..4],
-            [0xba, 0x78, 0x16, 0xbf]
-        );
+        assert_eq!(token_hash("abc")[..4], [0xba, 0x78, 0x16, 0xbf]);
     }
 
     #[test]

@@ -70,8 +70,7 @@ pub fn run_one(shared: &Arc<Shared>, worker: &str, claimed: Claimed) {
     let lost = Arc::clone(&running.lost);
     shared.register(&id, running);
     // A cancel or a stop that came between the claim and the registration.
-    if shared.store.cancel_requested(&id).unwrap_or(false)
-        || shared.stopping.load(Ordering::SeqCst)
+    if shared.store.cancel_requested(&id).unwrap_or(false) || shared.stopping.load(Ordering::SeqCst)
     {
         token.cancel();
     }
@@ -238,7 +237,11 @@ impl Observer for Recorder<'_> {
         if self.lost.load(Ordering::SeqCst) {
             return;
         }
-        match self.shared.store.event(self.id, self.lease, &data, progress) {
+        match self
+            .shared
+            .store
+            .event(self.id, self.lease, &data, progress)
+        {
             Ok(Some(_)) => self.shared.notify(self.id),
             Ok(None) => {
                 tracing::warn!(job = %self.id, "lease lost: another worker takes the job; this attempt stops");

@@ -145,7 +145,9 @@ impl From<StoreError> for ApiError {
                 ApiError::new(StatusCode::SERVICE_UNAVAILABLE, e.to_string()).retry_after(5)
             }
             // A share, not the server's load: retrying soon does not help.
-            StoreError::UserQueueFull(_) => ApiError::new(StatusCode::TOO_MANY_REQUESTS, e.to_string()),
+            StoreError::UserQueueFull(_) => {
+                ApiError::new(StatusCode::TOO_MANY_REQUESTS, e.to_string())
+            }
             _ => ApiError::internal(e),
         }
     }

@@ -5,8 +5,8 @@
 
 use std::sync::Arc;
 
-use axum::extract::rejection::QueryRejection;
 use axum::Extension;
+use axum::extract::rejection::QueryRejection;
 use axum::extract::{FromRequestParts, Path, Query, State};
 use axum::http::request::Parts;
 use axum::http::{HeaderValue, StatusCode, header};
@@ -24,7 +24,7 @@ use super::error::{ApiError, ErrorBody};
 use super::submission::{Estimates, Submission, SubmitBody, SubmitQuery, bad_query};
 use super::{AppState, blocking};
 use crate::Shared;
-use crate::store::{CancelOutcome, Caller, JobRow, NewJob, State as JobState};
+use crate::store::{Caller, CancelOutcome, JobRow, NewJob, Role, State as JobState};
 use crate::worker::job_dir;
 
 /// The routes of the jobs themselves.
@@ -34,6 +34,27 @@ pub fn router() -> Router<Arc<Shared>> {
         .route("/validate", post(validate))
         .route("/jobs/{id}", get(status).delete(delete))
         .route("/jobs/{id}/cancel", post(cancel))
+        .route("/me", get(me))
+}
+
+/// Who the request's token signs in as.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct Me {
+    /// The user's name.
+    name: String,
+    /// `admin` sees every job; `user` their own.
+    role: Role,
+}
+
+/// Who is signed in: the user the request's token names (`admin` on a
+/// server with no token).
+#[utoipa::path(get, path = "/api/v1/me",
+    responses((status = 200, description = "The signed-in user", body = Me)))]
+async fn me(Extension(who): Extension<Caller>) -> Json<Me> {
+    Json(Me {
+        role: if who.admin { Role::Admin } else { Role::User },
+        name: who.name,
+    })
 }
 
 /// The `{id}` of a `/jobs/{id}…` route, checked to be one this service
@@ -254,6 +275,8 @@ pub struct JobView {
     id: String,
     /// Its kind.
     kind: String,
+    /// The user who submitted it.
+    owner: String,
     /// The seed asked for (the config's own when absent).
     seed: Option<u64>,
     /// The config it runs, as submitted.
@@ -467,6 +490,7 @@ impl From<JobRow> for JobView {
             urls: Links::of(&row.id),
             id: row.id,
             kind: row.kind,
+            owner: row.owner,
             seed: row.seed,
             config: row.config,
             state: row.state,
