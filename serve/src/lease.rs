@@ -146,3 +146,105 @@ pub fn listen(shared: &Shared, news: &Receiver<Notice>) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+    use std::sync::atomic::Ordering;
+    use std::time::{Duration, Instant};
+
+    use axum::http::Method;
+
+    use crate::api::testing::{SQUARE, TestServer};
+    use crate::store::State;
+    use crate::worker;
+
+    /// A search long enough to be cancelled while it runs.
+    const LONG: &str = "seed = 5\n[domain]\nshape = \"rectangle\"\nwidth = 60\nheight = 60\n[grading]\nuniform = [1.0, 2.0]\n[optimise]\ntarget_porosity = 0.95\npopulation = 8\ngenerations = 400\nstagnation = 1000\n";
+
+    fn state_of(server: &TestServer, id: &str) -> State {
+        let admin = &server.shared.admin;
+        server.shared.store.get(admin, id).expect("get").expect("the job").state
+    }
+
+    #[tokio::test]
+    async fn a_job_whose_worker_went_silent_is_reaped_and_run_again_to_its_end() {
+        let server = TestServer::with(|o| o.lease = Duration::from_millis(100), None);
+        let id = server.submit("?kind=pack", SQUARE).await;
+        // A worker claims it and is never heard of again.
+        let store = Arc::clone(&server.shared.store);
+        let claimed = store.claim("gone:1:0", Duration::from_millis(100)).expect("claim");
+        assert_eq!(claimed.map(|c| c.job.id), Some(id.clone()));
+        assert!(store.reap().expect("reap").is_empty(), "reaped before its lease ran out");
+        std::thread::sleep(Duration::from_millis(150));
+        let reaped = store.reap().expect("reap");
+        assert_eq!(reaped.len(), 1);
+        assert_eq!((reaped[0].state, reaped[0].worker.as_deref()), (State::Queued, Some("gone:1:0")));
+        assert_eq!(state_of(&server, &id), State::Queued);
+        server.run_queued().await;
+        let job = server.get(&format!("/api/v1/jobs/{id}")).await.json();
+        assert_eq!(job["state"], "succeeded");
+        assert_eq!(job["attempts"], 2);
+        let events = server.shared.store.events_after(&id, 0, 100).expect("events");
+        let states: Vec<String> = events
+            .iter()
+            .filter_map(|(_, data)| {
+                let v: serde_json::Value = serde_json::from_str(data).ok()?;
+                (v["event"] == "state").then(|| {
+                    format!("{}{}", v["state"].as_str().unwrap_or(""), v["reason"].as_str().map(|r| format!(" ({r})")).unwrap_or_default())
+                })
+            })
+            .collect();
+        assert_eq!(
+            states,
+            ["queued", "running", "queued (its worker was lost)", "running", "succeeded"]
+        );
+        // Event numbers run on from the lost attempt's, without a gap.
+        let numbers: Vec<i64> = events.iter().map(|(n, _)| *n).collect();
+        assert_eq!(numbers, (1..=numbers.len() as i64).collect::<Vec<_>>());
+        let workers = store.workers().expect("workers");
+        let gone = workers.iter().find(|w| w.name == "gone:1:0").expect("the lost worker");
+        assert_eq!((gone.claimed, gone.finished, gone.leases_lost), (1, 0, 1));
+    }
+
+    #[tokio::test]
+    async fn a_cancel_reaches_the_running_job_through_its_heartbeat() {
+        let server = TestServer::with(|o| o.lease = Duration::from_millis(400), None);
+        let id = server.submit("?kind=optimise", LONG).await;
+        let shared = Arc::clone(&server.shared);
+        let keeper = std::thread::spawn({
+            let shared = Arc::clone(&shared);
+            move || super::keep(&shared)
+        });
+        let run = tokio::task::spawn_blocking({
+            let shared = Arc::clone(&shared);
+            move || {
+                let name = worker::worker_name(&shared, 0);
+                let job = shared.store.claim(&name, shared.lease).expect("claim").expect("a job");
+                worker::run_one(&shared, &name, job);
+            }
+        });
+        let start = Instant::now();
+        while shared.store.events_after(&id, 0, 1000).expect("events").len() < 5 {
+            assert!(start.elapsed() < Duration::from_secs(60), "the search never started");
+            tokio::time::sleep(Duration::from_millis(20)).await;
+        }
+        // The flag alone, as a front on another machine sets it: only the
+        // heartbeat carries it to the worker.
+        let asked = Instant::now();
+        let admin = shared.admin.clone();
+        assert_eq!(
+            shared.store.cancel(&admin, &id).expect("cancel"),
+            Some(crate::store::CancelOutcome::Stopping)
+        );
+        run.await.expect("the run ended");
+        let took = asked.elapsed();
+        shared.crew_done.store(true, Ordering::SeqCst);
+        keeper.join().expect("the keeper ended");
+        assert_eq!(state_of(&server, &id), State::Cancelled);
+        // A heartbeat is due every 100 ms; the search checks its token often.
+        assert!(took < Duration::from_secs(10), "{took:?}");
+        let r = server.call(Method::GET, &format!("/api/v1/jobs/{id}"), &[]).await;
+        assert!(r.json()["summary"].is_object(), "the best packing is kept: {}", r.text());
+    }
+}

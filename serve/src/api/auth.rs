@@ -187,3 +187,124 @@ mod tests {
         assert!(!same(b"ab", b"abc"));
     }
 }
+
+/// Users and their jobs: each sees and acts on their own only.
+#[cfg(test)]
+mod owners {
+    use axum::http::{Method, StatusCode};
+
+    use crate::api::testing::{NO_JOB, SQUARE, TestServer};
+
+    #[tokio::test]
+    async fn another_user_s_job_is_answered_as_no_job_at_all() {
+        let server = TestServer::new();
+        let ana = server.add_user("ana", false);
+        let bruno = server.add_user("bruno", false);
+        let boss = server.add_user("boss", true);
+        let anas = server.submit_as(&ana, SQUARE).await;
+        server.run_queued().await;
+        // Once users hold tokens, a request without one is refused.
+        assert_eq!(server.get("/api/v1/jobs").await.status, StatusCode::UNAUTHORIZED);
+        for (method, path) in [
+            (Method::GET, "/api/v1/jobs/{}"),
+            (Method::GET, "/api/v1/jobs/{}/events"),
+            (Method::GET, "/api/v1/jobs/{}/files"),
+            (Method::GET, "/api/v1/jobs/{}/files/packing.csv"),
+            (Method::GET, "/api/v1/jobs/{}/packing"),
+            (Method::POST, "/api/v1/jobs/{}/cancel"),
+            (Method::DELETE, "/api/v1/jobs/{}"),
+        ] {
+            let theirs = server
+                .call_as(&bruno, method.clone(), &path.replace("{}", &anas))
+                .await;
+            let nobodys = server
+                .call_as(&bruno, method.clone(), &path.replace("{}", NO_JOB))
+                .await;
+            assert_eq!(theirs.status, StatusCode::NOT_FOUND, "{method} {path}");
+            assert_eq!(
+                theirs.error().replace(&anas, NO_JOB),
+                nobodys.error(),
+                "{method} {path}: the same answer as no job"
+            );
+            // The owner and an admin are served (the delete last).
+            if method != Method::DELETE {
+                for token in [&ana, &boss] {
+                    let r = server.call_as(token, method.clone(), &path.replace("{}", &anas)).await;
+                    assert!(r.status.is_success(), "{method} {path}: {}", r.status);
+                }
+            }
+        }
+        let listed = |r: crate::api::testing::Reply| -> Vec<String> {
+            r.json()["jobs"]
+                .as_array()
+                .expect("jobs")
+                .iter()
+                .map(|j| j["id"].as_str().expect("id").to_owned())
+                .collect()
+        };
+        assert!(listed(server.call_as(&bruno, Method::GET, "/api/v1/jobs").await).is_empty());
+        assert_eq!(listed(server.call_as(&ana, Method::GET, "/api/v1/jobs").await), [anas.clone()]);
+        assert_eq!(listed(server.call_as(&boss, Method::GET, "/api/v1/jobs").await), [anas.clone()]);
+        let job = server.call_as(&boss, Method::GET, &format!("/api/v1/jobs/{anas}")).await;
+        assert_eq!(job.json()["owner"], "ana");
+        // Who is signed in; the metrics are an admin's.
+        let me = server.call_as(&bruno, Method::GET, "/api/v1/me").await.json();
+        assert_eq!((me["name"].as_str(), me["role"].as_str()), (Some("bruno"), Some("user")));
+        assert_eq!(server.call_as(&bruno, Method::GET, "/metrics").await.status, StatusCode::FORBIDDEN);
+        let metrics = server.call_as(&boss, Method::GET, "/metrics").await;
+        assert!(
+            metrics.text().contains("gapack_user_jobs{user=\"ana\",state=\"succeeded\"} 1"),
+            "{}",
+            metrics.text()
+        );
+        let r = server.call_as(&bruno, Method::DELETE, &format!("/api/v1/jobs/{anas}")).await;
+        assert_eq!(r.status, StatusCode::NOT_FOUND);
+        let r = server.call_as(&ana, Method::DELETE, &format!("/api/v1/jobs/{anas}")).await;
+        assert_eq!(r.status, StatusCode::NO_CONTENT);
+    }
+
+    #[tokio::test]
+    async fn a_revoked_token_is_refused_at_the_next_request() {
+        let server = TestServer::new();
+        let ana = server.add_user("ana", false);
+        assert_eq!(server.call_as(&ana, Method::GET, "/api/v1/jobs").await.status, StatusCode::OK);
+        assert!(server.shared.store.revoke_user("ana").expect("revoke"));
+        let r = server.call_as(&ana, Method::GET, "/api/v1/jobs").await;
+        assert_eq!(r.status, StatusCode::UNAUTHORIZED);
+        assert_eq!(r.error(), "wrong bearer token");
+    }
+
+    #[tokio::test]
+    async fn a_user_s_share_of_the_queue_and_ceiling_hold() {
+        let server = TestServer::with(|o| o.max_queue_per_user = 2, None);
+        let ana = server.add_user("ana", false);
+        let bruno = server.add_user("bruno", false);
+        server.submit_as(&ana, SQUARE).await;
+        server.submit_as(&ana, SQUARE).await;
+        let request = axum::http::Request::post("/api/v1/jobs?kind=pack")
+            .header("content-type", "application/toml")
+            .header("authorization", format!("Bearer {ana}"))
+            .body(axum::body::Body::from(SQUARE))
+            .expect("request");
+        let r = server.send(request).await;
+        assert_eq!(r.status, StatusCode::TOO_MANY_REQUESTS, "{}", r.text());
+        assert!(r.error().contains("2 jobs waiting"), "{}", r.error());
+        // Another user's share is their own.
+        server.submit_as(&bruno, SQUARE).await;
+        // A user's own particle ceiling, under the server's.
+        let token = "gpk_small_user_token_0123456789";
+        server
+            .shared
+            .store
+            .add_user("small", crate::store::Role::User, &crate::users::token_hash(token), None, Some(100))
+            .expect("user");
+        let request = axum::http::Request::post("/api/v1/validate?kind=pack")
+            .header("content-type", "application/toml")
+            .header("authorization", format!("Bearer {token}"))
+            .body(axum::body::Body::from(SQUARE))
+            .expect("request");
+        let r = server.send(request).await;
+        assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY, "{}", r.text());
+        assert!(r.error().contains("over user small's ceiling of 100"), "{}", r.error());
+    }
+}
