@@ -82,6 +82,13 @@ enum Command {
     /// Run jobs as an HTTP service (submit, follow, cancel, fetch files);
     /// see docs/api.md. Runs until SIGINT or SIGTERM.
     Serve(cli::serve::ServeArgs),
+    /// Run jobs from a shared job store (PostgreSQL) for the fronts
+    /// (gapack serve) that queue them; see docs/deploy.md. Runs until
+    /// SIGINT or SIGTERM, which puts its running jobs back in the queue.
+    Worker(cli::serve::WorkerArgs),
+    /// Add, revoke or list the service's users.
+    #[command(subcommand)]
+    User(cli::serve::UserCommand),
 }
 
 fn main() -> ExitCode {
@@ -98,6 +105,8 @@ fn main() -> ExitCode {
         Command::Plot(args) => cli::inspect::run_plot(&args),
         Command::Bench(args) => bench::run_command(&args),
         Command::Serve(args) => cli::serve::run(&args),
+        Command::Worker(args) => cli::serve::run_worker(&args),
+        Command::User(command) => cli::serve::run_user(&command),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,9 +1,13 @@
 //! `gapack serve`: the jobs layer as an HTTP service (axum on tokio).
 //!
-//! - `db`: the SQLite job store (a row per job, its events, transactional
-//!   state changes; crash recovery re-queues what was running);
-//! - `worker`: threads that run claimed jobs with `jobs::run`, each into
-//!   `DATA/jobs/<id>/` with a `DirStore`, exactly as the CLI would;
+//! - `store`: the job store (a row per job, its events, users and their
+//!   tokens, leases), on SQLite (one process) or PostgreSQL (any number of
+//!   fronts and workers on any number of machines);
+//! - `worker`: threads that claim jobs under a lease and run them with
+//!   `jobs::run`, each into `DATA/jobs/<id>/` with a `DirStore`, exactly
+//!   as the CLI would; `lease`: the heartbeat that keeps their leases and
+//!   the reaper that re-queues the jobs of lost workers;
+//! - `users`: adding, revoking and listing users (`gapack user`);
 //! - `api`: the routes, one module per group (jobs, events, files, the
 //!   page and its data, health and metrics, the OpenAPI document) merged
 //!   into one router, with the bearer token and one JSON error type;
@@ -23,8 +27,10 @@
 //! the two timeouts), and exits.
 
 mod api;
-mod db;
+mod lease;
 mod metrics;
+pub mod store;
+pub mod users;
 mod web;
 mod worker;
 
@@ -36,14 +42,13 @@ use std::sync::{Arc, Condvar, Mutex, PoisonError};
 use std::time::Duration;
 
 use anyhow::Context;
-use gapack::jobs::Cancel;
 use hyper_util::rt::{TokioIo, TokioTimer};
 use hyper_util::service::TowerToHyperService;
 use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::{OwnedSemaphorePermit, Semaphore, broadcast, watch};
 
-use db::Db;
 use metrics::Metrics;
+use store::{Caller, FIRST_USER, JobStore, QueueLimits, StoreUrl};
 
 /// What the service is started with (`gapack serve`'s options).
 #[derive(Debug, Clone)]
@@ -51,8 +56,16 @@ pub struct Options {
     /// Address to listen on (port 0: any free port). Any address but
     /// loopback needs a token.
     pub listen: SocketAddr,
-    /// Folder of the job store (gapack.db) and of the jobs' files (jobs/<id>/).
+    /// Folder of the jobs' files (jobs/<id>/), shared by every front and
+    /// worker of one store; and of the SQLite store by default.
     pub data: PathBuf,
+    /// The job store's URL (`None`: `sqlite://DATA/gapack.db`).
+    pub store: Option<String>,
+    /// How long a worker's hold on a job lasts without a heartbeat: a job
+    /// whose worker is lost goes back to the queue after it.
+    pub lease: Duration,
+    /// Jobs one user may have waiting (a user's own limit overrides it).
+    pub max_queue_per_user: usize,
     /// Jobs run at once (`None`: one per two cores); 0 only queues.
     pub workers: Option<usize>,
     /// File holding the bearer token every request must carry.
@@ -86,6 +99,9 @@ impl Default for Options {
         Options {
             listen: SocketAddr::from(([127, 0, 0, 1], 8080)),
             data: PathBuf::from("gapack-data"),
+            store: None,
+            lease: Duration::from_secs(30),
+            max_queue_per_user: 250,
             workers: None,
             token_file: None,
             max_queue: 1000,
@@ -121,22 +137,32 @@ pub struct Limits {
     pub max_seconds: Option<Duration>,
     /// Whether submissions may ask for `force`.
     pub force: bool,
-    /// Jobs that may wait.
-    pub max_queue: usize,
+    /// Jobs that may wait, in all and per user.
+    pub queue: QueueLimits,
     /// optimise: checkpoint period (generations).
     pub checkpoint_every: usize,
 }
 
 /// What the handlers and the workers share.
 pub struct Shared {
-    db: Db,
+    store: Arc<dyn JobStore>,
     data: PathBuf,
     limits: Limits,
+    /// The `--token-file` token (it signs in as [`Shared::admin`]).
     token: Option<String>,
+    /// The store's first user: the token file's, and anyone's on a
+    /// loopback server without tokens.
+    admin: Caller,
+    /// How long a lease lasts without a heartbeat.
+    lease: Duration,
+    /// This process's name among the store's workers (`host:pid`).
+    name: String,
     /// Set once SIGINT or SIGTERM came: no new job is taken.
     stopping: AtomicBool,
-    /// The running jobs' tokens.
-    running: Mutex<BTreeMap<String, Cancel>>,
+    /// Set once this process's workers have ended: the keeper ends too.
+    crew_done: AtomicBool,
+    /// The jobs running in this process.
+    running: Mutex<BTreeMap<String, lease::Running>>,
     /// Wakes idle workers when a job is queued.
     wake: (Mutex<u64>, Condvar),
     /// The id of each job with a new event (or state), for the streams.
@@ -156,29 +182,45 @@ impl Limits {
             max_memory_bytes: args.max_memory_mb as f64 * 1024.0 * 1024.0,
             max_seconds: (args.max_seconds > 0).then(|| Duration::from_secs(args.max_seconds)),
             force: args.force,
-            max_queue: args.max_queue,
+            queue: QueueLimits {
+                total: args.max_queue,
+                per_user: args.max_queue_per_user,
+            },
             checkpoint_every: args.checkpoint_every,
         }
     }
 }
 
 impl Shared {
-    /// The state over `args.data` (created if absent; jobs a crash left
-    /// running are re-queued, and counted in the second value), guarded by
-    /// `token`. No worker runs yet.
+    /// The state over `args.store` (by default SQLite in `args.data`) and
+    /// `args.data` (created if absent), guarded by `token`. With SQLite,
+    /// jobs a crash left running are re-queued (counted in the second
+    /// value); with PostgreSQL their leases see to them. No worker runs yet.
     fn open(args: &Options, token: Option<String>) -> anyhow::Result<(Shared, usize)> {
         std::fs::create_dir_all(args.data.join("jobs"))
             .with_context(|| format!("cannot create {}", args.data.display()))?;
-        let db = Db::open(&args.data.join("gapack.db")).context("cannot open the job store")?;
-        let recovered = db.recover().context("cannot recover the job store")?;
+        let url = match &args.store {
+            Some(url) => StoreUrl::parse(url)?,
+            None => StoreUrl::Sqlite(args.data.join("gapack.db")),
+        };
+        let store = store::open(&url)
+            .with_context(|| format!("cannot open the job store {}", url.shown()))?;
+        let recovered = store.recover().context("cannot recover the job store")?;
+        let admin = store
+            .user_named(FIRST_USER)?
+            .context("the job store has no first user (admin)")?;
         let (events, _) = broadcast::channel(1024);
         let (shutdown, _) = watch::channel(false);
         let shared = Shared {
-            db,
+            store,
             data: args.data.clone(),
             limits: Limits::of(args),
             token,
+            admin,
+            lease: args.lease,
+            name: format!("{}:{}", host_name(), std::process::id()),
             stopping: AtomicBool::new(false),
+            crew_done: AtomicBool::new(false),
             running: Mutex::new(BTreeMap::new()),
             wake: (Mutex::new(0), Condvar::new()),
             events,
@@ -189,22 +231,22 @@ impl Shared {
         Ok((shared, recovered))
     }
 
-    fn register(&self, id: &str, token: Cancel) {
-        self.lock_running().insert(id.to_owned(), token);
+    fn register(&self, id: &str, running: lease::Running) {
+        self.lock_running().insert(id.to_owned(), running);
     }
 
-    fn unregister(&self, id: &str) {
-        self.lock_running().remove(id);
+    fn unregister(&self, id: &str) -> Option<lease::Running> {
+        self.lock_running().remove(id)
     }
 
     /// Raise the token of running job `id`, if it runs here.
     fn cancel_running(&self, id: &str) {
-        if let Some(token) = self.lock_running().get(id) {
-            token.cancel();
+        if let Some(running) = self.lock_running().get(id) {
+            running.cancel.cancel();
         }
     }
 
-    fn lock_running(&self) -> std::sync::MutexGuard<'_, BTreeMap<String, Cancel>> {
+    fn lock_running(&self) -> std::sync::MutexGuard<'_, BTreeMap<String, lease::Running>> {
         self.running.lock().unwrap_or_else(PoisonError::into_inner)
     }
 
@@ -213,6 +255,13 @@ impl Shared {
         let (lock, condvar) = &self.wake;
         *lock.lock().unwrap_or_else(PoisonError::into_inner) += 1;
         condvar.notify_one();
+    }
+
+    /// Wake every idle worker.
+    fn wake_all(&self) {
+        let (lock, condvar) = &self.wake;
+        *lock.lock().unwrap_or_else(PoisonError::into_inner) += 1;
+        condvar.notify_all();
     }
 
     /// Sleep until woken or `timeout`.
@@ -253,38 +302,24 @@ pub fn run(args: &Options, listening: impl FnOnce(SocketAddr)) -> Result<(), Fai
             "--header-timeout and --request-timeout must be longer than zero"
         )));
     }
-    let token = match &args.token_file {
-        Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("cannot read the token file {}", path.display()))
-                .map_err(Failure::Input)?;
-            let token = text.trim().to_owned();
-            if token.len() < 16 {
-                return Err(Failure::Input(anyhow::anyhow!(
-                    "the token in {} is too short: at least 16 characters",
-                    path.display()
-                )));
-            }
-            Some(token)
-        }
-        None => None,
-    };
-    if token.is_none() && !args.listen.ip().is_loopback() {
-        return Err(Failure::Input(anyhow::anyhow!(
-            "listening on {} (not loopback) needs --token-file",
-            args.listen
-        )));
-    }
+    let token = read_token(args)?;
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
     let workers = args.workers.unwrap_or((cores / 2).max(1));
     let (shared, recovered) = Shared::open(args, token).map_err(Failure::Run)?;
     let shared = Arc::new(shared);
-    // Already set (never, in the binary) is fine: logs go where it says.
-    let _ = tracing_subscriber::fmt()
-        .with_writer(std::io::stderr)
-        .with_ansi(false)
-        .with_max_level(tracing::Level::INFO)
-        .try_init();
+    if shared.token.is_none() && !args.listen.ip().is_loopback() {
+        let users = shared
+            .store
+            .has_tokens()
+            .map_err(|e| Failure::Run(e.into()))?;
+        if !users {
+            return Err(Failure::Input(anyhow::anyhow!(
+                "listening on {} (not loopback) needs --token-file or users with tokens (gapack user add)",
+                args.listen
+            )));
+        }
+    }
+    init_log();
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
@@ -300,13 +335,8 @@ pub fn run(args: &Options, listening: impl FnOnce(SocketAddr)) -> Result<(), Fai
         .context("cannot read the bound address")
         .map_err(Failure::Run)?;
     listening(addr);
-    tracing::info!(%addr, workers, recovered, data = %args.data.display(), "serving");
-    let threads: Vec<_> = (0..workers)
-        .map(|i| {
-            let shared = Arc::clone(&shared);
-            std::thread::spawn(move || worker::work(&shared, i))
-        })
-        .collect();
+    tracing::info!(%addr, workers, recovered, store = shared.store.engine(), data = %args.data.display(), "serving");
+    let crew = Crew::start(&shared, workers);
     let router = api::router(Arc::clone(&shared));
     let edges = Edges {
         max_connections: args.max_connections,
@@ -314,11 +344,132 @@ pub fn run(args: &Options, listening: impl FnOnce(SocketAddr)) -> Result<(), Fai
         drain: args.header_timeout.max(args.request_timeout),
     };
     runtime.block_on(serve(listener, router, &edges, &shared));
-    for thread in threads {
-        let _ = thread.join();
-    }
+    crew.join();
     tracing::info!("stopped");
     Ok(())
+}
+
+/// Run workers only (`gapack worker`): take jobs from the store at
+/// `args.store` and run them until SIGINT or SIGTERM, which cancels the
+/// running jobs and puts them back in the queue (to resume on any worker).
+/// `name` names this process among the store's workers (default
+/// `host:pid`).
+///
+/// # Errors
+/// [`Failure::Input`] without a store URL or workers; [`Failure::Run`]
+/// when the store cannot be opened.
+pub fn work(args: &Options, name: Option<&str>) -> Result<(), Failure> {
+    if args.store.is_none() {
+        return Err(Failure::Input(anyhow::anyhow!(
+            "gapack worker needs --store postgres://… (the store the fronts queue jobs in)"
+        )));
+    }
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let workers = args.workers.unwrap_or((cores / 2).max(1));
+    if workers == 0 {
+        return Err(Failure::Input(anyhow::anyhow!(
+            "--workers must be at least 1"
+        )));
+    }
+    let (mut shared, _) = Shared::open(args, None).map_err(Failure::Run)?;
+    if let Some(name) = name {
+        shared.name = name.to_owned();
+    }
+    let shared = Arc::new(shared);
+    init_log();
+    tracing::info!(name = %shared.name, workers, store = shared.store.engine(), data = %args.data.display(), "working");
+    let crew = Crew::start(&shared, workers);
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .context("cannot start the async runtime")
+        .map_err(Failure::Run)?;
+    runtime.block_on(stop_signal(Arc::clone(&shared)));
+    crew.join();
+    tracing::info!("stopped");
+    Ok(())
+}
+
+/// The `--token-file` token, if any: at least 16 characters.
+fn read_token(args: &Options) -> Result<Option<String>, Failure> {
+    let Some(path) = &args.token_file else {
+        return Ok(None);
+    };
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read the token file {}", path.display()))
+        .map_err(Failure::Input)?;
+    let token = text.trim().to_owned();
+    if token.len() < 16 {
+        return Err(Failure::Input(anyhow::anyhow!(
+            "the token in {} is too short: at least 16 characters",
+            path.display()
+        )));
+    }
+    Ok(Some(token))
+}
+
+/// Logs on stderr, at INFO (already set, as in tests, is fine).
+fn init_log() {
+    let _ = tracing_subscriber::fmt()
+        .with_writer(std::io::stderr)
+        .with_ansi(false)
+        .with_max_level(tracing::Level::INFO)
+        .try_init();
+}
+
+/// This machine's name, for the workers' names (`localhost` if unknown).
+fn host_name() -> String {
+    std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .ok()
+        .map(|h| h.trim().to_owned())
+        .filter(|h| !h.is_empty())
+        .or_else(|| std::env::var("HOSTNAME").ok())
+        .unwrap_or_else(|| "localhost".to_owned())
+}
+
+/// A process's threads besides the server's: its workers, the keeper of
+/// their leases (and reaper of lost ones), and the listener to other
+/// processes' news.
+struct Crew {
+    workers: Vec<std::thread::JoinHandle<()>>,
+    keeper: std::thread::JoinHandle<()>,
+    shared: Arc<Shared>,
+}
+
+impl Crew {
+    /// Start `workers` worker threads and the lease keeper.
+    fn start(shared: &Arc<Shared>, workers: usize) -> Crew {
+        if let Some(news) = shared.store.subscribe() {
+            let shared = Arc::clone(shared);
+            // Ends with the store's listener (the process's end).
+            std::thread::spawn(move || lease::listen(&shared, &news));
+        }
+        let keeper = {
+            let shared = Arc::clone(shared);
+            std::thread::spawn(move || lease::keep(&shared))
+        };
+        let workers = (0..workers)
+            .map(|i| {
+                let shared = Arc::clone(shared);
+                std::thread::spawn(move || worker::work(&shared, i))
+            })
+            .collect();
+        Crew {
+            workers,
+            keeper,
+            shared: Arc::clone(shared),
+        }
+    }
+
+    /// Wait for the workers to end their jobs (after the stop signal),
+    /// then for the keeper, which beats until they have.
+    fn join(self) {
+        for thread in self.workers {
+            let _ = thread.join();
+        }
+        self.shared.crew_done.store(true, Ordering::SeqCst);
+        let _ = self.keeper.join();
+    }
 }
 
 /// How the accept loop guards the service against slow or stalled clients.
@@ -452,8 +603,8 @@ async fn stop_signal(shared: Arc<Shared>) {
     }
     tracing::info!("stopping: no new jobs; running jobs are cancelled and re-queued");
     shared.stopping.store(true, Ordering::SeqCst);
-    for token in shared.lock_running().values() {
-        token.cancel();
+    for running in shared.lock_running().values() {
+        running.cancel.cancel();
     }
     shared.wake.1.notify_all();
     let _ = shared.shutdown.send(true);

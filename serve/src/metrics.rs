@@ -1,11 +1,13 @@
 //! The counters behind `GET /metrics` (Prometheus text format): what the
-//! store cannot count (durations, evaluations, disks) kept in memory since
-//! the server started; the jobs by state and the queue come from the store.
+//! store cannot count (durations, evaluations, disks, this process's
+//! reaps) kept in memory since the process started; the jobs by state and
+//! by user, the queue and every worker's counters (whatever process runs
+//! it) come from the store.
 
 use std::fmt::Write;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use super::db::State;
+use super::store::{State, UserCount, WorkerRow, now_ms};
 
 /// Upper bounds (s) of the job-duration histogram's buckets.
 const BUCKETS: [f64; 10] = [0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 1.0, 10.0, 60.0, 600.0];
@@ -25,6 +27,20 @@ pub struct Metrics {
     evaluations: AtomicU64,
     /// Disks in the packings of finished jobs.
     disks: AtomicU64,
+    /// Expired leases this process reaped (their jobs re-queued or ended).
+    reaped: AtomicU64,
+    /// Attempts this process's workers gave up, their lease lost.
+    leases_lost: AtomicU64,
+}
+
+/// What the store says, for the metrics.
+pub struct Stored<'a> {
+    /// Jobs by state.
+    pub counts: &'a [(State, i64)],
+    /// Jobs by user and state.
+    pub users: &'a [UserCount],
+    /// Every worker's counters.
+    pub workers: &'a [WorkerRow],
 }
 
 impl Metrics {
@@ -49,8 +65,19 @@ impl Metrics {
         self.disks.fetch_add(disks, Ordering::Relaxed);
     }
 
-    /// The Prometheus text: these counters and the store's `counts`.
-    pub fn render(&self, counts: &[(State, i64)]) -> String {
+    /// This process reaped an expired lease.
+    pub fn reaped(&self) {
+        self.reaped.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// One of this process's workers lost a lease.
+    pub fn lease_lost(&self) {
+        self.leases_lost.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// The Prometheus text: these counters and the store's.
+    pub fn render(&self, stored: &Stored<'_>) -> String {
+        let counts = stored.counts;
         let mut out = String::new();
         let get = |a: &AtomicU64| a.load(Ordering::Relaxed);
         let _ = writeln!(out, "# HELP gapack_jobs Jobs in the store by state.");
@@ -116,6 +143,89 @@ impl Metrics {
         );
         let _ = writeln!(out, "# TYPE gapack_packed_disks_total counter");
         let _ = writeln!(out, "gapack_packed_disks_total {}", get(&self.disks));
+        let _ = writeln!(
+            out,
+            "# HELP gapack_leases_reaped_total Expired leases this process reaped (their jobs re-queued, failed or cancelled)."
+        );
+        let _ = writeln!(out, "# TYPE gapack_leases_reaped_total counter");
+        let _ = writeln!(out, "gapack_leases_reaped_total {}", get(&self.reaped));
+        let _ = writeln!(
+            out,
+            "# HELP gapack_attempts_abandoned_total Attempts this process's workers gave up, their lease lost."
+        );
+        let _ = writeln!(out, "# TYPE gapack_attempts_abandoned_total counter");
+        let _ = writeln!(
+            out,
+            "gapack_attempts_abandoned_total {}",
+            get(&self.leases_lost)
+        );
+        render_stored(&mut out, stored);
         out
     }
+}
+
+/// The store's per-user and per-worker figures.
+fn render_stored(out: &mut String, stored: &Stored<'_>) {
+    let _ = writeln!(
+        out,
+        "# HELP gapack_user_jobs Jobs in the store by owner and state."
+    );
+    let _ = writeln!(out, "# TYPE gapack_user_jobs gauge");
+    for c in stored.users {
+        let _ = writeln!(
+            out,
+            "gapack_user_jobs{{user=\"{}\",state=\"{}\"}} {}",
+            label(&c.user),
+            c.state.name(),
+            c.jobs
+        );
+    }
+    let now = now_ms();
+    let series: [(&str, &str, &str, fn(&WorkerRow) -> i64); 3] = [
+        (
+            "gapack_worker_claimed_total",
+            "counter",
+            "Jobs each worker claimed.",
+            |w| w.claimed,
+        ),
+        (
+            "gapack_worker_finished_total",
+            "counter",
+            "Attempts each worker ended (a final state, or back to the queue at a stop).",
+            |w| w.finished,
+        ),
+        (
+            "gapack_worker_leases_lost_total",
+            "counter",
+            "Leases each worker lost (reaped after it went silent, or found gone).",
+            |w| w.leases_lost,
+        ),
+    ];
+    for (name, kind, help, value) in series {
+        let _ = writeln!(out, "# HELP {name} {help}");
+        let _ = writeln!(out, "# TYPE {name} {kind}");
+        for w in stored.workers {
+            let _ = writeln!(out, "{name}{{worker=\"{}\"}} {}", label(&w.name), value(w));
+        }
+    }
+    let _ = writeln!(
+        out,
+        "# HELP gapack_worker_seen_seconds Seconds since each worker last claimed a job or renewed a lease."
+    );
+    let _ = writeln!(out, "# TYPE gapack_worker_seen_seconds gauge");
+    for w in stored.workers {
+        let _ = writeln!(
+            out,
+            "gapack_worker_seen_seconds{{worker=\"{}\"}} {}",
+            label(&w.name),
+            (now - w.seen_ms).max(0) as f64 / 1e3
+        );
+    }
+}
+
+/// `text` as a Prometheus label value (backslash, quote and newline escaped).
+fn label(text: &str) -> String {
+    text.replace('\\', "\\\\")
+        .replace('"', "\\\"")
+        .replace('\n', "\\n")
 }

@@ -1,12 +1,15 @@
-//! Workers: threads that claim queued jobs from the store and run them with
-//! the jobs layer, exactly as the CLI does: the same plan, a [`DirStore`] on
-//! `DATA/jobs/<id>/`, a cancel token per job, and an observer that appends
-//! each event to the store and wakes the event streams.
+//! Workers: threads that claim queued jobs from the store under a lease
+//! and run them with the jobs layer, exactly as the CLI does: the same
+//! plan (with what the job was submitted with: its seed, `force`, its
+//! checkpoint period), a [`DirStore`] on `DATA/jobs/<id>/`, a cancel token
+//! per job, and an observer that appends each event to the store (while
+//! the lease holds) and wakes the event streams. A job that ran before
+//! (its worker stopped or was lost) resumes from its checkpoint.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
 use std::sync::Arc;
-use std::sync::atomic::Ordering;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use gapack::jobs::{
@@ -14,7 +17,8 @@ use gapack::jobs::{
 };
 
 use super::Shared;
-use super::db::{Ending, JobRow, State};
+use super::lease::Running;
+use super::store::{Claimed, Ending, JobRow, State};
 
 /// The origin every submitted config is named by in messages and files
 /// (`summary.json`, `manifest.json`): a run of `gapack <job> config.toml`
@@ -30,32 +34,44 @@ pub fn job_dir(shared: &Shared, id: &str) -> PathBuf {
     shared.data.join("jobs").join(id)
 }
 
-/// One worker's loop: claim, run, record; until the server stops.
+/// The name of this process's worker `index` in the store.
+pub fn worker_name(shared: &Shared, index: usize) -> String {
+    format!("{}:{index}", shared.name)
+}
+
+/// One worker's loop: claim, run, record; until the process stops.
 pub fn work(shared: &Arc<Shared>, index: usize) {
+    let name = worker_name(shared, index);
     while !shared.stopping.load(Ordering::SeqCst) {
-        let job = match shared.db.claim() {
+        let job = match shared.store.claim(&name, shared.lease) {
             Ok(job) => job,
             Err(e) => {
-                tracing::error!(worker = index, error = %e, "cannot claim a job");
+                tracing::error!(worker = %name, error = %e, "cannot claim a job");
                 None
             }
         };
         match job {
-            Some(job) => run_one(shared, job),
+            Some(job) => run_one(shared, &name, job),
             None => shared.wait_for_work(IDLE),
         }
     }
 }
 
-/// Run one claimed job and record how it ended.
-pub fn run_one(shared: &Arc<Shared>, job: JobRow) {
+/// Run one job `worker` claimed and record how it ended (unless its lease
+/// was lost meanwhile: then another worker has the job, and nothing is
+/// recorded).
+pub fn run_one(shared: &Arc<Shared>, worker: &str, claimed: Claimed) {
+    let Claimed { job, lease } = claimed;
     let id = job.id.clone();
-    tracing::info!(job = %id, kind = %job.kind, attempt = job.attempts, resume = job.resume, state = "running", "job state");
+    tracing::info!(job = %id, kind = %job.kind, owner = %job.owner, worker, attempt = job.attempts, resume = job.resume, state = "running", "job state");
     shared.notify(&id);
-    let token = Cancel::new();
-    shared.register(&id, token.clone());
+    let running = Running::new(worker, lease);
+    let token = running.cancel.clone();
+    let lost = Arc::clone(&running.lost);
+    shared.register(&id, running);
     // A cancel or a stop that came between the claim and the registration.
-    if shared.db.cancel_requested(&id).unwrap_or(false) || shared.stopping.load(Ordering::SeqCst) {
+    if shared.store.cancel_requested(&id).unwrap_or(false) || shared.stopping.load(Ordering::SeqCst)
+    {
         token.cancel();
     }
     let started = Instant::now();
@@ -63,9 +79,16 @@ pub fn run_one(shared: &Arc<Shared>, job: JobRow) {
         Some(cap) => token.with_deadline(cap),
         None => token.clone(),
     };
-    let result = catch_unwind(AssertUnwindSafe(|| execute(shared, &job, &run_token)));
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        execute(shared, &job, lease, &lost, &run_token)
+    }));
     shared.unregister(&id);
-    let user_cancel = shared.db.cancel_requested(&id).unwrap_or(false);
+    if lost.load(Ordering::SeqCst) {
+        shared.metrics.lease_lost();
+        tracing::warn!(job = %id, worker, "the attempt ended without its lease: nothing recorded");
+        return;
+    }
+    let user_cancel = shared.store.cancel_requested(&id).unwrap_or(false);
     let stopping = shared.stopping.load(Ordering::SeqCst);
     let ending = match result {
         Ok(Ok(outcome)) if !outcome.interrupted => Ending::Final {
@@ -113,8 +136,18 @@ pub fn run_one(shared: &Arc<Shared>, job: JobRow) {
         Ending::Final { state, .. } => *state,
         Ending::Requeue => State::Queued,
     };
-    if let Err(e) = shared.db.finish(&id, &ending) {
-        tracing::error!(job = %id, error = %e, "cannot record the job's end");
+    match shared.store.finish(worker, &id, lease, &ending) {
+        Ok(true) => {}
+        Ok(false) => {
+            shared.metrics.lease_lost();
+            tracing::warn!(job = %id, worker, "the lease was lost before the job's end was recorded: another worker has it");
+            return;
+        }
+        Err(e) => {
+            // The lease runs out and the job goes back to the queue.
+            tracing::error!(job = %id, worker, error = %e, "cannot record the job's end");
+            return;
+        }
     }
     if let Ending::Final { error, summary, .. } = &ending {
         let summary = summary.as_deref().and_then(|s| Summary::from_json(s).ok());
@@ -127,13 +160,19 @@ pub fn run_one(shared: &Arc<Shared>, job: JobRow) {
         );
         tracing::info!(job = %id, state = state.name(), seconds, error = error.as_deref().unwrap_or(""), "job state");
     } else {
-        tracing::info!(job = %id, state = "queued", reason = "the server stopped", "job state");
+        tracing::info!(job = %id, state = "queued", reason = "its worker stopped", "job state");
     }
     shared.notify(&id);
 }
 
 /// Plan and run the job as the CLI would.
-fn execute(shared: &Shared, job: &JobRow, cancel: &Cancel) -> Result<Outcome, JobError> {
+fn execute(
+    shared: &Shared,
+    job: &JobRow,
+    lease: i64,
+    lost: &AtomicBool,
+    cancel: &Cancel,
+) -> Result<Outcome, JobError> {
     let kind = JobKind::named(&job.kind)
         .ok_or_else(|| JobError::Input(format!("unknown job kind {:?}", job.kind)))?;
     let mut store = DirStore::new(job_dir(shared, &job.id));
@@ -147,15 +186,18 @@ fn execute(shared: &Shared, job: &JobRow, cancel: &Cancel) -> Result<Outcome, Jo
     let resume = job.resume && left.is_some_and(|f| matches!(store.read(f), Ok(Some(_))));
     let request = jobs::Request {
         seed: job.seed,
-        force: shared.limits.force,
+        force: job.force,
         resume,
-        checkpoint_every: shared.limits.checkpoint_every,
+        checkpoint_every: usize::try_from(job.checkpoint_every).unwrap_or(usize::MAX),
         ..jobs::Request::new(kind)
     };
     let plan = Plan::load(&job.config, ORIGIN, &request)?;
     let mut observer = Recorder {
         shared,
         id: &job.id,
+        lease,
+        lost,
+        cancel,
     };
     jobs::run(&plan, &mut observer, cancel, &mut store)
 }
@@ -173,10 +215,14 @@ fn summary(outcome: &Outcome) -> String {
 }
 
 /// The observer of a job run by the service: each event appended to the
-/// store (the stream's source), then the streams woken.
+/// store (the stream's source) under the attempt's lease, then the streams
+/// woken. A lease found gone stops the run.
 struct Recorder<'a> {
     shared: &'a Shared,
     id: &'a str,
+    lease: i64,
+    lost: &'a AtomicBool,
+    cancel: &'a Cancel,
 }
 
 impl Observer for Recorder<'_> {
@@ -188,8 +234,20 @@ impl Observer for Recorder<'_> {
             event,
             Event::Stage { .. } | Event::Progress { .. } | Event::Generation { .. }
         );
-        match self.shared.db.event(self.id, &data, progress) {
-            Ok(_) => self.shared.notify(self.id),
+        if self.lost.load(Ordering::SeqCst) {
+            return;
+        }
+        match self
+            .shared
+            .store
+            .event(self.id, self.lease, &data, progress)
+        {
+            Ok(Some(_)) => self.shared.notify(self.id),
+            Ok(None) => {
+                tracing::warn!(job = %self.id, "lease lost: another worker takes the job; this attempt stops");
+                self.lost.store(true, Ordering::SeqCst);
+                self.cancel.cancel();
+            }
             Err(e) => tracing::warn!(job = %self.id, error = %e, "cannot record an event"),
         }
     }

@@ -705,3 +705,71 @@ fn a_large_packing_and_ten_streaming_jobs_keep_the_page_responsive() {
             .expect("cancel");
     }
 }
+
+/// A user added to the SQLite store in `data` (before its server
+/// starts): their token, the last line `gapack user add` prints.
+fn add_user(data: &Path, name: &str) -> String {
+    std::fs::create_dir_all(data).expect("data folder");
+    let store = format!("sqlite://{}", data.join("gapack.db").display());
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_gapack"))
+        .args(["user", "add", name, "--store", &store])
+        .output()
+        .expect("gapack user add");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stdout = String::from_utf8(out.stdout).expect("UTF-8");
+    stdout.lines().last().expect("a token line").trim().to_owned()
+}
+
+#[test]
+fn a_signed_in_user_sees_their_name_and_only_their_jobs() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    if !browser_here() {
+        return;
+    }
+    let dir = scratch("browser-users");
+    let data = dir.join("data");
+    let ana = add_user(&data, "ana");
+    let bruno = add_user(&data, "bruno");
+    let server = Server::start(&data, &[]);
+    let submit_as = |token: &str| {
+        let mut r = agent()
+            .post(server.url("/api/v1/jobs?kind=pack&seed=1"))
+            .header("Content-Type", "application/toml")
+            .header("Authorization", &format!("Bearer {token}"))
+            .send("[domain]\nshape = \"circle\"\nradius = 10\n[grading]\nuniform = [1.0, 2.0]\n")
+            .expect("POST");
+        let body: Value =
+            serde_json::from_str(&r.body_mut().read_to_string().expect("body")).expect("JSON");
+        assert_eq!(r.status().as_u16(), 201, "{body}");
+        body["id"].as_str().expect("id").to_owned()
+    };
+    let anas = submit_as(&ana);
+    let brunos = submit_as(&bruno);
+    let browser = Browser::start(&dir.join("downloads"), DESKTOP);
+    browser.goto(&server.url("/#/jobs"));
+    // Users with tokens: the page asks for one.
+    browser.wait("the token asked for", || {
+        shown_text(&browser, "#token-form label").map(|_| ())
+    });
+    browser.run(
+        "document.getElementById('token').value = arguments[0]; \
+         document.getElementById('token-form').requestSubmit();",
+        &[json!(bruno)],
+    );
+    browser.wait("the user named", || {
+        shown_text(&browser, "#who-name").filter(|n| n == "bruno")
+    });
+    browser.wait("bruno's job listed", || {
+        let ids = browser.run(
+            "return [...document.querySelectorAll('#jobs-table tbody tr')].map(r => r.dataset.id);",
+            &[],
+        );
+        (ids == json!([brunos])).then_some(())
+    });
+    // Ana's job is no job to bruno, even by its address.
+    browser.goto(&server.url(&format!("/#/job/{anas}")));
+    browser.wait("a missing job", || {
+        shown_text(&browser, "#page-error").filter(|e| e.contains("no job"))
+    });
+    usable(&browser, "signed in");
+}

@@ -11,7 +11,7 @@ use gapack::jobs::JobError;
 use serde::Serialize;
 use utoipa::ToSchema;
 
-use crate::db::DbError;
+use crate::store::StoreError;
 use crate::worker::ORIGIN;
 
 /// A refusal: its status and a JSON body saying why.
@@ -138,13 +138,17 @@ impl From<JobError> for ApiError {
 /// own way past it (a server started with `--force` allows it).
 const FORCE: &str = ", or submit with \"force\": true to go ahead";
 
-impl From<DbError> for ApiError {
-    fn from(e: DbError) -> Self {
+impl From<StoreError> for ApiError {
+    fn from(e: StoreError) -> Self {
         match e {
-            DbError::QueueFull(_) => {
+            StoreError::QueueFull(_) => {
                 ApiError::new(StatusCode::SERVICE_UNAVAILABLE, e.to_string()).retry_after(5)
             }
-            DbError::Sql(_) => ApiError::internal(e),
+            // A share, not the server's load: retrying soon does not help.
+            StoreError::UserQueueFull(_) => {
+                ApiError::new(StatusCode::TOO_MANY_REQUESTS, e.to_string())
+            }
+            _ => ApiError::internal(e),
         }
     }
 }

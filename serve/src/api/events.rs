@@ -7,6 +7,7 @@ use std::convert::Infallible;
 use std::sync::Arc;
 use std::time::Duration;
 
+use axum::Extension;
 use axum::Router;
 use axum::extract::State;
 use axum::http::HeaderMap;
@@ -22,7 +23,7 @@ use super::error::{ApiError, ErrorBody};
 use super::jobs::JobId;
 use super::{AppState, blocking};
 use crate::Shared;
-use crate::db::State as JobState;
+use crate::store::{Caller, State as JobState};
 
 /// The event stream's route.
 pub fn router() -> Router<Arc<Shared>> {
@@ -113,8 +114,11 @@ impl Follow {
             // The job first, then its events: a final state and its event
             // are written together, so a final job's events are all seen.
             let read = tokio::task::spawn_blocking(move || {
-                let ended = shared.db.get(&id).map(|r| r.map(|r| r.state.is_final()));
-                let events = shared.db.events_after(&id, last, EVENT_BATCH);
+                let ended = shared
+                    .store
+                    .get(&shared.admin, &id)
+                    .map(|r| r.map(|r| r.state.is_final()));
+                let events = shared.store.events_after(&id, last, EVENT_BATCH);
                 (ended, events)
             })
             .await;
@@ -175,6 +179,7 @@ fn last_event_id(headers: &HeaderMap) -> Result<i64, ApiError> {
     ))]
 async fn events(
     State(shared): AppState,
+    Extension(who): Extension<Caller>,
     JobId(id): JobId,
     headers: HeaderMap,
 ) -> Result<Sse<impl Stream<Item = Result<SseEvent, Infallible>>>, ApiError> {
@@ -185,7 +190,7 @@ async fn events(
     let exists = blocking({
         let shared = Arc::clone(&shared);
         let id = id.clone();
-        move || Ok(shared.db.get(&id)?.is_some())
+        move || Ok(shared.store.get(&who, &id)?.is_some())
     })
     .await?;
     if !exists {

@@ -5,6 +5,7 @@
 
 use std::sync::Arc;
 
+use axum::Extension;
 use axum::body::Body;
 use axum::extract::{Path, Request, State};
 use axum::http::{HeaderValue, StatusCode, header};
@@ -21,6 +22,7 @@ use super::error::{ApiError, ErrorBody};
 use super::jobs::JobId;
 use super::{AppState, blocking};
 use crate::Shared;
+use crate::store::Caller;
 use crate::worker::job_dir;
 
 /// The routes of a job's files.
@@ -54,10 +56,10 @@ pub struct FileList {
 }
 
 /// The manifest of a finished job, or why there is none to serve.
-pub fn manifest(shared: &Shared, id: &str) -> Result<Manifest, ApiError> {
+pub fn manifest(shared: &Shared, who: &Caller, id: &str) -> Result<Manifest, ApiError> {
     let row = shared
-        .db
-        .get(id)?
+        .store
+        .get(who, id)?
         .ok_or_else(|| ApiError::unknown_job(id))?;
     if !row.state.is_final() {
         return Err(ApiError::new(
@@ -115,9 +117,13 @@ fn file_url(id: &str, name: &str) -> String {
         (status = 404, description = "No such job", body = ErrorBody),
         (status = 409, description = "Not finished, or finished without writing files (cancelled or failed before it wrote any)", body = ErrorBody),
     ))]
-async fn files(State(shared): AppState, JobId(id): JobId) -> Result<Json<FileList>, ApiError> {
+async fn files(
+    State(shared): AppState,
+    Extension(who): Extension<Caller>,
+    JobId(id): JobId,
+) -> Result<Json<FileList>, ApiError> {
     let list = blocking(move || {
-        let manifest = manifest(&shared, &id)?;
+        let manifest = manifest(&shared, &who, &id)?;
         let dir = job_dir(&shared, &id);
         let files = manifest
             .files
@@ -197,6 +203,7 @@ fn no_file(id: &str, name: &str) -> ApiError {
     ))]
 async fn file(
     State(shared): AppState,
+    Extension(who): Extension<Caller>,
     JobId(id): JobId,
     Path(NameParam { name }): Path<NameParam>,
     request: Request,
@@ -204,7 +211,7 @@ async fn file(
     let path = blocking({
         let (id, name) = (id.clone(), name.clone());
         move || {
-            let manifest = manifest(&shared, &id)?;
+            let manifest = manifest(&shared, &who, &id)?;
             let known = name == gapack::jobs::MANIFEST_JSON || manifest.files.contains(&name);
             if !known || !inside(&name) {
                 return Err(no_file(&id, &name));

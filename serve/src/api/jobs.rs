@@ -5,6 +5,7 @@
 
 use std::sync::Arc;
 
+use axum::Extension;
 use axum::extract::rejection::QueryRejection;
 use axum::extract::{FromRequestParts, Path, Query, State};
 use axum::http::request::Parts;
@@ -23,7 +24,7 @@ use super::error::{ApiError, ErrorBody};
 use super::submission::{Estimates, Submission, SubmitBody, SubmitQuery, bad_query};
 use super::{AppState, blocking};
 use crate::Shared;
-use crate::db::{CancelOutcome, JobRow, State as JobState};
+use crate::store::{Caller, CancelOutcome, JobRow, NewJob, Role, State as JobState};
 use crate::worker::job_dir;
 
 /// The routes of the jobs themselves.
@@ -33,6 +34,27 @@ pub fn router() -> Router<Arc<Shared>> {
         .route("/validate", post(validate))
         .route("/jobs/{id}", get(status).delete(delete))
         .route("/jobs/{id}/cancel", post(cancel))
+        .route("/me", get(me))
+}
+
+/// Who the request's token signs in as.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct Me {
+    /// The user's name.
+    name: String,
+    /// `admin` sees every job; `user` their own.
+    role: Role,
+}
+
+/// Who is signed in: the user the request's token names (`admin` on a
+/// server with no token).
+#[utoipa::path(get, path = "/api/v1/me",
+    responses((status = 200, description = "The signed-in user", body = Me)))]
+async fn me(Extension(who): Extension<Caller>) -> Json<Me> {
+    Json(Me {
+        role: if who.admin { Role::Admin } else { Role::User },
+        name: who.name,
+    })
 }
 
 /// The `{id}` of a `/jobs/{id}…` route, checked to be one this service
@@ -145,7 +167,11 @@ pub struct Accepted {
         (status = 503, description = "Queue full or server stopping", body = ErrorBody,
             headers(("Retry-After" = u64, description = "Seconds to wait before trying again"))),
     ))]
-async fn submit(State(shared): AppState, s: Submission) -> Result<impl IntoResponse, ApiError> {
+async fn submit(
+    State(shared): AppState,
+    Extension(who): Extension<Caller>,
+    s: Submission,
+) -> Result<impl IntoResponse, ApiError> {
     if shared.stopping.load(std::sync::atomic::Ordering::SeqCst) {
         return Err(
             ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the server is stopping")
@@ -157,13 +183,19 @@ async fn submit(State(shared): AppState, s: Submission) -> Result<impl IntoRespo
         let shared = Arc::clone(&shared);
         let id = id.clone();
         move || {
-            let plan = s.plan(&shared)?;
-            shared.db.insert(
-                &id,
-                plan.kind.name(),
-                &s.config,
-                s.seed,
-                shared.limits.max_queue,
+            let plan = s.plan(&shared, &who)?;
+            shared.store.insert(
+                &NewJob {
+                    id: &id,
+                    owner: &who,
+                    kind: plan.kind.name(),
+                    config: &s.config,
+                    seed: s.seed,
+                    force: s.force,
+                    checkpoint_every: i64::try_from(shared.limits.checkpoint_every)
+                        .unwrap_or(i64::MAX),
+                },
+                shared.limits.queue,
             )?;
             Ok(Accepted {
                 kind: plan.kind.name().to_owned(),
@@ -216,9 +248,13 @@ pub struct Validated {
         (status = 415, description = "Neither TOML nor JSON", body = ErrorBody),
         (status = 422, description = "Bad config, or over the server's ceilings", body = ErrorBody),
     ))]
-async fn validate(State(shared): AppState, s: Submission) -> Result<Json<Validated>, ApiError> {
+async fn validate(
+    State(shared): AppState,
+    Extension(who): Extension<Caller>,
+    s: Submission,
+) -> Result<Json<Validated>, ApiError> {
     let validated = blocking(move || {
-        let plan = s.plan(&shared)?;
+        let plan = s.plan(&shared, &who)?;
         Ok(Validated {
             kind: plan.kind.name().to_owned(),
             seed: plan.seed(),
@@ -239,6 +275,8 @@ pub struct JobView {
     id: String,
     /// Its kind.
     kind: String,
+    /// The user who submitted it.
+    owner: String,
     /// The seed asked for (the config's own when absent).
     seed: Option<u64>,
     /// The config it runs, as submitted.
@@ -452,6 +490,7 @@ impl From<JobRow> for JobView {
             urls: Links::of(&row.id),
             id: row.id,
             kind: row.kind,
+            owner: row.owner,
             seed: row.seed,
             config: row.config,
             state: row.state,
@@ -477,11 +516,15 @@ impl From<JobRow> for JobView {
         (status = 400, description = "An id that is not UTF-8", body = ErrorBody),
         (status = 404, description = "No such job", body = ErrorBody),
     ))]
-async fn status(State(shared): AppState, JobId(id): JobId) -> Result<Json<JobView>, ApiError> {
+async fn status(
+    State(shared): AppState,
+    Extension(who): Extension<Caller>,
+    JobId(id): JobId,
+) -> Result<Json<JobView>, ApiError> {
     let row = blocking(move || {
         shared
-            .db
-            .get(&id)?
+            .store
+            .get(&who, &id)?
             .ok_or_else(|| ApiError::unknown_job(&id))
     })
     .await?;
@@ -520,6 +563,7 @@ pub struct JobPage {
     ))]
 async fn list(
     State(shared): AppState,
+    Extension(who): Extension<Caller>,
     query: Result<Query<ListQuery>, QueryRejection>,
 ) -> Result<Json<JobPage>, ApiError> {
     let Query(q) = query.map_err(bad_query)?;
@@ -537,7 +581,7 @@ async fn list(
             "limit must be 1 to 500, got {limit}"
         )));
     }
-    let rows = blocking(move || Ok(shared.db.list(state, q.before, limit)?)).await?;
+    let rows = blocking(move || Ok(shared.store.list(&who, state, q.before, limit)?)).await?;
     let next = (rows.len() == limit).then(|| {
         let last = rows.last().map_or(0, |r| r.seq);
         let mut url = format!("/api/v1/jobs?limit={limit}&before={last}");
@@ -561,21 +605,25 @@ async fn list(
         (status = 400, description = "An id that is not UTF-8", body = ErrorBody),
         (status = 404, description = "No such job", body = ErrorBody),
     ))]
-async fn cancel(State(shared): AppState, JobId(id): JobId) -> Result<impl IntoResponse, ApiError> {
+async fn cancel(
+    State(shared): AppState,
+    Extension(who): Extension<Caller>,
+    JobId(id): JobId,
+) -> Result<impl IntoResponse, ApiError> {
     let (outcome, row) = blocking({
         let shared = Arc::clone(&shared);
         let id = id.clone();
         move || {
             let outcome = shared
-                .db
-                .cancel(&id)?
+                .store
+                .cancel(&who, &id)?
                 .ok_or_else(|| ApiError::unknown_job(&id))?;
             if outcome == CancelOutcome::Stopping {
                 shared.cancel_running(&id);
             }
             let row = shared
-                .db
-                .get(&id)?
+                .store
+                .get(&who, &id)?
                 .ok_or_else(|| ApiError::unknown_job(&id))?;
             Ok((outcome, row))
         }
@@ -601,9 +649,13 @@ async fn cancel(State(shared): AppState, JobId(id): JobId) -> Result<impl IntoRe
         (status = 404, description = "No such job", body = ErrorBody),
         (status = 409, description = "Not finished: cancel it first", body = ErrorBody),
     ))]
-async fn delete(State(shared): AppState, JobId(id): JobId) -> Result<StatusCode, ApiError> {
+async fn delete(
+    State(shared): AppState,
+    Extension(who): Extension<Caller>,
+    JobId(id): JobId,
+) -> Result<StatusCode, ApiError> {
     let dir = job_dir(&shared, &id);
-    blocking(move || match shared.db.delete(&id)? {
+    blocking(move || match shared.store.delete(&who, &id)? {
         None => Err(ApiError::unknown_job(&id)),
         Some(Err(state)) => Err(ApiError::new(
             StatusCode::CONFLICT,

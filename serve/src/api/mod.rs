@@ -171,7 +171,8 @@ impl<B> MakeSpan<B> for RequestSpan {
         tracing::info_span!(
             "request",
             method = %request.method(),
-            path = %request.uri().path()
+            path = %request.uri().path(),
+            user = tracing::field::Empty
         )
     }
 }

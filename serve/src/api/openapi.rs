@@ -13,17 +13,18 @@ use utoipa::{Modify, OpenApi};
 
 use super::error::{ApiError, ErrorBody};
 use super::files::{FileEntry, FileList};
-use super::jobs::{Accepted, JobPage, JobView, Links, SummaryView, Validated};
+use super::jobs::{Accepted, JobPage, JobView, Links, Me, SummaryView, Validated};
 use super::page::{Example, PackingView};
 use super::submission::{Estimates, SubmitBody};
 use crate::Shared;
-use crate::db::State as JobState;
+use crate::store::{Role, State as JobState};
 // The handlers' path descriptions, named without their module: utoipa
 // would take a module prefix (`jobs::submit`) for the operation's tag.
 use super::events::__path_events;
 use super::files::{__path_file, __path_files};
 use super::jobs::{
-    __path_cancel, __path_delete, __path_list, __path_status, __path_submit, __path_validate,
+    __path_cancel, __path_delete, __path_list, __path_me, __path_status, __path_submit,
+    __path_validate,
 };
 use super::page::{__path_examples, __path_packing};
 
@@ -40,7 +41,7 @@ pub fn router() -> Router<Arc<Shared>> {
         description = "Dense 2D disk packings and their genetic-algorithm optimisation, as jobs."
     ),
     paths(
-        submit, validate, list, status, events, cancel, delete, files, file, packing, examples
+        submit, validate, list, status, events, cancel, delete, files, file, packing, examples, me
     ),
     components(schemas(
         ErrorBody,
@@ -56,7 +57,9 @@ pub fn router() -> Router<Arc<Shared>> {
         JobState,
         SubmitBody,
         PackingView,
-        Example
+        Example,
+        Me,
+        Role
     )),
     modifiers(&Guarded),
     security(("bearer" = []))
@@ -171,7 +174,7 @@ mod tests {
 
     /// Every operation the API's routers serve under `/api/v1` but the
     /// document's own route.
-    const SERVED: [(&str, &str); 11] = [
+    const SERVED: [(&str, &str); 12] = [
         ("get", "/api/v1/examples"),
         ("get", "/api/v1/jobs"),
         ("post", "/api/v1/jobs"),
@@ -182,6 +185,7 @@ mod tests {
         ("get", "/api/v1/jobs/{id}/files"),
         ("get", "/api/v1/jobs/{id}/files/{name}"),
         ("get", "/api/v1/jobs/{id}/packing"),
+        ("get", "/api/v1/me"),
         ("post", "/api/v1/validate"),
     ];
 

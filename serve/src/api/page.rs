@@ -8,6 +8,7 @@ use std::io::{BufRead, Write};
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use axum::Extension;
 use axum::body::{Body, Bytes};
 use axum::extract::State;
 use axum::http::{StatusCode, header};
@@ -27,6 +28,7 @@ use super::files::manifest;
 use super::jobs::JobId;
 use super::{AppState, blocking};
 use crate::Shared;
+use crate::store::Caller;
 use crate::web;
 use crate::worker::{ORIGIN, job_dir};
 
@@ -529,9 +531,13 @@ impl PackingView {
         (status = 404, description = "No such job", body = ErrorBody),
         (status = 409, description = "Not finished, or it wrote no packing.csv", body = ErrorBody),
     ))]
-async fn packing(State(shared): AppState, JobId(id): JobId) -> Result<Response, ApiError> {
+async fn packing(
+    State(shared): AppState,
+    Extension(who): Extension<Caller>,
+    JobId(id): JobId,
+) -> Result<Response, ApiError> {
     let view = blocking(move || {
-        let manifest = manifest(&shared, &id)?;
+        let manifest = manifest(&shared, &who, &id)?;
         if !manifest.files.iter().any(|f| f == "packing.csv") {
             return Err(ApiError::new(
                 StatusCode::CONFLICT,
@@ -539,8 +545,8 @@ async fn packing(State(shared): AppState, JobId(id): JobId) -> Result<Response, 
             ));
         }
         let row = shared
-            .db
-            .get(&id)?
+            .store
+            .get(&who, &id)?
             .ok_or_else(|| ApiError::unknown_job(&id))?;
         let path = job_dir(&shared, &id).join("packing.csv");
         let rows = Arc::new(Rows::scan(path, BATCH_BYTES).map_err(ApiError::internal)?);

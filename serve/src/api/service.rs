@@ -3,6 +3,7 @@
 
 use std::sync::Arc;
 
+use axum::Extension;
 use axum::extract::State;
 use axum::http::{StatusCode, header};
 use axum::response::IntoResponse;
@@ -13,6 +14,7 @@ use serde_json::json;
 use super::error::ApiError;
 use super::{AppState, blocking};
 use crate::Shared;
+use crate::store::Caller;
 
 /// `/healthz` (open).
 pub fn health() -> Router<Arc<Shared>> {
@@ -37,12 +39,28 @@ async fn healthz(State(shared): AppState) -> impl IntoResponse {
     }
 }
 
-/// Prometheus text: jobs by state, queue length, job durations, GA
-/// evaluations, packed disks.
-async fn prometheus(State(shared): AppState) -> Result<impl IntoResponse, ApiError> {
+/// Prometheus text: jobs by state and by user, queue length, job
+/// durations, GA evaluations, packed disks, leases, every worker's
+/// counters. For admins only: it names every user.
+async fn prometheus(
+    State(shared): AppState,
+    Extension(who): Extension<Caller>,
+) -> Result<impl IntoResponse, ApiError> {
+    if !who.admin {
+        return Err(ApiError::new(
+            StatusCode::FORBIDDEN,
+            "the metrics are for admins: they count every user's jobs",
+        ));
+    }
     let text = blocking(move || {
-        let counts = shared.db.counts()?;
-        Ok(shared.metrics.render(&counts))
+        let counts = shared.store.counts()?;
+        let users = shared.store.counts_by_user()?;
+        let workers = shared.store.workers()?;
+        Ok(shared.metrics.render(&crate::metrics::Stored {
+            counts: &counts,
+            users: &users,
+            workers: &workers,
+        }))
     })
     .await?;
     Ok((

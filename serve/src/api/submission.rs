@@ -15,6 +15,7 @@ use utoipa::{IntoParams, ToSchema};
 use super::MAX_BODY;
 use super::error::ApiError;
 use crate::Shared;
+use crate::store::Caller;
 use crate::worker::ORIGIN;
 
 /// Query parameters of a submission (with a TOML body; a JSON body's own
@@ -101,7 +102,7 @@ pub struct Submission {
     /// The seed asked for (`None`: the config's).
     pub seed: Option<u64>,
     /// Whether to run over the limits.
-    force: bool,
+    pub force: bool,
 }
 
 impl<S: Send + Sync> FromRequest<S> for Submission {
@@ -184,7 +185,7 @@ impl Submission {
 
     /// Plan the submission as a worker will, and check it against the
     /// server's rules.
-    pub fn plan(&self, shared: &Shared) -> Result<Plan, ApiError> {
+    pub fn plan(&self, shared: &Shared, who: &Caller) -> Result<Plan, ApiError> {
         if self.force && !shared.limits.force {
             return Err(ApiError::new(
                 StatusCode::FORBIDDEN,
@@ -205,7 +206,7 @@ impl Submission {
             ));
         }
         if !self.force {
-            ceilings(shared, &plan)?;
+            ceilings(shared, who, &plan)?;
         }
         Ok(plan)
     }
@@ -230,16 +231,26 @@ fn job_kind(name: &str) -> Result<JobKind, ApiError> {
 /// largest scene and the most memory of every run the job makes
 /// ([`Plan::largest`]: every well, window, study point, and the
 /// optimise or layering search), whatever the config's `[limits]` allow.
-fn ceilings(shared: &Shared, plan: &Plan) -> Result<(), ApiError> {
+fn ceilings(shared: &Shared, who: &Caller, plan: &Plan) -> Result<(), ApiError> {
     let limits = &shared.limits;
+    // A user's own ceiling, never above the server's.
+    let max_particles = who
+        .max_particles
+        .and_then(|n| u64::try_from(n).ok())
+        .map_or(limits.max_particles, |n| n.min(limits.max_particles));
     let largest = plan.largest();
     let mb = |bytes: f64| bytes / (1024.0 * 1024.0);
-    if largest.max_disks > limits.max_particles as f64 {
+    if largest.max_disks > max_particles as f64 {
+        let whose = if max_particles < limits.max_particles {
+            format!("user {}'s", who.name)
+        } else {
+            "this server's".to_owned()
+        };
         return Err(ApiError::config(
             "limits.max_particles",
             format!(
-                "{} could hold {:.0} disks, over this server's ceiling of {}",
-                largest.max_disks_in, largest.max_disks, limits.max_particles
+                "{} could hold {:.0} disks, over {whose} ceiling of {max_particles}",
+                largest.max_disks_in, largest.max_disks
             ),
             None,
         ));

@@ -14,6 +14,8 @@ use serde_json::Value;
 use tempfile::TempDir;
 use tower::ServiceExt;
 
+use crate::store::Role;
+use crate::users::token_hash;
 use crate::{Options, Shared, worker};
 
 /// A small pack: a 20 mm square, about 180 disks, a few milliseconds.
@@ -122,12 +124,42 @@ impl TestServer {
         r.json()["id"].as_str().expect("an id").to_owned()
     }
 
+    /// Add user `name` (an admin if `admin`) with a fresh token: the token.
+    pub fn add_user(&self, name: &str, admin: bool) -> String {
+        let token = format!("gpk_test_{name}_{:016x}", rand::random::<u64>());
+        let role = if admin { Role::Admin } else { Role::User };
+        self.shared
+            .store
+            .add_user(name, role, &token_hash(&token), None, None)
+            .expect("a new user");
+        token
+    }
+
+    /// `method path` with `token` as the bearer token, without a body.
+    pub async fn call_as(&self, token: &str, method: Method, path: &str) -> Reply {
+        let bearer = format!("Bearer {token}");
+        self.call(method, path, &[("authorization", &bearer)]).await
+    }
+
+    /// Submit `config` as TOML for `token`'s user; its id.
+    pub async fn submit_as(&self, token: &str, config: &str) -> String {
+        let request = Request::post("/api/v1/jobs?kind=pack")
+            .header(header::CONTENT_TYPE, "application/toml")
+            .header(header::AUTHORIZATION, format!("Bearer {token}"))
+            .body(Body::from(config.to_owned()))
+            .expect("a request");
+        let r = self.send(request).await;
+        assert_eq!(r.status, StatusCode::CREATED, "{}", r.text());
+        r.json()["id"].as_str().expect("an id").to_owned()
+    }
+
     /// Run every queued job to its end, oldest first, as a worker does.
     pub async fn run_queued(&self) {
         let shared = Arc::clone(&self.shared);
         tokio::task::spawn_blocking(move || {
-            while let Some(job) = shared.db.claim().expect("claim") {
-                worker::run_one(&shared, job);
+            let name = worker::worker_name(&shared, 0);
+            while let Some(job) = shared.store.claim(&name, shared.lease).expect("claim") {
+                worker::run_one(&shared, &name, job);
             }
         })
         .await

@@ -213,7 +213,11 @@ impl Role {
 
     /// The role named `name` (anything unknown is the lesser role).
     pub fn parse(name: &str) -> Role {
-        if name == "admin" { Role::Admin } else { Role::User }
+        if name == "admin" {
+            Role::Admin
+        } else {
+            Role::User
+        }
     }
 }
 
@@ -597,7 +601,9 @@ mod tests {
             StoreUrl::Postgres(_)
         ));
         assert!(StoreUrl::parse("sqlite://").is_err());
-        let refused = StoreUrl::parse("mysql://u:secret@h/db").unwrap_err().to_string();
+        let refused = StoreUrl::parse("mysql://u:secret@h/db")
+            .unwrap_err()
+            .to_string();
         assert!(!refused.contains("secret"), "{refused}");
         assert_eq!(
             redact("postgres://gapack:pw@10.0.0.1:5432/gapack"),

@@ -13,7 +13,7 @@ use serde_json::json;
 
 use super::migrations::{LATEST, MIGRATIONS};
 use super::{
-    Beat, CancelOutcome, Caller, Claimed, Ending, JobRow, JobStore, MAX_ATTEMPTS, NewJob,
+    Beat, Caller, CancelOutcome, Claimed, Ending, JobRow, JobStore, MAX_ATTEMPTS, NewJob,
     QueueLimits, Reaped, Role, State, StoreError, User, UserCount, WorkerRow, millis, now_ms,
     state_event,
 };
@@ -119,8 +119,11 @@ fn migrate(conn: &mut Connection) -> Result<(), StoreError> {
     tx.execute_batch(
         "CREATE TABLE IF NOT EXISTS schema_version (version INTEGER PRIMARY KEY, applied_ms INTEGER NOT NULL)",
     )?;
-    let mut version: i64 =
-        tx.query_row("SELECT COALESCE(MAX(version), 0) FROM schema_version", [], |r| r.get(0))?;
+    let mut version: i64 = tx.query_row(
+        "SELECT COALESCE(MAX(version), 0) FROM schema_version",
+        [],
+        |r| r.get(0),
+    )?;
     // A store from before versions were recorded: its jobs table is version 1.
     let old: bool = tx.query_row(
         "SELECT count(*) > 0 FROM sqlite_master WHERE type = 'table' AND name = 'jobs'",
@@ -154,7 +157,11 @@ fn migrate(conn: &mut Connection) -> Result<(), StoreError> {
 }
 
 /// Append an event to `id`'s list in `tx`, numbered one past its last.
-fn append(tx: &rusqlite::Transaction<'_>, id: &str, data: &serde_json::Value) -> rusqlite::Result<i64> {
+fn append(
+    tx: &rusqlite::Transaction<'_>,
+    id: &str,
+    data: &serde_json::Value,
+) -> rusqlite::Result<i64> {
     let seq: i64 = tx.query_row(
         "UPDATE jobs SET last_event = last_event + 1 WHERE id = ?1 RETURNING last_event",
         [id],
@@ -192,7 +199,11 @@ fn requeue(tx: &rusqlite::Transaction<'_>, id: &str, reason: &str) -> rusqlite::
              lease_until_ms = NULL WHERE id = ?1",
             params![id, now_ms()],
         )?;
-        append(tx, id, &json!({"event": "state", "state": "cancelled", "reason": reason}))?;
+        append(
+            tx,
+            id,
+            &json!({"event": "state", "state": "cancelled", "reason": reason}),
+        )?;
         Ok(State::Cancelled)
     } else if attempts >= MAX_ATTEMPTS {
         let error = format!("{reason} {attempts} times; not tried again");
@@ -201,7 +212,11 @@ fn requeue(tx: &rusqlite::Transaction<'_>, id: &str, reason: &str) -> rusqlite::
              lease = NULL, lease_until_ms = NULL WHERE id = ?1",
             params![id, now_ms(), error],
         )?;
-        append(tx, id, &json!({"event": "state", "state": "failed", "error": error}))?;
+        append(
+            tx,
+            id,
+            &json!({"event": "state", "state": "failed", "error": error}),
+        )?;
         Ok(State::Failed)
     } else {
         tx.execute(
@@ -209,7 +224,11 @@ fn requeue(tx: &rusqlite::Transaction<'_>, id: &str, reason: &str) -> rusqlite::
              lease_until_ms = NULL WHERE id = ?1",
             [id],
         )?;
-        append(tx, id, &json!({"event": "state", "state": "queued", "reason": reason}))?;
+        append(
+            tx,
+            id,
+            &json!({"event": "state", "state": "queued", "reason": reason}),
+        )?;
         Ok(State::Queued)
     }
 }

@@ -67,8 +67,27 @@
     token = $('token').value.trim();
     sessionStorage.setItem('gapack-token', token);
     $('token-form').hidden = true;
+    showWho();
     route();
   });
+  $('sign-out').addEventListener('click', () => {
+    token = '';
+    sessionStorage.removeItem('gapack-token');
+    $('who').hidden = true;
+    askToken();
+    route();
+  });
+  /** Say who the token signs in as (the server's `admin` without one). */
+  async function showWho() {
+    const r = await call('GET', '/me');
+    if (r.status !== 200) {
+      $('who').hidden = true;
+      return;
+    }
+    $('who-name').textContent = r.data.name + (r.data.role === 'admin' ? ' (admin)' : '');
+    $('sign-out').hidden = !token;
+    $('who').hidden = false;
+  }
   /** A call to the API: `{status, data}` with the JSON (or text) answer. */
   async function call(method, path, body, contentType) {
     const init = { method, headers: headers(contentType ? { 'Content-Type': contentType } : {}) };
@@ -1321,5 +1340,6 @@
   window.gapackViewer = packingViewer;
 
   $('config').value = '';
+  showWho();
   route();
 })();
