@@ -854,6 +854,28 @@ fn postgres_concurrent_opens_migrate_once() {
     assert_eq!(users, vec![vec!["1".to_owned()]]);
 }
 
+/// A database that cannot be reached is an error at once, whose message
+/// does not show the URL's password (no cluster needed).
+#[test]
+fn postgres_unreachable_is_an_error_without_the_password() {
+    let started = Instant::now();
+    let refused = PgStore::open("postgres://gapack:s3cret-pw@127.0.0.1:1/gapack");
+    let Err(StoreError::Postgres(message)) = refused else {
+        panic!("not a PostgreSQL error");
+    };
+    assert!(!message.contains("s3cret-pw"), "{message}");
+    assert!(
+        started.elapsed() < Duration::from_secs(20),
+        "{:?}",
+        started.elapsed()
+    );
+    let bad = PgStore::open("postgres://gapack:s3cret-pw@127.0.0.1:1/gapack?sslmode=nonsense");
+    let Err(StoreError::Url(message)) = bad else {
+        panic!("not a URL error");
+    };
+    assert!(!message.contains("s3cret-pw"), "{message}");
+}
+
 /// A store whose schema is newer than this build is refused.
 #[test]
 fn postgres_refuses_a_newer_schema() {
