@@ -21,7 +21,8 @@ use std::sync::mpsc;
 use std::time::Duration;
 
 use deadpool_postgres::{
-    GenericClient, Manager, ManagerConfig, Pool, PoolError, RecyclingMethod, Transaction,
+    GenericClient, Manager, ManagerConfig, Pool, PoolError, RecyclingMethod, TimeoutType,
+    Transaction,
 };
 use futures_util::StreamExt;
 use serde_json::json;
@@ -82,20 +83,39 @@ const USER_COLUMNS: &str = "u.id, u.name, u.role, u.max_queued, u.max_particles,
 /// Why the queue is left: the reaper's reason, in events and errors.
 const LOST: &str = "its worker was lost";
 
+/// `e` with its causes (the client's own message is only their kind:
+/// "db error", "error connecting to server"). They name no connection
+/// parameter, so no password.
+fn message(e: &tokio_postgres::Error) -> String {
+    let mut text = e.to_string();
+    let mut cause = std::error::Error::source(e);
+    // A chain is short; four links say all there is.
+    for _ in 0..4 {
+        let Some(c) = cause else { break };
+        text.push_str(": ");
+        text.push_str(&c.to_string());
+        cause = c.source();
+    }
+    text
+}
+
 impl From<tokio_postgres::Error> for StoreError {
     fn from(e: tokio_postgres::Error) -> Self {
-        // The message names no connection parameter (so no password).
-        StoreError::Postgres(e.to_string())
+        StoreError::Postgres(message(&e))
     }
 }
 
 impl From<PoolError> for StoreError {
     fn from(e: PoolError) -> Self {
         StoreError::Postgres(match e {
-            PoolError::Backend(e) => e.to_string(),
-            PoolError::Timeout(_) => format!(
-                "no connection to PostgreSQL within {} s (is it running?)",
+            PoolError::Backend(e) => message(&e),
+            PoolError::Timeout(TimeoutType::Wait) => format!(
+                "no free connection to PostgreSQL within {} s",
                 WAIT_TIMEOUT.as_secs()
+            ),
+            PoolError::Timeout(_) => format!(
+                "PostgreSQL did not answer a connection within {} s (is it running, and reachable?)",
+                CONNECT_TIMEOUT.as_secs()
             ),
             other => other.to_string(),
         })
@@ -289,8 +309,9 @@ impl PgStore {
     pub fn open(url: &str) -> Result<PgStore, StoreError> {
         let mut config: tokio_postgres::Config = url.parse().map_err(|e| {
             StoreError::Url(format!(
-                "--store {}: {e}",
-                super::StoreUrl::Postgres(url.to_owned()).shown()
+                "--store {}: {}",
+                super::StoreUrl::Postgres(url.to_owned()).shown(),
+                message(&e)
             ))
         })?;
         config
