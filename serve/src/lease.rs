@@ -164,7 +164,13 @@ mod tests {
 
     fn state_of(server: &TestServer, id: &str) -> State {
         let admin = &server.shared.admin;
-        server.shared.store.get(admin, id).expect("get").expect("the job").state
+        server
+            .shared
+            .store
+            .get(admin, id)
+            .expect("get")
+            .expect("the job")
+            .state
     }
 
     #[tokio::test]
@@ -173,37 +179,65 @@ mod tests {
         let id = server.submit("?kind=pack", SQUARE).await;
         // A worker claims it and is never heard of again.
         let store = Arc::clone(&server.shared.store);
-        let claimed = store.claim("gone:1:0", Duration::from_millis(100)).expect("claim");
+        let claimed = store
+            .claim("gone:1:0", Duration::from_millis(100))
+            .expect("claim");
         assert_eq!(claimed.map(|c| c.job.id), Some(id.clone()));
-        assert!(store.reap().expect("reap").is_empty(), "reaped before its lease ran out");
+        assert!(
+            store.reap().expect("reap").is_empty(),
+            "reaped before its lease ran out"
+        );
         std::thread::sleep(Duration::from_millis(150));
         let reaped = store.reap().expect("reap");
         assert_eq!(reaped.len(), 1);
-        assert_eq!((reaped[0].state, reaped[0].worker.as_deref()), (State::Queued, Some("gone:1:0")));
+        assert_eq!(
+            (reaped[0].state, reaped[0].worker.as_deref()),
+            (State::Queued, Some("gone:1:0"))
+        );
         assert_eq!(state_of(&server, &id), State::Queued);
         server.run_queued().await;
         let job = server.get(&format!("/api/v1/jobs/{id}")).await.json();
         assert_eq!(job["state"], "succeeded");
         assert_eq!(job["attempts"], 2);
-        let events = server.shared.store.events_after(&id, 0, 100).expect("events");
+        let events = server
+            .shared
+            .store
+            .events_after(&id, 0, 100)
+            .expect("events");
         let states: Vec<String> = events
             .iter()
             .filter_map(|(_, data)| {
                 let v: serde_json::Value = serde_json::from_str(data).ok()?;
                 (v["event"] == "state").then(|| {
-                    format!("{}{}", v["state"].as_str().unwrap_or(""), v["reason"].as_str().map(|r| format!(" ({r})")).unwrap_or_default())
+                    format!(
+                        "{}{}",
+                        v["state"].as_str().unwrap_or(""),
+                        v["reason"]
+                            .as_str()
+                            .map(|r| format!(" ({r})"))
+                            .unwrap_or_default()
+                    )
                 })
             })
             .collect();
         assert_eq!(
             states,
-            ["queued", "running", "queued (its worker was lost)", "running", "succeeded"]
+            [
+                "queued",
+                "running",
+                "queued (its worker was lost)",
+                "running",
+                "succeeded"
+            ]
         );
         // Event numbers run on from the lost attempt's, without a gap.
         let numbers: Vec<i64> = events.iter().map(|(n, _)| *n).collect();
         assert_eq!(numbers, (1..=numbers.len() as i64).collect::<Vec<_>>());
         let workers = store.workers().expect("workers");
-        let gone = workers.iter().find(|w| w.name == "gone:1:0").expect("the lost worker");
+        let gone = workers
+            .iter()
+            .find(|w| w.name == "gone:1:0")
+            .expect("the lost worker");
         assert_eq!((gone.claimed, gone.finished, gone.leases_lost), (1, 0, 1));
     }
 
@@ -220,13 +254,26 @@ mod tests {
             let shared = Arc::clone(&shared);
             move || {
                 let name = worker::worker_name(&shared, 0);
-                let job = shared.store.claim(&name, shared.lease).expect("claim").expect("a job");
+                let job = shared
+                    .store
+                    .claim(&name, shared.lease)
+                    .expect("claim")
+                    .expect("a job");
                 worker::run_one(&shared, &name, job);
             }
         });
         let start = Instant::now();
-        while shared.store.events_after(&id, 0, 1000).expect("events").len() < 5 {
-            assert!(start.elapsed() < Duration::from_secs(60), "the search never started");
+        while shared
+            .store
+            .events_after(&id, 0, 1000)
+            .expect("events")
+            .len()
+            < 5
+        {
+            assert!(
+                start.elapsed() < Duration::from_secs(60),
+                "the search never started"
+            );
             tokio::time::sleep(Duration::from_millis(20)).await;
         }
         // The flag alone, as a front on another machine sets it: only the
@@ -244,7 +291,13 @@ mod tests {
         assert_eq!(state_of(&server, &id), State::Cancelled);
         // A heartbeat is due every 100 ms; the search checks its token often.
         assert!(took < Duration::from_secs(10), "{took:?}");
-        let r = server.call(Method::GET, &format!("/api/v1/jobs/{id}"), &[]).await;
-        assert!(r.json()["summary"].is_object(), "the best packing is kept: {}", r.text());
+        let r = server
+            .call(Method::GET, &format!("/api/v1/jobs/{id}"), &[])
+            .await;
+        assert!(
+            r.json()["summary"].is_object(),
+            "the best packing is kept: {}",
+            r.text()
+        );
     }
 }

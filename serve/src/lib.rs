@@ -359,9 +359,15 @@ pub fn run(args: &Options, listening: impl FnOnce(SocketAddr)) -> Result<(), Fai
 /// [`Failure::Input`] without a store URL or workers; [`Failure::Run`]
 /// when the store cannot be opened.
 pub fn work(args: &Options, name: Option<&str>) -> Result<(), Failure> {
-    if args.store.is_none() {
+    let shared_store = args
+        .store
+        .as_deref()
+        .map(StoreUrl::parse)
+        .transpose()
+        .map_err(|e| Failure::Input(e.into()))?;
+    if !matches!(shared_store, Some(StoreUrl::Postgres(_))) {
         return Err(Failure::Input(anyhow::anyhow!(
-            "gapack worker needs --store postgres://… (the store the fronts queue jobs in)"
+            "gapack worker needs --store postgres://… (the store the fronts queue jobs in): a SQLite store serves one process, its own workers"
         )));
     }
     let cores = std::thread::available_parallelism().map_or(1, usize::from);

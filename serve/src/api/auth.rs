@@ -204,7 +204,10 @@ mod owners {
         let anas = server.submit_as(&ana, SQUARE).await;
         server.run_queued().await;
         // Once users hold tokens, a request without one is refused.
-        assert_eq!(server.get("/api/v1/jobs").await.status, StatusCode::UNAUTHORIZED);
+        assert_eq!(
+            server.get("/api/v1/jobs").await.status,
+            StatusCode::UNAUTHORIZED
+        );
         for (method, path) in [
             (Method::GET, "/api/v1/jobs/{}"),
             (Method::GET, "/api/v1/jobs/{}/events"),
@@ -229,7 +232,9 @@ mod owners {
             // The owner and an admin are served (the delete last).
             if method != Method::DELETE {
                 for token in [&ana, &boss] {
-                    let r = server.call_as(token, method.clone(), &path.replace("{}", &anas)).await;
+                    let r = server
+                        .call_as(token, method.clone(), &path.replace("{}", &anas))
+                        .await;
                     assert!(r.status.is_success(), "{method} {path}: {}", r.status);
                 }
             }
@@ -243,23 +248,46 @@ mod owners {
                 .collect()
         };
         assert!(listed(server.call_as(&bruno, Method::GET, "/api/v1/jobs").await).is_empty());
-        assert_eq!(listed(server.call_as(&ana, Method::GET, "/api/v1/jobs").await), [anas.clone()]);
-        assert_eq!(listed(server.call_as(&boss, Method::GET, "/api/v1/jobs").await), [anas.clone()]);
-        let job = server.call_as(&boss, Method::GET, &format!("/api/v1/jobs/{anas}")).await;
+        assert_eq!(
+            listed(server.call_as(&ana, Method::GET, "/api/v1/jobs").await),
+            [anas.clone()]
+        );
+        assert_eq!(
+            listed(server.call_as(&boss, Method::GET, "/api/v1/jobs").await),
+            [anas.clone()]
+        );
+        let job = server
+            .call_as(&boss, Method::GET, &format!("/api/v1/jobs/{anas}"))
+            .await;
         assert_eq!(job.json()["owner"], "ana");
         // Who is signed in; the metrics are an admin's.
-        let me = server.call_as(&bruno, Method::GET, "/api/v1/me").await.json();
-        assert_eq!((me["name"].as_str(), me["role"].as_str()), (Some("bruno"), Some("user")));
-        assert_eq!(server.call_as(&bruno, Method::GET, "/metrics").await.status, StatusCode::FORBIDDEN);
+        let me = server
+            .call_as(&bruno, Method::GET, "/api/v1/me")
+            .await
+            .json();
+        assert_eq!(
+            (me["name"].as_str(), me["role"].as_str()),
+            (Some("bruno"), Some("user"))
+        );
+        assert_eq!(
+            server.call_as(&bruno, Method::GET, "/metrics").await.status,
+            StatusCode::FORBIDDEN
+        );
         let metrics = server.call_as(&boss, Method::GET, "/metrics").await;
         assert!(
-            metrics.text().contains("gapack_user_jobs{user=\"ana\",state=\"succeeded\"} 1"),
+            metrics
+                .text()
+                .contains("gapack_user_jobs{user=\"ana\",state=\"succeeded\"} 1"),
             "{}",
             metrics.text()
         );
-        let r = server.call_as(&bruno, Method::DELETE, &format!("/api/v1/jobs/{anas}")).await;
+        let r = server
+            .call_as(&bruno, Method::DELETE, &format!("/api/v1/jobs/{anas}"))
+            .await;
         assert_eq!(r.status, StatusCode::NOT_FOUND);
-        let r = server.call_as(&ana, Method::DELETE, &format!("/api/v1/jobs/{anas}")).await;
+        let r = server
+            .call_as(&ana, Method::DELETE, &format!("/api/v1/jobs/{anas}"))
+            .await;
         assert_eq!(r.status, StatusCode::NO_CONTENT);
     }
 
@@ -267,7 +295,13 @@ mod owners {
     async fn a_revoked_token_is_refused_at_the_next_request() {
         let server = TestServer::new();
         let ana = server.add_user("ana", false);
-        assert_eq!(server.call_as(&ana, Method::GET, "/api/v1/jobs").await.status, StatusCode::OK);
+        assert_eq!(
+            server
+                .call_as(&ana, Method::GET, "/api/v1/jobs")
+                .await
+                .status,
+            StatusCode::OK
+        );
         assert!(server.shared.store.revoke_user("ana").expect("revoke"));
         let r = server.call_as(&ana, Method::GET, "/api/v1/jobs").await;
         assert_eq!(r.status, StatusCode::UNAUTHORIZED);
@@ -296,7 +330,13 @@ mod owners {
         server
             .shared
             .store
-            .add_user("small", crate::store::Role::User, &crate::users::token_hash(token), None, Some(100))
+            .add_user(
+                "small",
+                crate::store::Role::User,
+                &crate::users::token_hash(token),
+                None,
+                Some(100),
+            )
             .expect("user");
         let request = axum::http::Request::post("/api/v1/validate?kind=pack")
             .header("content-type", "application/toml")
@@ -305,6 +345,10 @@ mod owners {
             .expect("request");
         let r = server.send(request).await;
         assert_eq!(r.status, StatusCode::UNPROCESSABLE_ENTITY, "{}", r.text());
-        assert!(r.error().contains("over user small's ceiling of 100"), "{}", r.error());
+        assert!(
+            r.error().contains("over user small's ceiling of 100"),
+            "{}",
+            r.error()
+        );
     }
 }

@@ -163,7 +163,8 @@ pub struct Accepted {
         (status = 403, description = "`force` asked of a server not started with --force", body = ErrorBody),
         (status = 413, description = "Body over 1 MiB", body = ErrorBody),
         (status = 415, description = "Neither TOML nor JSON", body = ErrorBody),
-        (status = 422, description = "Bad config, or over the server's ceilings", body = ErrorBody),
+        (status = 422, description = "Bad config, or over the server's or the user's ceilings", body = ErrorBody),
+        (status = 429, description = "The user has as many jobs waiting as a user may", body = ErrorBody),
         (status = 503, description = "Queue full or server stopping", body = ErrorBody,
             headers(("Retry-After" = u64, description = "Seconds to wait before trying again"))),
     ))]

@@ -23,7 +23,7 @@ mod page;
 mod service;
 mod submission;
 #[cfg(test)]
-mod testing;
+pub mod testing;
 
 use std::any::Any;
 use std::sync::Arc;

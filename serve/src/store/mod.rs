@@ -546,8 +546,9 @@ pub trait JobStore: Send + Sync {
     /// The user named `name`.
     fn user_named(&self, name: &str) -> Result<Option<Caller>, StoreError>;
 
-    /// Whether any user holds a live token (then a request without one is
-    /// refused, even on loopback).
+    /// Whether a token was ever issued to a user (revoked or not): then a
+    /// request without a live token is refused, even on loopback. (Revoking
+    /// the last user's token must not open the server to everyone.)
     fn has_tokens(&self) -> Result<bool, StoreError>;
 
     /// News from other processes sharing the store, for this process's

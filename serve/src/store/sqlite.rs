@@ -743,11 +743,7 @@ impl JobStore for SqliteStore {
 
     fn has_tokens(&self) -> Result<bool, StoreError> {
         let conn = self.conn();
-        Ok(conn.query_row(
-            "SELECT count(*) > 0 FROM tokens WHERE revoked_ms IS NULL",
-            [],
-            |r| r.get(0),
-        )?)
+        Ok(conn.query_row("SELECT EXISTS (SELECT 1 FROM tokens)", [], |r| r.get(0))?)
     }
 
     fn subscribe(&self) -> Option<std::sync::mpsc::Receiver<super::Notice>> {
