@@ -1071,13 +1071,9 @@ impl JobStore for PgStore {
 
     fn has_tokens(&self) -> Result<bool, StoreError> {
         self.read(async |c| {
-            Ok(one(
-                c,
-                "SELECT count(*) > 0 FROM tokens WHERE revoked_ms IS NULL",
-                &[],
-            )
-            .await?
-            .try_get(0)?)
+            Ok(one(c, "SELECT EXISTS (SELECT 1 FROM tokens)", &[])
+                .await?
+                .try_get(0)?)
         })
     }
 
