@@ -181,7 +181,7 @@ fn render_stored(out: &mut String, stored: &Stored<'_>) {
         );
     }
     let now = now_ms();
-    let series: [(&str, &str, &str, fn(&WorkerRow) -> i64); 3] = [
+    let series: [Series; 3] = [
         (
             "gapack_worker_claimed_total",
             "counter",
@@ -222,6 +222,14 @@ fn render_stored(out: &mut String, stored: &Stored<'_>) {
         );
     }
 }
+
+/// A per-worker series: its name, its type, its help, its value.
+type Series = (
+    &'static str,
+    &'static str,
+    &'static str,
+    fn(&WorkerRow) -> i64,
+);
 
 /// `text` as a Prometheus label value (backslash, quote and newline escaped).
 fn label(text: &str) -> String {

@@ -715,9 +715,18 @@ fn add_user(data: &Path, name: &str) -> String {
         .args(["user", "add", name, "--store", &store])
         .output()
         .expect("gapack user add");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let stdout = String::from_utf8(out.stdout).expect("UTF-8");
-    stdout.lines().last().expect("a token line").trim().to_owned()
+    stdout
+        .lines()
+        .last()
+        .expect("a token line")
+        .trim()
+        .to_owned()
 }
 
 #[test]
