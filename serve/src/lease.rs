@@ -155,7 +155,7 @@ mod tests {
 
     use axum::http::Method;
 
-    use crate::api::testing::{SQUARE, TestServer};
+    use crate::api::testing::{SQUARE, TestServer, on_both_stores};
     use crate::store::State;
     use crate::worker;
 
@@ -165,30 +165,36 @@ mod tests {
     fn state_of(server: &TestServer, id: &str) -> State {
         let admin = &server.shared.admin;
         server
-            .shared
-            .store
-            .get(admin, id)
+            .store(|s| s.get(admin, id))
             .expect("get")
             .expect("the job")
             .state
     }
 
-    #[tokio::test]
-    async fn a_job_whose_worker_went_silent_is_reaped_and_run_again_to_its_end() {
-        let server = TestServer::with(|o| o.lease = Duration::from_millis(100), None);
+    on_both_stores!(
+        reaped,
+        a_job_whose_worker_went_silent_is_reaped_and_run_again_to_its_end,
+        |o| o.lease = std::time::Duration::from_millis(100)
+    );
+    on_both_stores!(
+        cancelled,
+        a_cancel_reaches_the_running_job_through_its_heartbeat,
+        |o| o.lease = std::time::Duration::from_millis(400)
+    );
+
+    async fn a_job_whose_worker_went_silent_is_reaped_and_run_again_to_its_end(server: TestServer) {
         let id = server.submit("?kind=pack", SQUARE).await;
         // A worker claims it and is never heard of again.
-        let store = Arc::clone(&server.shared.store);
-        let claimed = store
-            .claim("gone:1:0", Duration::from_millis(100))
+        let claimed = server
+            .store(|s| s.claim("gone:1:0", Duration::from_millis(100)))
             .expect("claim");
         assert_eq!(claimed.map(|c| c.job.id), Some(id.clone()));
         assert!(
-            store.reap().expect("reap").is_empty(),
+            server.store(|s| s.reap()).expect("reap").is_empty(),
             "reaped before its lease ran out"
         );
         std::thread::sleep(Duration::from_millis(150));
-        let reaped = store.reap().expect("reap");
+        let reaped = server.store(|s| s.reap()).expect("reap");
         assert_eq!(reaped.len(), 1);
         assert_eq!(
             (reaped[0].state, reaped[0].worker.as_deref()),
@@ -200,9 +206,7 @@ mod tests {
         assert_eq!(job["state"], "succeeded");
         assert_eq!(job["attempts"], 2);
         let events = server
-            .shared
-            .store
-            .events_after(&id, 0, 100)
+            .store(|s| s.events_after(&id, 0, 100))
             .expect("events");
         let states: Vec<String> = events
             .iter()
@@ -233,7 +237,7 @@ mod tests {
         // Event numbers run on from the lost attempt's, without a gap.
         let numbers: Vec<i64> = events.iter().map(|(n, _)| *n).collect();
         assert_eq!(numbers, (1..=numbers.len() as i64).collect::<Vec<_>>());
-        let workers = store.workers().expect("workers");
+        let workers = server.store(|s| s.workers()).expect("workers");
         let gone = workers
             .iter()
             .find(|w| w.name == "gone:1:0")
@@ -241,9 +245,7 @@ mod tests {
         assert_eq!((gone.claimed, gone.finished, gone.leases_lost), (1, 0, 1));
     }
 
-    #[tokio::test]
-    async fn a_cancel_reaches_the_running_job_through_its_heartbeat() {
-        let server = TestServer::with(|o| o.lease = Duration::from_millis(400), None);
+    async fn a_cancel_reaches_the_running_job_through_its_heartbeat(server: TestServer) {
         let id = server.submit("?kind=optimise", LONG).await;
         let shared = Arc::clone(&server.shared);
         let keeper = std::thread::spawn({
@@ -263,9 +265,8 @@ mod tests {
             }
         });
         let start = Instant::now();
-        while shared
-            .store
-            .events_after(&id, 0, 1000)
+        while server
+            .store(|s| s.events_after(&id, 0, 1000))
             .expect("events")
             .len()
             < 5
@@ -281,7 +282,7 @@ mod tests {
         let asked = Instant::now();
         let admin = shared.admin.clone();
         assert_eq!(
-            shared.store.cancel(&admin, &id).expect("cancel"),
+            server.store(|s| s.cancel(&admin, &id)).expect("cancel"),
             Some(crate::store::CancelOutcome::Stopping)
         );
         run.await.expect("the run ended");

@@ -193,11 +193,23 @@ mod tests {
 mod owners {
     use axum::http::{Method, StatusCode};
 
-    use crate::api::testing::{NO_JOB, SQUARE, TestServer};
+    use crate::api::testing::{NO_JOB, SQUARE, TestServer, on_both_stores};
 
-    #[tokio::test]
-    async fn another_user_s_job_is_answered_as_no_job_at_all() {
-        let server = TestServer::new();
+    on_both_stores!(
+        another_user_s_job_is_no_job,
+        another_user_s_job_is_answered_as_no_job_at_all,
+        |_| {}
+    );
+    on_both_stores!(
+        revoked,
+        a_revoked_token_is_refused_at_the_next_request,
+        |_| {}
+    );
+    on_both_stores!(shares, a_user_s_share_of_the_queue_and_ceiling_hold, |o| {
+        o.max_queue_per_user = 2
+    });
+
+    async fn another_user_s_job_is_answered_as_no_job_at_all(server: TestServer) {
         let ana = server.add_user("ana", false);
         let bruno = server.add_user("bruno", false);
         let boss = server.add_user("boss", true);
@@ -291,9 +303,7 @@ mod owners {
         assert_eq!(r.status, StatusCode::NO_CONTENT);
     }
 
-    #[tokio::test]
-    async fn a_revoked_token_is_refused_at_the_next_request() {
-        let server = TestServer::new();
+    async fn a_revoked_token_is_refused_at_the_next_request(server: TestServer) {
         let ana = server.add_user("ana", false);
         assert_eq!(
             server
@@ -302,15 +312,13 @@ mod owners {
                 .status,
             StatusCode::OK
         );
-        assert!(server.shared.store.revoke_user("ana").expect("revoke"));
+        assert!(server.store(|s| s.revoke_user("ana")).expect("revoke"));
         let r = server.call_as(&ana, Method::GET, "/api/v1/jobs").await;
         assert_eq!(r.status, StatusCode::UNAUTHORIZED);
         assert_eq!(r.error(), "wrong bearer token");
     }
 
-    #[tokio::test]
-    async fn a_user_s_share_of_the_queue_and_ceiling_hold() {
-        let server = TestServer::with(|o| o.max_queue_per_user = 2, None);
+    async fn a_user_s_share_of_the_queue_and_ceiling_hold(server: TestServer) {
         let ana = server.add_user("ana", false);
         let bruno = server.add_user("bruno", false);
         server.submit_as(&ana, SQUARE).await;
@@ -327,16 +335,9 @@ mod owners {
         server.submit_as(&bruno, SQUARE).await;
         // A user's own particle ceiling, under the server's.
         let token = "gpk_small_user_token_0123456789";
+        let hash = crate::users::token_hash(token);
         server
-            .shared
-            .store
-            .add_user(
-                "small",
-                crate::store::Role::User,
-                &crate::users::token_hash(token),
-                None,
-                Some(100),
-            )
+            .store(|s| s.add_user("small", crate::store::Role::User, &hash, None, Some(100)))
             .expect("user");
         let request = axum::http::Request::post("/api/v1/validate?kind=pack")
             .header("content-type", "application/toml")

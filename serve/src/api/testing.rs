@@ -1,7 +1,9 @@
-//! The in-process test harness: the real router over a store in a
-//! temporary folder, driven request by request with
-//! `tower::ServiceExt::oneshot`; queued jobs run when a test says so, by
-//! the workers' own code on a blocking thread.
+//! The in-process test harness: the real router over a store (SQLite in a
+//! temporary folder, or a fresh PostgreSQL database of the test cluster),
+//! driven request by request with `tower::ServiceExt::oneshot`; queued
+//! jobs run when a test says so, by the workers' own code on a blocking
+//! thread. Store calls a test makes itself go through [`TestServer::store`]
+//! (off the test's async thread, as the service makes them).
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -14,7 +16,7 @@ use serde_json::Value;
 use tempfile::TempDir;
 use tower::ServiceExt;
 
-use crate::store::Role;
+use crate::store::{JobStore, Role};
 use crate::users::token_hash;
 use crate::{Options, Shared, worker};
 
@@ -41,21 +43,66 @@ impl TestServer {
         Self::with(|_| {}, None)
     }
 
-    /// A server with the options `options` sets and `token`.
+    /// A server with the options `options` sets and `token`: on SQLite,
+    /// or on PostgreSQL when `GAPACK_TEST_STORE=postgres` (CI runs every
+    /// API test a second time so).
     pub fn with(options: impl FnOnce(&mut Options), token: Option<&str>) -> Self {
+        if std::env::var("GAPACK_TEST_STORE").as_deref() == Ok("postgres") {
+            return Self::postgres(options, token)
+                .expect("GAPACK_TEST_STORE=postgres needs GAPACK_TEST_POSTGRES");
+        }
+        Self::open(options, token, None)
+    }
+
+    /// A server as [`TestServer::with`] on a fresh PostgreSQL database of
+    /// the test cluster; `None` (the test skips, saying how to run it)
+    /// without one. The test holds a share of the cluster
+    /// (`store::conformance::cluster()`) while it runs.
+    pub fn postgres(options: impl FnOnce(&mut Options), token: Option<&str>) -> Option<Self> {
+        let url = std::thread::scope(|s| {
+            s.spawn(crate::store::postgres::test_database)
+                .join()
+                .expect("a database")
+        })?;
+        Some(Self::open(options, token, Some(url)))
+    }
+
+    fn open(
+        options: impl FnOnce(&mut Options),
+        token: Option<&str>,
+        store: Option<String>,
+    ) -> Self {
         let dir = tempfile::tempdir().expect("a temporary folder");
         let mut args = Options {
             data: dir.path().join("data"),
+            store,
             ..Options::default()
         };
         options(&mut args);
-        let (shared, _) = Shared::open(&args, token.map(str::to_owned)).expect("the store");
+        let token = token.map(str::to_owned);
+        // Off any async thread: a store's calls block.
+        let (shared, _) = std::thread::scope(|s| {
+            s.spawn(|| Shared::open(&args, token))
+                .join()
+                .expect("opened")
+        })
+        .expect("the store");
         let shared = Arc::new(shared);
         TestServer {
             router: super::router(Arc::clone(&shared)),
             shared,
             dir,
         }
+    }
+
+    /// `f` on the store, off the test's async thread.
+    pub fn store<T: Send>(&self, f: impl FnOnce(&dyn JobStore) -> T + Send) -> T {
+        let store = Arc::clone(&self.shared.store);
+        std::thread::scope(|s| {
+            s.spawn(move || f(store.as_ref()))
+                .join()
+                .expect("a store call")
+        })
     }
 
     /// The data folder (`gapack.db`, `jobs/<id>/`).
@@ -128,9 +175,8 @@ impl TestServer {
     pub fn add_user(&self, name: &str, admin: bool) -> String {
         let token = format!("gpk_test_{name}_{:016x}", rand::random::<u64>());
         let role = if admin { Role::Admin } else { Role::User };
-        self.shared
-            .store
-            .add_user(name, role, &token_hash(&token), None, None)
+        let hash = token_hash(&token);
+        self.store(|s| s.add_user(name, role, &hash, None, None))
             .expect("a new user");
         token
     }
@@ -221,3 +267,29 @@ pub fn sse_events(body: &str) -> Vec<(i64, String, Value)> {
         })
         .collect()
 }
+
+/// Test `check` (an `async fn(TestServer)`) on both stores: two tests in a
+/// module `name`, `sqlite` and `postgres` (the latter skipped, saying how
+/// to run it, without the test cluster), each on a server with the options
+/// `options` (a `fn(&mut Options)`) sets.
+macro_rules! on_both_stores {
+    ($name:ident, $check:ident, $options:expr) => {
+        mod $name {
+            use crate::api::testing::TestServer;
+
+            #[tokio::test]
+            async fn sqlite() {
+                super::$check(TestServer::with($options, None)).await;
+            }
+
+            #[tokio::test]
+            async fn postgres() {
+                let _up = crate::store::conformance::cluster();
+                if let Some(server) = TestServer::postgres($options, None) {
+                    super::$check(server).await;
+                }
+            }
+        }
+    };
+}
+pub(crate) use on_both_stores;

@@ -606,10 +606,10 @@ fn sqlite() -> (tempfile::TempDir, SqliteStore) {
 
 /// The cluster: the test that stops it holds it alone, the others share
 /// it (each holds it for as long as it runs).
-static CLUSTER: RwLock<()> = RwLock::new(());
+pub static CLUSTER: RwLock<()> = RwLock::new(());
 
 /// A share of the cluster, for a test that needs it up.
-fn cluster() -> RwLockReadGuard<'static, ()> {
+pub fn cluster() -> RwLockReadGuard<'static, ()> {
     CLUSTER.read().unwrap_or_else(PoisonError::into_inner)
 }
 

@@ -24,7 +24,7 @@
 //! their own threads (the jobs layer's observer is synchronous).
 
 #[cfg(test)]
-mod conformance;
+pub mod conformance;
 pub mod migrations;
 pub mod postgres;
 pub mod sqlite;
