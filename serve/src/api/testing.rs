@@ -282,6 +282,9 @@ macro_rules! on_both_stores {
                 super::$check(TestServer::with($options, None)).await;
             }
 
+            // The share of the cluster is held for the whole test (its
+            // restart test waits for every share), on the test's one thread.
+            #[allow(clippy::await_holding_lock)]
             #[tokio::test]
             async fn postgres() {
                 let _up = crate::store::conformance::cluster();
