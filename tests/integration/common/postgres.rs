@@ -9,8 +9,8 @@
 //! root (initdb refuses root), the cluster runs as user `nobody`. Beside
 //! it, [`Worker`]: a `gapack worker` process on such a store.
 
-use std::path::{Path, PathBuf};
 use std::fs;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -38,7 +38,10 @@ fn newest_bin() -> Option<PathBuf> {
         .filter_map(Result::ok)
         .filter_map(|e| {
             let name = e.file_name().to_string_lossy().into_owned();
-            let version: Vec<u64> = name.split('.').map(|p| p.parse().ok()).collect::<Option<_>>()?;
+            let version: Vec<u64> = name
+                .split('.')
+                .map(|p| p.parse().ok())
+                .collect::<Option<_>>()?;
             let bin = e.path().join("bin");
             bin.join("initdb").is_file().then_some((version, bin))
         })
@@ -248,13 +251,13 @@ pub struct Worker {
 
 impl Worker {
     /// Start worker `name` with `threads` threads on store `url` and
-    /// folder `data`, leases of `lease_seconds`, its log in `NAME.log`
-    /// beside `data`.
+    /// folder `data`, leases of `lease_seconds`, its log beside `data`
+    /// (`DATA.NAME.log`, as the front's is `DATA.log`).
     pub fn start(data: &Path, url: &str, name: &str, threads: usize, lease_seconds: u64) -> Worker {
         let log = fs::OpenOptions::new()
             .create(true)
             .append(true)
-            .open(data.with_file_name(format!("{name}.log")))
+            .open(data.with_extension(format!("{name}.log")))
             .expect("worker log");
         let child = Command::new(env!("CARGO_BIN_EXE_gapack"))
             .args(["worker", "--store", url, "--data"])
