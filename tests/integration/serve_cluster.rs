@@ -30,6 +30,10 @@ const LONG_SEARCH: &str = "seed = 5\n[domain]\nshape = \"rectangle\"\nwidth = 60
 const SHORT_SEARCH: &str = "seed = 5\n[domain]\nshape = \"rectangle\"\nwidth = 40\nheight = 40\n[grading]\nuniform = [1.0, 2.0]\n\
      [optimise]\ntarget_porosity = 0.95\npopulation = 8\ngenerations = 12\nstagnation = 100\n";
 
+/// A search that runs well past a 10 s outage of the store.
+const OUTAGE_SEARCH: &str = "seed = 5\n[domain]\nshape = \"rectangle\"\nwidth = 60\nheight = 60\n[grading]\nuniform = [1.0, 2.0]\n\
+     [optimise]\ntarget_porosity = 0.95\npopulation = 8\ngenerations = 90\nstagnation = 1000\n";
+
 /// The states a job ends in.
 const FINAL: [&str; 3] = ["succeeded", "failed", "cancelled"];
 
@@ -402,26 +406,34 @@ fn postgres_stopped_for_ten_seconds_loses_no_job_and_ends_each_once() {
         Worker::start(&data, &url, "w1", 1, 4),
         Worker::start(&data, &url, "w2", 1, 4),
     ];
-    let mut ids: Vec<String> = (0..4)
-        .map(|s| submit(&server, None, "optimise", s, SHORT_SEARCH))
+    // Two long searches first (the workers take them at once), then
+    // shorter ones and packs, queued.
+    let mut ids: Vec<String> = (0..2)
+        .map(|s| submit(&server, None, "optimise", s, OUTAGE_SEARCH))
         .collect();
+    ids.extend((2..4).map(|s| submit(&server, None, "optimise", s, SHORT_SEARCH)));
     ids.extend((0..6).map(|s| submit(&server, None, "pack", s, TINY)));
-    // Two searches running (a generation seen each), the rest queued.
+    // Both long searches past their first checkpoint.
     let start = Instant::now();
-    loop {
+    let running = loop {
         let running = pg.psql(
             "outage",
-            "SELECT count(*) FROM jobs WHERE state = 'running' AND progress LIKE '%generation%'",
+            "SELECT id FROM jobs WHERE state = 'running' AND progress LIKE '%\"generation\"%' \
+             AND (progress::json->>'index')::int >= 3 ORDER BY id",
         );
-        if running == "2" {
-            break;
+        if running.lines().count() == 2 {
+            break running;
         }
         assert!(
             start.elapsed() < Duration::from_secs(60),
             "never two running"
         );
         std::thread::sleep(Duration::from_millis(50));
-    }
+    };
+    let running: Vec<String> = running.lines().map(str::to_owned).collect();
+    let mut long = ids[..2].to_vec();
+    long.sort();
+    assert_eq!(running, long, "the long searches run");
     pg.stop();
     let stopped = Instant::now();
     let during = try_call("GET", &server.url("/api/v1/jobs"), None, None)
@@ -456,6 +468,37 @@ fn postgres_stopped_for_ten_seconds_loses_no_job_and_ends_each_once() {
             1,
             "{id} ended once: {:?}",
             states(&events)
+        );
+    }
+    // The searches running through the outage stopped themselves once
+    // their leases could not be renewed, went back to the queue once the
+    // store was back, and resumed from their checkpoints.
+    let logs = ["w1", "w2"]
+        .map(|w| fs::read_to_string(data.with_extension(format!("{w}.log"))).unwrap_or_default())
+        .join("");
+    for id in &running {
+        let events = events(&server, None, id);
+        assert_eq!(
+            states(&events),
+            [
+                "queued",
+                "running",
+                "queued (its worker was lost)",
+                "running",
+                "succeeded"
+            ],
+            "{id}"
+        );
+        let resumed = events
+            .iter()
+            .filter(|e| e["event"] == "state" && e["state"] == "running")
+            .nth(1)
+            .expect("a second running event");
+        assert_eq!(resumed["resume"], true, "{id}");
+        assert!(
+            logs.lines()
+                .any(|l| l.contains("lease not renewed in time") && l.contains(id.as_str())),
+            "{id}: the attempt did not stop itself"
         );
     }
     let all = pg.psql("outage", "SELECT count(*), count(DISTINCT id) FROM jobs");
