@@ -163,11 +163,6 @@ impl Cluster {
         command
     }
 
-    /// The server's port.
-    pub fn port(&self) -> u16 {
-        self.port
-    }
-
     /// The URL of database `db` (user `gapack`, no password).
     pub fn url(&self, db: &str) -> String {
         format!("postgres://gapack@127.0.0.1:{}/{db}", self.port)
@@ -218,16 +213,6 @@ impl Cluster {
             &["-D", &data, "-l", &log, "-o", &options, "-w", "start"],
         );
         self.running = true;
-    }
-
-    /// The server's log so far (for a failing test's message).
-    pub fn log(&self) -> String {
-        std::fs::read_to_string(self.root.join("log")).unwrap_or_default()
-    }
-
-    /// The cluster's folder.
-    pub fn root(&self) -> &Path {
-        &self.root
     }
 }
 
