@@ -13,10 +13,22 @@
 //!
 //! `GAPACK_BENCH_JOBS`, `GAPACK_BENCH_CLIENTS` and `GAPACK_BENCH_WORKERS`
 //! change the load.
+//!
+//! `GAPACK_BENCH_STORES=1` compares the job stores instead, on the CSV-only
+//! scene: jobs/s and p50/p99 submit→succeeded with 1, 2 and 4 workers,
+//! SQLite (one `gapack serve --workers N`) against PostgreSQL (one
+//! `gapack serve --workers 0` and one `gapack worker --workers N`, on a
+//! private cluster: it needs Debian's postgresql); then how long a job
+//! whose worker is killed (`kill -9`, leases of 5 s) takes to run again on
+//! the other worker, and to succeed.
 
 #[path = "../tests/integration/common/server.rs"]
 #[allow(dead_code)] // the tests use all of it, this bench only the start
 mod server;
+
+#[path = "../tests/integration/common/postgres.rs"]
+#[allow(dead_code)] // the tests use all of it, this bench less
+mod postgres;
 
 use std::collections::BTreeSet;
 use std::io::{BufRead, BufReader};
@@ -26,6 +38,7 @@ use std::time::{Duration, Instant};
 
 use gapack::config::{DEFAULT_CONFIG, DEFAULT_ORIGIN};
 use gapack::jobs::{self, Cancel, DirStore, JobKind, Plan, Request, Silent};
+use postgres::{Cluster, Worker};
 use server::Server;
 
 const SEEDS: u64 = 40;
@@ -112,8 +125,12 @@ fn main() {
     let total = env_or("GAPACK_BENCH_JOBS", 1000);
     let clients = env_or("GAPACK_BENCH_CLIENTS", 25);
     let workers = env_or("GAPACK_BENCH_WORKERS", 2);
-    load("the default scene", DEFAULT_CONFIG, total, clients, workers);
     let csv_only = format!("{DEFAULT_CONFIG}\n[output]\nformats = [\"csv\"]\n");
+    if std::env::var("GAPACK_BENCH_STORES").is_ok_and(|v| v == "1") {
+        stores(&csv_only, total, clients);
+        return;
+    }
+    load("the default scene", DEFAULT_CONFIG, total, clients, workers);
     load(
         "the default scene, packing.csv and summary.json only",
         &csv_only,
@@ -228,6 +245,223 @@ fn load(label: &str, config: &str, total: usize, clients: usize, workers: usize)
         Some(kb) => println!("  server peak RSS: {:.1} MB", kb as f64 / 1024.0),
         None => println!("  server peak RSS: unknown (no /proc)"),
     }
+    server.terminate();
+    let _ = std::fs::remove_dir_all(&data);
+}
+
+/// Where a store comparison runs its jobs.
+enum Engine<'a> {
+    /// One `gapack serve --workers N` on its own SQLite file.
+    Sqlite,
+    /// One `gapack serve --workers 0` and one `gapack worker --workers N`
+    /// on a fresh database of this cluster.
+    Postgres(&'a Cluster),
+}
+
+/// Throughput and latencies of one load.
+struct Figures {
+    jobs_per_second: f64,
+    p50: Duration,
+    p99: Duration,
+}
+
+/// The store comparison (`GAPACK_BENCH_STORES=1`): `total` jobs of
+/// `config` from `clients` clients on each engine with 1, 2 and 4 workers,
+/// then the lease expiry delay.
+fn stores(config: &str, total: usize, clients: usize) {
+    let Some(cluster) = Cluster::start() else {
+        return;
+    };
+    println!(
+        "job stores: {total} jobs of the default scene (packing.csv and summary.json only) from {clients} clients each"
+    );
+    println!("| store | workers | jobs/s | p50 ms | p99 ms |");
+    println!("|---|---|---|---|---|");
+    let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    for workers in [1, 2, 4] {
+        for (name, engine) in [
+            ("SQLite", Engine::Sqlite),
+            ("PostgreSQL", Engine::Postgres(&cluster)),
+        ] {
+            let f = store_load(&engine, config, total, clients, workers);
+            println!(
+                "| {name} | {workers} | {:.1} | {:.1} | {:.1} |",
+                f.jobs_per_second,
+                ms(f.p50),
+                ms(f.p99)
+            );
+        }
+    }
+    lease_expiry(&cluster);
+}
+
+/// One load on `engine` with `workers` workers: every job followed to its
+/// success and counted once.
+fn store_load(
+    engine: &Engine<'_>,
+    config: &str,
+    total: usize,
+    clients: usize,
+    workers: usize,
+) -> Figures {
+    let label = match engine {
+        Engine::Sqlite => format!("sqlite-{workers}"),
+        Engine::Postgres(_) => format!("postgres-{workers}"),
+    };
+    let data = std::env::temp_dir().join(format!(
+        "gapack-bench-stores-{}-{label}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&data);
+    std::fs::create_dir_all(&data).expect("data");
+    let n = workers.to_string();
+    let (server, worker) = match engine {
+        Engine::Sqlite => (
+            Server::start(&data, &["--max-queue", "100000", "--workers", &n]),
+            None,
+        ),
+        Engine::Postgres(cluster) => {
+            let url = cluster.create_database(&label.replace('-', "_"));
+            let server = Server::start(
+                &data,
+                &["--store", &url, "--max-queue", "100000", "--workers", "0"],
+            );
+            (server, Some(Worker::start(&data, &url, "w", workers, 30)))
+        }
+    };
+    let base = server.base.clone();
+    let latencies = Mutex::new(Vec::with_capacity(total));
+    let ids = Mutex::new(BTreeSet::new());
+    let start = Instant::now();
+    std::thread::scope(|scope| {
+        for c in 0..clients {
+            let (base, latencies, ids) = (&base, &latencies, &ids);
+            scope.spawn(move || {
+                let mut i = c;
+                while i < total {
+                    let (id, latency) = run_one(base, config, i as u64 % SEEDS);
+                    latencies.lock().expect("latencies").push(latency);
+                    assert!(ids.lock().expect("ids").insert(id), "an id twice");
+                    i += clients;
+                }
+            });
+        }
+    });
+    let elapsed = start.elapsed();
+    let mut latencies = latencies.into_inner().expect("latencies");
+    assert_eq!(latencies.len(), total, "jobs lost");
+    latencies.sort();
+    drop(worker);
+    server.terminate();
+    let _ = std::fs::remove_dir_all(&data);
+    Figures {
+        jobs_per_second: total as f64 / elapsed.as_secs_f64(),
+        p50: percentile(&latencies, 0.5),
+        p99: percentile(&latencies, 0.99),
+    }
+}
+
+/// A search on one of two workers (leases of 5 s), that worker killed
+/// (`kill -9`) past its first checkpoint: the time from the kill to the
+/// search running again on the other worker, and to its success.
+fn lease_expiry(cluster: &Cluster) {
+    const LEASE: u64 = 5;
+    let search = "seed = 5\n[domain]\nshape = \"rectangle\"\nwidth = 60\nheight = 60\n[grading]\nuniform = [1.0, 2.0]\n\
+         [optimise]\ntarget_porosity = 0.95\npopulation = 8\ngenerations = 30\nstagnation = 100\n";
+    let url = cluster.create_database("bench_lease");
+    let data = std::env::temp_dir().join(format!("gapack-bench-lease-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&data);
+    std::fs::create_dir_all(&data).expect("data");
+    let lease = LEASE.to_string();
+    let server = Server::start(
+        &data,
+        &[
+            "--store",
+            &url,
+            "--workers",
+            "0",
+            "--lease-seconds",
+            &lease,
+            "--checkpoint-every",
+            "2",
+        ],
+    );
+    let mut workers = [
+        Worker::start(&data, &url, "w1", 1, LEASE),
+        Worker::start(&data, &url, "w2", 1, LEASE),
+    ];
+    let base = server.base.clone();
+    let agent = agent();
+    let mut r = agent
+        .post(format!("{base}/api/v1/jobs?kind=optimise&seed=9"))
+        .header("Content-Type", "application/toml")
+        .send(search)
+        .expect("submit");
+    let body: serde_json::Value =
+        serde_json::from_str(&r.body_mut().read_to_string().expect("body")).expect("json");
+    let id = body["id"].as_str().expect("id").to_owned();
+    // The stream, read on its own thread: each event with when it came.
+    let (tx, rx) = std::sync::mpsc::channel();
+    let follower = {
+        let (base, id) = (base.clone(), id.clone());
+        std::thread::spawn(move || {
+            let events = agent
+                .get(format!("{base}/api/v1/jobs/{id}/events"))
+                .call()
+                .expect("events");
+            for line in BufReader::new(events.into_body().into_reader()).lines() {
+                let line = line.expect("line");
+                if let Some(data) = line.strip_prefix("data:") {
+                    let v: serde_json::Value = serde_json::from_str(data.trim()).expect("json");
+                    if tx.send((Instant::now(), v)).is_err() {
+                        return;
+                    }
+                }
+            }
+        })
+    };
+    let next = || rx.recv_timeout(Duration::from_secs(120)).expect("an event");
+    loop {
+        let (_, e) = next();
+        if e["event"] == "generation" && e["index"].as_u64() >= Some(4) {
+            break;
+        }
+        assert!(
+            e["event"] != "state" || e["state"] == "queued" || e["state"] == "running",
+            "{e}"
+        );
+    }
+    let holder = cluster.psql(
+        "bench_lease",
+        &format!("SELECT worker FROM jobs WHERE id = '{id}'"),
+    );
+    let victim = workers
+        .iter_mut()
+        .find(|w| holder.starts_with(&format!("{}:", w.name)))
+        .expect("the worker holding the search");
+    victim.kill();
+    let killed = Instant::now();
+    let rerun = loop {
+        let (at, e) = next();
+        if e["event"] == "state" && e["state"] == "running" {
+            assert_eq!(e["attempt"], 2, "{e}");
+            break at - killed;
+        }
+    };
+    let done = loop {
+        let (at, e) = next();
+        if e["event"] == "state" && e["state"] != "running" {
+            assert_eq!(e["state"], "succeeded", "{e}");
+            break at - killed;
+        }
+    };
+    follower.join().expect("the stream's reader");
+    println!(
+        "lease expiry (leases of {LEASE} s, kill -9 past the first checkpoint): running again on the other worker {:.2} s after the kill, succeeded {:.2} s after it",
+        rerun.as_secs_f64(),
+        done.as_secs_f64()
+    );
+    drop(workers);
     server.terminate();
     let _ = std::fs::remove_dir_all(&data);
 }

@@ -31,6 +31,7 @@ mod replay;
 mod round3;
 mod scales;
 mod serve;
+mod serve_cluster;
 mod serve_edges;
 mod serve_files;
 mod shape_properties;

@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod json_edit;
+pub mod postgres;
 pub mod server;
 pub mod stopped_search;
 pub mod webdriver;
