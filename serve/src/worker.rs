@@ -29,6 +29,10 @@ pub const ORIGIN: &str = "config.toml";
 /// nothing wakes it sooner.
 const IDLE: Duration = Duration::from_millis(500);
 
+/// How long a worker waits to write to a store that did not answer before
+/// it tries again (until the store answers or the lease is given up).
+const RETRY: Duration = Duration::from_millis(250);
+
 /// The folder of job `id`'s files.
 pub fn job_dir(shared: &Shared, id: &str) -> PathBuf {
     shared.data.join("jobs").join(id)
@@ -82,8 +86,8 @@ pub fn run_one(shared: &Arc<Shared>, worker: &str, claimed: Claimed) {
     let result = catch_unwind(AssertUnwindSafe(|| {
         execute(shared, &job, lease, &lost, &run_token)
     }));
-    shared.unregister(&id);
     if lost.load(Ordering::SeqCst) {
+        shared.unregister(&id);
         shared.metrics.lease_lost();
         tracing::warn!(job = %id, worker, "the attempt ended without its lease: nothing recorded");
         return;
@@ -136,7 +140,20 @@ pub fn run_one(shared: &Arc<Shared>, worker: &str, claimed: Claimed) {
         Ending::Final { state, .. } => *state,
         Ending::Requeue => State::Queued,
     };
-    match shared.store.finish(worker, &id, lease, &ending) {
+    // Still registered: the keeper renews the lease while the end is
+    // written (tried again while the store cannot be reached, until the
+    // keeper gives the lease up).
+    let recorded = loop {
+        match shared.store.finish(worker, &id, lease, &ending) {
+            Err(e) if !lost.load(Ordering::SeqCst) => {
+                tracing::warn!(job = %id, worker, error = %e, "cannot record the job's end; trying again");
+                std::thread::sleep(RETRY);
+            }
+            done => break done,
+        }
+    };
+    shared.unregister(&id);
+    match recorded {
         Ok(true) => {}
         Ok(false) => {
             shared.metrics.lease_lost();
@@ -248,7 +265,26 @@ impl Observer for Recorder<'_> {
                 self.lost.store(true, Ordering::SeqCst);
                 self.cancel.cancel();
             }
-            Err(e) => tracing::warn!(job = %self.id, error = %e, "cannot record an event"),
+            Err(e) => {
+                // Tried again until the store answers or the keeper gives
+                // the lease up: no event is dropped while the store is away.
+                tracing::warn!(job = %self.id, error = %e, "cannot record an event; trying again");
+                while !self.lost.load(Ordering::SeqCst) {
+                    std::thread::sleep(RETRY);
+                    match self
+                        .shared
+                        .store
+                        .event(self.id, self.lease, &data, progress)
+                    {
+                        Ok(Some(_)) => return self.shared.notify(self.id),
+                        Ok(None) => {
+                            self.lost.store(true, Ordering::SeqCst);
+                            self.cancel.cancel();
+                        }
+                        Err(_) => {}
+                    }
+                }
+            }
         }
     }
 }

@@ -333,10 +333,10 @@ impl PgStore {
             config.clone(),
             NoTls,
             ManagerConfig {
-                // A connection is tried before it is handed out: after the
-                // server restarted, calls get fresh connections, not
-                // errors from dead ones.
-                recycling_method: RecyclingMethod::Verified,
+                // A connection PostgreSQL closed is found closed before it
+                // is handed out; one that fails in use fails that call (its
+                // caller tries again), without a query per checkout.
+                recycling_method: RecyclingMethod::Fast,
             },
         );
         let pool = Pool::builder(manager)
@@ -654,20 +654,24 @@ impl JobStore for PgStore {
         data: &serde_json::Value,
         progress: bool,
     ) -> Result<Option<i64>, StoreError> {
-        self.write(async |tx| {
-            if !holds(tx, id, lease).await? {
-                return Ok(None);
-            }
-            let seq = append(tx, id, data).await?;
-            if progress {
-                exec(
-                    tx,
-                    "UPDATE jobs SET progress = $2 WHERE id = $1",
-                    &[&id, &data.to_string()],
-                )
-                .await?;
-            }
-            Ok(Some(seq))
+        // One statement, one round trip (a job sends an event per
+        // generation): the lease checked, the counter bumped and the
+        // progress kept under the row's lock, the event inserted, the
+        // listeners told at commit; no row when the lease is gone.
+        let data = data.to_string();
+        self.read(async |c| {
+            let row = opt(
+                c,
+                "WITH j AS (UPDATE jobs SET last_event = last_event + 1, \
+                   progress = CASE WHEN $4 THEN $3 ELSE progress END \
+                   WHERE id = $1 AND state = 'running' AND lease = $2 RETURNING last_event), \
+                 e AS (INSERT INTO events (job, seq, data) SELECT $1, last_event, $3 FROM j \
+                   RETURNING seq) \
+                 SELECT seq, pg_notify('gapack_events', $1) FROM e",
+                &[&id, &lease, &data, &progress],
+            )
+            .await?;
+            Ok(row.map(|r| r.try_get(0)).transpose()?)
         })
     }
 
