@@ -80,11 +80,22 @@ pub fn keep(shared: &Arc<Shared>) {
 
 /// One heartbeat for every job running here.
 fn renew(shared: &Shared, give_up: Duration) {
-    let held: Vec<(String, i64, String)> = shared
-        .lock_running()
-        .iter()
-        .map(|(id, r)| (id.clone(), r.lease, r.worker.clone()))
-        .collect();
+    let held: Vec<(String, i64, String)> = {
+        let mut running = shared.lock_running();
+        // A lease not renewed for too long is given up before trying again
+        // (a call to an unreachable store may itself take seconds).
+        for (id, entry) in running.iter_mut() {
+            if entry.renewed.elapsed() >= give_up && !entry.lost.load(Ordering::SeqCst) {
+                tracing::error!(job = %id, worker = %entry.worker, "lease not renewed in time: this attempt stops (another worker will resume the job)");
+                entry.lose();
+            }
+        }
+        running
+            .iter()
+            .filter(|(_, r)| !r.lost.load(Ordering::SeqCst))
+            .map(|(id, r)| (id.clone(), r.lease, r.worker.clone()))
+            .collect()
+    };
     for (id, lease, worker) in held {
         let beat = shared.store.heartbeat(&worker, &id, lease, shared.lease);
         let mut running = shared.lock_running();
