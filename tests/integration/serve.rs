@@ -14,7 +14,7 @@ use std::process::Command;
 use std::time::{Duration, Instant};
 
 use common::server::{Server, agent};
-use common::{gapack, scratch};
+use common::{gapack, scratch, untimed};
 use serde_json::Value;
 
 const SQUARE: &str = "seed = 3\n[domain]\nshape = \"rectangle\"\nwidth = 20\nheight = 20\n[grading]\nuniform = [1.0, 2.0]\n";
@@ -205,28 +205,6 @@ fn cli_run(dir: &Path, kind: &str, config: &str, seed: u64) -> PathBuf {
         String::from_utf8_lossy(&out.stderr)
     );
     dir.join("cli")
-}
-
-/// The CSV without the columns named `seconds` (timings differ run to run).
-fn untimed(csv: &[u8]) -> Vec<Vec<String>> {
-    let mut reader = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .flexible(true)
-        .from_reader(csv);
-    let rows: Vec<Vec<String>> = reader
-        .records()
-        .map(|r| r.expect("a CSV record").iter().map(str::to_owned).collect())
-        .collect();
-    let header = rows.first().cloned().unwrap_or_default();
-    rows.into_iter()
-        .map(|row| {
-            row.into_iter()
-                .zip(&header)
-                .filter(|(_, h)| *h != "seconds")
-                .map(|(cell, _)| cell)
-                .collect()
-        })
-        .collect()
 }
 
 fn manifest_files(manifest: &[u8]) -> Vec<String> {

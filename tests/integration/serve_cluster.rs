@@ -16,7 +16,7 @@ use std::time::{Duration, Instant};
 
 use common::postgres::{Cluster, Worker};
 use common::server::{Server, agent};
-use common::{gapack, scratch};
+use common::{gapack, scratch, untimed};
 use serde_json::Value;
 
 /// A small pack (about 180 disks, a few milliseconds), writing its CSV only.
@@ -241,28 +241,6 @@ fn add_user(dir: &Path, url: &str, name: &str, admin: bool) -> String {
         .to_owned();
     assert!(token.starts_with("gpk_") && token.len() == 68, "{stdout}");
     token
-}
-
-/// The CSV `csv` as rows, without its `seconds` column (a run's timing).
-fn untimed(csv: &[u8]) -> Vec<Vec<String>> {
-    let mut reader = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .flexible(true)
-        .from_reader(csv);
-    let rows: Vec<Vec<String>> = reader
-        .records()
-        .map(|r| r.expect("a CSV record").iter().map(str::to_owned).collect())
-        .collect();
-    let header = rows.first().cloned().unwrap_or_default();
-    rows.into_iter()
-        .map(|row| {
-            row.into_iter()
-                .zip(&header)
-                .filter(|(_, h)| *h != "seconds")
-                .map(|(cell, _)| cell)
-                .collect()
-        })
-        .collect()
 }
 
 /// Run `gapack optimise` on `config` with `seed` in `dir`: its output folder.
