@@ -57,8 +57,9 @@ pub fn beat(ttl: Duration) -> Duration {
         .max(Duration::from_millis(10))
 }
 
-/// The keeper's loop, until this process's workers have all ended.
-pub fn keep(shared: &Arc<Shared>) {
+/// The keeper's loop, until this process's workers (named `workers`)
+/// have all ended.
+pub fn keep(shared: &Arc<Shared>, workers: &[String]) {
     let beat = beat(shared.lease);
     // A lease not renewed for this long is given up here: the store lets
     // another worker take the job only once the whole lease has passed.
@@ -73,6 +74,12 @@ pub fn keep(shared: &Arc<Shared>) {
         if last_reap.elapsed() >= shared.lease / 2 {
             last_reap = Instant::now();
             reap(shared);
+            // Idle workers too: a worker not seen for a lease is gone.
+            if !workers.is_empty()
+                && let Err(e) = shared.store.alive(workers)
+            {
+                tracing::warn!(error = %e, "cannot tell the store the workers are alive");
+            }
         }
         std::thread::sleep(beat.saturating_sub(started.elapsed()));
     }
@@ -261,7 +268,7 @@ mod tests {
         let shared = Arc::clone(&server.shared);
         let keeper = std::thread::spawn({
             let shared = Arc::clone(&shared);
-            move || super::keep(&shared)
+            move || super::keep(&shared, &[])
         });
         let run = tokio::task::spawn_blocking({
             let shared = Arc::clone(&shared);

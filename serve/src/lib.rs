@@ -450,9 +450,12 @@ impl Crew {
             // Ends with the store's listener (the process's end).
             std::thread::spawn(move || lease::listen(&shared, &news));
         }
+        let names: Vec<String> = (0..workers)
+            .map(|i| worker::worker_name(shared, i))
+            .collect();
         let keeper = {
             let shared = Arc::clone(shared);
-            std::thread::spawn(move || lease::keep(&shared))
+            std::thread::spawn(move || lease::keep(&shared, &names))
         };
         let workers = (0..workers)
             .map(|i| {

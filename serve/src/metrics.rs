@@ -181,6 +181,13 @@ fn render_stored(out: &mut String, stored: &Stored<'_>) {
         );
     }
     let now = now_ms();
+    // A name not seen for a day (a worker under a name never used again,
+    // such as host:pid) leaves the figures.
+    let workers: Vec<&WorkerRow> = stored
+        .workers
+        .iter()
+        .filter(|w| now - w.seen_ms <= FORGOTTEN_MS)
+        .collect();
     let series: [Series; 3] = [
         (
             "gapack_worker_claimed_total",
@@ -197,23 +204,23 @@ fn render_stored(out: &mut String, stored: &Stored<'_>) {
         (
             "gapack_worker_leases_lost_total",
             "counter",
-            "Leases each worker lost (reaped after it went silent, or found gone).",
+            "Leases each worker lost (reaped after it went silent).",
             |w| w.leases_lost,
         ),
     ];
     for (name, kind, help, value) in series {
         let _ = writeln!(out, "# HELP {name} {help}");
         let _ = writeln!(out, "# TYPE {name} {kind}");
-        for w in stored.workers {
+        for w in &workers {
             let _ = writeln!(out, "{name}{{worker=\"{}\"}} {}", label(&w.name), value(w));
         }
     }
     let _ = writeln!(
         out,
-        "# HELP gapack_worker_seen_seconds Seconds since each worker last claimed a job or renewed a lease."
+        "# HELP gapack_worker_seen_seconds Seconds since each worker last said it is alive (every half lease, idle or busy)."
     );
     let _ = writeln!(out, "# TYPE gapack_worker_seen_seconds gauge");
-    for w in stored.workers {
+    for w in &workers {
         let _ = writeln!(
             out,
             "gapack_worker_seen_seconds{{worker=\"{}\"}} {}",
@@ -222,6 +229,9 @@ fn render_stored(out: &mut String, stored: &Stored<'_>) {
         );
     }
 }
+
+/// How long a worker unseen stays in the metrics: a day.
+const FORGOTTEN_MS: i64 = 86_400_000;
 
 /// A per-worker series: its name, its type, its help, its value.
 type Series = (

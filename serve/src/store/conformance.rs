@@ -506,16 +506,31 @@ fn check_worker_counters(store: &dyn JobStore) {
         ),
         (2, 2, 0)
     );
-    // Lost once: counted by the reaper, and again by its own heartbeat.
+    // Lost once: counted by the reaper, not again by its own heartbeat.
     assert_eq!(
         (
             workers[1].claimed,
             workers[1].finished,
             workers[1].leases_lost
         ),
-        (1, 0, 2)
+        (1, 0, 1)
     );
     assert!(workers[0].seen_ms > 1_600_000_000_000);
+    // Alive, idle or new: seen now, counters kept.
+    thread::sleep(Duration::from_millis(20));
+    store
+        .alive(&["alpha".to_owned(), "gamma".to_owned()])
+        .unwrap();
+    let seen = store.workers().unwrap();
+    let names: Vec<&str> = seen.iter().map(|w| w.name.as_str()).collect();
+    assert_eq!(names, vec!["alpha", "beta", "gamma"]);
+    assert!(seen[0].seen_ms > workers[0].seen_ms);
+    assert_eq!((seen[0].claimed, seen[0].finished), (2, 2));
+    assert_eq!(seen[1].seen_ms, workers[1].seen_ms);
+    assert_eq!(
+        (seen[2].claimed, seen[2].finished, seen[2].leases_lost),
+        (0, 0, 0)
+    );
     let counts = store.counts().unwrap();
     assert_eq!(
         counts,

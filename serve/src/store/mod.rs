@@ -347,7 +347,8 @@ pub struct UserCount {
 pub struct WorkerRow {
     /// Its name (`host:pid:index`).
     pub name: String,
-    /// When it last claimed or renewed a lease (ms since the Unix epoch).
+    /// When it last said it is alive, claimed or renewed a lease (ms
+    /// since the Unix epoch).
     pub seen_ms: i64,
     /// Jobs it claimed.
     pub claimed: i64,
@@ -520,8 +521,12 @@ pub trait JobStore: Send + Sync {
     /// Jobs by owner and state (the states a user has jobs in).
     fn counts_by_user(&self) -> Result<Vec<UserCount>, StoreError>;
 
-    /// The workers that ever claimed a job, with their counters.
+    /// The workers that ever claimed a job or said they are alive, with
+    /// their counters.
     fn workers(&self) -> Result<Vec<WorkerRow>, StoreError>;
+
+    /// Workers `names` are alive (idle or busy): their `seen_ms` is now.
+    fn alive(&self, names: &[String]) -> Result<(), StoreError>;
 
     /// Add a user with the token whose SHA-256 is `token_hash`.
     fn add_user(

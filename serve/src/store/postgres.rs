@@ -634,15 +634,8 @@ impl JobStore for PgStore {
                     .await?;
                     Ok(Beat::Held { cancel_requested })
                 }
-                None => {
-                    exec(
-                        tx,
-                        "UPDATE workers SET leases_lost = leases_lost + 1 WHERE name = $1",
-                        &[&worker],
-                    )
-                    .await?;
-                    Ok(Beat::Lost)
-                }
+                // Counted once, by the reaper that took the lease.
+                None => Ok(Beat::Lost),
             }
         })
     }
@@ -971,6 +964,19 @@ impl JobStore for PgStore {
                 })
             })
             .collect::<PgResult<_>>()?)
+        })
+    }
+
+    fn alive(&self, names: &[String]) -> Result<(), StoreError> {
+        self.read(async |c| {
+            exec(
+                c,
+                "INSERT INTO workers (name, seen_ms) SELECT unnest($1::TEXT[]), gapack_now_ms() \
+                 ON CONFLICT (name) DO UPDATE SET seen_ms = EXCLUDED.seen_ms",
+                &[&names],
+            )
+            .await?;
+            Ok(())
         })
     }
 

@@ -371,13 +371,8 @@ impl JobStore for SqliteStore {
                     )?;
                     Ok(Beat::Held { cancel_requested })
                 }
-                None => {
-                    tx.execute(
-                        "UPDATE workers SET leases_lost = leases_lost + 1 WHERE name = ?1",
-                        [worker],
-                    )?;
-                    Ok(Beat::Lost)
-                }
+                // Counted once, by the reaper that took the lease.
+                None => Ok(Beat::Lost),
             }
         })
     }
@@ -649,6 +644,20 @@ impl JobStore for SqliteStore {
             })?
             .collect::<Result<_, _>>()?;
         Ok(rows)
+    }
+
+    fn alive(&self, names: &[String]) -> Result<(), StoreError> {
+        self.write(|tx| {
+            let now = now_ms();
+            for name in names {
+                tx.execute(
+                    "INSERT INTO workers (name, seen_ms) VALUES (?1, ?2) \
+                     ON CONFLICT (name) DO UPDATE SET seen_ms = ?2",
+                    params![name, now],
+                )?;
+            }
+            Ok(())
+        })
     }
 
     fn add_user(
