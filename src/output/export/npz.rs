@@ -250,3 +250,109 @@ impl Write for Counted<'_> {
         self.out.flush()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::output::export::binary::Kind;
+
+    fn le(b: &[u8], at: usize, n: usize) -> u64 {
+        b[at..at + n]
+            .iter()
+            .rev()
+            .fold(0, |v, &byte| (v << 8) | u64::from(byte))
+    }
+
+    /// The entries of a zip as (name, stored bytes), read from its end
+    /// record (zip64 when it says so), central directory and local
+    /// headers, each checked against its CRC-32.
+    fn entries(b: &[u8]) -> Vec<(String, Vec<u8>)> {
+        let eocd = b.len() - 22;
+        assert_eq!(le(b, eocd, 4), 0x0605_4b50);
+        let (mut count, mut start) = (le(b, eocd + 10, 2), le(b, eocd + 16, 4));
+        if start == ZIP32_MAX {
+            let locator = eocd - 20;
+            assert_eq!(le(b, locator, 4), 0x0706_4b50);
+            let record = le(b, locator + 8, 8) as usize;
+            assert_eq!(le(b, record, 4), 0x0606_4b50);
+            count = le(b, record + 32, 8);
+            start = le(b, record + 48, 8);
+        }
+        let mut at = start as usize;
+        let mut out = Vec::new();
+        for _ in 0..count {
+            assert_eq!(le(b, at, 4), 0x0201_4b50);
+            let crc = le(b, at + 16, 4) as u32;
+            let mut size = le(b, at + 24, 4);
+            let (n, x, c) = (le(b, at + 28, 2), le(b, at + 30, 2), le(b, at + 32, 2));
+            let mut local = le(b, at + 42, 4);
+            let name = String::from_utf8(b[at + 46..at + 46 + n as usize].to_vec()).unwrap();
+            let mut extra = at + 46 + n as usize;
+            if x > 0 {
+                assert_eq!(le(b, extra, 2), 1, "the zip64 extra field");
+                extra += 4;
+                if size == ZIP32_MAX {
+                    size = le(b, extra, 8);
+                    assert_eq!(le(b, extra + 8, 8), size);
+                    extra += 16;
+                }
+                if local == ZIP32_MAX {
+                    local = le(b, extra, 8);
+                }
+            }
+            let local = local as usize;
+            assert_eq!(le(b, local, 4), 0x0403_4b50);
+            let (ln, lx) = (le(b, local + 26, 2) as usize, le(b, local + 28, 2) as usize);
+            if le(b, local + 18, 4) == ZIP32_MAX {
+                assert_eq!(le(b, local + 30 + ln + 4, 8), size, "local zip64 size");
+            } else {
+                assert_eq!(le(b, local + 18, 4), size);
+            }
+            let data = local + 30 + ln + lx;
+            let bytes = b[data..data + size as usize].to_vec();
+            assert_eq!(crc32fast::hash(&bytes), crc, "{name}");
+            out.push((name, bytes));
+            at += 46 + (n + x + c) as usize;
+        }
+        out
+    }
+
+    fn arrays() -> Vec<Array<'static>> {
+        let v = |i: usize| (i as f64).sqrt() - 2.0;
+        vec![
+            Array::new("v", Kind::F64, 1, 1000, move |i, b| {
+                b.extend_from_slice(&v(i).to_le_bytes());
+            }),
+            Array::new("m", Kind::I32, 1, 3, |i, b| {
+                b.extend_from_slice(&(i as i32 - 1).to_le_bytes());
+            }),
+        ]
+    }
+
+    #[test]
+    fn a_plain_and_a_zip64_archive_hold_the_same_npy_files() {
+        let mut plain = Vec::new();
+        write_npz(&arrays(), ZIP32_MAX, &mut plain).expect("in memory");
+        let mut wide = Vec::new();
+        write_npz(&arrays(), 0, &mut wide).expect("in memory");
+        assert_ne!(plain, wide);
+        // No zip64 record in the plain archive.
+        assert!(!plain.windows(4).any(|w| w == 0x0606_4b50u32.to_le_bytes()));
+        let (a, b) = (entries(&plain), entries(&wide));
+        assert_eq!(a, b);
+        assert_eq!(a.len(), 2);
+        let (name, v) = &a[0];
+        assert_eq!(name, "v.npy");
+        let head = usize::from(u16::from_le_bytes([v[8], v[9]])) + 10;
+        assert_eq!(head % 64, 0);
+        let dict = std::str::from_utf8(&v[10..head]).unwrap();
+        assert!(dict.starts_with("{'descr': '<f8', 'fortran_order': False, 'shape': (1000,), }"));
+        assert_eq!(v.len() - head, 8000);
+        let last = f64::from_le_bytes(v[v.len() - 8..].try_into().unwrap());
+        assert_eq!(last.to_bits(), (999f64.sqrt() - 2.0).to_bits());
+        let (name, m) = &a[1];
+        assert_eq!(name, "m.npy");
+        assert!(std::str::from_utf8(&m[10..64]).unwrap().contains("'<i4'"));
+        assert_eq!(m[64..], [-1i32, 0, 1].map(i32::to_le_bytes).concat());
+    }
+}
