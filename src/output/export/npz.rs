@@ -352,7 +352,8 @@ mod tests {
         assert_eq!(last.to_bits(), (999f64.sqrt() - 2.0).to_bits());
         let (name, m) = &a[1];
         assert_eq!(name, "m.npy");
-        assert!(std::str::from_utf8(&m[10..64]).unwrap().contains("'<i4'"));
-        assert_eq!(m[64..], [-1i32, 0, 1].map(i32::to_le_bytes).concat());
+        let head = usize::from(u16::from_le_bytes([m[8], m[9]])) + 10;
+        assert!(std::str::from_utf8(&m[10..head]).unwrap().contains("'<i4'"));
+        assert_eq!(m[head..], [-1i32, 0, 1].map(i32::to_le_bytes).concat());
     }
 }
