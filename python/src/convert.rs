@@ -22,10 +22,12 @@ use std::time::Duration;
 use crate::errors::{gapack_error, input_error};
 
 /// Every output format, in the order `[output] formats` documents them.
-const FORMATS: [Format; 13] = [
+const FORMATS: [Format; 15] = [
     Format::Csv,
     Format::Json,
     Format::Vtk,
+    Format::Vtp,
+    Format::Npz,
     Format::Lammps,
     Format::Yade,
     Format::Pfc,
@@ -44,6 +46,8 @@ const fn listed(format: Format) -> bool {
         Format::Csv
         | Format::Json
         | Format::Vtk
+        | Format::Vtp
+        | Format::Npz
         | Format::Lammps
         | Format::Yade
         | Format::Pfc

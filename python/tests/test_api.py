@@ -254,7 +254,7 @@ def test_write_follows_formats_and_removes_what_an_earlier_run_left(tmp_path):
         p.write(out, formats=["vrml"])
     with pytest.raises(ValueError, match="given twice"):
         p.write(out, formats=["csv", "csv"])
-    assert set(gapack.FORMATS) == {"csv", "json", "vtk", "lammps", "yade", "pfc", "mercury", "liggghts-superquadric", "esys", "lammps-clumps", "liggghts-clumps", "svg", "png"}
+    assert set(gapack.FORMATS) == {"csv", "json", "vtk", "vtp", "npz", "lammps", "yade", "pfc", "mercury", "liggghts-superquadric", "esys", "lammps-clumps", "liggghts-clumps", "svg", "png"}
 
 
 def test_write_defaults_to_the_command_lines_folder(work):

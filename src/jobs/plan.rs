@@ -256,6 +256,10 @@ fn bytes_per_disk(format: Format) -> f64 {
         Format::Csv => 80.0,
         Format::Json => 115.0,
         Format::Vtk => 120.0,
+        // Binary, exact for disks: radius, material, id, the point and
+        // its vertex cell; x, y, r and material.
+        Format::Vtp => 60.0,
+        Format::Npz => 28.0,
         Format::Lammps | Format::Mercury | Format::LiggghtsSuperquadric => 100.0,
         Format::Yade | Format::Esys => 95.0,
         Format::Pfc => 170.0,

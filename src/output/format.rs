@@ -12,6 +12,10 @@ pub enum Format {
     Json,
     /// `packing.vtk` and `boundary.vtk`: legacy VTK POLYDATA for ParaView.
     Vtk,
+    /// `packing.vtp`: VTK XML PolyData, binary, for ParaView at any size.
+    Vtp,
+    /// `packing.npz`: the packing's columns as numpy arrays.
+    Npz,
     /// `packing.lammps`: a LAMMPS / LIGGGHTS data file, `atom_style sphere`.
     Lammps,
     /// `packing.yade.txt`: YADE's `ymport.text` format.
@@ -80,6 +84,8 @@ pub(crate) const FORMATS: Names<Format> = Names {
         ("csv", Format::Csv),
         ("json", Format::Json),
         ("vtk", Format::Vtk),
+        ("vtp", Format::Vtp),
+        ("npz", Format::Npz),
         ("lammps", Format::Lammps),
         ("yade", Format::Yade),
         ("pfc", Format::Pfc),

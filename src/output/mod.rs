@@ -21,13 +21,13 @@ mod sweep_table;
 pub use error::OutputError;
 pub use export::{
     BOUNDARY_VTK, ESYS_GEOMETRY, LAMMPS_CLUMPS_DATA, LAMMPS_DATA, LIGGGHTS_CLUMPS_DATA,
-    MERCURY_DATA, PACKING_VTK, PFC_COMMANDS, SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, YADE_SCRIPT,
-    YADE_TEXT,
+    MERCURY_DATA, PACKING_NPZ, PACKING_VTK, PACKING_VTP, PFC_COMMANDS, SUPERQUADRIC_DATA,
+    SUPERQUADRIC_INPUT, YADE_SCRIPT, YADE_TEXT,
 };
 pub use export::{
     boundary_vtk, esys_geometry, lammps_clumps_data, lammps_data, liggghts_clumps_data,
     mercury_data, packing_json, packing_vtk, pfc_commands, superquadric_data, superquadric_input,
-    yade_script, yade_text,
+    write_packing_npz, write_packing_vtp, yade_script, yade_text,
 };
 pub use format::{ClumpOptions, ExportOptions, Format, LengthUnit, OutputSettings};
 pub use json::{
@@ -69,6 +69,8 @@ pub(crate) const FILE_NAMES: &[&str] = &[
     PACKING_JSON,
     PACKING_VTK,
     BOUNDARY_VTK,
+    PACKING_VTP,
+    PACKING_NPZ,
     LAMMPS_DATA,
     YADE_TEXT,
     PFC_COMMANDS,

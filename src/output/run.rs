@@ -13,10 +13,11 @@ use super::csv::{
 use super::error::OutputError;
 use super::export::{
     BOUNDARY_VTK, ESYS_GEOMETRY, LAMMPS_CLUMPS_DATA, LAMMPS_DATA, LIGGGHTS_CLUMPS_DATA,
-    MERCURY_DATA, PACKING_JSON, PACKING_VTK, PFC_COMMANDS, SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT,
-    YADE_SCRIPT, YADE_TEXT, boundary_vtk, esys_geometry, lammps_clumps_data, lammps_data,
-    liggghts_clumps_data, mercury_data, packing_json, packing_vtk, pfc_commands, superquadric_data,
-    superquadric_input, yade_script, yade_text,
+    MERCURY_DATA, PACKING_JSON, PACKING_NPZ, PACKING_VTK, PACKING_VTP, PFC_COMMANDS,
+    SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, YADE_SCRIPT, YADE_TEXT, boundary_vtk, esys_geometry,
+    lammps_clumps_data, lammps_data, liggghts_clumps_data, mercury_data, packing_json, packing_vtk,
+    pfc_commands, superquadric_data, superquadric_input, write_packing_npz, write_packing_vtp,
+    yade_script, yade_text,
 };
 use super::format::{Format, OutputSettings};
 use super::json::{FractureSummary, LayeringSummary, OptimiseSummary, SUMMARY_JSON, summary_json};
@@ -210,7 +211,8 @@ impl<'a> RunInfo<'a> {
 /// `summary.json` always; `csv`: `packing.csv` and the run's tables
 /// (`convergence.csv` with a search, `profile.csv` with layering,
 /// `window.csv` with a fracture window); `json`: `packing.json`; `vtk`:
-/// `packing.vtk` and `boundary.vtk`; `lammps`, `yade`, `pfc`, `mercury`,
+/// `packing.vtk` and `boundary.vtk`; `vtp`: `packing.vtp`; `npz`:
+/// `packing.npz`; `lammps`, `yade`, `pfc`, `mercury`,
 /// `esys`: one DEM file each; `svg` and `png`: the packing, its grading
 /// against the target (`psd`), its local porosity (`porosity_map`) and the
 /// run's charts.
@@ -238,7 +240,7 @@ pub(crate) fn render_outputs(
 }
 
 /// Every file of a run ([`RunInfo`]), but the files as large as the packing
-/// (`packing.csv`) come as [`Body::Stream`]s that write them from the
+/// (`packing.csv`, `packing.vtp`, `packing.npz`) come as [`Body::Stream`]s that write them from the
 /// packing where they go: the store streams them to disk, and no copy of
 /// the table is held in memory. The others are made, on all cores.
 ///
@@ -267,6 +269,16 @@ pub fn render_output_bodies<'a>(
     if out.wants(Format::Vtk) {
         tasks.add(PACKING_VTK, || packing_vtk(packing, materials, opts));
         tasks.add(BOUNDARY_VTK, || Ok(boundary_vtk(packing)));
+    }
+    if out.wants(Format::Vtp) {
+        tasks.stream(PACKING_VTP, move |w| {
+            write_packing_vtp(packing, materials, w)
+        });
+    }
+    if out.wants(Format::Npz) {
+        tasks.stream(PACKING_NPZ, move |w| {
+            write_packing_npz(packing, materials, w)
+        });
     }
     if out.wants(Format::Lammps) {
         tasks.add(LAMMPS_DATA, || lammps_data(packing, materials, opts));

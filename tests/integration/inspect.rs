@@ -53,7 +53,7 @@ fn validate_refuses_a_bad_config_with_its_location() {
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(
         stderr(&out),
-        "error: bad.toml:9:19: output.formats[1]: unknown format \"gif\"; valid: csv, json, vtk, lammps, yade, pfc, mercury, liggghts-superquadric, esys, lammps-clumps, liggghts-clumps, svg, png\n"
+        "error: bad.toml:9:19: output.formats[1]: unknown format \"gif\"; valid: csv, json, vtk, vtp, npz, lammps, yade, pfc, mercury, liggghts-superquadric, esys, lammps-clumps, liggghts-clumps, svg, png\n"
     );
 }
 

@@ -4,6 +4,7 @@
 
 mod common;
 
+mod binary_outputs;
 mod browser;
 mod cli;
 mod clumps;

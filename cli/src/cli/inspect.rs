@@ -12,11 +12,11 @@ use gapack::fracture::{Extent, Well};
 use gapack::layering::Material;
 use gapack::output::{
     BOUNDARY_VTK, ESYS_GEOMETRY, Format, LAMMPS_CLUMPS_DATA, LAMMPS_DATA, LIGGGHTS_CLUMPS_DATA,
-    MERCURY_DATA, PACKING_VTK, PFC_COMMANDS, PackingTable, SUMMARY_JSON, SUPERQUADRIC_DATA,
-    SUPERQUADRIC_INPUT, YADE_SCRIPT, YADE_TEXT, boundary_vtk, diameter_range, esys_geometry,
-    lammps_clumps_data, lammps_data, liggghts_clumps_data, mercury_data, packing_vtk, pfc_commands,
-    read_packing_csv, render_pictures, superquadric_data, superquadric_input, yade_script,
-    yade_text,
+    MERCURY_DATA, PACKING_NPZ, PACKING_VTK, PACKING_VTP, PFC_COMMANDS, PackingTable, SUMMARY_JSON,
+    SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, YADE_SCRIPT, YADE_TEXT, boundary_vtk, diameter_range,
+    esys_geometry, lammps_clumps_data, lammps_data, liggghts_clumps_data, mercury_data,
+    packing_vtk, pfc_commands, read_packing_csv, render_pictures, superquadric_data,
+    superquadric_input, write_packing_npz, write_packing_vtp, yade_script, yade_text,
 };
 use gapack::{Check, GradingCheck, MIN_GRADING_DISKS, OVERLAP_REL, check, check_particles_sized};
 use gapack::{Domain, Packing, Point, Scene, bounds_of_disks, grading_sizes, psd_ks};
@@ -137,7 +137,7 @@ pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
 }
 
 /// `gapack export`: an existing packing in the DEM and viewer formats the
-/// config's `[output] formats` name (vtk, lammps, liggghts-superquadric,
+/// config's `[output] formats` name (vtk, vtp, npz, lammps, liggghts-superquadric,
 /// mercury, yade, pfc, esys; csv, json and the pictures belong to a run or
 /// to `gapack plot`, and are skipped with a note).
 pub fn run_export(args: &ExportArgs) -> Result<(), Failure> {
@@ -164,8 +164,18 @@ pub fn run_export(args: &ExportArgs) -> Result<(), Failure> {
     let run = |r: Result<Vec<u8>, gapack::output::OutputError>| {
         r.map_err(|e| Failure::Run(anyhow!("{}: {e}", args.packing.display())))
     };
+    // A binary export, made in memory like the others.
+    let binary =
+        |write: fn(&Packing, &[Material], &mut dyn std::io::Write) -> std::io::Result<()>| {
+            let mut bytes = Vec::new();
+            write(&packing, materials, &mut bytes)
+                .map(|()| bytes)
+                .map_err(|e| Failure::Run(anyhow!("{}: {e}", args.packing.display())))
+        };
     for format in &config.output.formats {
         match format {
+            Format::Vtp => files.push((PACKING_VTP, binary(write_packing_vtp)?)),
+            Format::Npz => files.push((PACKING_NPZ, binary(write_packing_npz)?)),
             Format::Vtk => {
                 files.push((PACKING_VTK, run(packing_vtk(&packing, materials, opts))?));
                 files.push((BOUNDARY_VTK, boundary_vtk(&packing)));

@@ -39,7 +39,7 @@ fn unknown_format_is_named_with_the_valid_ones() {
             "width = 20\nheight = 30",
             "[output]\nformats = [\"csv\", \"stl\"]",
         ),
-        "t.toml:8:19: output.formats[1]: unknown format \"stl\"; valid: csv, json, vtk, lammps, yade, pfc, mercury, liggghts-superquadric, esys, lammps-clumps, liggghts-clumps, svg, png",
+        "t.toml:8:19: output.formats[1]: unknown format \"stl\"; valid: csv, json, vtk, vtp, npz, lammps, yade, pfc, mercury, liggghts-superquadric, esys, lammps-clumps, liggghts-clumps, svg, png",
     );
 }
 

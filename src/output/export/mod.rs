@@ -2,6 +2,7 @@
 //! memory (the caller writes the set atomically). Only the packed disks are
 //! exported, never the wall disks.
 
+mod binary;
 mod clumps;
 mod common;
 mod esys;
@@ -10,9 +11,11 @@ mod lammps;
 mod lammps_clumps;
 mod liggghts;
 mod mercury;
+mod npz;
 mod outline;
 mod pfc;
 mod vtk;
+mod vtp;
 mod yade;
 
 pub use esys::{ESYS_GEOMETRY, esys_geometry};
@@ -23,6 +26,8 @@ pub use lammps_clumps::{
 };
 pub use liggghts::{SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, superquadric_data, superquadric_input};
 pub use mercury::{MERCURY_DATA, mercury_data};
+pub use npz::{PACKING_NPZ, write_packing_npz};
 pub use pfc::{PFC_COMMANDS, pfc_commands};
 pub use vtk::{BOUNDARY_VTK, PACKING_VTK, boundary_vtk, packing_vtk};
+pub use vtp::{PACKING_VTP, write_packing_vtp};
 pub use yade::{YADE_SCRIPT, YADE_TEXT, yade_script, yade_text};

@@ -1,0 +1,127 @@
+//! `packing.vtp`: the packing as VTK XML PolyData with its arrays in one
+//! raw binary appended block, for ParaView and VisIt at any size.
+
+use std::fmt::Write as _;
+use std::io::{self, Write};
+
+use super::binary::{Array, Kind, material, shape_arrays};
+use super::common::VERSION;
+use crate::layering::Material;
+use crate::packer::Packing;
+
+/// File name of the packing as VTK XML PolyData.
+pub const PACKING_VTP: &str = "packing.vtp";
+
+/// The packed particles (not the wall disks) as a VTK XML PolyData file
+/// (`version="1.0"`, little-endian, `header_type="UInt64"`), streamed to
+/// `out` array by array from the packing, never held whole.
+///
+/// One point per particle at `(x, y, 0)` in mm (`Points`, Float64), in
+/// placement order (point `i` is row `i` of `packing.csv`), each with a
+/// one-point vertex cell (`Verts`: `connectivity` and `offsets`, Int64) so
+/// that the points show without a filter. Point data: `radius` (Float64;
+/// for particles that are not disks the area-equivalent radius), for a
+/// packing of shapes `angle` (radians) and, where `packing.csv` has them,
+/// `a`, `b`, `alpha`, `beta` of superellipses and `template` (Int32),
+/// `rounding` of rounded polygons (NaN, or template −1, on a particle of
+/// the other family); `material` (Int32: the index into the config's
+/// materials, 0 without materials) and `id` (Int64: the row of
+/// `packing.csv`).
+///
+/// The data are uncompressed, in one `<AppendedData encoding="raw">`
+/// block after its `_` marker: each array as a UInt64 byte count and its
+/// little-endian values, each `DataArray`'s `offset` counting from the
+/// byte after the marker.
+///
+/// # Errors
+/// The I/O error of `out`.
+pub fn write_packing_vtp(
+    packing: &Packing,
+    materials: &[Material],
+    out: &mut dyn Write,
+) -> io::Result<()> {
+    let disks = &packing.disks;
+    let n = disks.len();
+    let mut point_data = vec![Array::new("radius", Kind::F64, 1, n, |i, buf| {
+        buf.extend_from_slice(&disks[i].r.to_le_bytes());
+    })];
+    point_data.extend(shape_arrays(packing));
+    point_data.push(material(packing, materials));
+    point_data.push(Array::new("id", Kind::I64, 1, n, index(0)));
+    let points = Array::new("Points", Kind::F64, 3, n, |i, buf| {
+        for v in [disks[i].c.x, disks[i].c.y, 0.0] {
+            buf.extend_from_slice(&v.to_le_bytes());
+        }
+    });
+    let connectivity = Array::new("connectivity", Kind::I64, 1, n, index(0));
+    let offsets = Array::new("offsets", Kind::I64, 1, n, index(1));
+
+    // Each array's offset in the appended block: the byte counts and
+    // arrays before it.
+    let mut at = 0u64;
+    let mut offset = |a: &Array<'_>| {
+        let here = at;
+        at = at.saturating_add(8).saturating_add(a.bytes());
+        here
+    };
+    let mut x = String::with_capacity(2048);
+    // Writing to a String cannot fail.
+    let _ = writeln!(x, "<?xml version=\"1.0\"?>");
+    let _ = writeln!(
+        x,
+        "<!-- gapack {VERSION} packing: {n} particles, lengths in mm -->"
+    );
+    let _ = writeln!(
+        x,
+        "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">"
+    );
+    let _ = writeln!(x, "  <PolyData>");
+    let _ = writeln!(
+        x,
+        "    <Piece NumberOfPoints=\"{n}\" NumberOfVerts=\"{n}\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">"
+    );
+    let _ = writeln!(x, "      <PointData Scalars=\"radius\">");
+    for a in &point_data {
+        data_array(&mut x, a, offset(a));
+    }
+    let _ = writeln!(x, "      </PointData>");
+    let _ = writeln!(x, "      <Points>");
+    data_array(&mut x, &points, offset(&points));
+    let _ = writeln!(x, "      </Points>");
+    let _ = writeln!(x, "      <Verts>");
+    data_array(&mut x, &connectivity, offset(&connectivity));
+    data_array(&mut x, &offsets, offset(&offsets));
+    let _ = writeln!(x, "      </Verts>");
+    let _ = writeln!(x, "    </Piece>");
+    let _ = writeln!(x, "  </PolyData>");
+    let _ = write!(x, "  <AppendedData encoding=\"raw\">\n   _");
+    out.write_all(x.as_bytes())?;
+    for a in point_data.iter().chain([&points, &connectivity, &offsets]) {
+        out.write_all(&a.bytes().to_le_bytes())?;
+        a.write_to(out)?;
+    }
+    out.write_all(b"\n  </AppendedData>\n</VTKFile>\n")
+}
+
+/// Element `i` of an Int64 array is `i + from`.
+fn index(from: i64) -> impl Fn(usize, &mut Vec<u8>) {
+    move |i, buf| {
+        let v = i64::try_from(i).unwrap_or(i64::MAX).saturating_add(from);
+        buf.extend_from_slice(&v.to_le_bytes());
+    }
+}
+
+/// One appended `DataArray` element.
+fn data_array(x: &mut String, a: &Array<'_>, offset: u64) {
+    let components = if a.components > 1 {
+        format!(" NumberOfComponents=\"{}\"", a.components)
+    } else {
+        String::new()
+    };
+    let _ = writeln!(
+        x,
+        "        <DataArray type=\"{}\" Name=\"{}\"{components} format=\"appended\" offset=\"{offset}\"/>",
+        a.kind.vtk(),
+        a.name
+    );
+}
