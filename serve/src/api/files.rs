@@ -152,6 +152,10 @@ fn content_type(name: &str) -> &'static str {
         "json" => "application/json",
         "svg" => "image/svg+xml",
         "png" => "image/png",
+        // numpy's archive is a zip; VTK's XML with raw appended bytes is
+        // not text a browser may show.
+        "npz" => "application/zip",
+        "vtp" => "application/vnd.vtk.polydata",
         "vtk" | "data" | "txt" | "dat" | "py" | "p4p" | "geo" => "text/plain; charset=utf-8",
         _ => "application/octet-stream",
     }
@@ -387,6 +391,8 @@ mod tests {
         assert_eq!(content_type("well_a/summary.json"), "application/json");
         assert_eq!(content_type("packing.png"), "image/png");
         assert_eq!(content_type("packing.vtk"), "text/plain; charset=utf-8");
+        assert_eq!(content_type("packing.npz"), "application/zip");
+        assert_eq!(content_type("packing.vtp"), "application/vnd.vtk.polydata");
         assert_eq!(content_type("checkpoint.bin"), "application/octet-stream");
         assert_eq!(content_type("noextension"), "application/octet-stream");
     }
