@@ -153,9 +153,8 @@ fn content_type(name: &str) -> &'static str {
         "svg" => "image/svg+xml",
         "png" => "image/png",
         // numpy's archive is a zip; VTK's XML with raw appended bytes is
-        // not text a browser may show.
+        // not text a browser may show: bytes, as any unnamed type.
         "npz" => "application/zip",
-        "vtp" => "application/vnd.vtk.polydata",
         "vtk" | "data" | "txt" | "dat" | "py" | "p4p" | "geo" => "text/plain; charset=utf-8",
         _ => "application/octet-stream",
     }
@@ -392,7 +391,7 @@ mod tests {
         assert_eq!(content_type("packing.png"), "image/png");
         assert_eq!(content_type("packing.vtk"), "text/plain; charset=utf-8");
         assert_eq!(content_type("packing.npz"), "application/zip");
-        assert_eq!(content_type("packing.vtp"), "application/vnd.vtk.polydata");
+        assert_eq!(content_type("packing.vtp"), "application/octet-stream");
         assert_eq!(content_type("checkpoint.bin"), "application/octet-stream");
         assert_eq!(content_type("noextension"), "application/octet-stream");
     }
