@@ -109,14 +109,6 @@ const ELSEWHERE: &[(&str, &str)] = &[
         "the service block: tests/integration/serve.rs runs it as a script",
     ),
     (
-        "GAPACK_TEST_POSTGRES=",
-        "the store's tests on PostgreSQL: .ci/run runs them against a private cluster",
-    ),
-    (
-        "GAPACK_TEST_STORE=",
-        "the API's tests on PostgreSQL: .ci/run runs them again so",
-    ),
-    (
         "pip install ./python",
         "the Python package: .ci/run installs it so, then runs python/tests (test_readme.py runs the README's Python blocks)",
     ),

@@ -9,12 +9,12 @@ use crate::common;
 
 use std::fs;
 use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
 use common::server::{Server, agent};
-use common::{gapack, scratch, untimed};
+use common::{cli_run, gapack, scratch, untimed};
 use serde_json::Value;
 
 const SQUARE: &str = "seed = 3\n[domain]\nshape = \"rectangle\"\nwidth = 20\nheight = 20\n[grading]\nuniform = [1.0, 2.0]\n";
@@ -181,30 +181,6 @@ fn download(server: &Server, id: &str) -> Vec<(String, Vec<u8>)> {
         files.push((name, r.body));
     }
     files
-}
-
-/// Run the CLI on `config` (as `config.toml`) with `seed` into `dir/cli`.
-fn cli_run(dir: &Path, kind: &str, config: &str, seed: u64) -> PathBuf {
-    fs::write(dir.join("config.toml"), config).expect("config");
-    let seed = seed.to_string();
-    let out = gapack(
-        dir,
-        &[
-            kind,
-            "config.toml",
-            "--out",
-            "cli",
-            "--seed",
-            &seed,
-            "--quiet",
-        ],
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    dir.join("cli")
 }
 
 fn manifest_files(manifest: &[u8]) -> Vec<String> {

@@ -11,12 +11,12 @@ use crate::common;
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
 use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::{Duration, Instant};
 
 use common::postgres::{Cluster, Worker};
 use common::server::{Server, agent};
-use common::{gapack, scratch, untimed};
+use common::{cli_run, gapack, scratch, untimed};
 use serde_json::Value;
 
 /// A small pack (about 180 disks, a few milliseconds), writing its CSV only.
@@ -243,30 +243,6 @@ fn add_user(dir: &Path, url: &str, name: &str, admin: bool) -> String {
     token
 }
 
-/// Run `gapack optimise` on `config` with `seed` in `dir`: its output folder.
-fn cli_optimise(dir: &Path, config: &str, seed: u64) -> PathBuf {
-    fs::write(dir.join("config.toml"), config).expect("config");
-    let seed = seed.to_string();
-    let out = gapack(
-        dir,
-        &[
-            "optimise",
-            "config.toml",
-            "--out",
-            "cli",
-            "--seed",
-            &seed,
-            "--quiet",
-        ],
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    dir.join("cli")
-}
-
 /// A file of a job, through the API.
 fn file(server: &Server, token: Option<&str>, id: &str, name: &str) -> Vec<u8> {
     let r = call(
@@ -351,7 +327,7 @@ fn a_worker_killed_mid_search_is_replaced_and_the_search_ends_as_if_never_stoppe
     );
     assert_eq!(finished, format!("{survivor}:0|1|1"));
     // Resumed from its checkpoint to the packing the uninterrupted run makes.
-    let cli = cli_optimise(&dir, LONG_SEARCH, 9);
+    let cli = cli_run(&dir, "optimise", LONG_SEARCH, 9);
     assert!(
         file(&server, None, &id, "packing.csv")
             == fs::read(cli.join("packing.csv")).expect("cli packing"),

@@ -174,6 +174,22 @@ fn append(
     Ok(seq)
 }
 
+/// The state of job `id` if `who` may see it.
+fn visible_state(
+    tx: &rusqlite::Transaction<'_>,
+    who: &Caller,
+    id: &str,
+) -> rusqlite::Result<Option<State>> {
+    let state: Option<String> = tx
+        .query_row(
+            &format!("SELECT j.state FROM jobs j WHERE {VISIBLE}"),
+            params![id, who.id, who.admin],
+            |r| r.get(0),
+        )
+        .optional()?;
+    Ok(state.as_deref().and_then(State::parse))
+}
+
 /// Whether `lease` is the current lease of running job `id`.
 fn holds(tx: &rusqlite::Transaction<'_>, id: &str, lease: i64) -> rusqlite::Result<bool> {
     tx.query_row(
@@ -475,14 +491,7 @@ impl JobStore for SqliteStore {
 
     fn cancel(&self, who: &Caller, id: &str) -> Result<Option<CancelOutcome>, StoreError> {
         self.write(|tx| {
-            let state: Option<String> = tx
-                .query_row(
-                    &format!("SELECT j.state FROM jobs j WHERE {VISIBLE}"),
-                    params![id, who.id, who.admin],
-                    |r| r.get(0),
-                )
-                .optional()?;
-            let Some(state) = state.as_deref().and_then(State::parse) else {
+            let Some(state) = visible_state(tx, who, id)? else {
                 return Ok(None);
             };
             Ok(Some(match state {
@@ -555,14 +564,7 @@ impl JobStore for SqliteStore {
 
     fn delete(&self, who: &Caller, id: &str) -> Result<Option<Result<(), State>>, StoreError> {
         self.write(|tx| {
-            let state: Option<String> = tx
-                .query_row(
-                    &format!("SELECT j.state FROM jobs j WHERE {VISIBLE}"),
-                    params![id, who.id, who.admin],
-                    |r| r.get(0),
-                )
-                .optional()?;
-            let Some(state) = state.as_deref().and_then(State::parse) else {
+            let Some(state) = visible_state(tx, who, id)? else {
                 return Ok(None);
             };
             if !state.is_final() {

@@ -159,3 +159,27 @@ pub fn untimed(csv: &[u8]) -> Vec<Vec<String>> {
         })
         .collect()
 }
+
+/// Run the CLI on `config` (as `config.toml`) with `seed` into `dir/cli`.
+pub fn cli_run(dir: &Path, kind: &str, config: &str, seed: u64) -> PathBuf {
+    std::fs::write(dir.join("config.toml"), config).expect("config");
+    let seed = seed.to_string();
+    let out = gapack(
+        dir,
+        &[
+            kind,
+            "config.toml",
+            "--out",
+            "cli",
+            "--seed",
+            &seed,
+            "--quiet",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    dir.join("cli")
+}

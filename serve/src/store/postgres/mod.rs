@@ -226,6 +226,20 @@ async fn holds(tx: &Transaction<'_>, id: &str, lease: i64) -> PgResult<bool> {
     .is_some())
 }
 
+/// The state of job `id` if `who` may see it, its row locked until commit.
+async fn visible_state(tx: &Transaction<'_>, who: &Caller, id: &str) -> PgResult<Option<State>> {
+    let found = opt(
+        tx,
+        &format!("SELECT j.state FROM jobs j WHERE {VISIBLE} FOR UPDATE"),
+        &[&id, &who.id, &who.admin],
+    )
+    .await?;
+    found
+        .map(|r| r.try_get::<_, String>(0).map(|s| State::parse(&s)))
+        .transpose()
+        .map(Option::flatten)
+}
+
 /// Put running job `id` (locked), whose worker was lost, back in the
 /// queue; its new state. A job its user asked to cancel is cancelled
 /// instead, and one that had its [`MAX_ATTEMPTS`] fails.

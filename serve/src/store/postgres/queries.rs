@@ -272,17 +272,7 @@ impl JobStore for PgStore {
 
     fn cancel(&self, who: &Caller, id: &str) -> Result<Option<CancelOutcome>, StoreError> {
         self.write(async |tx| {
-            let Some(found) = opt(
-                tx,
-                &format!("SELECT j.state FROM jobs j WHERE {VISIBLE} FOR UPDATE"),
-                &[&id, &who.id, &who.admin],
-            )
-            .await?
-            else {
-                return Ok(None);
-            };
-            let state: String = found.try_get(0)?;
-            let Some(state) = State::parse(&state) else {
+            let Some(state) = visible_state(tx, who, id).await? else {
                 return Ok(None);
             };
             Ok(Some(match state {
@@ -363,17 +353,7 @@ impl JobStore for PgStore {
 
     fn delete(&self, who: &Caller, id: &str) -> Result<Option<Result<(), State>>, StoreError> {
         self.write(async |tx| {
-            let Some(found) = opt(
-                tx,
-                &format!("SELECT j.state FROM jobs j WHERE {VISIBLE} FOR UPDATE"),
-                &[&id, &who.id, &who.admin],
-            )
-            .await?
-            else {
-                return Ok(None);
-            };
-            let state: String = found.try_get(0)?;
-            let Some(state) = State::parse(&state) else {
+            let Some(state) = visible_state(tx, who, id).await? else {
                 return Ok(None);
             };
             if !state.is_final() {
