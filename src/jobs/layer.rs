@@ -7,7 +7,7 @@ use super::error::JobError;
 use super::event::{Event, Stage};
 use super::plan::{Plan, Planning};
 use super::registry::{Job, Report};
-use super::run::{Running, generation};
+use super::run::{Running, Step, generation};
 use super::wells::whole_fracture;
 use crate::cancel::Cancel;
 use crate::ga::{Layered, StopReason};
@@ -47,7 +47,7 @@ pub(super) fn run(
     let (mut packing, seconds) = job.pack_scene(scene, "the scene", cancel)?;
     let layered = lay_out(job, &packing, settings, cancel);
     packing.materials = layered.assignment.clone();
-    let metrics = measure(&packing, scene);
+    let metrics = job.timed(Step::Measure, || measure(&packing, scene));
     let interrupted = layered.stop == Some(StopReason::Interrupted);
     let report = Report::Layer {
         packing,

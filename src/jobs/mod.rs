@@ -40,6 +40,8 @@ pub use event::{Event, Observer, Silent, Stage, Warning, WarningKind};
 pub use largest::Largest;
 pub use plan::{Plan, Request, output_dir};
 pub use registry::{Job, JobKind, Report};
-pub use run::{CHECKPOINT_JSON, MANIFEST_JSON, Outcome, WellOutcome, run, run_on, write};
+pub use run::{
+    CHECKPOINT_JSON, MANIFEST_JSON, Outcome, Step, StepTime, WellOutcome, run, run_on, write,
+};
 pub use store::{DirStore, MemoryStore, Staged, Store, StoreError, check_file_name};
 pub use sweep::{Study, StudyPoint, StudyRun};

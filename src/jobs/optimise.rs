@@ -13,7 +13,7 @@ use super::event::{Event, Observer, Stage, Warning, WarningKind};
 use super::layer::{lay_out, layering_line, layering_report};
 use super::plan::{Plan, Planning};
 use super::registry::{Job, Report};
-use super::run::{CHECKPOINT_JSON, Running, generation, single_material};
+use super::run::{CHECKPOINT_JSON, Running, Step, generation, single_material};
 use super::store::{Store, StoreError};
 use super::wells::whole_fracture;
 use crate::cancel::Cancel;
@@ -99,7 +99,7 @@ pub(super) fn run(
         Some(l) => packing.materials = l.assignment.clone(),
         None => single_material(&mut packing, config),
     }
-    let metrics = measure(&packing, &best_scene);
+    let metrics = job.timed(Step::Measure, || measure(&packing, &best_scene));
     if let Some(warning) = warning {
         job.event(Event::Warning(warning_of(warning)));
     }

@@ -5,7 +5,7 @@ use super::describe::{Words, pack_line};
 use super::error::JobError;
 use super::plan::{Plan, Planning};
 use super::registry::{Job, Report};
-use super::run::Running;
+use super::run::{Running, Step};
 use crate::cancel::Cancel;
 use crate::metrics::{Metrics, measure_cancellable};
 use crate::output::{OutputSettings, RunInfo};
@@ -37,7 +37,9 @@ pub(super) fn run(job: &mut Running<'_>, cancel: &Cancel) -> Result<(Report, boo
     let scene = &plan.config.scene;
     let (packing, seconds) = job.pack_scene(scene, "the scene", cancel)?;
     // A cancel while measuring writes nothing, as one while packing.
-    let metrics = measure_cancellable(&packing, scene, cancel)?;
+    let metrics = job.timed(Step::Measure, || {
+        measure_cancellable(&packing, scene, cancel)
+    })?;
     let report = Report::Pack {
         packing,
         metrics,

@@ -46,6 +46,44 @@ pub struct Outcome {
     pub notes: Vec<String>,
     /// The job's own results.
     pub report: Report,
+    /// Wall-clock seconds of each step of the run that packs, measures or
+    /// writes, in the order first met (a batch sums its wells').
+    pub steps: Vec<StepTime>,
+}
+
+/// One step of a run and the wall-clock seconds it took: how a front end
+/// shows where a long run spends its time.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[non_exhaustive]
+pub struct StepTime {
+    /// Which step.
+    pub step: Step,
+    /// Its wall-clock seconds, summed over the times it ran.
+    pub seconds: f64,
+}
+
+/// A step of a run that works on packings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum Step {
+    /// Packing the scene (every scene of a batch).
+    Pack,
+    /// Measuring the packing (`metrics::measure`).
+    Measure,
+    /// The independent check, rendering every file and committing them.
+    Write,
+}
+
+impl Step {
+    /// Its name in a result line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Step::Pack => "pack",
+            Step::Measure => "measure",
+            Step::Write => "write",
+        }
+    }
 }
 
 /// One fracture of a `[fracture]` run.
@@ -131,6 +169,7 @@ pub fn run_on(
         files,
         notes: job.notes,
         report,
+        steps: job.steps,
     })
 }
 
@@ -184,6 +223,8 @@ pub(super) struct Running<'p> {
     pub pending: Vec<Staged>,
     /// What the files do not show as usual, for the manifest and the result lines.
     pub notes: Vec<String>,
+    /// The time taken by each step so far.
+    pub steps: Vec<StepTime>,
 }
 
 impl<'p> Running<'p> {
@@ -202,7 +243,24 @@ impl<'p> Running<'p> {
             files: Vec::new(),
             pending: Vec::new(),
             notes: Vec::new(),
+            steps: Vec::new(),
         }
+    }
+
+    /// Add `seconds` to `step`'s time.
+    pub fn spent(&mut self, step: Step, seconds: f64) {
+        match self.steps.iter_mut().find(|s| s.step == step) {
+            Some(s) => s.seconds += seconds,
+            None => self.steps.push(StepTime { step, seconds }),
+        }
+    }
+
+    /// `work`, its wall-clock time added to `step`'s.
+    pub fn timed<T>(&mut self, step: Step, work: impl FnOnce() -> T) -> T {
+        let start = std::time::Instant::now();
+        let done = work();
+        self.spent(step, start.elapsed().as_secs_f64());
+        done
     }
 
     /// The plan's config.
@@ -252,9 +310,12 @@ impl<'p> Running<'p> {
         metrics: &Metrics,
         run: &RunInfo<'_>,
     ) -> Result<(), JobError> {
+        let start = std::time::Instant::now();
         let files =
             render_output_bodies(packing, metrics, run).map_err(|e| relaxation_hint(e, run))?;
-        self.write_bodies(folder, files)?;
+        let written = self.write_bodies(folder, files);
+        self.spent(Step::Write, start.elapsed().as_secs_f64());
+        written?;
         self.notes
             .extend(picture_notes(folder, packing, run.output, SVG_MAX_BYTES));
         if !grading_kept(metrics.particles, metrics.psd_ks) {
@@ -319,6 +380,7 @@ impl<'p> Running<'p> {
             cancel,
         );
         let seconds = start.elapsed().as_secs_f64();
+        self.spent(Step::Pack, seconds);
         match packing {
             Ok(mut packing) => {
                 single_material(&mut packing, self.config());
@@ -338,6 +400,14 @@ impl<'p> Running<'p> {
     /// ours), in one [`Store::commit`]: on failure the folder is as the
     /// earlier run left it. The files of the run, manifest included.
     pub fn finish(&mut self, interrupted: bool) -> Result<Vec<String>, JobError> {
+        let start = std::time::Instant::now();
+        let files = self.commit(interrupted);
+        self.spent(Step::Write, start.elapsed().as_secs_f64());
+        files
+    }
+
+    /// [`Running::finish`] untimed.
+    fn commit(&mut self, interrupted: bool) -> Result<Vec<String>, JobError> {
         let mut files = std::mem::take(&mut self.files);
         files.push(MANIFEST_JSON.to_owned());
         files.sort();

@@ -11,7 +11,7 @@ use super::error::JobError;
 use super::event::{Event, Observer, Stage, Warning};
 use super::plan::Plan;
 use super::registry::Report;
-use super::run::{Running, WellOutcome, single_material};
+use super::run::{Running, Step, WellOutcome, single_material};
 use super::store::{Staged, StoreError};
 use crate::cancel::Cancel;
 use crate::config::Config;
@@ -237,7 +237,7 @@ fn well(
             )
         }
     };
-    let metrics = measure(&packing, &scene);
+    let metrics = job.timed(Step::Measure, || measure(&packing, &scene));
     let run = RunInfo {
         materials: &plan.config.materials,
         fracture: Some(fracture_summary(well, extent, window.as_ref())),

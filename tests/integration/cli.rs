@@ -749,3 +749,53 @@ fn bench_measures_both_indexes_on_the_same_packing() {
         );
     }
 }
+
+/// `--timings` prints where the run's time went: each step once, in the
+/// order run, every figure a non-negative number of seconds, and the ratio
+/// of what follows the packing to the packing, consistent with them.
+#[test]
+fn timings_split_the_run_into_its_steps() {
+    let dir = common::scratch("timings");
+    fs::write(
+        dir.join("t.toml"),
+        rect("width = 60\nheight = 60", "constant = 1.0"),
+    )
+    .expect("write config");
+    let run = common::gapack(&dir, &["pack", "t.toml", "--timings", "--quiet"]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let out = String::from_utf8_lossy(&run.stdout);
+    let line = out
+        .lines()
+        .find_map(|l| l.strip_prefix("timings: "))
+        .unwrap_or_else(|| panic!("no timings line in {out:?}"));
+    let (steps, ratio) = line.split_once("; after packing ").expect("a ratio");
+    let mut seconds = Vec::new();
+    for (part, name) in steps.split(", ").zip(["pack", "measure", "write"]) {
+        let value = part
+            .strip_prefix(name)
+            .and_then(|v| v.strip_suffix(" s"))
+            .unwrap_or_else(|| panic!("{part:?} is not {name}"));
+        let value: f64 = value.trim().parse().expect("seconds");
+        assert!(value >= 0.0, "{part}");
+        seconds.push(value);
+    }
+    assert_eq!(seconds.len(), 3, "{line}");
+    let ratio: f64 = ratio
+        .strip_suffix(" × the packing")
+        .expect("ratio")
+        .parse()
+        .expect("a number");
+    // The printed seconds are rounded to 10 ms: the ratio agrees with them
+    // to that rounding whenever the packing took a measurable time.
+    if seconds[0] >= 0.05 {
+        let expect = (seconds[1] + seconds[2]) / seconds[0];
+        assert!((ratio - expect).abs() <= 0.02 / seconds[0] + 0.01, "{line}");
+    }
+    // Without the flag, no such line.
+    let plain = common::gapack(&dir, &["pack", "t.toml", "--out", "plain"]);
+    assert!(!String::from_utf8_lossy(&plain.stdout).contains("timings:"));
+}

@@ -29,6 +29,10 @@ pub struct JobArgs {
     /// Neither progress bar nor result line.
     #[arg(long)]
     quiet: bool,
+    /// Also print where the run's time went: packing, measuring, and the
+    /// check with every file written, in wall-clock seconds.
+    #[arg(long)]
+    timings: bool,
     /// Start even if the scene's upper bound is over the config's [limits]; the
     /// limits still stop the run if the packing itself reaches them.
     #[arg(long)]
@@ -146,6 +150,11 @@ fn tell(outcome: Result<Outcome, JobError>, args: &JobArgs) -> Result<(), Failur
     })?;
     for line in Summary::of(&outcome, &outcome.location).lines {
         report(args.quiet, || line);
+    }
+    if args.timings
+        && let Some(line) = outcome.timings_line()
+    {
+        super::print_line(line);
     }
     if !args.quiet {
         super::hint::after_stop(&outcome, args.config.as_deref(), args.seed, args.force);
