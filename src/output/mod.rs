@@ -5,6 +5,7 @@
 //! independent check of the packing.
 
 mod csv;
+mod digits;
 mod error;
 mod export;
 mod format;
