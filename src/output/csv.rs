@@ -12,7 +12,7 @@ use super::plot::variant_label;
 use crate::compare::CompareRun;
 use crate::fracture::WindowStep;
 use crate::ga::Generation;
-use crate::geometry::{Grain, Outline, Point};
+use crate::geometry::{Grain, Outline};
 use crate::layering::{Material, ProfileRow};
 use crate::metrics::ShapeStats;
 use crate::packer::Packing;
@@ -460,7 +460,7 @@ impl GrainColumns {
 /// between the coordinates of a vertex, a semicolon between vertices),
 /// each number in shortest round-trip form.
 #[cfg(test)]
-pub(crate) fn vertex_list(vertices: &[Point]) -> String {
+pub(crate) fn vertex_list(vertices: &[crate::geometry::Point]) -> String {
     vertices
         .iter()
         .map(|p| format!("{} {}", p.x, p.y))
@@ -670,7 +670,7 @@ mod tests {
         use crate::geometry::{Disk, Domain};
         use rand::{Rng, SeedableRng};
         let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(seed);
-        let mut value = |rng: &mut rand_xoshiro::Xoshiro256PlusPlus| match rng.gen_range(0..6) {
+        let value = |rng: &mut rand_xoshiro::Xoshiro256PlusPlus| match rng.gen_range(0..6) {
             0 => rng.gen_range(-100.0..100.0_f64).round(),
             1 => rng.gen_range(0.0..1e-5),
             2 => rng.gen_range(1e15..1e17),
@@ -691,7 +691,9 @@ mod tests {
                         Outline::Polygon {
                             template: rng.r#gen(),
                             vertices: (0..count)
-                                .map(|_| Point::new(value(&mut rng), value(&mut rng)))
+                                .map(|_| {
+                                    crate::geometry::Point::new(value(&mut rng), value(&mut rng))
+                                })
                                 .collect(),
                             rounding: value(&mut rng),
                         }
