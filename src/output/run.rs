@@ -16,7 +16,7 @@ use super::export::{
     MERCURY_DATA, PACKING_JSON, PACKING_NPZ, PACKING_VTK, PACKING_VTP, PFC_COMMANDS,
     SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, YADE_SCRIPT, YADE_TEXT, boundary_vtk, esys_geometry,
     lammps_clumps_data, lammps_data, liggghts_clumps_data, mercury_data, packing_json, packing_vtk,
-    pfc_commands, superquadric_data, superquadric_input, write_packing_npz, write_packing_vtp,
+    pfc_commands, superquadric_data, superquadric_input, write_packing_npz, write_packing_vtp_with,
     yade_script, yade_text,
 };
 use super::format::{Format, OutputSettings};
@@ -271,8 +271,9 @@ pub fn render_output_bodies<'a>(
         tasks.add(BOUNDARY_VTK, || Ok(boundary_vtk(packing)));
     }
     if out.wants(Format::Vtp) {
+        let compression = out.vtp_compression;
         tasks.stream(PACKING_VTP, move |w| {
-            write_packing_vtp(packing, materials, w)
+            write_packing_vtp_with(packing, materials, compression, w)
         });
     }
     if out.wants(Format::Npz) {
