@@ -316,8 +316,8 @@ pub fn packing_png_coloured(
                 size,
                 &layout,
                 &clips,
-                &walls,
-                &disks,
+                walls,
+                disks,
                 |i| fills.of_particle(packing, i),
                 packing,
             );
