@@ -1,5 +1,5 @@
 """The binary outputs read by their formats' own readers: `packing.vtp`
-with VTK's `vtkXMLPolyDataReader`, `packing.npz` with `numpy.load`, each
+(raw and zlib-compressed) with VTK's `vtkXMLPolyDataReader`, `packing.npz` with `numpy.load`, each
 value equal to `packing.csv`'s (shortest round-trip numbers: exactly).
 
 Runs the gapack command line (``$GAPACK_BIN``, see conftest.py); the VTK
@@ -29,9 +29,14 @@ SCENES = {
 SHAPE_COLUMNS = ("angle", "a", "b", "alpha", "beta", "template", "rounding")
 
 
-def packed(cli: Path, tmp_path: Path, scene: str) -> Path:
-    """`gapack pack` of the scene writing csv, vtp and npz; its folder."""
-    config = SCENES[scene] + '[output]\nformats = ["csv", "vtp", "npz"]\n'
+def packed(cli: Path, tmp_path: Path, scene: str, compression: str = "none") -> Path:
+    """`gapack pack` of the scene writing csv, vtp (its arrays stored as
+    `compression` says) and npz; its folder."""
+    config = (
+        SCENES[scene]
+        + '[output]\nformats = ["csv", "vtp", "npz"]\n'
+        + f'vtp_compression = "{compression}"\n'
+    )
     (tmp_path / "c.toml").write_text(config)
     done = subprocess.run(
         [str(cli), "pack", "c.toml", "--out", "out"],
@@ -70,15 +75,18 @@ def test_numpy_loads_the_npz(cli, tmp_path, scene):
         assert np.array_equal(z["material"], np.zeros(n, dtype=np.int32))
 
 
+@pytest.mark.parametrize("compression", ["none", "zlib"])
 @pytest.mark.parametrize("scene", list(SCENES))
-def test_vtk_reads_the_vtp(cli, tmp_path, scene):
+def test_vtk_reads_the_vtp(cli, tmp_path, scene, compression):
     try:
         import vtk
         from vtk.util.numpy_support import vtk_to_numpy
     except ImportError:
         vtk = None
     need(vtk is not None, "the vtk Python module is not installed: pip install vtk")
-    out = packed(cli, tmp_path, scene)
+    out = packed(cli, tmp_path, scene, compression)
+    head = (out / "packing.vtp").read_bytes()[:1024]
+    assert (b'compressor="vtkZLibDataCompressor"' in head) == (compression == "zlib")
     csv = table(out)
     n = len(csv)
     reader = vtk.vtkXMLPolyDataReader()

@@ -296,6 +296,7 @@ pub(crate) struct RawOutput {
     pub clump_coverage: Option<Spanned<f64>>,
     pub clump_max_disks: Option<Spanned<i64>>,
     pub colour: Option<Spanned<String>>,
+    pub vtp_compression: Option<Spanned<String>>,
 }
 
 /// `[compare]`: the methods `gapack compare` runs, and how many seeds.

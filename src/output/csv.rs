@@ -4,15 +4,15 @@
 //! `window.csv` (one row per window of a fracture) and `wells.csv` (one row
 //! per well of a batch).
 
-use std::fmt::Write as _;
 use std::io::{self, Write};
 
+use super::digits::{push_f64, push_int, write_rows};
 use super::error::OutputError;
 use super::plot::variant_label;
 use crate::compare::CompareRun;
 use crate::fracture::WindowStep;
 use crate::ga::Generation;
-use crate::geometry::{Grain, Outline, Point};
+use crate::geometry::{Grain, Outline};
 use crate::layering::{Material, ProfileRow};
 use crate::metrics::ShapeStats;
 use crate::packer::Packing;
@@ -376,7 +376,9 @@ impl GrainColumns {
     }
 
     /// The cells of `grain` under [`GrainColumns::names`], in shortest
-    /// round-trip form (empty under the other family's columns).
+    /// round-trip form (empty under the other family's columns): the
+    /// reference [`GrainColumns::push_cells`] is tested against.
+    #[cfg(test)]
     pub(crate) fn cells(self, grain: &Grain) -> Vec<String> {
         let mut cells = vec![grain.angle.to_string()];
         match &grain.outline {
@@ -409,10 +411,56 @@ impl GrainColumns {
     }
 }
 
+impl GrainColumns {
+    /// [`GrainColumns::cells`] appended to `buf`, each after a comma.
+    fn push_cells(self, grain: &Grain, buf: &mut Vec<u8>) {
+        buf.push(b',');
+        push_f64(buf, grain.angle);
+        match &grain.outline {
+            Outline::Superellipse { a, b, alpha, beta } => {
+                if self.superellipse {
+                    for v in [*a, *b, *alpha, *beta] {
+                        buf.push(b',');
+                        push_f64(buf, v);
+                    }
+                }
+                if self.polygon {
+                    buf.extend_from_slice(b",,,");
+                }
+            }
+            Outline::Polygon {
+                template,
+                vertices,
+                rounding,
+            } => {
+                if self.superellipse {
+                    buf.extend_from_slice(b",,,,");
+                }
+                if self.polygon {
+                    buf.push(b',');
+                    push_int(buf, *template);
+                    buf.push(b',');
+                    push_f64(buf, *rounding);
+                    buf.push(b',');
+                    for (k, p) in vertices.iter().enumerate() {
+                        if k > 0 {
+                            buf.push(b';');
+                        }
+                        push_f64(buf, p.x);
+                        buf.push(b' ');
+                        push_f64(buf, p.y);
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// A polygon's vertices as one CSV field: `x1 y1;x2 y2;…` (a space
 /// between the coordinates of a vertex, a semicolon between vertices),
 /// each number in shortest round-trip form.
-pub(crate) fn vertex_list(vertices: &[Point]) -> String {
+#[cfg(test)]
+pub(crate) fn vertex_list(vertices: &[crate::geometry::Point]) -> String {
     vertices
         .iter()
         .map(|p| format!("{} {}", p.x, p.y))
@@ -438,8 +486,10 @@ pub(crate) fn vertex_list(vertices: &[Point]) -> String {
 /// Numbers use Rust's shortest round-trip formatting, so they read back
 /// exactly and the same packing always gives the same bytes.
 ///
-/// Streamed to `out` row by row: the table is never held whole in memory
-/// (a few kilobytes of buffer).
+/// Streamed to `out` in blocks of rows formatted on all cores and written
+/// in order: the table is never held whole in memory (a few blocks of
+/// about a megabyte each), and its bytes do not depend on the number of
+/// threads.
 ///
 /// # Errors
 /// The first I/O error of `out`.
@@ -448,67 +498,144 @@ pub fn write_packing_csv(
     materials: &[Material],
     out: &mut dyn Write,
 ) -> io::Result<()> {
-    let mut writer = ::csv::Writer::from_writer(out);
     let named = !materials.is_empty();
     let shapes = GrainColumns::of(&packing.grains);
+    let mut header = vec!["id", "x", "y", "r"];
     if !packing.grains.is_empty() {
-        let mut header = vec!["id", "x", "y", "r"];
         header.extend(shapes.names());
-        if named {
-            header.push("material");
-        }
-        writer.write_record(&header)?;
-        for (id, (disk, grain)) in packing.disks.iter().zip(&packing.grains).enumerate() {
-            let mut record = vec![
-                id.to_string(),
-                disk.c.x.to_string(),
-                disk.c.y.to_string(),
-                disk.r.to_string(),
-            ];
-            record.extend(shapes.cells(grain));
-            if named {
-                let m = packing.materials.get(id).map_or(0, |&m| usize::from(m));
-                record.push(materials.get(m).map_or(String::new(), |m| m.name.clone()));
-            }
-            writer.write_record(&record)?;
-        }
-        return writer.flush();
     }
     if named {
-        writer.write_record(["id", "x", "y", "r", "material"])?;
-    } else {
-        writer.write_record(["id", "x", "y", "r"])?;
+        header.push("material");
     }
-    // One row's fields, formatted into buffers reused from row to row.
-    let mut fields: [String; 5] = Default::default();
-    for (id, disk) in packing.disks.iter().enumerate() {
-        for field in &mut fields {
-            field.clear();
-        }
-        let [i, x, y, r, material] = &mut fields;
-        // Formatting into a String cannot fail.
-        let _ = (
-            write!(i, "{id}"),
-            write!(x, "{}", disk.c.x),
-            write!(y, "{}", disk.c.y),
-            write!(r, "{}", disk.r),
-        );
+    out.write_all(header.join(",").as_bytes())?;
+    out.write_all(b"\n")?;
+    // Each material's cell, quoted as CSV needs, once.
+    let names = materials
+        .iter()
+        .map(|m| csv_cell(&m.name))
+        .collect::<io::Result<Vec<_>>>()?;
+    let material = |id: usize, buf: &mut Vec<u8>| {
         if named {
             let m = packing.materials.get(id).map_or(0, |&m| usize::from(m));
-            if let Some(m) = materials.get(m) {
-                material.push_str(&m.name);
+            buf.push(b',');
+            if let Some(name) = names.get(m) {
+                buf.extend_from_slice(name);
             }
-            writer.write_record(&fields)?;
-        } else {
-            writer.write_record(&fields[..4])?;
         }
+        buf.push(b'\n');
+    };
+    let disks = &packing.disks;
+    if packing.grains.is_empty() {
+        return write_rows(out, disks.len(), |id, buf| {
+            let disk = &disks[id];
+            push_int(buf, id);
+            for v in [disk.c.x, disk.c.y, disk.r] {
+                buf.push(b',');
+                push_f64(buf, v);
+            }
+            material(id, buf);
+        });
     }
-    writer.flush()
+    let rows = disks.len().min(packing.grains.len());
+    write_rows(out, rows, |id, buf| {
+        let disk = &disks[id];
+        push_int(buf, id);
+        for v in [disk.c.x, disk.c.y, disk.r] {
+            buf.push(b',');
+            push_f64(buf, v);
+        }
+        shapes.push_cells(&packing.grains[id], buf);
+        material(id, buf);
+    })
+}
+
+/// `text` as one CSV cell: quoted as the `csv` crate quotes it (only when
+/// it holds a comma, a quote or a line break).
+fn csv_cell(text: &str) -> io::Result<Vec<u8>> {
+    // The cell as the second of a record, so that the writer closes it
+    // as in a row: `,cell\n`.
+    let mut writer = ::csv::Writer::from_writer(Vec::new());
+    writer.write_record(["", text])?;
+    let record = writer
+        .into_inner()
+        .map_err(|e| io::Error::other(e.into_error()))?;
+    Ok(record
+        .strip_prefix(b",")
+        .and_then(|r| r.strip_suffix(b"\n"))
+        .unwrap_or(&record)
+        .to_vec())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::fmt::Write as _;
+
+    /// The table as it was written before the fast formatting: `csv::Writer`
+    /// and `Display`, the reference the fast path must equal byte for byte.
+    fn write_packing_csv_display(
+        packing: &Packing,
+        materials: &[Material],
+        out: &mut dyn Write,
+    ) -> io::Result<()> {
+        let mut writer = ::csv::Writer::from_writer(out);
+        let named = !materials.is_empty();
+        let shapes = GrainColumns::of(&packing.grains);
+        if !packing.grains.is_empty() {
+            let mut header = vec!["id", "x", "y", "r"];
+            header.extend(shapes.names());
+            if named {
+                header.push("material");
+            }
+            writer.write_record(&header)?;
+            for (id, (disk, grain)) in packing.disks.iter().zip(&packing.grains).enumerate() {
+                let mut record = vec![
+                    id.to_string(),
+                    disk.c.x.to_string(),
+                    disk.c.y.to_string(),
+                    disk.r.to_string(),
+                ];
+                record.extend(shapes.cells(grain));
+                if named {
+                    let m = packing.materials.get(id).map_or(0, |&m| usize::from(m));
+                    record.push(materials.get(m).map_or(String::new(), |m| m.name.clone()));
+                }
+                writer.write_record(&record)?;
+            }
+            return writer.flush();
+        }
+        if named {
+            writer.write_record(["id", "x", "y", "r", "material"])?;
+        } else {
+            writer.write_record(["id", "x", "y", "r"])?;
+        }
+        // One row's fields, formatted into buffers reused from row to row.
+        let mut fields: [String; 5] = Default::default();
+        for (id, disk) in packing.disks.iter().enumerate() {
+            for field in &mut fields {
+                field.clear();
+            }
+            let [i, x, y, r, material] = &mut fields;
+            // Formatting into a String cannot fail.
+            let _ = (
+                write!(i, "{id}"),
+                write!(x, "{}", disk.c.x),
+                write!(y, "{}", disk.c.y),
+                write!(r, "{}", disk.r),
+            );
+            if named {
+                let m = packing.materials.get(id).map_or(0, |&m| usize::from(m));
+                if let Some(m) = materials.get(m) {
+                    material.push_str(&m.name);
+                }
+                writer.write_record(&fields)?;
+            } else {
+                writer.write_record(&fields[..4])?;
+            }
+        }
+        writer.flush()
+    }
+
     use crate::geometry::{Disk, Domain, WallMode};
 
     #[test]
@@ -534,5 +661,106 @@ mod tests {
             .and_then(|l| l.split(',').nth(1))
             .map_or(0.0, |v| v.parse().unwrap_or(0.0));
         assert_eq!(x, 0.1 + 0.2);
+    }
+
+    /// A random packing: disks, superellipses, rounded polygons or both,
+    /// with coordinates of every magnitude the formatter treats apart
+    /// (whole numbers, tiny and huge values), and material indices.
+    pub(crate) fn random_packing(seed: u64, kind: usize, n: usize) -> Packing {
+        use crate::geometry::{Disk, Domain};
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(seed);
+        let value = |rng: &mut rand_xoshiro::Xoshiro256PlusPlus| match rng.gen_range(0..6) {
+            0 => rng.gen_range(-100.0..100.0_f64).round(),
+            1 => rng.gen_range(0.0..1e-5),
+            2 => rng.gen_range(1e15..1e17),
+            _ => rng.gen_range(-2000.0..2000.0),
+        };
+        let disks: Vec<Disk> = (0..n)
+            .map(|_| Disk::new(value(&mut rng), value(&mut rng), value(&mut rng).abs()))
+            .collect();
+        let mut packing =
+            Packing::of_disks(Domain::rectangle(10.0, 10.0).expect("rectangle"), disks);
+        packing.materials = (0..n).map(|_| rng.gen_range(0..4)).collect();
+        if kind > 0 {
+            packing.grains = (0..n)
+                .map(|_| {
+                    let polygon = kind == 2 || (kind == 3 && rng.r#gen::<bool>());
+                    let outline = if polygon {
+                        let count = rng.gen_range(3..7);
+                        Outline::Polygon {
+                            template: rng.r#gen(),
+                            vertices: (0..count)
+                                .map(|_| {
+                                    crate::geometry::Point::new(value(&mut rng), value(&mut rng))
+                                })
+                                .collect(),
+                            rounding: value(&mut rng),
+                        }
+                    } else {
+                        Outline::Superellipse {
+                            a: value(&mut rng),
+                            b: value(&mut rng),
+                            alpha: value(&mut rng),
+                            beta: value(&mut rng),
+                        }
+                    };
+                    Grain {
+                        outline,
+                        angle: value(&mut rng),
+                    }
+                })
+                .collect();
+        }
+        packing
+    }
+
+    #[test]
+    fn the_fast_table_is_the_display_table_byte_for_byte() {
+        let material = |name: &str| Material {
+            name: name.to_owned(),
+            properties: Vec::new(),
+        };
+        let sets = [
+            vec![],
+            vec![material("ceramic")],
+            vec![
+                material("hard, metal"),
+                material("say \"hi\""),
+                material(""),
+                material("two\nlines"),
+            ],
+        ];
+        for threads in [1, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("pool");
+            for (seed, (kind, n)) in [(0, 0), (1, 0), (2, 1), (3, 2), (4, 3), (5, 0), (6, 3)]
+                .into_iter()
+                .zip([0, 1, 20_000, 700, 700, 40_000, 1_500])
+                .enumerate()
+                .map(|(s, ((k, _), n))| (s as u64, (k, n)))
+            {
+                let packing = random_packing(seed, kind, n);
+                for materials in &sets {
+                    let mut old = Vec::new();
+                    write_packing_csv_display(&packing, materials, &mut old).expect("old");
+                    let mut new = Vec::new();
+                    pool.install(|| write_packing_csv(&packing, materials, &mut new))
+                        .expect("new");
+                    let (old, new) = (
+                        String::from_utf8(old).expect("utf-8"),
+                        String::from_utf8(new).expect("utf-8"),
+                    );
+                    let first = old.lines().zip(new.lines()).find(|(a, b)| a != b);
+                    assert!(
+                        old == new,
+                        "seed {seed}, kind {kind}, {} materials: {first:?}",
+                        materials.len()
+                    );
+                }
+            }
+        }
     }
 }

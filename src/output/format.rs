@@ -116,6 +116,32 @@ impl ConfigName for LengthUnit {
     }
 }
 
+/// How `packing.vtp` stores its arrays (`[output] vtp_compression`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum VtpCompression {
+    /// Raw little-endian values (the default): fastest to write and read.
+    #[default]
+    None,
+    /// Each array zlib-compressed in blocks, as VTK's
+    /// `vtkZLibDataCompressor` writes them: smaller, slower to write.
+    Zlib,
+}
+
+/// The names `[output] vtp_compression` takes.
+pub(crate) const VTP_COMPRESSIONS: Names<VtpCompression> = Names {
+    what: "vtp compression",
+    entries: &[
+        ("none", VtpCompression::None),
+        ("zlib", VtpCompression::Zlib),
+    ],
+};
+
+impl ConfigName for VtpCompression {
+    fn config_name(&self) -> &'static str {
+        VTP_COMPRESSIONS.name_of(*self)
+    }
+}
+
 /// Settings shared by the DEM exports.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ExportOptions {
@@ -187,6 +213,8 @@ pub struct OutputSettings {
     /// How the packing's pictures colour the particles (`colour`); `None`:
     /// by material when there are materials, else by size.
     pub colour: Option<Colouring>,
+    /// How `packing.vtp` stores its arrays (`vtp_compression`).
+    pub vtp_compression: VtpCompression,
 }
 
 impl OutputSettings {
@@ -203,6 +231,7 @@ impl Default for OutputSettings {
             formats: Format::DEFAULT.to_vec(),
             export: ExportOptions::default(),
             colour: None,
+            vtp_compression: VtpCompression::None,
         }
     }
 }

@@ -16,7 +16,7 @@ use super::export::{
     MERCURY_DATA, PACKING_JSON, PACKING_NPZ, PACKING_VTK, PACKING_VTP, PFC_COMMANDS,
     SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, YADE_SCRIPT, YADE_TEXT, boundary_vtk, esys_geometry,
     lammps_clumps_data, lammps_data, liggghts_clumps_data, mercury_data, packing_json, packing_vtk,
-    pfc_commands, superquadric_data, superquadric_input, write_packing_npz, write_packing_vtp,
+    pfc_commands, superquadric_data, superquadric_input, write_packing_npz, write_packing_vtp_with,
     yade_script, yade_text,
 };
 use super::format::{Format, OutputSettings};
@@ -30,7 +30,7 @@ use super::plot::{
     PsdChart, StabilityChart, convergence_chart, packing_png_coloured, porosity_map_chart,
     profile_chart, psd_chart, psd_chart_of_scene, window_chart,
 };
-use super::svg::{PACKING_SVG, SVG_MAX_BYTES, packing_svg_within};
+use super::svg::{PACKING_SVG, SVG_MAX_BYTES, packing_svg_note, packing_svg_within, svg_of_png};
 use crate::Scene;
 use crate::check::check_particles;
 use crate::compare::CompareRun;
@@ -271,8 +271,9 @@ pub fn render_output_bodies<'a>(
         tasks.add(BOUNDARY_VTK, || Ok(boundary_vtk(packing)));
     }
     if out.wants(Format::Vtp) {
+        let compression = out.vtp_compression;
         tasks.stream(PACKING_VTP, move |w| {
-            write_packing_vtp(packing, materials, w)
+            write_packing_vtp_with(packing, materials, compression, w)
         });
     }
     if out.wants(Format::Npz) {
@@ -411,11 +412,15 @@ fn confirm(packing: &Packing, metrics: &Metrics) -> Result<(), OutputError> {
 }
 
 /// How one file is made.
-type Make<'a> = Box<dyn Fn() -> Result<Vec<u8>, OutputError> + Send + Sync + 'a>;
+type Make<'a> = Box<dyn FnOnce() -> Result<Vec<u8>, OutputError> + Send + 'a>;
 
-/// One file of a run: made, or streamed where it goes.
+/// How two files made from one thing (a chart, a raster) are made.
+type MakeTwo<'a> = Box<dyn FnOnce() -> Result<[Vec<u8>; 2], OutputError> + Send + 'a>;
+
+/// One file of a run, or two made together: made, or streamed where it goes.
 enum Task<'a> {
     Make(Make<'a>),
+    Two(&'static str, MakeTwo<'a>),
     Stream(Stream<'a>),
 }
 
@@ -440,9 +445,19 @@ impl<'a> Tasks<'a> {
     fn add(
         &mut self,
         name: &'static str,
-        make: impl Fn() -> Result<Vec<u8>, OutputError> + Send + Sync + 'a,
+        make: impl FnOnce() -> Result<Vec<u8>, OutputError> + Send + 'a,
     ) {
         self.list.push((name, Task::Make(Box::new(make))));
+    }
+
+    /// Files `first` and `second`, made together by `make` (in that order
+    /// among the files).
+    fn add_two(
+        &mut self,
+        (first, second): (&'static str, &'static str),
+        make: impl FnOnce() -> Result<[Vec<u8>; 2], OutputError> + Send + 'a,
+    ) {
+        self.list.push((first, Task::Two(second, Box::new(make))));
     }
 
     /// File `name`, streamed by `write` where it goes.
@@ -464,7 +479,36 @@ impl<'a> Tasks<'a> {
         packing: &'a Packing,
         materials: &'a [Material],
         diameters: (f64, f64),
-        psd: impl FnOnce() -> PsdChart,
+        psd: impl FnOnce() -> PsdChart + Send + 'a,
+    ) {
+        let colour = self.out.colour;
+        let (svg, png) = (self.out.wants(Format::Svg), self.out.wants(Format::Png));
+        let note = if svg && png {
+            packing_svg_note(packing, SVG_MAX_BYTES)
+        } else {
+            None
+        };
+        if let Some(note) = note {
+            // The SVG holds the PNG: drawn and encoded once for both.
+            self.add_two((PACKING_SVG, PACKING_PNG), move || {
+                let png = packing_png_coloured(packing, materials, diameters, colour)?;
+                Ok([svg_of_png(&note, &png).into_bytes(), png])
+            });
+        } else {
+            self.add_pictures(packing, materials, diameters);
+        }
+        self.chart((PSD_SVG, PSD_PNG), psd);
+        self.chart((POROSITY_MAP_SVG, POROSITY_MAP_PNG), move || {
+            porosity_map_chart(packing)
+        });
+    }
+
+    /// `packing.svg` and `packing.png`, each if asked for, made apart.
+    fn add_pictures(
+        &mut self,
+        packing: &'a Packing,
+        materials: &'a [Material],
+        diameters: (f64, f64),
     ) {
         let colour = self.out.colour;
         if self.out.wants(Format::Svg) {
@@ -478,10 +522,6 @@ impl<'a> Tasks<'a> {
                 packing_png_coloured(packing, materials, diameters, colour)
             });
         }
-        self.chart((PSD_SVG, PSD_PNG), psd);
-        self.chart((POROSITY_MAP_SVG, POROSITY_MAP_PNG), move || {
-            porosity_map_chart(packing)
-        });
     }
 
     /// The shape chart (aspect ratio and sphericity found against what
@@ -509,23 +549,21 @@ impl<'a> Tasks<'a> {
 
     /// The chart `make` builds, as SVG and as PNG under `names`, each if
     /// asked for: built once (a porosity map measures the packing), drawn
-    /// twice.
+    /// twice, all in the file tasks (in parallel with the other files).
     fn chart<C: Drawable + Send + Sync + 'a>(
         &mut self,
         (svg, png): (&'static str, &'static str),
-        make: impl FnOnce() -> C,
+        make: impl FnOnce() -> C + Send + 'a,
     ) {
-        let (wants_svg, wants_png) = (self.out.wants(Format::Svg), self.out.wants(Format::Png));
-        if !wants_svg && !wants_png {
-            return;
-        }
-        let chart = Arc::new(make());
-        if wants_svg {
-            let chart = Arc::clone(&chart);
-            self.add(svg, move || Ok(chart.to_svg()?.into_bytes()));
-        }
-        if wants_png {
-            self.add(png, move || chart.to_png());
+        match (self.out.wants(Format::Svg), self.out.wants(Format::Png)) {
+            (true, true) => self.add_two((svg, png), move || {
+                let chart = make();
+                let (svg, png) = rayon::join(|| chart.to_svg(), || chart.to_png());
+                Ok([svg?.into_bytes(), png?])
+            }),
+            (true, false) => self.add(svg, move || Ok(make().to_svg()?.into_bytes())),
+            (false, true) => self.add(png, move || make().to_png()),
+            (false, false) => {}
         }
     }
 
@@ -543,16 +581,24 @@ impl<'a> Tasks<'a> {
     /// Make every file listed but those streamed, in parallel, in the order
     /// listed; the first error if any fails.
     fn bodies(self) -> Result<Vec<(String, Body<'a>)>, OutputError> {
-        self.list
+        let made: Vec<Vec<(String, Body<'a>)>> = self
+            .list
             .into_par_iter()
             .map(|(name, task)| {
-                let body = match task {
-                    Task::Make(make) => Body::Bytes(make()?),
-                    Task::Stream(write) => Body::Stream(write),
-                };
-                Ok((name.to_owned(), body))
+                Ok(match task {
+                    Task::Make(make) => vec![(name.to_owned(), Body::Bytes(make()?))],
+                    Task::Two(second, make) => {
+                        let [a, b] = make()?;
+                        vec![
+                            (name.to_owned(), Body::Bytes(a)),
+                            (second.to_owned(), Body::Bytes(b)),
+                        ]
+                    }
+                    Task::Stream(write) => vec![(name.to_owned(), Body::Stream(write))],
+                })
             })
-            .collect()
+            .collect::<Result<_, OutputError>>()?;
+        Ok(made.into_iter().flatten().collect())
     }
 }
 

@@ -615,6 +615,12 @@ pub fn packing_svg_within(
         return Ok(packing_svg_coloured(packing, materials, diameters, colour));
     };
     let png = packing_png_coloured(packing, materials, diameters, colour)?;
+    Ok(svg_of_png(&note, &png))
+}
+
+/// The light `packing.svg` holding `png` (`packing.png`) as an embedded
+/// image, its title saying why (`note`, [`packing_svg_note`]).
+pub(crate) fn svg_of_png(note: &str, png: &[u8]) -> String {
     // The PNG header gives the image's size (bytes 16–23: width, height).
     let side = |at: usize| {
         png.get(at..at + 4)
@@ -632,10 +638,10 @@ pub fn packing_svg_within(
     let _ = writeln!(
         svg,
         r#"<image width="{w}" height="{h}" href="data:image/png;base64,{}"/>"#,
-        base64(&png)
+        base64(png)
     );
     let _ = writeln!(svg, "</svg>");
-    Ok(svg)
+    svg
 }
 
 /// `bytes` in base64 (RFC 4648, padded), for a data URI.

@@ -127,7 +127,13 @@ fn read_vtp(path: &Path) -> (usize, BTreeMap<String, (usize, Values)>) {
     assert_eq!(attr(file, "version"), Some("1.0"));
     assert_eq!(attr(file, "byte_order"), Some("LittleEndian"));
     assert_eq!(attr(file, "header_type"), Some("UInt64"));
-    assert!(!head.contains("compressor"), "uncompressed");
+    let zlib = match attr(file, "compressor") {
+        None => false,
+        Some(c) => {
+            assert_eq!(c, "vtkZLibDataCompressor");
+            true
+        }
+    };
     let piece = &head[head.find("<Piece").expect("a piece")..];
     let n: usize = attr(piece, "NumberOfPoints").unwrap().parse().unwrap();
     assert_eq!(attr(piece, "NumberOfVerts"), Some(n.to_string().as_str()));
@@ -146,10 +152,18 @@ fn read_vtp(path: &Path) -> (usize, BTreeMap<String, (usize, Values)>) {
             other => panic!("{name}: unexpected type {other}"),
         };
         let start = base + offset;
-        let count = le64(&bytes, start) as usize;
-        assert_eq!(count, n * components * size, "{name}: byte count");
-        let data = &bytes[start + 8..start + 8 + count];
-        end = end.max(start + 8 + count);
+        let (data, stop) = if zlib {
+            inflate_blocks(&bytes, start, n * components * size, &name)
+        } else {
+            let count = le64(&bytes, start) as usize;
+            assert_eq!(count, n * components * size, "{name}: byte count");
+            (
+                bytes[start + 8..start + 8 + count].to_vec(),
+                start + 8 + count,
+            )
+        };
+        let data = &data[..];
+        end = end.max(stop);
         let values = Values {
             kind: kind.to_owned(),
             bits: decode(data, kind),
@@ -162,6 +176,41 @@ fn read_vtp(path: &Path) -> (usize, BTreeMap<String, (usize, Values)>) {
         "the arrays end where the block does"
     );
     (n, arrays)
+}
+
+/// A zlib-compressed appended array at `start`, as VTK reads it: the
+/// UInt64 header (blocks, block size, partial last block size or 0, each
+/// block's compressed size), then the blocks, each inflated on its own;
+/// its values (`count` bytes) and the byte after it.
+fn inflate_blocks(bytes: &[u8], start: usize, count: usize, name: &str) -> (Vec<u8>, usize) {
+    use std::io::Read;
+    let blocks = le64(bytes, start) as usize;
+    let block = le64(bytes, start + 8) as usize;
+    let last = le64(bytes, start + 16) as usize;
+    assert_eq!(block, 32_768, "{name}: VTK's block size");
+    assert_eq!(blocks, count.div_ceil(block), "{name}: blocks");
+    assert_eq!(last, count % block, "{name}: the last block's size");
+    let sizes: Vec<usize> = (0..blocks)
+        .map(|b| le64(bytes, start + 24 + 8 * b) as usize)
+        .collect();
+    let mut at = start + 24 + 8 * blocks;
+    let mut data = Vec::with_capacity(count);
+    for (b, &size) in sizes.iter().enumerate() {
+        let mut part = Vec::new();
+        flate2::read::ZlibDecoder::new(&bytes[at..at + size])
+            .read_to_end(&mut part)
+            .expect("a zlib stream");
+        let want = if b + 1 == blocks && last != 0 {
+            last
+        } else {
+            block
+        };
+        assert_eq!(part.len(), want, "{name}: block {b}");
+        data.extend(part);
+        at += size;
+    }
+    assert_eq!(data.len(), count, "{name}: byte count");
+    (data, at)
 }
 
 /// CRC-32 (IEEE, reflected), bit by bit.
@@ -361,8 +410,19 @@ fn check_run(out: &Path, names: &[&str]) {
 /// Runs `gapack command` on `config` in a scratch folder and checks its
 /// binary outputs against its `packing.csv`.
 fn run_and_check(name: &str, command: &str, config: &str, materials: &[&str]) -> Csv {
+    run_and_check_with(name, command, config, materials, "")
+}
+
+/// [`run_and_check`] with more `[output]` keys (`extra`, whole lines).
+fn run_and_check_with(
+    name: &str,
+    command: &str,
+    config: &str,
+    materials: &[&str],
+    extra: &str,
+) -> Csv {
     let dir = scratch(&format!("binary-{name}"));
-    let text = format!("{config}\n[output]\nformats = [\"csv\", \"vtp\", \"npz\"]\n");
+    let text = format!("{config}\n[output]\nformats = [\"csv\", \"vtp\", \"npz\"]\n{extra}");
     fs::write(dir.join("c.toml"), text).unwrap();
     let out = gapack(&dir, &[command, "c.toml", "--out", "out"]);
     assert!(
@@ -401,6 +461,34 @@ fn disk_packings_read_back_bit_for_bit() {
         let csv = run_and_check(&format!("disks-{k}"), "pack", &config, &[]);
         assert!(!csv.has("material") && !csv.has("angle"));
     }
+}
+
+/// `vtp_compression = "zlib"`: the arrays in zlib blocks as VTK writes
+/// them, several blocks an array, read back bit for bit, for disks and
+/// for superellipses with materials.
+#[test]
+fn a_zlib_vtp_reads_back_bit_for_bit() {
+    let disks = "seed = 3\n[domain]\nshape = \"rectangle\"\nwidth = 60\nheight = 40\n\
+                 [grading]\nuniform = [0.6, 1.2]\n";
+    let csv = run_and_check_with(
+        "zlib-disks",
+        "pack",
+        disks,
+        &[],
+        "vtp_compression = \"zlib\"\n",
+    );
+    // Points take 24 bytes a disk: more than one block of 32768 bytes.
+    assert!(csv.rows.len() * 24 > 2 * 32_768, "{} disks", csv.rows.len());
+    let shapes = "seed = 6\n[domain]\nshape = \"rectangle\"\nwidth = 14\nheight = 10\n\
+                  [grading]\nuniform = [1.0, 1.6]\n\
+                  [shape]\nkind = \"superellipse\"\naspect = [1.2, 2.0]\norientation = \"random\"\n";
+    run_and_check_with(
+        "zlib-shapes",
+        "pack",
+        shapes,
+        &[],
+        "vtp_compression = \"zlib\"\n",
+    );
 }
 
 /// Superellipses: `angle`, `a`, `b`, `alpha`, `beta` as in `packing.csv`,

@@ -110,6 +110,34 @@ fn clump_keys_are_read_and_checked() {
 }
 
 #[test]
+fn output_vtp_compression_is_read_by_name() {
+    let plain = parse(&rect("width = 20\nheight = 30", ""), "t.toml").unwrap();
+    assert_eq!(
+        plain.output.vtp_compression,
+        crate::output::VtpCompression::None
+    );
+    let config = parse(
+        &rect(
+            "width = 20\nheight = 30",
+            "[output]\nvtp_compression = \"zlib\"",
+        ),
+        "t.toml",
+    )
+    .unwrap();
+    assert_eq!(
+        config.output.vtp_compression,
+        crate::output::VtpCompression::Zlib
+    );
+    fails_with(
+        &rect(
+            "width = 20\nheight = 30",
+            "[output]\nvtp_compression = \"gzip\"",
+        ),
+        "t.toml:8:19: output.vtp_compression: unknown vtp compression \"gzip\"; valid: none, zlib",
+    );
+}
+
+#[test]
 fn output_colour_is_read_by_name() {
     let config = parse(
         &rect("width = 20\nheight = 30", "[output]\ncolour = \"size\""),

@@ -1,12 +1,14 @@
 //! `[output]`: the directory, known format names given once, the export
-//! settings, the pictures' colouring.
+//! settings, the pictures' colouring, the compression of `packing.vtp`.
 
 use toml::Spanned;
 
 use super::Validator;
 use crate::config::error::ConfigError;
 use crate::config::raw::{RawOutput, Table};
-use crate::output::{COLOURINGS, ClumpOptions, Colouring, FORMATS, OutputSettings, UNITS};
+use crate::output::{
+    COLOURINGS, ClumpOptions, Colouring, FORMATS, OutputSettings, UNITS, VTP_COMPRESSIONS,
+};
 
 impl Validator<'_> {
     /// `[output]`: its defaults when the table is absent. `shapes`: the
@@ -64,6 +66,11 @@ impl Validator<'_> {
             settings.export.density = self.positive("output.density", v)?;
         }
         settings.export.units = self.name(&UNITS, "output.units", o.units.as_ref())?;
+        settings.vtp_compression = self.name(
+            &VTP_COMPRESSIONS,
+            "output.vtp_compression",
+            o.vtp_compression.as_ref(),
+        )?;
         if let Some(v) = &o.clump_coverage {
             settings.export.clumps.coverage = self.checked(
                 "output.clump_coverage",

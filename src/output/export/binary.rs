@@ -54,7 +54,7 @@ impl Kind {
 }
 
 /// The bytes of element `i` of an array, appended to the buffer.
-type Put<'a> = Box<dyn Fn(usize, &mut Vec<u8>) + 'a>;
+type Put<'a> = Box<dyn Fn(usize, &mut Vec<u8>) + Sync + 'a>;
 
 /// One array of a binary export: `len` tuples of `components` values of
 /// type `kind`, made element by element by `put`.
@@ -77,7 +77,7 @@ impl<'a> Array<'a> {
         kind: Kind,
         components: usize,
         len: usize,
-        put: impl Fn(usize, &mut Vec<u8>) + 'a,
+        put: impl Fn(usize, &mut Vec<u8>) + Sync + 'a,
     ) -> Self {
         Array {
             name,
@@ -89,14 +89,14 @@ impl<'a> Array<'a> {
     }
 
     /// A column of `f64`, value `i` given by `value`.
-    fn f64(name: &'static str, len: usize, value: impl Fn(usize) -> f64 + 'a) -> Self {
+    fn f64(name: &'static str, len: usize, value: impl Fn(usize) -> f64 + Sync + 'a) -> Self {
         Array::new(name, Kind::F64, 1, len, move |i, buf| {
             buf.extend_from_slice(&value(i).to_le_bytes());
         })
     }
 
     /// A column of `i32`, value `i` given by `value`.
-    fn i32(name: &'static str, len: usize, value: impl Fn(usize) -> i32 + 'a) -> Self {
+    fn i32(name: &'static str, len: usize, value: impl Fn(usize) -> i32 + Sync + 'a) -> Self {
         Array::new(name, Kind::I32, 1, len, move |i, buf| {
             buf.extend_from_slice(&value(i).to_le_bytes());
         })
@@ -127,6 +127,24 @@ impl<'a> Array<'a> {
             start = end;
         }
         Ok(())
+    }
+
+    /// Bytes `start..end` of the array (within [`Array::bytes`]), made in
+    /// `scratch`: the tuples they fall in, cut to the range.
+    pub(super) fn byte_range<'s>(
+        &self,
+        start: usize,
+        end: usize,
+        scratch: &'s mut Vec<u8>,
+    ) -> &'s [u8] {
+        let per = self.components.max(1) * self.kind.size() as usize;
+        let (first, last) = (start / per, end.div_ceil(per).min(self.len));
+        scratch.clear();
+        for i in first..last {
+            (self.put)(i, scratch);
+        }
+        let skip = first * per;
+        &scratch[start - skip..end - skip]
     }
 
     /// Writes its bytes to `out`.

@@ -29,5 +29,5 @@ pub use mercury::{MERCURY_DATA, mercury_data};
 pub use npz::{PACKING_NPZ, write_packing_npz};
 pub use pfc::{PFC_COMMANDS, pfc_commands};
 pub use vtk::{BOUNDARY_VTK, PACKING_VTK, boundary_vtk, packing_vtk};
-pub use vtp::{PACKING_VTP, write_packing_vtp};
+pub use vtp::{PACKING_VTP, write_packing_vtp, write_packing_vtp_with};
 pub use yade::{YADE_SCRIPT, YADE_TEXT, yade_script, yade_text};

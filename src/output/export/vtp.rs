@@ -4,9 +4,13 @@
 use std::fmt::Write as _;
 use std::io::{self, Write};
 
+use rayon::prelude::*;
+
 use super::binary::{Array, Kind, material, shape_arrays};
 use super::common::VERSION;
 use crate::layering::Material;
+use crate::output::digits::write_blocks;
+use crate::output::format::VtpCompression;
 use crate::packer::Packing;
 
 /// File name of the packing as VTK XML PolyData.
@@ -40,6 +44,34 @@ pub fn write_packing_vtp(
     materials: &[Material],
     out: &mut dyn Write,
 ) -> io::Result<()> {
+    write_packing_vtp_with(packing, materials, VtpCompression::None, out)
+}
+
+/// [`write_packing_vtp`], the arrays stored as `compression` asks.
+///
+/// With [`VtpCompression::Zlib`] the file is as VTK's own writer makes it
+/// with `vtkZLibDataCompressor`: the `VTKFile` element names the
+/// compressor, and each array in the appended block is a header of UInt64
+/// — the number of blocks, the uncompressed size of a block (32768
+/// bytes), that of the last block if partial (else 0), then each block's
+/// compressed size — followed by the blocks, each a zlib stream of its
+/// part of the little-endian values (level 1). `offset` counts from the
+/// byte after the marker to each array's header.
+///
+/// The blocks are compressed on all cores, in order, so the bytes do not
+/// depend on the number of threads; the offsets in the XML head need
+/// every array's compressed size before any array is written, so the
+/// blocks are compressed twice (once to measure them, once to write
+/// them) rather than held: memory stays a few blocks per thread.
+///
+/// # Errors
+/// The I/O error of `out`.
+pub fn write_packing_vtp_with(
+    packing: &Packing,
+    materials: &[Material],
+    compression: VtpCompression,
+    out: &mut dyn Write,
+) -> io::Result<()> {
     let disks = &packing.disks;
     let n = disks.len();
     let mut point_data = vec![Array::new("radius", Kind::F64, 1, n, |i, buf| {
@@ -56,14 +88,41 @@ pub fn write_packing_vtp(
     let connectivity = Array::new("connectivity", Kind::I64, 1, n, index(0));
     let offsets = Array::new("offsets", Kind::I64, 1, n, index(1));
 
-    // Each array's offset in the appended block: the byte counts and
-    // arrays before it.
+    let arrays: Vec<&Array<'_>> = point_data
+        .iter()
+        .chain([&points, &connectivity, &offsets])
+        .collect();
+    let zlib = compression == VtpCompression::Zlib;
+    // Each array's compressed blocks' sizes (none uncompressed).
+    let sizes: Vec<Vec<u64>> = arrays
+        .iter()
+        .map(|a| {
+            if zlib {
+                (0..blocks(a))
+                    .into_par_iter()
+                    .map_init(Vec::new, |scratch, b| {
+                        compressed(a, b, scratch).len() as u64
+                    })
+                    .collect()
+            } else {
+                Vec::new()
+            }
+        })
+        .collect();
+    // Each array's offset in the appended block: the headers and arrays
+    // before it.
     let mut at = 0u64;
-    let mut offset = |a: &Array<'_>| {
+    let mut stored = arrays.iter().zip(&sizes).map(|(a, sizes)| {
         let here = at;
-        at = at.saturating_add(8).saturating_add(a.bytes());
+        let size = if zlib {
+            8 * (3 + sizes.len() as u64) + sizes.iter().sum::<u64>()
+        } else {
+            8 + a.bytes()
+        };
+        at = at.saturating_add(size);
         here
-    };
+    });
+    let mut offset = |_: &Array<'_>| stored.next().unwrap_or(0);
     let mut x = String::with_capacity(2048);
     // Writing to a String cannot fail.
     let _ = writeln!(x, "<?xml version=\"1.0\"?>");
@@ -71,9 +130,14 @@ pub fn write_packing_vtp(
         x,
         "<!-- gapack {VERSION} packing: {n} particles, lengths in mm -->"
     );
+    let compressor = if zlib {
+        " compressor=\"vtkZLibDataCompressor\""
+    } else {
+        ""
+    };
     let _ = writeln!(
         x,
-        "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">"
+        "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"{compressor}>"
     );
     let _ = writeln!(x, "  <PolyData>");
     let _ = writeln!(
@@ -96,15 +160,50 @@ pub fn write_packing_vtp(
     let _ = writeln!(x, "  </PolyData>");
     let _ = write!(x, "  <AppendedData encoding=\"raw\">\n   _");
     out.write_all(x.as_bytes())?;
-    for a in point_data.iter().chain([&points, &connectivity, &offsets]) {
-        out.write_all(&a.bytes().to_le_bytes())?;
-        a.write_to(out)?;
+    for (a, sizes) in arrays.iter().zip(&sizes) {
+        if zlib {
+            let total = a.bytes();
+            let mut header = vec![sizes.len() as u64, BLOCK as u64, total % BLOCK as u64];
+            header.extend(sizes);
+            for v in header {
+                out.write_all(&v.to_le_bytes())?;
+            }
+            write_blocks(out, sizes.len(), |b, buf| {
+                let mut scratch = Vec::new();
+                buf.extend_from_slice(&compressed(a, b, &mut scratch));
+            })?;
+        } else {
+            out.write_all(&a.bytes().to_le_bytes())?;
+            a.write_to(out)?;
+        }
     }
     out.write_all(b"\n  </AppendedData>\n</VTKFile>\n")
 }
 
+/// Uncompressed bytes of a zlib block (VTK's default block size).
+const BLOCK: usize = 32_768;
+
+/// zlib level of the blocks: the fastest, since coordinates barely
+/// compress and the indices compress well at any level.
+const ZLIB_LEVEL: u8 = 1;
+
+/// How many zlib blocks array `a` takes.
+fn blocks(a: &Array<'_>) -> usize {
+    usize::try_from(a.bytes())
+        .unwrap_or(usize::MAX)
+        .div_ceil(BLOCK)
+}
+
+/// Block `b` of array `a`, zlib-compressed (`scratch`: its values).
+fn compressed(a: &Array<'_>, b: usize, scratch: &mut Vec<u8>) -> Vec<u8> {
+    let total = usize::try_from(a.bytes()).unwrap_or(usize::MAX);
+    let start = b * BLOCK;
+    let data = a.byte_range(start, (start + BLOCK).min(total), scratch);
+    miniz_oxide::deflate::compress_to_vec_zlib(data, ZLIB_LEVEL)
+}
+
 /// Element `i` of an Int64 array is `i + from`.
-fn index(from: i64) -> impl Fn(usize, &mut Vec<u8>) {
+fn index(from: i64) -> impl Fn(usize, &mut Vec<u8>) + Sync {
     move |i, buf| {
         let v = i64::try_from(i).unwrap_or(i64::MAX).saturating_add(from);
         buf.extend_from_slice(&v.to_le_bytes());

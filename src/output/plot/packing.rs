@@ -17,7 +17,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::chart::{FAMILY, encode_png, register_font, tidy};
 use super::particles::{Colouring, Fills, boundary_points, bounding_disks, outline_at};
-use super::pile::{Clip, DiskPx, blend, draw_pile, is_pile};
+use super::pile::{Clip, DiskPx, blend, draw_pile, is_pile, pile_of_parts, pile_part};
 use super::text::Glyphs;
 use crate::geometry::{Disk, Point};
 use crate::layering::Material;
@@ -28,6 +28,7 @@ use crate::output::svg::{
     CIRCLE_SEGMENTS, DISK_EDGE, Panels, WALL_EDGE, WALL_FILL, drawn_images, frame, scale_bar_mm,
 };
 use crate::packer::Packing;
+use rayon::prelude::*;
 
 /// File name of the drawing as an image.
 pub const PACKING_PNG: &str = "packing.png";
@@ -274,13 +275,52 @@ pub fn packing_png_coloured(
                 walls.chain(packed)
             })
         };
-        if is_pile(drawn(), size) {
+        // Outside a periodic cell each disk is drawn once, as itself: the
+        // pile test runs over chunks of the disks on all cores, and the
+        // drawing in bands of rows (below).
+        let pile = if periodic {
+            is_pile(drawn(), size)
+        } else {
+            let parts: Vec<(i128, i128)> = (0..panels.count)
+                .flat_map(|k| {
+                    [
+                        (k, walls.get(k), &packing.boundary),
+                        (k, disks.get(k), &packing.disks),
+                    ]
+                })
+                .flat_map(|(k, list, from)| {
+                    list.map_or(&[][..], Vec::as_slice)
+                        .par_chunks(1 << 16)
+                        .map(|chunk| {
+                            pile_part(
+                                chunk
+                                    .iter()
+                                    .filter_map(|&i| pixel_disk(k, &from[i], WALL_FILL, WALL_EDGE)),
+                            )
+                        })
+                        .collect::<Vec<_>>()
+                })
+                .collect();
+            pile_of_parts(parts.into_iter(), size)
+        };
+        if pile {
             let piled: Vec<DiskPx> = drawn().collect();
             draw_pile(&mut rgb, size, &piled);
-        } else {
+        } else if periodic {
             for d in drawn() {
                 d.draw(&mut rgb, size.0);
             }
+        } else {
+            draw_in_bands(
+                &mut rgb,
+                size,
+                &layout,
+                &clips,
+                walls,
+                disks,
+                |i| fills.of_particle(packing, i),
+                packing,
+            );
         }
     }
     {
@@ -320,6 +360,64 @@ pub fn packing_png_coloured(
         root.present().map_err(plot)?;
     }
     encode_png(&rgb, (w, h))
+}
+
+/// Draw each panel's wall disks then its packed disks (`walls[k]`,
+/// `disks[k]`: indices into `packing.boundary` and `packing.disks`), one
+/// after another as [`DiskPx::draw`] would, over `rgb` (`size` pixels)
+/// cut into bands of rows drawn in parallel: each band draws, in the same
+/// order, the disks whose rows reach it, within its rows only, so every
+/// pixel takes the same steps in the same order whatever the bands and
+/// threads, and the image is the same to the byte.
+#[allow(clippy::too_many_arguments)]
+fn draw_in_bands(
+    rgb: &mut [u8],
+    size: (usize, usize),
+    layout: &Layout,
+    clips: &[Clip],
+    walls: &[Vec<usize>],
+    disks: &[Vec<usize>],
+    fill: impl Fn(usize) -> [u8; 3] + Sync,
+    packing: &Packing,
+) {
+    let threads = rayon::current_num_threads();
+    let bands = if threads <= 1 { 1 } else { 4 * threads };
+    let rows = size.1.div_ceil(bands).max(1);
+    let (width, scale) = (size.0, layout.scale);
+    rgb.par_chunks_mut(rows * width * 3)
+        .enumerate()
+        .for_each(|(b, band)| {
+            let (first, end) = (b * rows, ((b + 1) * rows).min(size.1));
+            for (k, &clip) in clips.iter().enumerate() {
+                let clip = (clip.0, clip.1, clip.2.max(first), clip.3.min(end));
+                if clip.2 >= clip.3 {
+                    continue;
+                }
+                let runs = [
+                    (walls.get(k), &packing.boundary, true),
+                    (disks.get(k), &packing.disks, false),
+                ];
+                for (list, from, wall) in runs {
+                    for &i in list.into_iter().flatten() {
+                        let d = &from[i];
+                        let (cx, cy) = layout.map(k, d.c);
+                        let r = d.r * scale;
+                        // Rows the disk's box spans (DiskPx::new): none here.
+                        if cy + r + 1.0 < first as f64 || cy - r - 1.0 >= end as f64 {
+                            continue;
+                        }
+                        let (f, e) = if wall {
+                            (WALL_FILL, WALL_EDGE)
+                        } else {
+                            (fill(i), DISK_EDGE)
+                        };
+                        if let Some(px) = DiskPx::new((cx, cy, r), EDGE_PX, size, clip, f, e) {
+                            px.draw_rows(band, width, first);
+                        }
+                    }
+                }
+            }
+        });
 }
 
 /// The domain's outline in pixels: the closed ring, or cut into panels its
@@ -770,6 +868,98 @@ mod tests {
     use crate::geometry::Domain;
     use crate::output::diameter_range;
     use crate::output::plot::testing::{png_rgb, png_size};
+
+    /// Random non-overlapping-or-not disks over a `w` × `h` rectangle,
+    /// with wall disks along its foot and materials.
+    fn scattered(w: f64, h: f64, n: usize, seed: u64) -> Packing {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(seed);
+        let size = 0.002 * w.min(h);
+        let disks = (0..n)
+            .map(|_| {
+                Disk::new(
+                    rng.gen_range(0.0..w),
+                    rng.gen_range(0.0..h),
+                    rng.gen_range(0.2..3.0) * size,
+                )
+            })
+            .collect();
+        let mut p = Packing::of_disks(Domain::rectangle(w, h).expect("rectangle"), disks);
+        p.boundary = (0..50)
+            .map(|i| Disk::new(f64::from(i) * w / 50.0, 0.0, size))
+            .collect();
+        p.materials = (0..n).map(|_| rng.gen_range(0..3)).collect();
+        p
+    }
+
+    #[test]
+    fn the_bands_draw_the_same_bytes_whatever_the_threads() {
+        let materials: Vec<Material> = ["a", "b", "c"]
+            .iter()
+            .map(|&name| Material {
+                name: name.to_owned(),
+                properties: Vec::new(),
+            })
+            .collect();
+        for (w, h, n) in [
+            (100.0, 100.0, 40_000),
+            (3.0, 150.0, 3_000),
+            (50.0, 20.0, 2_000),
+        ] {
+            let p = scattered(w, h, n, n as u64);
+            let range = diameter_range(&p);
+            let images: Vec<Vec<u8>> = [1, 2, 3]
+                .into_iter()
+                .flat_map(|threads| {
+                    let pool = rayon::ThreadPoolBuilder::new()
+                        .num_threads(threads)
+                        .build()
+                        .expect("pool");
+                    [
+                        pool.install(|| packing_png_coloured(&p, &[], range, None))
+                            .expect("png"),
+                        pool.install(|| packing_png_coloured(&p, &materials, range, None))
+                            .expect("png"),
+                    ]
+                })
+                .collect();
+            assert_ne!(images[0], images[1], "materials change the colours");
+            for (k, image) in images.iter().enumerate() {
+                assert!(*image == images[k % 2], "{w} × {h}: image {k}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_pile_test_in_parts_is_the_serial_one() {
+        use super::super::pile::is_pile_serial;
+        let size = (300, 200);
+        for (n, r) in [(1_000, 2.0), (5_000, 8.0), (20_000, 3.0), (300, 60.0)] {
+            let disks: Vec<DiskPx> = (0..n)
+                .filter_map(|i| {
+                    let t = f64::from(i);
+                    DiskPx::new(
+                        ((t * 7.3) % 300.0, (t * 3.1) % 200.0, r * (1.0 + (t % 3.0))),
+                        1.0,
+                        size,
+                        (0, size.0, 0, size.1),
+                        [0; 3],
+                        [0; 3],
+                    )
+                })
+                .collect();
+            let serial = is_pile_serial(disks.iter().copied(), size);
+            for chunk in [1, 7, 1000, n as usize] {
+                let parts = disks.chunks(chunk).map(|c| pile_part(c.iter().copied()));
+                assert_eq!(
+                    pile_of_parts(parts, size),
+                    serial,
+                    "{n} disks of {r}, chunks of {chunk}"
+                );
+            }
+            assert_eq!(is_pile(disks.iter().copied(), size), serial);
+        }
+    }
 
     #[test]
     fn piled_disks_are_said_to_overlap_not_given_a_negative_porosity() {

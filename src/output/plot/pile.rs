@@ -153,14 +153,21 @@ impl DiskPx {
     /// Draw the disk over `rgb`, an image `width` pixels wide: the solid
     /// spans filled, the rim blended.
     pub(super) fn draw(&self, rgb: &mut [u8], width: usize) {
+        self.draw_rows(rgb, width, 0);
+    }
+
+    /// [`DiskPx::draw`] over `band`, the image's rows from `first` on
+    /// (the disk's clip must lie within them): each pixel as the whole
+    /// image would take it.
+    pub(super) fn draw_rows(&self, band: &mut [u8], width: usize, first: usize) {
         let (_, _, j0, j1) = self.boxed;
         for j in j0..j1 {
             let Some(Row { a0, s0, s1, a1 }) = self.row(j, width) else {
                 continue;
             };
-            let row = j * width;
+            let row = (j - first) * width;
             for i in s0..s1 {
-                rgb[3 * (row + i)..3 * (row + i) + 3].copy_from_slice(&self.fill);
+                band[3 * (row + i)..3 * (row + i) + 3].copy_from_slice(&self.fill);
             }
             for i in (a0..s0).chain(s1..a1) {
                 let (cover, inner) = self.cover(i, j);
@@ -168,7 +175,7 @@ impl DiskPx {
                     continue;
                 }
                 let at = 3 * (row + i);
-                blend(&mut rgb[at..at + 3], cover, inner, self.fill, self.edge);
+                blend(&mut band[at..at + 3], cover, inner, self.fill, self.edge);
             }
         }
     }
@@ -194,6 +201,41 @@ pub(super) fn blend(pixel: &mut [u8], cover: f64, inner: f64, fill: [u8; 3], edg
 /// pixels, would do more pixel work than [`PILE_BUDGET`] allows: disks
 /// piled on one another.
 pub(super) fn is_pile(disks: impl Iterator<Item = DiskPx>, size: (usize, usize)) -> bool {
+    pile_of_parts(std::iter::once(pile_part(disks)), size)
+}
+
+/// What [`is_pile`] needs of a run of disks drawn one after another:
+/// its pixel work beyond [`PER_DISK_BOX`] a disk, in all and at most
+/// over its first disks (0 for none).
+pub(super) fn pile_part(disks: impl Iterator<Item = DiskPx>) -> (i128, i128) {
+    disks.fold((0, 0), |(sum, most), d| {
+        let sum = sum + d.box_pixels() as i128 - PER_DISK_BOX as i128;
+        (sum, most.max(sum))
+    })
+}
+
+/// [`is_pile`] of the disks of `parts` ([`pile_part`]s of consecutive
+/// runs, in drawing order) one after another: whether the work beyond
+/// [`PER_DISK_BOX`] a disk exceeds [`PILE_BUDGET`] images at some disk.
+pub(super) fn pile_of_parts(
+    parts: impl Iterator<Item = (i128, i128)>,
+    size: (usize, usize),
+) -> bool {
+    let image = PILE_BUDGET.saturating_mul(size.0.saturating_mul(size.1)) as i128;
+    let mut before = 0;
+    for (sum, most) in parts {
+        if before + most > image {
+            return true;
+        }
+        before += sum;
+    }
+    false
+}
+
+/// The serial form [`pile_of_parts`] stands for, kept as the tests'
+/// reference.
+#[cfg(test)]
+pub(super) fn is_pile_serial(disks: impl Iterator<Item = DiskPx>, size: (usize, usize)) -> bool {
     let image = PILE_BUDGET.saturating_mul(size.0.saturating_mul(size.1));
     let (mut work, mut budget) = (0usize, image);
     for d in disks {
