@@ -27,6 +27,7 @@ use std::ops::ControlFlow;
 
 use crate::geometry::predicates::OVERLAP_REL;
 use nalgebra::Vector2;
+use rayon::prelude::*;
 
 use crate::cancel::{Cancel, Cancelled};
 use crate::geometry::{Disk, Domain, Grain, Outline, Turned};
@@ -381,7 +382,12 @@ fn run(
             // Listed only when asked for, and sorted where they are.
             GradingCheck::of(ok.len(), || {
                 let size = |i: usize| sizes.map_or(2.0 * disks[i].r, |s| s[i]);
-                g.ks_distance_sorting(&mut ok_ids().map(size).collect::<Vec<_>>())
+                let mut sizes = ok_ids().map(size).collect::<Vec<_>>();
+                // Sorted on every thread first, to the order the sort
+                // inside asks (sizes equal by value are equal bit for bit
+                // when positive; any other makes the distance 1 anyway).
+                sizes.par_sort_unstable_by(f64::total_cmp);
+                g.ks_distance_sorting(&mut sizes)
             })
         }),
         ks_limit: ks_limit(ok.len()),
@@ -449,58 +455,115 @@ fn overlapping_pairs(
     let ids = || groups.firsts.iter().map(|&i| i as usize);
     let near = ByRadius::new(disks, ids());
     let r_max = ids().fold(0.0f64, |m, i| m.max(disks[i].r));
-    let mut count = groups.inner_pairs;
-    let mut apart = 0usize;
-    let mut worst = groups.inner_worst;
-    let mut search = Search::default();
-    for a in ids() {
-        cancel.check()?;
-        let p = &disks[a];
-        let ka = groups.size[a] as usize;
-        // The box of every centre within reach of an overlap with `p`.
-        let (lo, hi) = Disk::new(p.c.x, p.c.y, p.r + r_max).bounds();
-        search.start();
-        for v in domain.image_shifts(lo, hi) {
-            let zero = v == Vector2::zeros();
-            let stopped = near.try_visit(p.c - v, p.r, |b| {
-                search.visit()?;
-                // Each pair once: the partner of lower index, or the disk's
-                // own image of the shift that comes first.
-                if b > a || (b == a && (zero || (v.y, v.x) < (0.0, 0.0))) {
-                    return ControlFlow::Continue(());
-                }
-                // The member pairs this pair stands for: every member of one
-                // group with every member of the other; a group with its own
-                // image at ±v, k² (each member with its own image once, and
-                // with each other member's at v and at −v).
-                let members = ka.saturating_mul(groups.size[b] as usize);
-                let q = &disks[b];
-                let sum = p.r + q.r;
-                let at = if zero { q.c } else { q.c + v };
-                let overlap = (sum - (p.c - at).norm()) / sum;
-                if (0.0..=OVERLAP_REL).contains(&overlap) {
-                    apart = apart.saturating_add(members);
-                }
-                if overlap > OVERLAP_REL {
-                    search.overlapped = true;
-                    count = count.saturating_add(members);
-                    // The groups' first members: the first pair of these
-                    // groups by index.
-                    deeper(&mut worst, (b, a, overlap));
-                }
-                ControlFlow::Continue(())
-            });
-            if stopped.is_break() {
-                break;
+    // Fixed chunks of the groups, each with its own counts: sums
+    // (saturating, of counts), the deepest pair (a total order) and
+    // whether every search went to its end are the same whatever the
+    // number of threads.
+    let parts = groups
+        .firsts
+        .par_chunks(PAIR_CHUNK)
+        .map(|chunk| {
+            let mut part = particles::Pairs {
+                overlaps: 0,
+                worst: None,
+                certified: 0,
+                complete: true,
+            };
+            let mut search = Search::default();
+            for &a in chunk {
+                cancel.check()?;
+                let a = a as usize;
+                pairs_of(
+                    disks,
+                    &groups,
+                    &near,
+                    r_max,
+                    domain,
+                    a,
+                    &mut search,
+                    &mut part,
+                );
             }
+            part.complete = search.complete;
+            Ok(part)
+        })
+        .collect::<Result<Vec<_>, Cancelled>>()?;
+    Ok(parts.into_iter().fold(
+        particles::Pairs {
+            overlaps: groups.inner_pairs,
+            worst: groups.inner_worst,
+            certified: 0,
+            complete: true,
+        },
+        |mut all, part| {
+            all.overlaps = all.overlaps.saturating_add(part.overlaps);
+            all.certified = all.certified.saturating_add(part.certified);
+            if let Some(pair) = part.worst {
+                deeper(&mut all.worst, pair);
+            }
+            all.complete &= part.complete;
+            all
+        },
+    ))
+}
+
+/// Groups of disks one task of [`overlapping_pairs`] takes; a few in
+/// tests, so that small packings are split.
+const PAIR_CHUNK: usize = if cfg!(test) { 64 } else { 4096 };
+
+/// The pairs of group `a` (its first member's index) with the groups of
+/// lower index and its own images, added to `part` (`near` indexes the
+/// groups' first members, `r_max` their largest radius).
+#[allow(clippy::too_many_arguments)]
+fn pairs_of(
+    disks: &[Disk],
+    groups: &Groups,
+    near: &ByRadius,
+    r_max: f64,
+    domain: &Domain,
+    a: usize,
+    search: &mut Search,
+    part: &mut particles::Pairs,
+) {
+    let p = &disks[a];
+    let ka = groups.size[a] as usize;
+    // The box of every centre within reach of an overlap with `p`.
+    let (lo, hi) = Disk::new(p.c.x, p.c.y, p.r + r_max).bounds();
+    search.start();
+    for v in domain.image_shifts(lo, hi) {
+        let zero = v == Vector2::zeros();
+        let stopped = near.try_visit(p.c - v, p.r, |b| {
+            search.visit()?;
+            // Each pair once: the partner of lower index, or the disk's
+            // own image of the shift that comes first.
+            if b > a || (b == a && (zero || (v.y, v.x) < (0.0, 0.0))) {
+                return ControlFlow::Continue(());
+            }
+            // The member pairs this pair stands for: every member of one
+            // group with every member of the other; a group with its own
+            // image at ±v, k² (each member with its own image once, and
+            // with each other member's at v and at −v).
+            let members = ka.saturating_mul(groups.size[b] as usize);
+            let q = &disks[b];
+            let sum = p.r + q.r;
+            let at = if zero { q.c } else { q.c + v };
+            let overlap = (sum - (p.c - at).norm()) / sum;
+            if (0.0..=OVERLAP_REL).contains(&overlap) {
+                part.certified = part.certified.saturating_add(members);
+            }
+            if overlap > OVERLAP_REL {
+                search.overlapped = true;
+                part.overlaps = part.overlaps.saturating_add(members);
+                // The groups' first members: the first pair of these
+                // groups by index.
+                deeper(&mut part.worst, (b, a, overlap));
+            }
+            ControlFlow::Continue(())
+        });
+        if stopped.is_break() {
+            break;
         }
     }
-    Ok(particles::Pairs {
-        overlaps: count,
-        worst,
-        certified: apart,
-        complete: search.complete,
-    })
 }
 
 /// One disk's search for partners at a time: it stops
@@ -576,7 +639,9 @@ impl Groups {
             (d.c.x.to_bits(), d.c.y.to_bits(), d.r.to_bits())
         };
         let mut sorted = ok.to_vec();
-        sorted.sort_unstable_by_key(|&i| (key(i), i));
+        // The keys are distinct (each ends with its disk's index): the
+        // order is the same whatever the number of threads.
+        sorted.par_sort_unstable_by_key(|&i| (key(i), i));
         let mut firsts = Vec::new();
         let mut size = vec![0u32; disks.len()];
         let mut inner_pairs = 0usize;
@@ -914,5 +979,90 @@ mod tests {
         let c = check(&disks, &domain, Some(&grading));
         assert!(c.valid());
         assert!(!c.grading_kept(), "{c:?}");
+    }
+
+    /// `f` run on a pool of `threads` threads.
+    fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(f)
+    }
+
+    #[test]
+    fn the_check_is_the_same_on_one_and_four_threads() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(17);
+        let grading = Grading::uniform(0.2, 1.2, crate::Basis::Number).unwrap();
+        for round in 0..12 {
+            let domain = if round % 2 == 0 {
+                Domain::rectangle(30.0, 20.0).unwrap()
+            } else {
+                Domain::periodic_rectangle(30.0, 20.0).unwrap()
+            };
+            let mut disks: Vec<Disk> = (0..400 + 100 * round)
+                .map(|_| {
+                    disk(
+                        rng.gen_range(-0.5..30.5),
+                        rng.gen_range(-0.5..20.5),
+                        rng.gen_range(0.1..0.6),
+                    )
+                })
+                .collect();
+            for _ in 0..50 {
+                let copy = disks[rng.gen_range(0..disks.len())];
+                disks.insert(rng.gen_range(0..=disks.len()), copy);
+            }
+            disks.push(disk(f64::NAN, 1.0, 0.5));
+            let one = on_threads(1, || check(&disks, &domain, Some(&grading)));
+            let four = on_threads(4, || check(&disks, &domain, Some(&grading)));
+            assert_eq!(format!("{one:?}"), format!("{four:?}"));
+            assert!(one.overlaps > 50 && one.malformed == 1, "{one:?}");
+            if !domain.is_periodic() {
+                assert_eq!(one.overlaps, brute_force(&disks[..disks.len() - 1]));
+                assert_eq!(one.worst_overlap, brute_worst(&disks[..disks.len() - 1]));
+                assert!(one.outside > 0, "{one:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_planted_overlap_copy_or_disk_outside_is_caught_among_many() {
+        // 250 × 200 disks of radius 0.45 on a 1 mm lattice: a valid
+        // packing of 50 000 disks, in many chunks.
+        let (nx, ny) = (250, 200);
+        let lattice: Vec<Disk> = (0..nx * ny)
+            .map(|k| disk(0.5 + (k % nx) as f64, 0.5 + (k / nx) as f64, 0.45))
+            .collect();
+        let domain = Domain::rectangle(nx as f64, ny as f64).unwrap();
+        let run = |disks: &[Disk]| on_threads(4, || check(disks, &domain, None));
+        let c = run(&lattice);
+        assert!(c.valid() && c.overlaps_complete, "{c:?}");
+        assert_eq!(c.pairs_certified, 0);
+        let planted = 31_337;
+        // One disk moved half a millimetre onto its right neighbour.
+        let mut moved = lattice.clone();
+        moved[planted].c.x += 0.5;
+        let c = run(&moved);
+        assert_eq!(
+            (c.overlaps, c.outside, c.worst_overlap.map(|w| (w.0, w.1))),
+            (1, 0, Some((planted, planted + 1)))
+        );
+        // A copy of one disk, last: it overlaps its original, wholly.
+        let mut copied = lattice.clone();
+        copied.push(lattice[planted]);
+        let c = run(&copied);
+        assert_eq!(
+            (c.overlaps, c.outside, c.worst_overlap),
+            (1, 0, Some((planted, nx * ny, 1.0)))
+        );
+        // A disk of the last row pushed through the top wall.
+        let mut out = lattice.clone();
+        let top = nx * ny - 7;
+        out[top].c.y += 0.3;
+        let c = run(&out);
+        assert_eq!((c.overlaps, c.outside), (0, 1), "{c:?}");
+        assert_eq!(c.worst_outside.map(|w| w.0), Some(top));
     }
 }
