@@ -927,9 +927,12 @@ mod tests {
         let force = crate::config::ParseOptions { force: true };
         let scene = crate::config::parse_with(text, "t", force).unwrap().scene;
         let packing = crate::pack(&scene).unwrap();
-        CANDIDATES.with(|c| c.set(0));
-        let m = measure(&packing, &scene);
-        let visited = CANDIDATES.with(Cell::get) as f64;
+        // On a pool of one thread: the visits are counted per thread.
+        let (m, visited) = on_threads(1, || {
+            CANDIDATES.with(|c| c.set(0));
+            let m = measure(&packing, &scene);
+            (m, CANDIDATES.with(Cell::get) as f64)
+        });
         let (lo, hi) = packing.domain.bounds();
         let step = hole_step(hi - lo, packing.disks.len(), scene.d_min());
         let per_sample = visited / samples(hi - lo, step);
@@ -981,9 +984,13 @@ mod tests {
         let packing = crate::pack(&scene).unwrap();
         let n = packing.disks.len();
         assert!(n > 2000, "{n} disks");
-        near::VISITED.with(|c| c.set(0));
-        let m = measure(&packing, &scene);
-        let per_disk = near::VISITED.with(Cell::get) as f64 / n as f64;
+        // On a pool of one thread: the visits are counted per thread.
+        let (m, visited) = on_threads(1, || {
+            near::VISITED.with(|c| c.set(0));
+            let m = measure(&packing, &scene);
+            (m, near::VISITED.with(Cell::get))
+        });
+        let per_disk = visited as f64 / n as f64;
         assert!(per_disk < 200.0, "{per_disk} disks visited per packed disk");
         // The same contacts as a test of every pair.
         let mut contacts = 0;

@@ -68,11 +68,17 @@ impl ByRadius {
         for i in ids.clone() {
             counts[class_of(disks[i].r)] += 1;
         }
+        let total: usize = counts.iter().sum();
         let classes = (0..MAX_CLASSES)
             .filter(|&k| counts[k] > 0)
             .map(|k| {
-                let members = ids.clone().filter(|&i| class_of(disks[i].r) == k);
-                Class::new(disks, members, counts[k])
+                if counts[k] == total {
+                    // One class: its members without a class test each.
+                    Class::new(disks, ids.clone(), total)
+                } else {
+                    let members = ids.clone().filter(|&i| class_of(disks[i].r) == k);
+                    Class::new(disks, members, counts[k])
+                }
             })
             .collect();
         ByRadius { classes }
