@@ -172,17 +172,21 @@ pub fn measure_cancellable(
     let near = ByRadius::new(&all, 0..all.len());
     let touched = Bits::new(all.len());
     let periodic = domain.is_periodic();
-    // Fixed chunks of the packed disks, combined in chunk order: the
-    // largest, smallest and counts are the same whatever the threads.
-    let chunks = (all.len() - nb).div_ceil(CHUNK);
-    let parts = (0..chunks)
+    // Fixed runs of the disks in cell order (neighbours in space near in
+    // memory), combined in run order: the largest, smallest and counts
+    // are the same whatever the threads.
+    let parts = near
+        .runs(CHUNK)
         .into_par_iter()
-        .map(|k| {
+        .map(|run| {
             let mut part = (0.0f64, 0usize, f64::INFINITY);
-            let first = nb + k * CHUNK;
-            for i in first..(first + CHUNK).min(all.len()) {
-                if i % POLL_EVERY == 0 {
+            for (k, &(_, _, i)) in run.iter().enumerate() {
+                let i = i as usize;
+                if k % POLL_EVERY == 0 {
                     cancel.check()?;
+                }
+                if i < nb {
+                    continue;
                 }
                 let d = all[i];
                 if !periodic {

@@ -104,6 +104,16 @@ impl ByRadius {
         ControlFlow::Continue(())
     }
 
+    /// The indexed disks in runs of at most `chunk`: class by class, each
+    /// class's in cell order (row, then column), so that disks near in
+    /// space are near in this order.
+    pub(crate) fn runs(&self, chunk: usize) -> Vec<&[(u32, u32, u32)]> {
+        self.classes
+            .iter()
+            .flat_map(|c| c.keyed.chunks(chunk))
+            .collect()
+    }
+
     /// [`ByRadius::try_visit`] without a break.
     pub(crate) fn visit(&self, p: Point, reach: f64, mut f: impl FnMut(usize)) {
         let _ = self.try_visit(p, reach, |j| {
