@@ -24,9 +24,11 @@ mod particles;
 
 use std::collections::HashMap;
 use std::ops::ControlFlow;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::geometry::predicates::OVERLAP_REL;
 use nalgebra::Vector2;
+use rayon::prelude::*;
 
 use crate::cancel::{Cancel, Cancelled};
 use crate::geometry::{Disk, Domain, Grain, Outline, Turned};
@@ -381,7 +383,12 @@ fn run(
             // Listed only when asked for, and sorted where they are.
             GradingCheck::of(ok.len(), || {
                 let size = |i: usize| sizes.map_or(2.0 * disks[i].r, |s| s[i]);
-                g.ks_distance_sorting(&mut ok_ids().map(size).collect::<Vec<_>>())
+                let mut sizes = ok_ids().map(size).collect::<Vec<_>>();
+                // Sorted on every thread first, to the order the sort
+                // inside asks (sizes equal by value are equal bit for bit
+                // when positive; any other makes the distance 1 anyway).
+                sizes.par_sort_unstable_by(f64::total_cmp);
+                g.ks_distance_sorting(&mut sizes)
             })
         }),
         ks_limit: ks_limit(ok.len()),
@@ -445,25 +452,144 @@ fn overlapping_pairs(
             complete: true,
         });
     }
+    // First with each disk on its own: a packing with no two identical
+    // disks (the usual one) needs no sort of them. When that search meets
+    // a copy, or stops short (it may have missed one), the disks are
+    // searched again with the copies grouped.
+    let (pairs, copies) = search_pairs(disks, ok, None, domain, cancel)?;
+    if !copies && pairs.complete {
+        return Ok(pairs);
+    }
     let groups = Groups::of(disks, ok);
-    let ids = || groups.firsts.iter().map(|&i| i as usize);
+    Ok(search_pairs(disks, &groups.firsts, Some(&groups), domain, cancel)?.0)
+}
+
+/// The pair search of [`overlapping_pairs`] over the disks `firsts`
+/// (each standing for its group in `groups`, or for itself alone), and
+/// whether it met two identical disks (always false with groups). With
+/// each disk alone, the first copy met stops the search: its other
+/// figures are then of no use.
+fn search_pairs(
+    disks: &[Disk],
+    firsts: &[u32],
+    groups: Option<&Groups>,
+    domain: &Domain,
+    cancel: &Cancel,
+) -> Result<(particles::Pairs, bool), Cancelled> {
+    let ids = || firsts.iter().map(|&i| i as usize);
     let near = ByRadius::new(disks, ids());
     let r_max = ids().fold(0.0f64, |m, i| m.max(disks[i].r));
-    let mut count = groups.inner_pairs;
-    let mut apart = 0usize;
-    let mut worst = groups.inner_worst;
-    let mut search = Search::default();
-    for a in ids() {
-        cancel.check()?;
-        let p = &disks[a];
-        let ka = groups.size[a] as usize;
+    let met = AtomicBool::new(false);
+    // Fixed chunks of the groups, each with its own counts: sums
+    // (saturating, of counts), the deepest pair (a total order), whether
+    // every search went to its end and whether a copy was met are the
+    // same whatever the number of threads.
+    let parts = firsts
+        .par_chunks(PAIR_CHUNK)
+        .map(|chunk| {
+            let mut part = particles::Pairs {
+                overlaps: 0,
+                worst: None,
+                certified: 0,
+                complete: true,
+            };
+            let mut search = Search::default();
+            let mut copies = false;
+            for &a in chunk {
+                cancel.check()?;
+                // Once a copy is met, the rest of this search is not used.
+                if met.load(Ordering::Relaxed) {
+                    break;
+                }
+                let a = a as usize;
+                let at = Partners {
+                    disks,
+                    groups,
+                    near: &near,
+                    r_max,
+                    domain,
+                };
+                if at.pairs_of(a, &mut search, &mut part) {
+                    copies = true;
+                    met.store(groups.is_none(), Ordering::Relaxed);
+                }
+            }
+            part.complete = search.complete;
+            Ok((part, copies))
+        })
+        .collect::<Result<Vec<_>, Cancelled>>()?;
+    let (inner_pairs, inner_worst) = groups.map_or((0, None), |g| (g.inner_pairs, g.inner_worst));
+    Ok(parts.into_iter().fold(
+        (
+            particles::Pairs {
+                overlaps: inner_pairs,
+                worst: inner_worst,
+                certified: 0,
+                complete: true,
+            },
+            false,
+        ),
+        |(mut all, copies), (part, met)| {
+            all.overlaps = all.overlaps.saturating_add(part.overlaps);
+            all.certified = all.certified.saturating_add(part.certified);
+            if let Some(pair) = part.worst {
+                deeper(&mut all.worst, pair);
+            }
+            all.complete &= part.complete;
+            (all, copies || met)
+        },
+    ))
+}
+
+/// Groups of disks one task of [`overlapping_pairs`] takes; a few in
+/// tests, so that small packings are split.
+const PAIR_CHUNK: usize = if cfg!(test) { 64 } else { 4096 };
+
+/// What a disk's search for partners looks in: `near` indexes the disks
+/// searched (each the first of its group in `groups`, or itself alone),
+/// `r_max` their largest radius.
+struct Partners<'a> {
+    disks: &'a [Disk],
+    groups: Option<&'a Groups>,
+    near: &'a ByRadius,
+    r_max: f64,
+    domain: &'a Domain,
+}
+
+impl Partners<'_> {
+    /// Disks disk (group) `a` stands for.
+    fn size(&self, a: usize) -> usize {
+        self.groups.map_or(1, |g| g.size[a] as usize)
+    }
+
+    /// The pairs of disk (group) `a` with those of lower index and its own
+    /// images, added to `part`; whether one of them is a copy of `a`
+    /// (centre and radius equal bit for bit), which stops the search of
+    /// disks alone (with no groups).
+    fn pairs_of(&self, a: usize, search: &mut Search, part: &mut particles::Pairs) -> bool {
+        let p = &self.disks[a];
+        let ka = self.size(a);
+        let mut copy = false;
         // The box of every centre within reach of an overlap with `p`.
-        let (lo, hi) = Disk::new(p.c.x, p.c.y, p.r + r_max).bounds();
+        let (lo, hi) = Disk::new(p.c.x, p.c.y, p.r + self.r_max).bounds();
         search.start();
-        for v in domain.image_shifts(lo, hi) {
+        for v in self.domain.image_shifts(lo, hi) {
             let zero = v == Vector2::zeros();
-            let stopped = near.try_visit(p.c - v, p.r, |b| {
+            let stopped = self.near.try_visit(p.c - v, p.r, |b| {
                 search.visit()?;
+                let q = &self.disks[b];
+                // A copy met either way round (not the disk itself).
+                if zero
+                    && b != a
+                    && [p.c.x, p.c.y, p.r].map(f64::to_bits)
+                        == [q.c.x, q.c.y, q.r].map(f64::to_bits)
+                {
+                    copy = true;
+                    // Disks alone: the search is made again with groups.
+                    if self.groups.is_none() {
+                        return ControlFlow::Break(());
+                    }
+                }
                 // Each pair once: the partner of lower index, or the disk's
                 // own image of the shift that comes first.
                 if b > a || (b == a && (zero || (v.y, v.x) < (0.0, 0.0))) {
@@ -473,20 +599,19 @@ fn overlapping_pairs(
                 // group with every member of the other; a group with its own
                 // image at ±v, k² (each member with its own image once, and
                 // with each other member's at v and at −v).
-                let members = ka.saturating_mul(groups.size[b] as usize);
-                let q = &disks[b];
+                let members = ka.saturating_mul(self.size(b));
                 let sum = p.r + q.r;
                 let at = if zero { q.c } else { q.c + v };
                 let overlap = (sum - (p.c - at).norm()) / sum;
                 if (0.0..=OVERLAP_REL).contains(&overlap) {
-                    apart = apart.saturating_add(members);
+                    part.certified = part.certified.saturating_add(members);
                 }
                 if overlap > OVERLAP_REL {
                     search.overlapped = true;
-                    count = count.saturating_add(members);
+                    part.overlaps = part.overlaps.saturating_add(members);
                     // The groups' first members: the first pair of these
                     // groups by index.
-                    deeper(&mut worst, (b, a, overlap));
+                    deeper(&mut part.worst, (b, a, overlap));
                 }
                 ControlFlow::Continue(())
             });
@@ -494,13 +619,8 @@ fn overlapping_pairs(
                 break;
             }
         }
+        copy
     }
-    Ok(particles::Pairs {
-        overlaps: count,
-        worst,
-        certified: apart,
-        complete: search.complete,
-    })
 }
 
 /// One disk's search for partners at a time: it stops
@@ -576,7 +696,9 @@ impl Groups {
             (d.c.x.to_bits(), d.c.y.to_bits(), d.r.to_bits())
         };
         let mut sorted = ok.to_vec();
-        sorted.sort_unstable_by_key(|&i| (key(i), i));
+        // The keys are distinct (each ends with its disk's index): the
+        // order is the same whatever the number of threads.
+        sorted.par_sort_unstable_by_key(|&i| (key(i), i));
         let mut firsts = Vec::new();
         let mut size = vec![0u32; disks.len()];
         let mut inner_pairs = 0usize;
@@ -594,7 +716,7 @@ impl Groups {
                 deeper(&mut inner_worst, (g0 as usize, g1 as usize, 1.0));
             }
         }
-        firsts.sort_unstable();
+        firsts.par_sort_unstable();
         Groups {
             firsts,
             size,
@@ -726,9 +848,12 @@ mod tests {
         let n = 20_000;
         let disks = vec![disk(5.0, 5.0, 1.0); n];
         let domain = Domain::rectangle(10.0, 10.0).unwrap();
-        crate::metrics::near::VISITED.with(|v| v.set(0));
-        let c = check(&disks, &domain, None);
-        let visited = crate::metrics::near::VISITED.with(std::cell::Cell::get);
+        // On a pool of one thread: the visits are counted per thread.
+        let (c, visited) = on_threads(1, || {
+            crate::metrics::near::VISITED.with(|v| v.set(0));
+            let c = check(&disks, &domain, None);
+            (c, crate::metrics::near::VISITED.with(std::cell::Cell::get))
+        });
         assert!(visited < 10, "{visited} disks visited");
         assert!(!c.valid());
         assert_eq!(c.overlaps, n * (n - 1) / 2);
@@ -757,11 +882,16 @@ mod tests {
             })
             .collect();
         let domain = Domain::rectangle(10.0, 10.0).unwrap();
-        crate::metrics::near::VISITED.with(|v| v.set(0));
-        let c = check(&disks, &domain, None);
-        let visited = crate::metrics::near::VISITED.with(std::cell::Cell::get);
+        // On a pool of one thread: the visits are counted per thread.
+        let (c, visited) = on_threads(1, || {
+            crate::metrics::near::VISITED.with(|v| v.set(0));
+            let c = check(&disks, &domain, None);
+            (c, crate::metrics::near::VISITED.with(std::cell::Cell::get))
+        });
+        // Twice: a search that stops short may have missed a copy, so the
+        // disks are searched again with the copies grouped.
         assert!(
-            visited < (n * (VISITS_AFTER_OVERLAP + 2)) as u64,
+            visited < 2 * (n * (VISITS_AFTER_OVERLAP + 2)) as u64,
             "{visited} disks visited"
         );
         assert!(!c.valid());
@@ -823,9 +953,12 @@ mod tests {
             1.0,
         ));
         let domain = Domain::rectangle(4.0, 4.0).unwrap();
-        crate::metrics::near::VISITED.with(|v| v.set(0));
-        let c = check(&disks, &domain, None);
-        let visited = crate::metrics::near::VISITED.with(std::cell::Cell::get);
+        // On a pool of one thread: the visits are counted per thread.
+        let (c, visited) = on_threads(1, || {
+            crate::metrics::near::VISITED.with(|v| v.set(0));
+            let c = check(&disks, &domain, None);
+            (c, crate::metrics::near::VISITED.with(std::cell::Cell::get))
+        });
         assert!(c.valid(), "{c:?}");
         let per_disk = visited as f64 / disks.len() as f64;
         assert!(per_disk < 30.0, "{per_disk} disks visited per disk");
@@ -914,5 +1047,90 @@ mod tests {
         let c = check(&disks, &domain, Some(&grading));
         assert!(c.valid());
         assert!(!c.grading_kept(), "{c:?}");
+    }
+
+    /// `f` run on a pool of `threads` threads.
+    fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(f)
+    }
+
+    #[test]
+    fn the_check_is_the_same_on_one_and_four_threads() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(17);
+        let grading = Grading::uniform(0.2, 1.2, crate::Basis::Number).unwrap();
+        for round in 0..12 {
+            let domain = if round % 2 == 0 {
+                Domain::rectangle(30.0, 20.0).unwrap()
+            } else {
+                Domain::periodic_rectangle(30.0, 20.0).unwrap()
+            };
+            let mut disks: Vec<Disk> = (0..400 + 100 * round)
+                .map(|_| {
+                    disk(
+                        rng.gen_range(-0.5..30.5),
+                        rng.gen_range(-0.5..20.5),
+                        rng.gen_range(0.1..0.6),
+                    )
+                })
+                .collect();
+            for _ in 0..50 {
+                let copy = disks[rng.gen_range(0..disks.len())];
+                disks.insert(rng.gen_range(0..=disks.len()), copy);
+            }
+            disks.push(disk(f64::NAN, 1.0, 0.5));
+            let one = on_threads(1, || check(&disks, &domain, Some(&grading)));
+            let four = on_threads(4, || check(&disks, &domain, Some(&grading)));
+            assert_eq!(format!("{one:?}"), format!("{four:?}"));
+            assert!(one.overlaps > 50 && one.malformed == 1, "{one:?}");
+            if !domain.is_periodic() {
+                assert_eq!(one.overlaps, brute_force(&disks[..disks.len() - 1]));
+                assert_eq!(one.worst_overlap, brute_worst(&disks[..disks.len() - 1]));
+                assert!(one.outside > 0, "{one:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_planted_overlap_copy_or_disk_outside_is_caught_among_many() {
+        // 250 × 200 disks of radius 0.45 on a 1 mm lattice: a valid
+        // packing of 50 000 disks, in many chunks.
+        let (nx, ny) = (250, 200);
+        let lattice: Vec<Disk> = (0..nx * ny)
+            .map(|k| disk(0.5 + (k % nx) as f64, 0.5 + (k / nx) as f64, 0.45))
+            .collect();
+        let domain = Domain::rectangle(nx as f64, ny as f64).unwrap();
+        let run = |disks: &[Disk]| on_threads(4, || check(disks, &domain, None));
+        let c = run(&lattice);
+        assert!(c.valid() && c.overlaps_complete, "{c:?}");
+        assert_eq!(c.pairs_certified, 0);
+        let planted = 31_337;
+        // One disk moved half a millimetre onto its right neighbour.
+        let mut moved = lattice.clone();
+        moved[planted].c.x += 0.5;
+        let c = run(&moved);
+        assert_eq!(
+            (c.overlaps, c.outside, c.worst_overlap.map(|w| (w.0, w.1))),
+            (1, 0, Some((planted, planted + 1)))
+        );
+        // A copy of one disk, last: it overlaps its original, wholly.
+        let mut copied = lattice.clone();
+        copied.push(lattice[planted]);
+        let c = run(&copied);
+        assert_eq!(
+            (c.overlaps, c.outside, c.worst_overlap),
+            (1, 0, Some((planted, nx * ny, 1.0)))
+        );
+        // A disk of the last row pushed through the top wall.
+        let mut out = lattice.clone();
+        let top = nx * ny - 7;
+        out[top].c.y += 0.3;
+        let c = run(&out);
+        assert_eq!((c.overlaps, c.outside), (0, 1), "{c:?}");
+        assert_eq!(c.worst_outside.map(|w| w.0), Some(top));
     }
 }

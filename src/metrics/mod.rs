@@ -31,6 +31,9 @@ pub use shapes::{
 
 use std::borrow::Cow;
 use std::ops::ControlFlow;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use rayon::prelude::*;
 
 use crate::Scene;
 use crate::cancel::{Cancel, Cancelled};
@@ -39,7 +42,6 @@ use nalgebra::Vector2;
 
 use crate::geometry::{Disk, Point};
 use crate::packer::Packing;
-use crate::packer::index::{Grid, SpatialIndex};
 use near::ByRadius;
 
 /// Disks or samples between two polls of the cancel token.
@@ -164,70 +166,87 @@ pub fn measure_cancellable(
         Cow::Owned(packing.boundary.iter().chain(disks).copied().collect())
     };
     let nb = packing.boundary.len();
-    let (lo, hi) = domain.bounds();
-    // With no disk at all, buckets of the grading's size keep the grid small.
-    let bucket = (2.0 * r_max).max(scene.d_max());
-    let margin = Point::new(2.0 * r_max, 2.0 * r_max).coords;
-    let mut grid = Grid::new(lo - margin, hi + margin, bucket);
-    for (id, d) in all.iter().enumerate() {
-        grid.insert(id as u32, d.c);
-    }
 
     // Neighbours by size class: a grid sized by the largest radius makes a
     // wide grading's fine disks visit cells full of fine disks.
     let near = ByRadius::new(&all, 0..all.len());
-    let mut max_overlap = 0.0f64;
-    let mut contacts = 0usize;
-    let mut touched = vec![false; all.len()];
-    let mut min_wall_clearance = f64::INFINITY;
+    let touched = Bits::new(all.len());
     let periodic = domain.is_periodic();
-    for (i, d) in all.iter().enumerate().skip(nb) {
-        if i % POLL_EVERY == 0 {
-            cancel.check()?;
-        }
-        if !periodic {
-            let clearance = domain.signed_distance(d.c) - d.r;
-            min_wall_clearance = min_wall_clearance.min(clearance);
-            touched[i] |= clearance <= CONTACT_REL * d.r;
-        }
-        // Each packed pair once (j < i); wall disks against every packed
-        // disk. In a periodic cell, every image of the disks of lower index
-        // that reaches this one, and its own images once per opposite pair.
-        for v in images_near(domain, d.c, d.r + r_max) {
-            let zero = v == Vector2::zeros();
-            near.visit(d.c - v, d.r, |j| {
-                if j > i || (j == i && (zero || (v.y, v.x) < (0.0, 0.0))) {
-                    return;
+    // Fixed runs of the disks in cell order (neighbours in space near in
+    // memory), combined in run order: the largest, smallest and counts
+    // are the same whatever the threads.
+    let parts = near
+        .runs(CHUNK)
+        .into_par_iter()
+        .map(|run| {
+            let mut part = (0.0f64, 0usize, f64::INFINITY);
+            for (k, &(_, _, i)) in run.iter().enumerate() {
+                let i = i as usize;
+                if k % POLL_EVERY == 0 {
+                    cancel.check()?;
                 }
-                let o = all[j];
-                let at = if zero { o.c } else { o.c + v };
-                let overlap = overlap_disk_disk(d.c, d.r, at, o.r);
-                max_overlap = max_overlap.max(overlap);
-                if overlap >= -CONTACT_REL {
-                    touched[i] = true;
-                    touched[j] = true;
-                    contacts += usize::from(j >= nb);
+                if i < nb {
+                    continue;
                 }
-            });
-        }
-    }
+                let d = all[i];
+                if !periodic {
+                    let clearance = domain.signed_distance(d.c) - d.r;
+                    part.2 = part.2.min(clearance);
+                    if clearance <= CONTACT_REL * d.r {
+                        touched.set(i);
+                    }
+                }
+                // Each packed pair once (j < i); wall disks against every
+                // packed disk. In a periodic cell, every image of the disks
+                // of lower index that reaches this one, and its own images
+                // once per opposite pair.
+                for v in images_near(domain, d.c, d.r + r_max) {
+                    let zero = v == Vector2::zeros();
+                    near.visit(d.c - v, d.r, |j| {
+                        if j > i || (j == i && (zero || (v.y, v.x) < (0.0, 0.0))) {
+                            return;
+                        }
+                        let o = all[j];
+                        let at = if zero { o.c } else { o.c + v };
+                        let overlap = overlap_disk_disk(d.c, d.r, at, o.r);
+                        part.0 = part.0.max(overlap);
+                        if overlap >= -CONTACT_REL {
+                            touched.set(i);
+                            touched.set(j);
+                            part.1 += usize::from(j >= nb);
+                        }
+                    });
+                }
+            }
+            Ok(part)
+        })
+        .collect::<Result<Vec<_>, Cancelled>>()?;
+    let (max_overlap, contacts, mut min_wall_clearance) = parts.into_iter().fold(
+        (0.0f64, 0usize, f64::INFINITY),
+        |(o, c, w), (po, pc, pw)| (o.max(po), c + pc, w.min(pw)),
+    );
     if periodic {
         min_wall_clearance = f64::NAN;
     }
     let n = disks.len();
-    let isolated = touched[nb..].iter().filter(|&&t| !t).count();
+    let isolated = (nb..all.len()).filter(|&i| !touched.get(i)).count();
+    drop(touched);
+    cancel.check()?;
     let (local_porosity_std, local_windows, local_windows_clipped) =
-        local_porosity(packing, r_max, |x0, x1, y0, y1| {
-            disks_in_box(domain, &grid, &all, nb, r_max, (x0, x1, y0, y1))
+        local_porosity(packing, r_max, |boxes| {
+            boxes
+                .par_iter()
+                .map(|&b| disks_in_box(domain, &near, &all, nb, r_max, b))
+                .collect()
         });
-    let mut clear = DiskClearance {
+    let clear = DiskClearance {
         packing,
         near: &near,
         all: &all,
         r_max,
         settler: (usize::MAX, Vector2::zeros()),
     };
-    let largest_hole = largest_hole(packing, &mut clear, scene.d_min(), cancel)?;
+    let largest_hole = largest_hole_of_disks(packing, clear, scene.d_min(), cancel)?;
     Ok(Metrics {
         particles: n,
         domain_area,
@@ -270,8 +289,11 @@ fn measure_grains(packing: &Packing, scene: &Scene, cancel: &Cancel) -> Result<M
         .fold(0.0f64, |m, d| m.max(d.r));
     let mut areas = voids::GrainAreas::new(packing, &mut memo);
     let (local_porosity_std, local_windows, local_windows_clipped) =
-        local_porosity(packing, r_max, |x0, x1, y0, y1| {
-            areas.in_box(x0, x1, y0, y1)
+        local_porosity(packing, r_max, |boxes| {
+            boxes
+                .iter()
+                .map(|&[x0, x1, y0, y1]| areas.in_box(x0, x1, y0, y1))
+                .collect()
         });
     cancel.check()?;
     let mut clear = voids::GrainClearance::new(packing, &mut memo);
@@ -333,22 +355,22 @@ fn solid_in(packing: &Packing, boxes: &[[f64; 4]], memo: &mut shapes::ShapeMemo)
 /// otherwise (a small circle, a slot narrower than a window) windows tiling
 /// the bounds clipped to the domain, each its porosity over its exact area
 /// inside, those with at least [`MIN_WINDOW_INSIDE`] of it inside counted,
-/// so every domain is measured. `solid(x0, x1, y0, y1)` is the solid area
-/// inside the box [x0, x1] × [y0, y1].
+/// so every domain is measured. `solids(boxes)` is the solid area inside
+/// each box `[x0, x1, y0, y1]` of `boxes`, in their order.
 fn local_porosity(
     packing: &Packing,
     r_max: f64,
-    mut solid: impl FnMut(f64, f64, f64, f64) -> f64,
+    mut solids: impl FnMut(&[[f64; 4]]) -> Vec<f64>,
 ) -> (f64, usize, bool) {
     let w = WINDOW_DIAMETERS * 2.0 * r_max;
     if w <= 0.0 {
         return (f64::NAN, 0, false);
     }
-    let inside = window_porosities(packing, w, false, &mut solid);
+    let inside = window_porosities(packing, w, false, &mut solids);
     let (values, clipped) = if inside.len() >= 2 {
         (inside, false)
     } else {
-        (window_porosities(packing, w, true, &mut solid), true)
+        (window_porosities(packing, w, true, &mut solids), true)
     };
     if values.len() < 2 {
         return (f64::NAN, values.len(), clipped);
@@ -358,15 +380,16 @@ fn local_porosity(
 
 /// The solid area of the packed disks of `all` (wall disks first, `nb` of
 /// them, not solid) inside the box [x0, x1] × [y0, y1], in closed form
-/// ([`area_disk_box`]); `grid` indexes `all` by centre, `r_max` their
-/// largest radius. In a periodic cell, the images of the disks too.
+/// ([`area_disk_box`]), summed in the order `near` (an index of `all`)
+/// visits them; `r_max` their largest radius. In a periodic cell, the
+/// images of the disks too.
 fn disks_in_box(
     domain: &crate::Domain,
-    grid: &Grid,
+    near: &ByRadius,
     all: &[Disk],
     nb: usize,
     r_max: f64,
-    (x0, x1, y0, y1): (f64, f64, f64, f64),
+    [x0, x1, y0, y1]: [f64; 4],
 ) -> f64 {
     let mut solid = 0.0;
     let (qlo, qhi) = (
@@ -375,9 +398,10 @@ fn disks_in_box(
     );
     // The images of the disks across a periodic cell's edges too.
     for v in domain.image_shifts(qlo, qhi) {
-        grid.visit_box(qlo - v, qhi - v, |j| {
-            if j as usize >= nb {
-                let d = all[j as usize];
+        let (lo, hi) = (Point::new(x0, y0) - v, Point::new(x1, y1) - v);
+        near.visit_box(lo, hi, |j| {
+            if j >= nb {
+                let d = all[j];
                 solid += area_disk_box(image(d.c, v), d.r, x0, x1, y0, y1);
             }
         });
@@ -396,13 +420,13 @@ pub fn mean_sd(values: &[f64]) -> (f64, f64) {
 
 /// The porosities of the windows of side `w` centred on the domain's
 /// bounds: wholly inside it (`clipped` false), or covering the bounds and
-/// clipped to the domain (`clipped` true; see [`local_porosity`]), each
-/// window's solid area from `solid`.
+/// clipped to the domain (`clipped` true; see [`local_porosity`]), the
+/// windows' solid areas from `solids`, all at once.
 fn window_porosities(
     packing: &Packing,
     w: f64,
     clipped: bool,
-    solid: &mut impl FnMut(f64, f64, f64, f64) -> f64,
+    solids: &mut impl FnMut(&[[f64; 4]]) -> Vec<f64>,
 ) -> Vec<f64> {
     let domain = &packing.domain;
     let (lo, hi) = domain.bounds();
@@ -417,7 +441,7 @@ fn window_porosities(
     let (nx, ny) = (count(hi.x - lo.x), count(hi.y - lo.y));
     let x_start = lo.x + 0.5 * ((hi.x - lo.x) - nx as f64 * w);
     let y_start = lo.y + 0.5 * ((hi.y - lo.y) - ny as f64 * w);
-    let mut values = Vec::new();
+    let (mut boxes, mut areas) = (Vec::new(), Vec::new());
     for iy in 0..ny {
         for ix in 0..nx {
             let (x0, y0) = (x_start + ix as f64 * w, y_start + iy as f64 * w);
@@ -442,10 +466,15 @@ fn window_porosities(
                 }
                 w * w
             };
-            values.push(porosity(solid(x0, x1, y0, y1), area));
+            boxes.push([x0, x1, y0, y1]);
+            areas.push(area);
         }
     }
-    values
+    solids(&boxes)
+        .into_iter()
+        .zip(areas)
+        .map(|(solid, area)| porosity(solid, area))
+        .collect()
 }
 
 /// Clearance at `p`: distance to the nearest disk edge or wall (negative
@@ -584,33 +613,173 @@ fn hole_step(extent: nalgebra::Vector2<f64>, disks: usize, d_min: f64) -> f64 {
         .max(per_disk)
 }
 
-/// Which samples of the largest-hole grid (`nx + 1` by `ny + 1` from `lo`,
-/// `step` apart, row by row) lie strictly inside a disk, marked in one pass
-/// over the disks; empty for particles that are not disks (a sample inside
-/// an area-equivalent disk may lie outside the particle). At most about
-/// 4097² samples ([`hole_step`]'s floor), a byte each.
-fn covered(packing: &Packing, lo: Point, step: f64, nx: usize, ny: usize) -> Vec<bool> {
-    if !packing.grains.is_empty() {
-        return Vec::new();
+/// Sample rows of the largest-hole grid one task scans.
+const HOLE_STRIP_ROWS: usize = 8;
+
+/// Packed disks one task of the contact loop (or the hole search's
+/// covering) takes; a few in tests, so that small packings are split.
+const CHUNK: usize = if cfg!(test) { 64 } else { 4096 };
+
+/// One bit per item, set from any thread: setting is an OR, so the bits
+/// are the same whatever the order of the threads.
+struct Bits(Vec<AtomicU64>);
+
+impl Bits {
+    /// `n` bits, all clear: an eighth of a byte each.
+    fn new(n: usize) -> Self {
+        Bits((0..n.div_ceil(64)).map(|_| AtomicU64::new(0)).collect())
     }
-    let mut inside = vec![false; (nx + 1) * (ny + 1)];
-    let index = |v: f64, n: usize| (v.max(0.0) as usize).min(n);
-    for d in &packing.disks {
-        let (x0, x1) = ((d.c.x - d.r - lo.x) / step, (d.c.x + d.r - lo.x) / step);
-        let (y0, y1) = ((d.c.y - d.r - lo.y) / step, (d.c.y + d.r - lo.y) / step);
-        if x1 < 0.0 || y1 < 0.0 {
-            continue;
+
+    /// Set bit `i`.
+    fn set(&self, i: usize) {
+        self.0[i / 64].fetch_or(1 << (i % 64), Ordering::Relaxed);
+    }
+
+    /// Whether bit `i` is set (false beyond the bits).
+    fn get(&self, i: usize) -> bool {
+        self.0
+            .get(i / 64)
+            .is_some_and(|w| w.load(Ordering::Relaxed) & (1 << (i % 64)) != 0)
+    }
+}
+
+/// The best exact clearance at least 0 that any strip of the hole search
+/// has found so far: only a bound that lets the strips skip samples that
+/// cannot win, never their result.
+#[derive(Default)]
+struct Found(AtomicU64);
+
+impl Found {
+    /// The best so far, if any (the bits of a non-negative value order as
+    /// the value; 0 stands for none).
+    fn get(&self) -> Option<f64> {
+        match self.0.load(Ordering::Relaxed) {
+            0 => None,
+            bits => Some(f64::from_bits(bits - 1)),
         }
-        for iy in index(y0.ceil(), ny)..=index(y1.floor(), ny) {
-            for ix in index(x0.ceil(), nx)..=index(x1.floor(), nx) {
-                let p = Point::new(lo.x + ix as f64 * step, lo.y + iy as f64 * step);
-                if (p - d.c).norm() < d.r {
-                    inside[iy * (nx + 1) + ix] = true;
+    }
+
+    /// Offer the exact clearance `c`, at least 0, of some sample.
+    fn offer(&self, c: f64) {
+        self.0.fetch_max(c.to_bits() + 1, Ordering::Relaxed);
+    }
+}
+
+/// The largest-hole search's grid of samples: `nx + 1` by `ny + 1` from
+/// `lo`, `step` apart, row by row.
+struct Samples<'a> {
+    packing: &'a Packing,
+    lo: Point,
+    step: f64,
+    nx: usize,
+    ny: usize,
+    /// Which samples lie strictly inside a disk (none known: no bits).
+    inside: Bits,
+}
+
+impl<'a> Samples<'a> {
+    /// The grid over `packing`'s bounds ([`hole_step`]), none known to be
+    /// inside a disk; `None` when the step is not a positive number.
+    fn new(packing: &'a Packing, d_min: f64) -> Option<Self> {
+        let (lo, hi) = packing.domain.bounds();
+        let step = hole_step(hi - lo, packing.disks.len(), d_min);
+        if step <= 0.0 || !step.is_finite() {
+            return None;
+        }
+        Some(Samples {
+            packing,
+            lo,
+            step,
+            nx: ((hi.x - lo.x) / step).ceil() as usize,
+            ny: ((hi.y - lo.y) / step).ceil() as usize,
+            inside: Bits::new(0),
+        })
+    }
+
+    /// Mark the samples that lie strictly inside a disk of the packing
+    /// (disks only: a sample inside an area-equivalent disk may lie
+    /// outside the particle), in one parallel pass over the disks; at
+    /// most about 4097² samples ([`hole_step`]'s floor), a bit each.
+    fn cover(&mut self, cancel: &Cancel) -> Result<(), Cancelled> {
+        let (lo, step, nx, ny) = (self.lo, self.step, self.nx, self.ny);
+        let inside = Bits::new((nx + 1) * (ny + 1));
+        let index = |v: f64, n: usize| (v.max(0.0) as usize).min(n);
+        let disks = &self.packing.disks;
+        disks.par_chunks(CHUNK).try_for_each(|chunk| {
+            cancel.check()?;
+            for d in chunk {
+                let (x0, x1) = ((d.c.x - d.r - lo.x) / step, (d.c.x + d.r - lo.x) / step);
+                let (y0, y1) = ((d.c.y - d.r - lo.y) / step, (d.c.y + d.r - lo.y) / step);
+                if x1 < 0.0 || y1 < 0.0 {
+                    continue;
+                }
+                for iy in index(y0.ceil(), ny)..=index(y1.floor(), ny) {
+                    for ix in index(x0.ceil(), nx)..=index(x1.floor(), nx) {
+                        let p = Point::new(lo.x + ix as f64 * step, lo.y + iy as f64 * step);
+                        if (p - d.c).norm() < d.r {
+                            inside.set(iy * (nx + 1) + ix);
+                        }
+                    }
+                }
+            }
+            Ok(())
+        })?;
+        self.inside = inside;
+        Ok(())
+    }
+
+    /// The sample of rows `rows` with the largest clearance (the first in
+    /// row order of equals) and that clearance, exact when it exceeds
+    /// what `found` held at any time; otherwise at most that, and
+    /// `(-∞, lo)` when every sample was skipped.
+    fn scan(
+        &self,
+        clear: &mut impl Clearance,
+        rows: std::ops::Range<usize>,
+        found: &Found,
+        cancel: &Cancel,
+    ) -> Result<(f64, Point), Cancelled> {
+        let periodic = self.packing.domain.is_periodic();
+        let mut best = (f64::NEG_INFINITY, self.lo);
+        for iy in rows {
+            for ix in 0..=self.nx {
+                if ix % POLL_EVERY == 0 {
+                    cancel.check()?;
+                }
+                // No sample at or below `floor` can win: this strip's best,
+                // or just below the best any strip has found (a sample
+                // equal to that may still come first in row order).
+                let known = found.get();
+                let floor = known.map_or(best.0, |g| best.0.max(g.next_down()));
+                // A sample inside a disk has a negative clearance: once a
+                // sample has a clearance of zero or more, it cannot win.
+                if (best.0 >= 0.0 || known.is_some()) && self.inside.get(iy * (self.nx + 1) + ix) {
+                    continue;
+                }
+                let p = Point::new(
+                    self.lo.x + ix as f64 * self.step,
+                    self.lo.y + iy as f64 * self.step,
+                );
+                // Neighbouring samples are mostly settled by the same disk:
+                // trying it first skips the grid query (a skipped sample is
+                // no better than `floor`).
+                if clear.settled_by_last(p, floor) {
+                    continue;
+                }
+                if !periodic && self.packing.domain.signed_distance(p) <= 0.0 {
+                    continue;
+                }
+                let c = clear.above(p, floor);
+                if c > best.0 {
+                    best = (c, p);
+                    if c > floor && c >= 0.0 {
+                        found.offer(c);
+                    }
                 }
             }
         }
+        Ok(best)
     }
-    inside
 }
 
 /// What the largest-hole search asks of the particles at a point.
@@ -626,6 +795,7 @@ trait Clearance {
 }
 
 /// The clearance among disks ([`clearance_above`]).
+#[derive(Clone)]
 struct DiskClearance<'a> {
     packing: &'a Packing,
     near: &'a ByRadius,
@@ -655,53 +825,59 @@ impl Clearance for DiskClearance<'_> {
     }
 }
 
-/// Diameter of the largest empty circle: grid search, then local refinement.
+/// Diameter of the largest empty circle among particles: grid search,
+/// then local refinement; serial.
 fn largest_hole(
     packing: &Packing,
     clear: &mut impl Clearance,
     d_min: f64,
     cancel: &Cancel,
 ) -> Result<f64, Cancelled> {
-    let (lo, hi) = packing.domain.bounds();
-    let step = hole_step(hi - lo, packing.disks.len(), d_min);
-    if step <= 0.0 || !step.is_finite() {
+    let Some(samples) = Samples::new(packing, d_min) else {
         return Ok(0.0);
-    }
-    let mut best = (f64::NEG_INFINITY, lo);
-    let nx = ((hi.x - lo.x) / step).ceil() as usize;
-    let ny = ((hi.y - lo.y) / step).ceil() as usize;
-    let periodic = packing.domain.is_periodic();
-    let inside = covered(packing, lo, step, nx, ny);
-    for iy in 0..=ny {
-        for ix in 0..=nx {
-            if ix % POLL_EVERY == 0 {
-                cancel.check()?;
-            }
-            // A sample inside a disk has a negative clearance: once a
-            // sample has a clearance of zero or more, it cannot win.
-            if best.0 >= 0.0 && inside.get(iy * (nx + 1) + ix) == Some(&true) {
-                continue;
-            }
-            let p = Point::new(lo.x + ix as f64 * step, lo.y + iy as f64 * step);
-            // Neighbouring samples are mostly settled by the same disk:
-            // trying it first skips the grid query (a skipped sample is no
-            // better than `best`).
-            if clear.settled_by_last(p, best.0) {
-                continue;
-            }
-            if !periodic && packing.domain.signed_distance(p) <= 0.0 {
-                continue;
-            }
-            let c = clear.above(p, best.0);
-            if c > best.0 {
-                best = (c, p);
-            }
-        }
-    }
+    };
+    let best = samples.scan(clear, 0..samples.ny + 1, &Found::default(), cancel)?;
+    Ok(refine(best, clear, samples.step, d_min))
+}
+
+/// [`largest_hole`] among disks, the samples inside a disk skipped and
+/// the rows scanned in strips of [`HOLE_STRIP_ROWS`] in parallel: the
+/// strips' best samples are combined in row order (the first of equals),
+/// so the hole is the serial scan's, bit for bit, whatever the threads.
+fn largest_hole_of_disks(
+    packing: &Packing,
+    mut clear: DiskClearance<'_>,
+    d_min: f64,
+    cancel: &Cancel,
+) -> Result<f64, Cancelled> {
+    let Some(mut samples) = Samples::new(packing, d_min) else {
+        return Ok(0.0);
+    };
+    samples.cover(cancel)?;
+    let found = Found::default();
+    let rows = samples.ny + 1;
+    let strips = (0..rows.div_ceil(HOLE_STRIP_ROWS))
+        .into_par_iter()
+        .map(|k| {
+            let strip = k * HOLE_STRIP_ROWS..((k + 1) * HOLE_STRIP_ROWS).min(rows);
+            samples.scan(&mut clear.clone(), strip, &found, cancel)
+        })
+        .collect::<Result<Vec<_>, Cancelled>>()?;
+    let best = strips
+        .into_iter()
+        .fold((f64::NEG_INFINITY, samples.lo), |best, strip| {
+            if strip.0 > best.0 { strip } else { best }
+        });
+    Ok(refine(best, &mut clear, samples.step, d_min))
+}
+
+/// The largest-hole diameter from the best grid sample `best` (clearance,
+/// point; `step` the grid's spacing): a pattern search about it down to
+/// `d_min`·10⁻⁴; 0 when no sample has a positive clearance.
+fn refine(best: (f64, Point), clear: &mut impl Clearance, step: f64, d_min: f64) -> f64 {
     if best.0 <= 0.0 {
-        return Ok(0.0);
+        return 0.0;
     }
-    // Pattern search around the best sample.
     let (mut value, mut p) = best;
     let mut h = step / 2.0;
     while h > d_min * 1e-4 {
@@ -728,7 +904,7 @@ fn largest_hole(
             h /= 2.0;
         }
     }
-    Ok(2.0 * value)
+    2.0 * value
 }
 
 #[cfg(test)]
@@ -755,9 +931,12 @@ mod tests {
         let force = crate::config::ParseOptions { force: true };
         let scene = crate::config::parse_with(text, "t", force).unwrap().scene;
         let packing = crate::pack(&scene).unwrap();
-        CANDIDATES.with(|c| c.set(0));
-        let m = measure(&packing, &scene);
-        let visited = CANDIDATES.with(Cell::get) as f64;
+        // On a pool of one thread: the visits are counted per thread.
+        let (m, visited) = on_threads(1, || {
+            CANDIDATES.with(|c| c.set(0));
+            let m = measure(&packing, &scene);
+            (m, CANDIDATES.with(Cell::get) as f64)
+        });
         let (lo, hi) = packing.domain.bounds();
         let step = hole_step(hi - lo, packing.disks.len(), scene.d_min());
         let per_sample = visited / samples(hi - lo, step);
@@ -809,9 +988,13 @@ mod tests {
         let packing = crate::pack(&scene).unwrap();
         let n = packing.disks.len();
         assert!(n > 2000, "{n} disks");
-        near::VISITED.with(|c| c.set(0));
-        let m = measure(&packing, &scene);
-        let per_disk = near::VISITED.with(Cell::get) as f64 / n as f64;
+        // On a pool of one thread: the visits are counted per thread.
+        let (m, visited) = on_threads(1, || {
+            near::VISITED.with(|c| c.set(0));
+            let m = measure(&packing, &scene);
+            (m, near::VISITED.with(Cell::get))
+        });
+        let per_disk = visited as f64 / n as f64;
         assert!(per_disk < 200.0, "{per_disk} disks visited per packed disk");
         // The same contacts as a test of every pair.
         let mut contacts = 0;
@@ -870,5 +1053,169 @@ mod tests {
             hole_step(nalgebra::Vector2::new(100.0, 100.0), 1101, 0.5),
             0.25
         );
+    }
+
+    /// `f` run on a pool of `threads` threads.
+    fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(f)
+    }
+
+    /// The scene of a 30 × 20 mm rectangle (`walls` its wall model) and
+    /// its packing (disks 0.4 to 1.6 mm).
+    fn packed(walls: &str, seed: u64) -> (Scene, Packing) {
+        let text = format!(
+            "seed = {seed}\n[domain]\nshape = \"rectangle\"\nwidth = 30\nheight = 20\n\
+             walls = \"{walls}\"\n[grading]\nuniform = [0.4, 1.6]\n"
+        );
+        let scene = crate::config::parse_with(&text, "t", Default::default())
+            .unwrap()
+            .scene;
+        let packing = crate::pack(&scene).unwrap();
+        (scene, packing)
+    }
+
+    /// `n` disks of radii 0.1 to 0.8 mm dropped at random in the bounds of
+    /// `domain` (overlapping one another and the walls).
+    fn scattered(domain: crate::Domain, n: usize, seed: u64) -> Packing {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(seed);
+        let (lo, hi) = domain.bounds();
+        let disks = (0..n)
+            .map(|_| {
+                Disk::new(
+                    rng.gen_range(lo.x..hi.x),
+                    rng.gen_range(lo.y..hi.y),
+                    rng.gen_range(0.1..0.8),
+                )
+            })
+            .collect();
+        Packing::of_disks(domain, disks)
+    }
+
+    #[test]
+    fn measure_is_the_same_on_one_and_four_threads() {
+        let mut cases = Vec::new();
+        for seed in 0..3 {
+            for walls in ["exact", "disks", "periodic"] {
+                cases.push(packed(walls, seed));
+            }
+        }
+        let (scene, _) = packed("exact", 0);
+        for seed in 0..6 {
+            for domain in [
+                crate::Domain::rectangle(30.0, 20.0).unwrap(),
+                crate::Domain::periodic_rectangle(30.0, 20.0).unwrap(),
+                crate::Domain::circle(Point::new(10.0, 10.0), 10.0).unwrap(),
+            ] {
+                let n = 300 + 300 * seed as usize;
+                cases.push((scene.clone(), scattered(domain, n, seed)));
+            }
+        }
+        assert!(cases.iter().any(|(_, p)| !p.boundary.is_empty()));
+        assert!(cases.iter().any(|(_, p)| p.domain.is_periodic()));
+        for (scene, packing) in &cases {
+            assert!(packing.disks.len() > 4 * CHUNK, "{}", packing.disks.len());
+            let one = on_threads(1, || measure(packing, scene));
+            let four = on_threads(4, || measure(packing, scene));
+            // Debug text: NaN is equal to itself there, and every bit of
+            // each figure is printed.
+            assert_eq!(format!("{one:?}"), format!("{four:?}"));
+            assert!(one.largest_hole > 0.0, "{one:?}");
+        }
+    }
+
+    #[test]
+    fn the_hole_found_in_strips_is_the_serial_scans() {
+        // Every sample of the grid queried against every disk, in row
+        // order, the first of the largest kept: the strips and their
+        // skipping must find that sample, and so the same hole.
+        let (scene, dense) = packed("exact", 3);
+        let sparse = scattered(crate::Domain::rectangle(30.0, 20.0).unwrap(), 300, 9);
+        for packing in [&dense, &sparse] {
+            let (lo, hi) = packing.domain.bounds();
+            let step = hole_step(hi - lo, packing.disks.len(), scene.d_min());
+            let nx = ((hi.x - lo.x) / step).ceil() as usize;
+            let ny = ((hi.y - lo.y) / step).ceil() as usize;
+            let mut best = (f64::NEG_INFINITY, lo);
+            for iy in 0..=ny {
+                for ix in 0..=nx {
+                    let p = Point::new(lo.x + ix as f64 * step, lo.y + iy as f64 * step);
+                    let wall = packing.domain.signed_distance(p);
+                    if wall <= 0.0 {
+                        continue;
+                    }
+                    let c = packing
+                        .disks
+                        .iter()
+                        .map(|d| (p - d.c).norm() - d.r)
+                        .fold(wall, f64::min);
+                    if c > best.0 {
+                        best = (c, p);
+                    }
+                }
+            }
+            let r_max = packing.disks.iter().fold(0.0f64, |m, d| m.max(d.r));
+            let near = ByRadius::new(&packing.disks, 0..packing.disks.len());
+            let mut clear = DiskClearance {
+                packing,
+                near: &near,
+                all: &packing.disks,
+                r_max,
+                settler: (usize::MAX, Vector2::zeros()),
+            };
+            let serial = refine(best, &mut clear, step, scene.d_min());
+            assert!(serial > 0.0);
+            for threads in [1, 4] {
+                let m = on_threads(threads, || measure(packing, &scene));
+                assert_eq!(m.largest_hole.to_bits(), serial.to_bits(), "{threads}");
+            }
+        }
+    }
+
+    #[test]
+    fn contacts_overlaps_and_windows_match_every_pair_and_disk() {
+        let (scene, _) = packed("exact", 0);
+        let packing = scattered(crate::Domain::rectangle(30.0, 20.0).unwrap(), 700, 5);
+        let m = on_threads(4, || measure(&packing, &scene));
+        let disks = &packing.disks;
+        let (mut contacts, mut max_overlap) = (0, 0.0f64);
+        let mut touched = vec![false; disks.len()];
+        for (i, a) in disks.iter().enumerate() {
+            let wall = packing.domain.signed_distance(a.c) - a.r;
+            touched[i] |= wall <= CONTACT_REL * a.r;
+            for (j, b) in disks[..i].iter().enumerate() {
+                let overlap = overlap_disk_disk(a.c, a.r, b.c, b.r);
+                max_overlap = max_overlap.max(overlap);
+                if overlap >= -CONTACT_REL {
+                    contacts += 1;
+                    touched[i] = true;
+                    touched[j] = true;
+                }
+            }
+        }
+        assert_eq!(m.coordination, coordination(2 * contacts, disks.len()));
+        assert_eq!(m.max_overlap, max_overlap);
+        assert_eq!(m.isolated, touched.iter().filter(|&&t| !t).count());
+        assert!(m.isolated > 0 && contacts > 0, "{m:?}");
+        // The windows: every disk's area in each, summed in any order.
+        let w = WINDOW_DIAMETERS * 2.0 * disks.iter().fold(0.0f64, |m, d| m.max(d.r));
+        let every = window_porosities(&packing, w, false, &mut |boxes: &[[f64; 4]]| {
+            boxes
+                .iter()
+                .map(|&[x0, x1, y0, y1]| {
+                    disks
+                        .iter()
+                        .map(|d| area_disk_box(d.c, d.r, x0, x1, y0, y1))
+                        .sum()
+                })
+                .collect()
+        });
+        assert_eq!(m.local_windows, every.len());
+        let sd = mean_sd(&every).1;
+        assert!((m.local_porosity_std - sd).abs() < 1e-12 * sd, "{m:?} {sd}");
     }
 }

@@ -11,6 +11,8 @@
 
 use std::ops::ControlFlow;
 
+use rayon::slice::ParallelSliceMut;
+
 use crate::geometry::{Disk, Point};
 
 /// Most size classes (radii spanning 2⁶³ share the last).
@@ -66,11 +68,17 @@ impl ByRadius {
         for i in ids.clone() {
             counts[class_of(disks[i].r)] += 1;
         }
+        let total: usize = counts.iter().sum();
         let classes = (0..MAX_CLASSES)
             .filter(|&k| counts[k] > 0)
             .map(|k| {
-                let members = ids.clone().filter(|&i| class_of(disks[i].r) == k);
-                Class::new(disks, members, counts[k])
+                if counts[k] == total {
+                    // One class: its members without a class test each.
+                    Class::new(disks, ids.clone(), total)
+                } else {
+                    let members = ids.clone().filter(|&i| class_of(disks[i].r) == k);
+                    Class::new(disks, members, counts[k])
+                }
             })
             .collect();
         ByRadius { classes }
@@ -96,12 +104,36 @@ impl ByRadius {
         ControlFlow::Continue(())
     }
 
+    /// The indexed disks in runs of at most `chunk`: class by class, each
+    /// class's in cell order (row, then column), so that disks near in
+    /// space are near in this order.
+    pub(crate) fn runs(&self, chunk: usize) -> Vec<&[(u32, u32, u32)]> {
+        self.classes
+            .iter()
+            .flat_map(|c| c.keyed.chunks(chunk))
+            .collect()
+    }
+
     /// [`ByRadius::try_visit`] without a break.
     pub(crate) fn visit(&self, p: Point, reach: f64, mut f: impl FnMut(usize)) {
         let _ = self.try_visit(p, reach, |j| {
             f(j);
             ControlFlow::Continue(())
         });
+    }
+
+    /// Visit every disk whose centre lies in the box `[lo, hi]` widened by
+    /// its class's largest radius on each side (every disk that may reach
+    /// into the box), and perhaps a few beyond: class by class, each
+    /// class's cells row by row, and the disks of a cell by index.
+    pub(crate) fn visit_box(&self, lo: Point, hi: Point, mut f: impl FnMut(usize)) {
+        for class in &self.classes {
+            let r = class.r_max;
+            let _ = class.try_visit_span((lo.x - r, hi.x + r), (lo.y - r, hi.y + r), &mut |j| {
+                f(j);
+                ControlFlow::Continue(())
+            });
+        }
     }
 }
 
@@ -136,7 +168,9 @@ impl Class {
             let c = disks[i].c;
             (cell(c.y, y0), cell(c.x, x0), i as u32)
         }));
-        keyed.sort_unstable();
+        // The keys are distinct (one disk each): the order is the same
+        // whatever the number of threads.
+        keyed.par_sort_unstable();
         let (rows, cols) = keyed
             .iter()
             .fold((0, 0), |(r, c), &(kr, kc, _)| (r.max(kr), c.max(kc)));
@@ -155,22 +189,29 @@ impl Class {
         }
     }
 
+    /// Visit the disks whose centres lie within `half` of `p` along each
+    /// axis, and perhaps a few beyond, until `f` breaks.
     fn try_visit(
         &self,
         p: Point,
         half: f64,
         f: &mut impl FnMut(usize) -> ControlFlow<()>,
     ) -> ControlFlow<()> {
+        self.try_visit_span((p.x - half, p.x + half), (p.y - half, p.y + half), f)
+    }
+
+    /// Visit the disks whose centres lie in `[x.0, x.1] × [y.0, y.1]`, and
+    /// perhaps a few beyond, until `f` breaks.
+    fn try_visit_span(
+        &self,
+        x: (f64, f64),
+        y: (f64, f64),
+        f: &mut impl FnMut(usize) -> ControlFlow<()>,
+    ) -> ControlFlow<()> {
         let (x0, y0) = self.origin;
         let cell = |v: f64, o: f64| ((v - o) / self.side).floor() as i64;
-        let (r0, r1) = (
-            cell(p.y - half, y0).max(0),
-            cell(p.y + half, y0).min(self.rows),
-        );
-        let (c0, c1) = (
-            cell(p.x - half, x0).max(0),
-            cell(p.x + half, x0).min(self.cols),
-        );
+        let (r0, r1) = (cell(y.0, y0).max(0), cell(y.1, y0).min(self.rows));
+        let (c0, c1) = (cell(x.0, x0).max(0), cell(x.1, x0).min(self.cols));
         if r0 > r1 || c0 > c1 {
             return ControlFlow::Continue(());
         }
