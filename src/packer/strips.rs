@@ -902,9 +902,9 @@ mod tests {
                 for &d in &deps[k] {
                     assert!(d < k);
                     after[d][k] = true;
-                    for a in 0..d {
-                        if after[a][d] {
-                            after[a][k] = true;
+                    for row in after.iter_mut().take(d) {
+                        if row[d] {
+                            row[k] = true;
                         }
                     }
                 }

@@ -350,7 +350,9 @@ pub(super) struct Part<'a> {
     pub placed: &'a AtomicU64,
     /// The work after which this part stops ([`work_budget`] of its share).
     pub budget: u64,
-    /// Whether rows run left to right only (see `Front::restart`).
+    /// Whether rows run left to right only: a row that would turn back at
+    /// its end starts again at the left (see `Front::restart`), so every
+    /// row starts against the disks packed before on the part's left.
     pub raster: bool,
 }
 
@@ -880,15 +882,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             *h = None;
         }
         let mut stack = std::mem::take(&mut self.fronts);
-        let mut kept = 0;
-        for at in 0..stack.len() {
-            let g = stack[at];
-            if !self.witnesses_closed(g) {
-                stack[kept] = g;
-                kept += 1;
-            }
-        }
-        stack.truncate(kept);
+        stack.retain(|&g| !self.witnesses_closed(g));
         let cap = self.obs[f as usize].c.y + 2.0 * self.r_max;
         let obs = &self.obs;
         let (mut low, high): (Vec<u32>, Vec<u32>) =
