@@ -1,33 +1,37 @@
-//! One domain packed on every core: the advancing front in trapezoids laid
-//! in strips and levels, packed in turns (docs/ARCHITECTURE.md, "Strips").
+//! One domain packed on every core: the advancing front in tiles laid
+//! in strips and levels, packed along a diagonal wavefront
+//! (docs/ARCHITECTURE.md, "Strips").
 //!
 //! # Behavior
-//! The domain is cut into [`count`] strips, and each strip into levels; the
-//! cut depends on the scene only, never on the machine, so a packing is the
-//! same whatever the number of threads. A level holds trapezoids of two
-//! kinds: *mounds*, wide at the bottom, centred on the strips' edges, and
-//! *valleys*, wide at the top, between them; their sides slope at 45°.
-//! Level by level, the mounds are packed at once, then the valleys at once.
-//! Each trapezoid is packed by the advancing front from its own seeded
-//! stream of sizes: its disks' centres stay in it (its sides are open: a
-//! disk may stick out by its radius), and the disks packed before within
-//! reach (the level below, and for a valley the mounds beside it) are fixed
-//! obstacles, and those their own trapezoid left open are the fronts it
-//! grows from (see `PartPacking::open`).
+//! The domain is cut into [`count`] strips, each of [`COLUMNS_PER_STRIP`]
+//! columns, and the columns into levels: the tiles. The cut depends on the
+//! scene only, never on the machine, so a packing is the same whatever the
+//! number of threads. Each tile is packed by the advancing front from its
+//! own seeded stream of sizes: its disks' centres stay in it (its sides are
+//! open: a disk may stick out by its radius), and the disks packed before
+//! within reach (the tile on its left, and the level below) are fixed
+//! obstacles, and those their own tile left open are the fronts it grows
+//! from (see `PartPacking::open`). A tile is packed once the tile on its
+//! left and those below it are ([`tiles`]).
 //!
-//! Why this shape: every trapezoid is packed *on top of* the disks packed
-//! before it (the level below, and for a valley the mounds' slopes), as the
-//! front packs on top of its own disks. Vertical strips side by side, the
-//! second filling the gap between the first's faces, left a layer of voids
-//! on each seam (porosity 0.36–0.38 within half a diameter of it, against
-//! 0.17 around; 1000 mm square of Table 3.4): a front closing sideways on
-//! a packed face leaves gaps a front resting on it does not.
+//! Why this shape: a front closing sideways on a packed face leaves a layer
+//! of voids along it, each row ending in a gap no size fills (porosity
+//! 0.33–0.36 within a quarter diameter of such a seam, against 0.175
+//! around; 1000 mm square of Table 3.4), while a front resting on packed
+//! disks does not. So a tile rests on the level below, and its rows run
+//! left to right only: each starts against the tile on its left, in the
+//! corner of that tile's row end and its own row below, continuing that
+//! row, and stops at the tile's right side, where the next tile continues
+//! it (0.20–0.22 in the same quarter diameters at a face where every row
+//! starts). Within 3 largest diameters of the seams the porosity is then
+//! 0.179, as away from them (`gapack bench --seams`), where trapezoids
+//! whose rows closed on every other seam gave 0.184 against 0.173.
 //!
 //! Zero overlaps and containment hold as in one piece: every candidate is
 //! tested against every obstacle in reach, fixed ones included, and against
-//! the domain's walls. Trapezoids packed at once are more than a largest
+//! the domain's walls. Tiles packed at once are more than a largest
 //! diameter apart, so their disks never meet. The scene's particle and
-//! memory limits count the disks of every trapezoid together.
+//! memory limits count the disks of every tile together.
 
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Mutex, OnceLock, PoisonError};
@@ -53,30 +57,44 @@ const STRIP_DISKS: f64 = 50_000.0;
 const AUTO_WIDTH_DIAMETERS: f64 = 200.0;
 
 /// Width of the strips [`Strips::Auto`] aims at, in largest diameters: the
-/// wider, the fewer seams each trapezoid packs around (10⁷ disks of Table
+/// wider, the fewer seams each tile packs around (10⁷ disks of Table
 /// 3.4 in 7 or 8 strips packed some 5 % faster on two threads than in 14).
 const AUTO_AIM_DIAMETERS: f64 = 400.0;
 
 /// Fewest strips [`Strips::Auto`] cuts a scene into where strips of
-/// [`AUTO_WIDTH_DIAMETERS`] allow it: with fewer, the trapezoids wait on
+/// [`AUTO_WIDTH_DIAMETERS`] allow it: with fewer, the tiles wait on
 /// each other (10⁶ disks of Table 3.4 packed in 0.27–0.29 s on two threads
 /// in 2 strips, 0.27 s in 3).
 const AUTO_MIN_STRIPS: f64 = 3.0;
 
-/// Narrowest strip a config may ask for, in largest diameters: the gaps
-/// between trapezoids packed at once take four of them.
+/// Narrowest strip a config may ask for, in largest diameters: its tiles
+/// are then two wide and one high, and those packed at once still more
+/// than one apart.
 pub const MIN_WIDTH_DIAMETERS: f64 = 8.0;
 
-/// Width of a valley's bottom and of a mound's top, in largest diameters:
-/// what keeps two trapezoids packed at once apart.
-const GAP_DIAMETERS: f64 = 3.0;
+/// Tile columns per strip: the tiles are packed along a diagonal wavefront
+/// (see [`tiles`]) as long as the columns plus twice the levels; with one
+/// column per strip, 10⁶ disks of Table 3.4 in 3 strips packed some 40 %
+/// slower than with two.
+const COLUMNS_PER_STRIP: usize = 2;
 
-/// How far a trapezoid reaches into those packed before it (below it, and
-/// for a valley into the mounds beside it), in largest diameters, so that
-/// its disks settle into the hollows of their surface. Where both sides of
-/// a seam kept their centres to one line, each laid a row of disks along
-/// it as along a wall: the porosity across a level's seam swung between
-/// 0.156 and 0.21 from one half diameter to the next, against 0.178 in bulk.
+/// A tile's height over its column's width.
+const TILE_HEIGHT: f64 = 0.5;
+
+/// How far a tile's sides run across over its height, leaning left going
+/// up: each row of a tile then ends no further right than the row below
+/// it, so the next tile's rows start under no overhang. On 1000 mm of Table
+/// 3.4 (2 seeds), the porosity within 3 largest diameters of the seams was
+/// 0.1792 at a run of 0.4 or 0.6, 0.1804 at 0.8, 0.1808 at 1, 0.1827 at
+/// 1.6, and 0.1828 with upright sides (0.1788–0.1793 away from them).
+const SIDE_RUN: f64 = 0.5;
+
+/// How far a tile reaches into those packed before it (below it and on its
+/// left), in largest diameters, so that its disks settle into the hollows
+/// of their surface. Where both sides of a seam kept their centres to one
+/// line, each laid a row of disks along it as along a wall: the porosity
+/// across a level's seam swung between 0.156 and 0.21 from one half
+/// diameter to the next, against 0.178 in bulk.
 const DIP_DIAMETERS: f64 = 0.5;
 
 /// Why a scene cannot be packed in strips (`None`: it can): they need the
@@ -127,8 +145,7 @@ pub fn count(scene: &Scene) -> Option<usize> {
 }
 
 /// The abscissae `count` strips of equal width cut the scene's domain at,
-/// from its left side to its right (both included): the seams are the
-/// inner ones, each the axis of a column of mounds.
+/// from its left side to its right (both included).
 pub fn cuts(scene: &Scene, count: usize) -> Vec<f64> {
     let (lo, hi) = scene.domain.bounds();
     let step = (hi.x - lo.x) / count as f64;
@@ -142,7 +159,7 @@ pub fn cuts(scene: &Scene, count: usize) -> Vec<f64> {
 /// bounds `lo`–`hi`.
 #[derive(Debug, Clone)]
 pub struct Region {
-    /// The planes `[a, b, c]` (a trapezoid: floor, ceiling and sides).
+    /// The planes `[a, b, c]` (a tile: floor, ceiling and sides).
     pub planes: [[f64; 3]; 4],
     /// Lower-left corner of a box holding the region (within the domain's bounds).
     pub lo: Point,
@@ -193,98 +210,40 @@ fn plane(a: f64, b: f64, c: f64) -> [f64; 3] {
     [a / n, b / n, c / n]
 }
 
-/// The trapezoids of one level, `(mounds, valleys)`, left to right: the level
-/// spans `y0..y1`, the mounds' tops are centred on `cuts` (the domain's
-/// sides included), `top` wide, their sides running `run` across; each
-/// reaches `dip` below `y0`, and a valley `dip` into the mounds' sides.
-fn level(
-    cuts: &[f64],
-    (y0, y1): (f64, f64),
-    (top, run, dip): (f64, f64, f64),
-    bounds: (Point, Point),
-) -> (Vec<Region>, Vec<Region>) {
-    let slope = run / (y1 - y0);
-    let clip = |lo: Point, hi: Point| {
-        (
-            Point::new(lo.x.max(bounds.0.x), lo.y.max(bounds.0.y)),
-            Point::new(hi.x.min(bounds.1.x), hi.y.min(bounds.1.y)),
-        )
-    };
-    // A mound's left side passes through (x, y0) rising right: points right
-    // of it satisfy −x + slope·y ≤ −x + slope·y0; its right side mirrors it.
-    let left_of = |x: f64| plane(-1.0, slope, -x + slope * y0);
-    let right_of = |x: f64| plane(1.0, slope, x + slope * y0);
-    let (floor, ceiling) = (plane(0.0, -1.0, -(y0 - dip)), plane(0.0, 1.0, y1));
-    let mounds = cuts
-        .iter()
-        .map(|&x| {
-            let (a, b) = (x - 0.5 * top - run, x + 0.5 * top + run);
-            let (lo, hi) = clip(
-                Point::new(a - 2.0 * dip, y0 - dip),
-                Point::new(b + 2.0 * dip, y1),
-            );
-            Region {
-                planes: [floor, ceiling, left_of(a), right_of(b)],
-                lo,
-                hi,
-            }
-        })
-        .collect();
-    let valleys = cuts
-        .windows(2)
-        .map(|w| {
-            let (a, b) = (w[0] + 0.5 * top + run, w[1] - 0.5 * top - run);
-            let (lo, hi) = clip(
-                Point::new(w[0] + 0.5 * top - 2.0 * dip, y0 - dip),
-                Point::new(w[1] - 0.5 * top + 2.0 * dip, y1),
-            );
-            // Beyond the mounds' sides (the opposite half-planes), less the dip.
-            let [ra, rb, rc] = right_of(a);
-            let [la, lb, lc] = left_of(b);
-            Region {
-                planes: [floor, ceiling, [-ra, -rb, -rc + dip], [-la, -lb, -lc + dip]],
-                lo,
-                hi,
-            }
-        })
-        .collect();
-    (mounds, valleys)
-}
-
-/// The layout of `count` strips: the strips' edges ([`cuts`]), the width
-/// of a mound's top and a valley's bottom, how far a side runs across (and
-/// up: a level is as high), and the levels.
-fn layout(scene: &Scene, count: usize) -> (Vec<f64>, f64, f64, usize) {
+/// The tiles' grid for `count` strips: the columns' edges at the levels'
+/// floors ([`cuts`] of [`COLUMNS_PER_STRIP`] columns a strip), the levels'
+/// floors and the top, and half of how far a side runs across a level.
+fn grid(scene: &Scene, count: usize) -> (Vec<f64>, Vec<f64>, f64) {
     let (lo, hi) = scene.domain.bounds();
-    let cuts = cuts(scene, count);
-    let gap = GAP_DIAMETERS * scene.d_max();
-    let run = 0.5 * ((cuts[1] - cuts[0]) - 2.0 * gap);
-    let levels = ((hi.y - lo.y) / run).ceil().max(1.0) as usize;
-    (cuts, gap, run, levels)
+    let xs = cuts(scene, count * COLUMNS_PER_STRIP);
+    let levels = ((hi.y - lo.y) / (TILE_HEIGHT * (xs[1] - xs[0])))
+        .ceil()
+        .max(1.0) as usize;
+    let h = (hi.y - lo.y) / levels as f64;
+    let mut ys: Vec<f64> = (0..levels).map(|l| lo.y + h * l as f64).collect();
+    ys.push(hi.y);
+    (xs, ys, 0.5 * SIDE_RUN * h)
 }
 
 /// The seams of the scene packed in `count` strips: the edges between its
-/// trapezoids (the mounds' sides, and the lines between levels).
+/// tiles (the columns' sides in each level, and the lines between levels).
 pub fn seams(scene: &Scene, count: usize) -> Vec<[Point; 2]> {
     let (lo, hi) = scene.domain.bounds();
-    let (cuts, gap, run, levels) = layout(scene, count);
+    let (xs, ys, t) = grid(scene, count);
     let mut lines = Vec::new();
-    for l in 0..levels {
-        let (y0, y1) = (lo.y + run * l as f64, lo.y + run * (l + 1) as f64);
-        if l > 0 {
-            lines.push([Point::new(lo.x, y0), Point::new(hi.x, y0)]);
+    for &x in &xs[1..xs.len() - 1] {
+        for w in ys.windows(2) {
+            lines.push([Point::new(x + t, w[0]), Point::new(x - t, w[1])]);
         }
-        for &x in &cuts {
-            let (a, b) = (x - 0.5 * gap - run, x + 0.5 * gap + run);
-            lines.push([Point::new(a, y0), Point::new(a + run, y1)]);
-            lines.push([Point::new(b, y0), Point::new(b - run, y1)]);
-        }
+    }
+    for &y in &ys[1..ys.len() - 1] {
+        lines.push([Point::new(lo.x, y), Point::new(hi.x, y)]);
     }
     lines
 }
 
-/// Seed of trapezoid `i`'s sizes (in packing order): the scene's seed and
-/// the trapezoid, mixed (splitmix64), so neighbours draw unrelated streams.
+/// Seed of tile `i`'s sizes (in packing order): the scene's seed and
+/// the tile, mixed (splitmix64), so neighbours draw unrelated streams.
 fn part_seed(seed: u64, i: usize) -> u64 {
     let mut z = seed ^ (i as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -292,49 +251,82 @@ fn part_seed(seed: u64, i: usize) -> u64 {
     z ^ (z >> 31)
 }
 
-/// Every trapezoid of `scene` in `count` strips, in packing order, and
-/// for each the earlier ones it rests on: those of the level below, and
-/// for a valley the mounds beside it, whose boxes come within `reach`.
-fn trapezoids(scene: &Scene, count: usize, reach: f64) -> (Vec<Region>, Vec<Vec<usize>>) {
-    let bounds = scene.domain.bounds();
-    let (cuts, gap, run, levels) = layout(scene, count);
+/// Every tile of `scene` in `count` strips, in packing order (level by
+/// level, left to right), and for each the earlier ones it rests on: the
+/// one on its left and those of the level below whose boxes come within
+/// `reach`.
+///
+/// # Behavior
+/// A tile spans a column of a level; its sides run from `t` right of the
+/// column's edges at its floor to `t` left of them at its ceiling (the
+/// domain's walls bound the outer columns). It reaches `dip` below its
+/// floor and past its left side. Its rows run left to right ([`Part`]'s
+/// `raster`): they start against the tile on its left, continuing that
+/// tile's rows, and stop at its right side, where the next tile continues
+/// them; no row closes on a packed face but at the domain's right wall.
+/// Tile (i, l) waits for (i − 1, l) and (i + 1, l − 1), so the tiles packed
+/// at once lie along i + 2l, and are a column or a level apart.
+fn tiles(scene: &Scene, count: usize, reach: f64) -> (Vec<Region>, Vec<Vec<usize>>) {
+    let (lo, hi) = scene.domain.bounds();
+    let (xs, ys, t) = grid(scene, count);
     let dip = DIP_DIAMETERS * scene.d_max();
+    let columns = xs.len() - 1;
     let mut regions: Vec<Region> = Vec::new();
-    let mut deps: Vec<Vec<usize>> = Vec::new();
-    let mut below = 0..0;
-    for l in 0..levels {
-        let y = |k: usize| bounds.0.y + run * k as f64;
-        let (mounds, valleys) = level(&cuts, (y(l), y(l + 1)), (gap, run, dip), bounds);
-        let first = regions.len();
-        for (kind, list) in [(0, mounds), (1, valleys)] {
-            let mounds = first..regions.len();
-            for region in list {
-                let mut on: Vec<usize> = below.clone().collect();
-                if kind == 1 {
-                    on.extend(mounds.clone());
-                }
-                on.retain(|&k| regions[k].near(&region, reach));
-                deps.push(on);
-                regions.push(region);
-            }
+    let mut deps = Vec::new();
+    for (l, w) in ys.windows(2).enumerate() {
+        let (y0, y1) = (w[0], w[1]);
+        // A side passes (x + t, y0) and (x − t, y1): points right of it
+        // satisfy −x − k·y ≤ −(x + t) − k·y0.
+        let k = 2.0 * t / (y1 - y0);
+        for i in 0..columns {
+            let (x0, x1) = (xs[i], xs[i + 1]);
+            let left = if i == 0 {
+                plane(-1.0, 0.0, -x0 + dip)
+            } else {
+                let [a, b, c] = plane(-1.0, -k, -x0 - t - k * y0);
+                [a, b, c + dip]
+            };
+            let right = if i + 1 == columns {
+                plane(1.0, 0.0, x1)
+            } else {
+                plane(1.0, k, x1 + t + k * y0)
+            };
+            let region = Region {
+                planes: [
+                    plane(0.0, -1.0, -(y0 - dip)),
+                    plane(0.0, 1.0, y1),
+                    left,
+                    right,
+                ],
+                lo: Point::new((x0 - t - 2.0 * dip).max(lo.x), (y0 - dip).max(lo.y)),
+                hi: Point::new((x1 + t).min(hi.x), y1.min(hi.y)),
+            };
+            let below = (l > 0).then(|| (l - 1) * columns + i.saturating_sub(1));
+            let below = below.map_or(0..0, |first| {
+                first..(l - 1) * columns + (i + 2).min(columns)
+            });
+            let left_one = (i > 0).then(|| l * columns + i - 1);
+            let mut on: Vec<usize> = below.chain(left_one).collect();
+            on.retain(|&k| regions[k].near(&region, reach));
+            deps.push(on);
+            regions.push(region);
         }
-        below = first..regions.len();
     }
     (regions, deps)
 }
 
 /// Pack `scene` (filling up, near the origin) in `count` strips of
-/// trapezoids, telling `progress` the sizes drawn as they go.
+/// tiles, telling `progress` the sizes drawn as they go.
 ///
 /// # Behavior
-/// A trapezoid is packed as soon as every one it rests on is (those of the
-/// level below within reach, and for a valley the mounds beside it), so the
-/// levels overlap in time and no core waits for a whole level; what each
-/// trapezoid sees is fixed by the layout, so the packing is not.
+/// A tile is packed as soon as every one it rests on is (the tile on its
+/// left, and those of the level below within reach), so the levels overlap
+/// in time and no core waits for a whole level; what each tile sees is
+/// fixed by the layout, so the packing is not.
 ///
 /// # Errors
-/// The first error of a trapezoid, in packing order: a limit passed
-/// (counted over every trapezoid), the work budget, or
+/// The first error of a tile, in packing order: a limit passed
+/// (counted over every tile), the work budget, or
 /// [`PackError::Cancelled`].
 pub(super) fn pack_up(
     scene: &Scene,
@@ -344,7 +336,7 @@ pub(super) fn pack_up(
 ) -> Result<Packing, PackError> {
     super::placed::check_fits(scene)?;
     let reach = scene.d_max(); // two largest radii
-    let (regions, deps) = trapezoids(scene, count, reach);
+    let (regions, deps) = tiles(scene, count, reach);
     let mut dependents: Vec<Vec<usize>> = vec![Vec::new(); regions.len()];
     let mut slots: Vec<Vec<usize>> = Vec::with_capacity(deps.len());
     for (k, on) in deps.iter().enumerate() {
@@ -371,7 +363,7 @@ pub(super) fn pack_up(
     };
     // The calling thread reports progress while the pool packs, unless it
     // is one of the pool's own threads (it would hold one back). The
-    // trapezoids start in the order they become ready, so the levels rise
+    // tiles start in the order they become ready, so the levels rise
     // together, the lowest first: started newest first, a thread climbed
     // one column of levels while the others waited for it (10⁶ disks in 3
     // strips, two threads: 0.29–0.30 s, now 0.27 s).
@@ -397,7 +389,7 @@ pub(super) fn pack_up(
             .map(drop)
     });
     first_error(outcomes, cancel)?;
-    // Every trapezoid packed, so every one was appended.
+    // Every tile packed, so every one was appended.
     let mut all = farm
         .assembly
         .into_inner()
@@ -415,8 +407,8 @@ pub(super) fn pack_up(
     })
 }
 
-/// Raises the trapezoids' stop when packing one panics: the others end,
-/// the thread reporting progress stops waiting for the trapezoids that
+/// Raises the tiles' stop when packing one panics: the others end,
+/// the thread reporting progress stops waiting for the tiles that
 /// will never start, and the scope passes the panic on.
 struct StopOnPanic<'a>(&'a Cancel);
 
@@ -428,54 +420,54 @@ impl Drop for StopOnPanic<'_> {
     }
 }
 
-/// How often the calling thread reports progress while the trapezoids are
+/// How often the calling thread reports progress while the tiles are
 /// packed (it is woken at once when they are done).
 const PROGRESS_NAP: std::time::Duration = std::time::Duration::from_millis(20);
 
-/// The trapezoids of a scene being packed, each as soon as those it rests on are.
+/// The tiles of a scene being packed, each as soon as those it rests on are.
 struct Farm<'a> {
     scene: &'a Scene,
     regions: &'a [Region],
-    /// Per trapezoid: those it rests on, and those resting on it.
+    /// Per tile: those it rests on, and those resting on it.
     deps: &'a [Vec<usize>],
-    /// Per trapezoid, per one it rests on: its place among those resting
+    /// Per tile, per one it rests on: its place among those resting
     /// on that one (which of that one's borders are its own).
     slots: &'a [Vec<usize>],
     dependents: &'a [Vec<usize>],
-    /// Per trapezoid: how many it rests on are not packed yet.
+    /// Per tile: how many it rests on are not packed yet.
     waiting: Vec<AtomicUsize>,
-    /// Per trapezoid, once packed: its disks within reach of each of those
+    /// Per tile, once packed: its disks within reach of each of those
     /// resting on it.
     done: Vec<OnceLock<Result<Borders, PackError>>>,
-    /// The whole packing, appended to as the trapezoids are packed.
+    /// The whole packing, appended to as the tiles are packed.
     assembly: Mutex<Assembly>,
     /// Trapezoids done, and sizes drawn by them.
     finished: AtomicUsize,
     drawn: AtomicU64,
-    /// Disks placed by every trapezoid, against the scene's limits.
+    /// Disks placed by every tile, against the scene's limits.
     placed: AtomicU64,
-    /// Raised when a trapezoid fails: the others stop.
+    /// Raised when a tile fails: the others stop.
     stop: Cancel,
     /// Two largest radii: how far a disk packed before may touch one placed.
     reach: f64,
-    /// The thread reporting progress: woken when the last trapezoid is
+    /// The thread reporting progress: woken when the last tile is
     /// done or one fails, rather than at its next look.
     caller: std::thread::Thread,
 }
 
-/// Per trapezoid resting on a packed one (in `Farm::dependents` order): the
+/// Per tile resting on a packed one (in `Farm::dependents` order): the
 /// packed one's disks within its reach, in packing order, and whether each
 /// is open (see `PartPacking::open`).
 type Borders = Vec<(Vec<Disk>, Vec<Option<Opening>>)>;
 
-/// The whole packing, assembled in packing order: each trapezoid's disks
+/// The whole packing, assembled in packing order: each tile's disks
 /// are appended by the thread that packed it (or the one packing the last
 /// before it to end), while the others go on packing, so no copy is left
-/// for after the last trapezoid.
+/// for after the last tile.
 struct Assembly {
-    /// The next trapezoid to append.
+    /// The next tile to append.
     next: usize,
-    /// Per trapezoid: its packing, once done and until appended.
+    /// Per tile: its packing, once done and until appended.
     waiting: Vec<Option<PartPacking>>,
     disks: Vec<Disk>,
     materials: Vec<u16>,
@@ -483,7 +475,7 @@ struct Assembly {
 }
 
 impl Assembly {
-    /// An empty packing of `parts` trapezoids.
+    /// An empty packing of `parts` tiles.
     fn new(parts: usize) -> Assembly {
         Assembly {
             next: 0,
@@ -494,11 +486,11 @@ impl Assembly {
         }
     }
 
-    /// Take trapezoid `k`'s packing, and append those waiting in order.
+    /// Take tile `k`'s packing, and append those waiting in order.
     fn take(&mut self, k: usize, mut part: PartPacking) {
         if k != self.next {
             // Only its own disks wait, in a vector no longer reserved for
-            // the trapezoid's box, which it half fills.
+            // the tile's box, which it half fills.
             part.packing.disks.drain(..part.fixed);
             part.fixed = 0;
             part.packing.disks.shrink_to_fit();
@@ -516,7 +508,7 @@ impl Assembly {
 }
 
 impl Farm<'_> {
-    /// Pack trapezoid `k`, start those resting on it that wait for nothing
+    /// Pack tile `k`, start those resting on it that wait for nothing
     /// more, and append its disks to the whole packing.
     fn pack<'s>(&'s self, s: &rayon::ScopeFifo<'s>, k: usize) {
         let _stop = StopOnPanic(&self.stop);
@@ -531,7 +523,7 @@ impl Farm<'_> {
                 (Err(e), None)
             }
         };
-        // Set once: each trapezoid is started once, when its count reaches 0.
+        // Set once: each tile is started once, when its count reaches 0.
         let _ = self.done[k].set(borders);
         for &d in &self.dependents[k] {
             if self.waiting[d].fetch_sub(1, Ordering::AcqRel) == 1 {
@@ -550,7 +542,7 @@ impl Farm<'_> {
 
     /// Trapezoid `k`'s packing around the disks of those it rests on.
     fn pack_one(&self, k: usize) -> Result<PartPacking, PackError> {
-        // A small trapezoid may end before its front looks at the token.
+        // A small tile may end before its front looks at the token.
         self.stop.check()?;
         let (scene, region) = (self.scene, &self.regions[k]);
         let (mut fixed, mut open): (Vec<Disk>, Vec<Option<Opening>>) = (Vec::new(), Vec::new());
@@ -574,13 +566,14 @@ impl Farm<'_> {
             budget: (disks as u64)
                 .saturating_mul(WORK_PER_DISK)
                 .saturating_add(WORK_FLOOR),
+            raster: true,
         };
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(part_seed(scene.seed, k));
         let genes = (0..size_count_in(area, scene.d_min())).map(move |_| rng.r#gen::<f64>());
         pack_part(scene, Some(&part), genes, &self.stop)
     }
 
-    /// For each trapezoid resting on `k`, the disks of `k`'s packing within
+    /// For each tile resting on `k`, the disks of `k`'s packing within
     /// reach of its region ([`Region::reaches`]), in packing order. Only
     /// the disks near `k`'s edges are looked at ([`edge_band`]).
     fn borders(&self, k: usize, part: &PartPacking) -> Borders {
@@ -609,17 +602,17 @@ impl Farm<'_> {
     }
 }
 
-/// How far inside every plane of its own trapezoid a centre lies beyond
-/// the reach of every trapezoid resting on that one: those reach at most
-/// `dip` past its ceiling or a side (see [`level`]; the planes they share
+/// How far inside every plane of its own tile a centre lies beyond
+/// the reach of every tile resting on that one: those reach at most
+/// `dip` past its ceiling or a side (see [`tiles`]; the planes they share
 /// are the same lines), and take the centres within `reach` of that; the
 /// margin doubles the reach against rounding.
 fn edge_band(d_max: f64, reach: f64) -> f64 {
     DIP_DIAMETERS * d_max + 2.0 * reach
 }
 
-/// The first error of the trapezoids' outcomes, in order, that is not only
-/// the stop another trapezoid's error raised.
+/// The first error of the tiles' outcomes, in order, that is not only
+/// the stop another tile's error raised.
 fn first_error(
     outcomes: impl Iterator<Item = Result<(), PackError>>,
     cancel: &Cancel,
@@ -636,7 +629,7 @@ fn first_error(
     outcomes.into_iter().collect()
 }
 
-/// Add a trapezoid's counts to the whole packing's.
+/// Add a tile's counts to the whole packing's.
 fn add_stats(all: &mut PackStats, part: &PackStats) {
     all.sizes_drawn += part.sizes_drawn;
     all.sizes_deferred += part.sizes_deferred;
@@ -663,6 +656,72 @@ mod tests {
             ..PackerSettings::default()
         })
         .with_seed(3)
+    }
+
+    /// A part whose rows run left to right, packed beside one packed
+    /// before it on its left, starts each row in the corner of that part's
+    /// row end: the band along their seam holds far less void than where
+    /// the rows turn back and end against the packed face, for a nearly
+    /// one-size grading (nothing fills a gap narrower than a disk).
+    #[test]
+    fn rows_starting_at_a_packed_face_leave_less_void_along_it_than_rows_ending_there() {
+        let (d_min, d_max) = (1.2, 1.3);
+        let scene = Scene::new(
+            Domain::rectangle(60.0, 40.0).unwrap(),
+            Grading::uniform(d_min, d_max, Default::default()).unwrap(),
+        )
+        .with_seed(4);
+        let dip = DIP_DIAMETERS * d_max;
+        let left = Region {
+            planes: [plane(1.0, 0.0, 30.0); 4],
+            lo: Point::new(0.0, 0.0),
+            hi: Point::new(30.0, 40.0),
+        };
+        let right = Region {
+            planes: [plane(-1.0, 0.0, dip - 30.0); 4],
+            lo: Point::new(30.0 - dip, 0.0),
+            hi: Point::new(60.0, 40.0),
+        };
+        let placed = AtomicU64::new(0);
+        let pack_in = |region: &Region, fixed: &[Disk], open: &[Option<Opening>], raster| {
+            let part = Part {
+                region,
+                fixed,
+                open,
+                placed: &placed,
+                budget: u64::MAX / 2,
+                raster,
+            };
+            let mut rng = Xoshiro256PlusPlus::seed_from_u64(7);
+            let genes = (0..size_count_in(1200.0, d_min)).map(move |_| rng.r#gen::<f64>());
+            pack_part(&scene, Some(&part), genes, &Cancel::new()).unwrap()
+        };
+        let first = pack_in(&left, &[], &[], true);
+        let fixed: Vec<Disk> = first.own().to_vec();
+        let open = vec![Some(Opening::FRESH); fixed.len()];
+        // Void in the band within 0.75 d_max of the seam, away from the
+        // floor and the ceiling, sampled on a 0.05 mm grid.
+        let void = |raster: bool| {
+            let second = pack_in(&right, &fixed, &open, raster);
+            let disks: Vec<Disk> = fixed.iter().chain(second.own()).copied().collect();
+            let (mut empty, mut all) = (0u32, 0u32);
+            for i in 0..=600 {
+                for j in 0..=40 {
+                    let p = Point::new(
+                        30.0 - 0.75 * d_max + 0.05 * f64::from(j),
+                        5.0 + 0.05 * f64::from(i),
+                    );
+                    all += 1;
+                    empty += u32::from(!disks.iter().any(|d| (d.c - p).norm() <= d.r));
+                }
+            }
+            f64::from(empty) / f64::from(all)
+        };
+        let (starting, turning) = (void(true), void(false));
+        assert!(
+            starting + 0.05 < turning,
+            "porosity along the seam: {starting:.3} with rows starting there, {turning:.3} with rows turning back"
+        );
     }
 
     /// A disk its part closed takes no disk in a part packed after it: the
@@ -697,6 +756,7 @@ mod tests {
                     open,
                     placed: &placed,
                     budget: u64::MAX / 2,
+                    raster: false,
                 };
                 let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
                 let genes = (0..size_count_in(1800.0, d_min)).map(move |_| rng.r#gen::<f64>());
@@ -752,11 +812,11 @@ mod tests {
         }
     }
 
-    /// A centre deeper inside its trapezoid than the edge band is within
-    /// reach of none of the trapezoids resting on it (so `borders` may skip
+    /// A centre deeper inside its tile than the edge band is within
+    /// reach of none of the tiles resting on it (so `borders` may skip
     /// it), for narrow and wide gradings and several strip counts.
     #[test]
-    fn centres_past_the_edge_band_reach_no_trapezoid_resting_on_theirs() {
+    fn centres_past_the_edge_band_reach_no_tile_resting_on_theirs() {
         for (strips, d_min, d_max, side) in [
             (4, 1.0, 1.5, 120.0),
             (3, 0.3, 3.0, 240.0),
@@ -767,7 +827,7 @@ mod tests {
                 Grading::uniform(d_min, d_max, Default::default()).unwrap(),
             );
             let reach = s.d_max();
-            let (regions, deps) = trapezoids(&s, strips, reach);
+            let (regions, deps) = tiles(&s, strips, reach);
             let inner = edge_band(s.d_max(), reach);
             let (mut deep, mut reached) = (0, 0);
             for (k, own) in regions.iter().enumerate() {
@@ -786,7 +846,7 @@ mod tests {
                         }
                         let near = resting.iter().any(|r| r.reaches(p, reach));
                         if own.inside_by(p, inner) {
-                            assert!(!near, "{p:?} in trapezoid {k} ({strips} strips)");
+                            assert!(!near, "{p:?} in tile {k} ({strips} strips)");
                             deep += 1;
                         } else if near {
                             reached += 1;
@@ -798,7 +858,7 @@ mod tests {
         }
     }
 
-    /// A raised token stops every trapezoid, and the run says so; progress
+    /// A raised token stops every tile, and the run says so; progress
     /// is told the sizes drawn, ending at the packing's own count.
     #[test]
     fn strips_stop_when_cancelled_and_report_the_sizes_drawn() {
@@ -817,50 +877,77 @@ mod tests {
         assert!(packing.stats.sizes_drawn >= packing.disks.len() as u64);
     }
 
-    /// The layout: mounds and valleys tile each level, trapezoids packed at
-    /// once (mounds of a level, valleys of a level) keep more than a
-    /// largest diameter apart.
+    /// Tiles that may be packed at once (neither waits for the other, even
+    /// through others) keep more than a largest diameter apart, for narrow
+    /// and wide gradings, the narrowest strips allowed among them; every
+    /// tile rests on the one on its left.
     #[test]
-    fn trapezoids_packed_at_once_stay_more_than_a_diameter_apart() {
-        let s = scene(4);
-        let (cuts, gap, run, levels) = layout(&s, 4);
-        assert_eq!(cuts.len(), 5);
-        let dip = DIP_DIAMETERS * s.d_max();
-        let (lo, hi) = s.domain.bounds();
-        let (mounds, valleys) = level(
-            &cuts,
-            (lo.y + run, lo.y + 2.0 * run),
-            (gap, run, dip),
-            (lo, hi),
-        );
-        assert!(levels >= 2);
-        // Sample points of each region on a fine grid; nearest points of
-        // two neighbours at once must be farther apart than d_max.
-        let points = |r: &Region| {
-            let mut v = Vec::new();
-            for i in 0..=200 {
-                for j in 0..=100 {
-                    let p = Point::new(
-                        r.lo.x + (r.hi.x - r.lo.x) * f64::from(i) / 200.0,
-                        r.lo.y + (r.hi.y - r.lo.y) * f64::from(j) / 100.0,
-                    );
-                    if r.contains(p) {
-                        v.push(p);
+    fn tiles_packed_at_once_stay_more_than_a_diameter_apart() {
+        for (strips, d_min, d_max, side) in [
+            (4, 1.0, 1.5, 120.0),
+            (3, 0.3, 3.0, 240.0),
+            (5, 1.0, 1.0, 5.0 * MIN_WIDTH_DIAMETERS),
+        ] {
+            let s = Scene::new(
+                Domain::rectangle(side, 0.5 * side).unwrap(),
+                Grading::uniform(d_min, d_max, Default::default()).unwrap(),
+            );
+            let (regions, deps) = tiles(&s, strips, s.d_max());
+            let n = regions.len();
+            let columns = strips * COLUMNS_PER_STRIP;
+            assert!(n >= 2 * columns, "{n} tiles");
+            // after[a][b]: b waits for a, through any chain.
+            let mut after = vec![vec![false; n]; n];
+            for k in 0..n {
+                for &d in &deps[k] {
+                    assert!(d < k);
+                    after[d][k] = true;
+                    for row in after.iter_mut().take(d) {
+                        if row[d] {
+                            row[k] = true;
+                        }
                     }
                 }
+                if k % columns > 0 {
+                    assert!(deps[k].contains(&(k - 1)), "tile {k}");
+                }
             }
-            v
-        };
-        for group in [&mounds, &valleys] {
-            for pair in group.windows(2) {
-                let (a, b) = (points(&pair[0]), points(&pair[1]));
-                assert!(!a.is_empty() && !b.is_empty());
-                let nearest = a
-                    .iter()
-                    .flat_map(|p| b.iter().map(move |q| (p - q).norm()))
-                    .fold(f64::INFINITY, f64::min);
-                assert!(nearest > s.d_max(), "{nearest} ≤ {}", s.d_max());
+            let points = |r: &Region| {
+                let mut v = Vec::new();
+                for i in 0..=60 {
+                    for j in 0..=60 {
+                        let p = Point::new(
+                            r.lo.x + (r.hi.x - r.lo.x) * f64::from(i) / 60.0,
+                            r.lo.y + (r.hi.y - r.lo.y) * f64::from(j) / 60.0,
+                        );
+                        if r.contains(p) {
+                            v.push(p);
+                        }
+                    }
+                }
+                v
+            };
+            let sampled: Vec<Vec<Point>> = regions.iter().map(points).collect();
+            let mut pairs = 0;
+            for a in 0..n {
+                for b in a + 1..n {
+                    // Pairs whose boxes come within a column of each other.
+                    if after[a][b] || !regions[a].near(&regions[b], 0.5 * side / columns as f64) {
+                        continue;
+                    }
+                    pairs += 1;
+                    let nearest = sampled[a]
+                        .iter()
+                        .flat_map(|p| sampled[b].iter().map(move |q| (p - q).norm()))
+                        .fold(f64::INFINITY, f64::min);
+                    assert!(
+                        nearest > s.d_max(),
+                        "tiles {a} and {b}: {nearest} ≤ {}",
+                        s.d_max()
+                    );
+                }
             }
+            assert!(pairs > 0);
         }
     }
 }

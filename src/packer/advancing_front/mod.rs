@@ -350,6 +350,10 @@ pub(super) struct Part<'a> {
     pub placed: &'a AtomicU64,
     /// The work after which this part stops ([`work_budget`] of its share).
     pub budget: u64,
+    /// Whether rows run left to right only: a row that would turn back at
+    /// its end starts again at the left (see `Front::restart`), so every
+    /// row starts against the disks packed before on the part's left.
+    pub raster: bool,
 }
 
 /// Work between two looks at the cancel token inside a run (neighbours
@@ -407,6 +411,10 @@ struct Front<'a, I> {
     /// Whether the current front's candidates may lie outside the part's
     /// region (set per attempt: deeper inside, the region is not tested).
     near_edge: bool,
+    /// Rows left to right only (see [`Part::raster`]), and whether the
+    /// stack was just reordered for a new row (see [`Front::restart`]).
+    raster: bool,
+    restarted: bool,
     /// Set by `feasible` when a candidate clear of every obstacle lies
     /// outside the part's region; taken after each front's attempt.
     refused: Cell<u32>,
@@ -573,6 +581,8 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             placed: part.map(|p| p.placed),
             region: part.map(|p| p.region),
             near_edge: false,
+            raster: part.is_some_and(|p| p.raster),
+            restarted: false,
             refused: Cell::new(0),
             refused_fronts: Vec::new(),
             handoff: BTreeMap::new(),
@@ -806,7 +816,12 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
                 let placed = self.attempt(f, r, one_contact);
                 self.note_refused(f);
                 match placed {
+                    Some((p, _)) if self.turns_back(f, p) => {
+                        self.restart(f);
+                        continue;
+                    }
                     Some((p, feasible)) => {
+                        self.restarted = false;
                         if feasible < 2 {
                             self.fronts.pop();
                             self.park(f, r);
@@ -845,6 +860,43 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             self.robust() && !(loose && self.obs.len() > self.first_packed) && self.seed(r, tag)?;
         self.account()?;
         Ok(seeded)
+    }
+
+    /// Whether, rows running left to right, front `f`'s spot `p` would
+    /// start the next row back from its end (up and to the left).
+    fn turns_back(&self, f: u32, p: Point) -> bool {
+        let c = self.obs[f as usize].c;
+        self.raster && !self.restarted && p.x < c.x && p.y > c.y
+    }
+
+    /// Start the next row at its left end: the fronts no higher than a
+    /// largest diameter above front `f` (where the row ended) go on top of
+    /// the stack, leftmost on top, and the next spot found is taken
+    /// wherever it lies. Fronts whose witnesses are covered leave first
+    /// (they would without an attempt when on top): the stack stays the
+    /// packing's surface, not every disk placed. What `f`'s attempt learnt
+    /// of its room assumed its spot taken: it is forgotten.
+    fn restart(&mut self, f: u32) {
+        self.witness[f as usize] = NO_WITNESS;
+        if let Some(h) = self.handoff.get_mut(&f) {
+            *h = None;
+        }
+        let mut stack = std::mem::take(&mut self.fronts);
+        stack.retain(|&g| !self.witnesses_closed(g));
+        let cap = self.obs[f as usize].c.y + 2.0 * self.r_max;
+        let obs = &self.obs;
+        let (mut low, high): (Vec<u32>, Vec<u32>) =
+            stack.iter().partition(|&&g| obs[g as usize].c.y <= cap);
+        self.stats.work += stack.len() as u64;
+        low.sort_by(|&a, &b| {
+            let (a, b) = (obs[a as usize].c, obs[b as usize].c);
+            b.x.total_cmp(&a.x).then(b.y.total_cmp(&a.y))
+        });
+        stack.clear();
+        stack.extend(high);
+        stack.extend(low);
+        self.fronts = stack;
+        self.restarted = true;
     }
 
     /// Place a disk of radius `r` and material `tag` at `p`.
