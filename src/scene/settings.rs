@@ -155,8 +155,8 @@ impl Default for PackerSettings {
     }
 }
 
-/// Whether the advancing front packs one domain in strips of trapezoids,
-/// each turn's trapezoids at once on every core (the packing depends on the
+/// Whether the advancing front packs one domain in strips of tiles, a
+/// diagonal of tiles at a time on every core (the packing depends on the
 /// strips, never on the threads; see `packer::strips`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Strips {
@@ -167,8 +167,10 @@ pub enum Strips {
     Count(u32),
 }
 
-/// In one piece: strips leave a trace on their seams (docs/ARCHITECTURE.md,
-/// "Strips"), so they are asked for, not chosen for the user.
+/// In one piece: strips leave a trace on their seams (with a nearly
+/// one-size grading, a band about a largest diameter wide along the tiles'
+/// sloped sides, looser than the bulk; figures in docs/results.md, "Strips:
+/// the seams"), so they are asked for, not chosen for the user.
 impl Default for Strips {
     fn default() -> Self {
         Strips::Count(1)
