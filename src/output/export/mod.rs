@@ -220,7 +220,12 @@ mod tests {
         // An unknown material.
         let packing = scene(&mut rng, 300, None, 3);
         same_bytes(&packing, &materials(3), &ExportOptions::default(), "many");
-        same_bytes(&packing, &materials(2), &ExportOptions::default(), "unknown");
+        same_bytes(
+            &packing,
+            &materials(2),
+            &ExportOptions::default(),
+            "unknown",
+        );
         let grains = scene(&mut rng, 100, Some(&[0]), 0);
         same_bytes(&grains, &[], &ExportOptions::default(), "more grains");
     }
