@@ -73,8 +73,9 @@ pub(crate) fn push_int<I: itoa::Integer>(out: &mut Vec<u8>, n: I) {
     out.extend_from_slice(itoa::Buffer::new().format(n).as_bytes());
 }
 
-/// Rows formatted into one buffer at a time: ~1 MB of a disk table.
-const BLOCK_ROWS: usize = 16_384;
+/// Rows formatted into one buffer at a time: ~1 MB of a disk table (a
+/// few rows in tests, so that small tables span many blocks).
+const BLOCK_ROWS: usize = if cfg!(test) { 7 } else { 16_384 };
 
 /// Writes `rows` rows to `out` in order, row `i` appended to a buffer by
 /// `row(i, buffer)`, formatted in blocks of [`BLOCK_ROWS`] on all cores

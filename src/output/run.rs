@@ -14,10 +14,11 @@ use super::error::OutputError;
 use super::export::{
     BOUNDARY_VTK, ESYS_GEOMETRY, LAMMPS_CLUMPS_DATA, LAMMPS_DATA, LIGGGHTS_CLUMPS_DATA,
     MERCURY_DATA, PACKING_JSON, PACKING_NPZ, PACKING_VTK, PACKING_VTP, PFC_COMMANDS,
-    SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, YADE_SCRIPT, YADE_TEXT, boundary_vtk, esys_geometry,
-    lammps_clumps_data, lammps_data, liggghts_clumps_data, mercury_data, packing_json, packing_vtk,
-    pfc_commands, superquadric_data, superquadric_input, write_packing_npz, write_packing_vtp_with,
-    yade_script, yade_text,
+    SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, YADE_SCRIPT, YADE_TEXT, boundary_vtk,
+    esys_geometry_writer, lammps_clumps_data_writer, lammps_data_writer,
+    liggghts_clumps_data_writer, mercury_data_writer, packing_json_writer, packing_vtk_writer,
+    pfc_commands_writer, superquadric_data_writer, superquadric_input_writer, write_packing_npz,
+    write_packing_vtp_with, yade_script_writer, yade_text_writer,
 };
 use super::format::{Format, OutputSettings};
 use super::json::{FractureSummary, LayeringSummary, OptimiseSummary, SUMMARY_JSON, summary_json};
@@ -240,9 +241,12 @@ pub(crate) fn render_outputs(
 }
 
 /// Every file of a run ([`RunInfo`]), but the files as large as the packing
-/// (`packing.csv`, `packing.vtp`, `packing.npz`) come as [`Body::Stream`]s that write them from the
-/// packing where they go: the store streams them to disk, and no copy of
-/// the table is held in memory. The others are made, on all cores.
+/// (`packing.csv`, `packing.json`, `packing.vtp`, `packing.npz` and every
+/// DEM export) come as [`Body::Stream`]s that write them from the packing
+/// where they go: the store streams them to disk, and no copy of them is
+/// held in memory. Those files are checked here, before any is written
+/// (an unknown material, particles a format does not take), so that a
+/// stream can only fail to write. The others are made, on all cores.
 ///
 /// # Errors
 /// [`OutputError::Invalid`] when the packing fails the check, or another
@@ -264,10 +268,10 @@ pub fn render_output_bodies<'a>(
         });
     }
     if out.wants(Format::Json) {
-        tasks.add(PACKING_JSON, || packing_json(packing, metrics, run));
+        tasks.stream(PACKING_JSON, packing_json_writer(packing, metrics, run)?);
     }
     if out.wants(Format::Vtk) {
-        tasks.add(PACKING_VTK, || packing_vtk(packing, materials, opts));
+        tasks.stream(PACKING_VTK, packing_vtk_writer(packing, materials, opts)?);
         tasks.add(BOUNDARY_VTK, || Ok(boundary_vtk(packing)));
     }
     if out.wants(Format::Vtp) {
@@ -282,41 +286,48 @@ pub fn render_output_bodies<'a>(
         });
     }
     if out.wants(Format::Lammps) {
-        tasks.add(LAMMPS_DATA, || lammps_data(packing, materials, opts));
+        tasks.stream(LAMMPS_DATA, lammps_data_writer(packing, materials, opts)?);
     }
     if out.wants(Format::Yade) {
         if packing.grains.is_empty() {
-            tasks.add(YADE_TEXT, || yade_text(packing, materials, opts));
+            tasks.stream(YADE_TEXT, yade_text_writer(packing, materials, opts)?);
         } else {
-            tasks.add(YADE_SCRIPT, || yade_script(packing, materials, opts));
+            tasks.stream(YADE_SCRIPT, yade_script_writer(packing, materials, opts)?);
         }
     }
     if out.wants(Format::Pfc) {
-        tasks.add(PFC_COMMANDS, || pfc_commands(packing, materials, opts));
+        tasks.stream(PFC_COMMANDS, pfc_commands_writer(packing, materials, opts)?);
     }
     if out.wants(Format::Mercury) {
-        tasks.add(MERCURY_DATA, || mercury_data(packing, materials, opts));
+        tasks.stream(MERCURY_DATA, mercury_data_writer(packing, materials, opts)?);
     }
     if out.wants(Format::LiggghtsSuperquadric) {
-        tasks.add(SUPERQUADRIC_DATA, || {
-            superquadric_data(packing, materials, opts)
-        });
-        tasks.add(SUPERQUADRIC_INPUT, || {
-            superquadric_input(packing, materials, opts)
-        });
+        tasks.stream(
+            SUPERQUADRIC_DATA,
+            superquadric_data_writer(packing, materials, opts)?,
+        );
+        tasks.stream(
+            SUPERQUADRIC_INPUT,
+            superquadric_input_writer(packing, materials, opts)?,
+        );
     }
     if out.wants(Format::Esys) {
-        tasks.add(ESYS_GEOMETRY, || esys_geometry(packing, materials, opts));
+        tasks.stream(
+            ESYS_GEOMETRY,
+            esys_geometry_writer(packing, materials, opts)?,
+        );
     }
     if out.wants(Format::LammpsClumps) {
-        tasks.add(LAMMPS_CLUMPS_DATA, || {
-            lammps_clumps_data(packing, materials, opts)
-        });
+        tasks.stream(
+            LAMMPS_CLUMPS_DATA,
+            lammps_clumps_data_writer(packing, materials, opts)?,
+        );
     }
     if out.wants(Format::LiggghtsClumps) {
-        tasks.add(LIGGGHTS_CLUMPS_DATA, || {
-            liggghts_clumps_data(packing, materials, opts)
-        });
+        tasks.stream(
+            LIGGGHTS_CLUMPS_DATA,
+            liggghts_clumps_data_writer(packing, materials, opts)?,
+        );
     }
     let diameters = (run.scene.d_min(), run.scene.d_max());
     tasks.packing(packing, materials, diameters, || {

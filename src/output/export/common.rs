@@ -3,36 +3,105 @@
 //! unit, densities, the extent) and safe material labels.
 
 use std::collections::BTreeSet;
-use std::fmt::{self, Write};
+use std::fmt;
+use std::io::{self, Write as _};
 
 use crate::geometry::{Point, bounds_of_disks};
 use crate::layering::Material;
 use crate::output::OutputError;
+use crate::output::digits::{push_f64, write_rows};
 use crate::output::format::ExportOptions;
 use crate::packer::Packing;
 
 /// gapack's version, written in the header of every export that has one.
 pub(super) const VERSION: &str = env!("CARGO_PKG_VERSION");
 
-/// A text file built line by line in memory.
-pub(super) struct Text(String);
+/// How a checked export writes its file: to a stream, as it is produced;
+/// only the stream can fail.
+pub(crate) type Writer<'a> = crate::output::run::Stream<'a>;
 
-impl Text {
-    /// An empty text with room for about `lines` lines.
-    pub(super) fn with_lines(lines: usize) -> Self {
-        Text(String::with_capacity(lines.saturating_mul(64)))
+/// The bytes `writer` writes, made in memory.
+pub(super) fn bytes(writer: Writer<'_>) -> Vec<u8> {
+    let mut out = Vec::new();
+    // Writing to a Vec cannot fail.
+    let _ = writer(&mut out);
+    out
+}
+
+/// Bytes buffered before a text's lines go to the stream.
+const LINES_BUFFER: usize = 1 << 16;
+
+/// A text file written line by line to a stream: the lines gathered in a
+/// small buffer, the tables of rows formatted in parallel blocks
+/// ([`Lines::rows`]). The first I/O error is kept and every later write
+/// skipped, so that the lines need not be checked one by one.
+pub(super) struct Lines<'w> {
+    out: &'w mut dyn io::Write,
+    buffer: Vec<u8>,
+    error: Option<io::Error>,
+}
+
+impl<'w> Lines<'w> {
+    /// A text written to `out`.
+    pub(super) fn new(out: &'w mut dyn io::Write) -> Self {
+        Lines {
+            out,
+            buffer: Vec::with_capacity(LINES_BUFFER),
+            error: None,
+        }
     }
 
     /// Append one line (`\n`-terminated).
     pub(super) fn line(&mut self, args: fmt::Arguments<'_>) {
-        // Writing to a String cannot fail.
-        let _ = self.0.write_fmt(args);
-        self.0.push('\n');
+        // Writing to a Vec cannot fail.
+        let _ = io::Write::write_fmt(&mut self.buffer, args);
+        self.buffer.push(b'\n');
+        if self.buffer.len() >= LINES_BUFFER {
+            self.flush();
+        }
     }
 
-    /// The text as bytes.
-    pub(super) fn into_bytes(self) -> Vec<u8> {
-        self.0.into_bytes()
+    /// `rows` rows, row `i` appended to a buffer by `row(i, buffer)`,
+    /// formatted in parallel blocks and written in order
+    /// ([`write_rows`]).
+    pub(super) fn rows(&mut self, rows: usize, row: impl Fn(usize, &mut Vec<u8>) + Sync) {
+        self.flush();
+        if self.error.is_none()
+            && let Err(error) = write_rows(self.out, rows, row)
+        {
+            self.error = Some(error);
+        }
+    }
+
+    /// Writes the buffered lines.
+    fn flush(&mut self) {
+        if self.error.is_none()
+            && let Err(error) = self.out.write_all(&self.buffer)
+        {
+            self.error = Some(error);
+        }
+        self.buffer.clear();
+    }
+
+    /// Writes what is left.
+    ///
+    /// # Errors
+    /// The first I/O error of the stream.
+    pub(super) fn finish(mut self) -> io::Result<()> {
+        self.flush();
+        self.error.map_or(Ok(()), Err)
+    }
+}
+
+/// Appends `x` as [`Num`] writes it (`push_f64` within its plain range,
+/// `{:e}` outside it).
+pub(super) fn push_num(out: &mut Vec<u8>, x: f64) {
+    let a = x.abs();
+    if a == 0.0 || (1e-5..1e16).contains(&a) {
+        push_f64(out, x);
+    } else {
+        // Writing to a Vec cannot fail.
+        let _ = write!(out, "{x:e}");
     }
 }
 
@@ -137,19 +206,23 @@ impl<'a> Export<'a> {
         self.packing.disks.len()
     }
 
+    /// Packed disk `id` (placement order), lengths scaled.
+    pub(super) fn row(&self, id: usize) -> Row {
+        let (disk, s) = (&self.packing.disks[id], self.s);
+        Row {
+            id,
+            x: Num(disk.c.x * s),
+            y: Num(disk.c.y * s),
+            r: Num(disk.r * s),
+            d: Num(2.0 * disk.r * s),
+            material: self.kinds[id],
+        }
+    }
+
     /// The packed disks in placement order, lengths scaled.
+    #[cfg(test)]
     pub(super) fn rows(&self) -> impl Iterator<Item = Row> + '_ {
-        let s = self.s;
-        self.packing.disks.iter().zip(&self.kinds).enumerate().map(
-            move |(id, (disk, &material))| Row {
-                id,
-                x: Num(disk.c.x * s),
-                y: Num(disk.c.y * s),
-                r: Num(disk.r * s),
-                d: Num(2.0 * disk.r * s),
-                material,
-            },
-        )
+        (0..self.len()).map(|id| self.row(id))
     }
 
     /// Axis-aligned box (mm) holding the domain and every packed disk
@@ -278,6 +351,59 @@ mod tests {
         }
         assert_eq!(Num(0.25).to_string(), "0.25");
         assert_eq!(Num(1.5e-7).to_string(), "1.5e-7");
+    }
+
+    #[test]
+    fn push_num_writes_what_num_displays() {
+        use rand::{Rng, SeedableRng};
+        use rand_xoshiro::Xoshiro256PlusPlus;
+        let num = |x: f64| {
+            let mut out = Vec::new();
+            push_num(&mut out, x);
+            String::from_utf8(out).expect("ascii")
+        };
+        let mut edges = vec![
+            0.0,
+            -0.0,
+            1.0,
+            0.5,
+            1e-5,
+            -1e-5,
+            1e-5_f64.next_down(),
+            1e16,
+            1e16_f64.next_down(),
+            -1e16,
+            1.5e-7,
+            6.02e23,
+            f64::MAX,
+            f64::MIN_POSITIVE,
+            5e-324,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            2650.0e-9,
+            1224.2,
+        ];
+        for e in -30..=30 {
+            let p = 10f64.powi(e);
+            edges.extend([p, -p, p * 1.5, p.next_up(), p.next_down()]);
+        }
+        for x in edges {
+            assert_eq!(num(x), Num(x).to_string(), "{x:e}");
+        }
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(3);
+        for _ in 0..100_000 {
+            let bits = f64::from_bits(rng.r#gen::<u64>());
+            let coordinate = rng.gen_range(-2000.0..2000.0_f64);
+            for x in [
+                bits,
+                coordinate,
+                coordinate * 1e-3,
+                coordinate.round() * 1e-9,
+            ] {
+                assert_eq!(num(x), Num(x).to_string(), "{:x}", x.to_bits());
+            }
+        }
     }
 
     #[test]

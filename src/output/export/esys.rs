@@ -1,8 +1,9 @@
 //! `packing.geo`: an ESyS-Particle geometry file, 2D.
 
-use super::common::{Export, Num, Text, type_id};
+use super::common::{Export, Lines, Num, Writer, bytes, push_num, type_id};
 use crate::layering::Material;
 use crate::output::OutputError;
+use crate::output::digits::push_int;
 use crate::output::format::ExportOptions;
 use crate::packer::Packing;
 
@@ -50,6 +51,18 @@ pub fn esys_geometry(
     materials: &[Material],
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
+    Ok(bytes(esys_geometry_writer(packing, materials, opts)?))
+}
+
+/// [`esys_geometry`] checked, left to be written where the file goes.
+///
+/// # Errors
+/// As [`esys_geometry`].
+pub(crate) fn esys_geometry_writer<'a>(
+    packing: &'a Packing,
+    materials: &'a [Material],
+    opts: &ExportOptions,
+) -> Result<Writer<'a>, OutputError> {
     if !packing.grains.is_empty() {
         return Err(OutputError::Unsupported {
             format: "esys",
@@ -57,10 +70,18 @@ pub fn esys_geometry(
         });
     }
     let e = Export::dem(packing, materials, opts)?;
+    Ok(Box::new(move |out| {
+        let mut t = Lines::new(out);
+        write_geometry(&mut t, &e);
+        t.finish()
+    }))
+}
+
+/// The geometry file of the disks of `e` (see [`esys_geometry`]).
+fn write_geometry(t: &mut Lines<'_>, e: &Export<'_>) {
     let (s, n) = (e.s, e.len());
     let (lo, hi) = e.extent();
     let z = e.r_max() * s;
-    let mut t = Text::with_lines(n + 12);
     t.line(format_args!("LSMGeometry 1.2"));
     t.line(format_args!(
         "BoundingBox {} {} {} {} {} {}",
@@ -71,25 +92,28 @@ pub fn esys_geometry(
         Num(hi.y * s),
         Num(z)
     ));
-    let periodic = u8::from(packing.domain.is_periodic());
+    let periodic = u8::from(e.packing.domain.is_periodic());
     t.line(format_args!("PeriodicBoundaries {periodic} {periodic} 0"));
     t.line(format_args!("Dimension 2D"));
     t.line(format_args!("BeginParticles"));
     t.line(format_args!("Simple"));
     t.line(format_args!("{n}"));
-    for d in e.rows() {
-        t.line(format_args!(
-            "{} {} 0 {} {} {}",
-            d.x,
-            d.y,
-            d.r,
-            d.id,
-            type_id(d.material)
-        ));
-    }
+    // `x y 0 r id type`
+    t.rows(n, |id, b| {
+        let d = e.row(id);
+        push_num(b, d.x.0);
+        b.push(b' ');
+        push_num(b, d.y.0);
+        b.extend_from_slice(b" 0 ");
+        push_num(b, d.r.0);
+        b.push(b' ');
+        push_int(b, id);
+        b.push(b' ');
+        push_int(b, type_id(d.material));
+        b.push(b'\n');
+    });
     t.line(format_args!("EndParticles"));
     t.line(format_args!("BeginConnect"));
     t.line(format_args!("0"));
     t.line(format_args!("EndConnect"));
-    Ok(t.into_bytes())
 }

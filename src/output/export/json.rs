@@ -3,10 +3,11 @@
 
 use serde::Serialize;
 
-use super::common::{Export, Text};
+use super::common::{Export, Lines, Writer, bytes};
 use crate::geometry::{Domain, Grain, Outline, Point, Shape};
 use crate::metrics::Metrics;
 use crate::names::ConfigName;
+use crate::output::digits::write_rows;
 use crate::output::json::summary;
 use crate::output::svg::CIRCLE_SEGMENTS;
 use crate::output::{OutputError, RunInfo};
@@ -94,14 +95,14 @@ fn compact(value: &impl Serialize) -> Result<String, OutputError> {
 }
 
 /// One member `"key": value,` of the domain object, the value compact.
-fn member(t: &mut Text, key: &str, value: &impl Serialize) -> Result<(), OutputError> {
+fn member(t: &mut Lines<'_>, key: &str, value: &impl Serialize) -> Result<(), OutputError> {
     t.line(format_args!("    \"{key}\": {},", compact(value)?));
     Ok(())
 }
 
 /// A member holding a list of points, one `[x, y]` per line; `last` leaves
 /// out the comma after it.
-fn points(t: &mut Text, key: &str, points: &[Point], last: bool) -> Result<(), OutputError> {
+fn points(t: &mut Lines<'_>, key: &str, points: &[Point], last: bool) -> Result<(), OutputError> {
     t.line(format_args!("    \"{key}\": ["));
     for (i, &p) in points.iter().enumerate() {
         let comma = if i + 1 < points.len() { "," } else { "" };
@@ -113,7 +114,7 @@ fn points(t: &mut Text, key: &str, points: &[Point], last: bool) -> Result<(), O
 
 /// The `domain` member: the shape and its config parameters, the bounds,
 /// the area and the outline.
-fn domain(t: &mut Text, domain: &Domain) -> Result<(), OutputError> {
+fn domain(t: &mut Lines<'_>, domain: &Domain) -> Result<(), OutputError> {
     t.line(format_args!("  \"domain\": {{"));
     member(t, "shape", &domain.shape().config_name())?;
     match domain.shape() {
@@ -214,10 +215,24 @@ pub fn packing_json(
     metrics: &Metrics,
     run: &RunInfo<'_>,
 ) -> Result<Vec<u8>, OutputError> {
+    Ok(bytes(packing_json_writer(packing, metrics, run)?))
+}
+
+/// [`packing_json`] checked (materials, the domain and the summary made),
+/// its disks left to be written where the file goes, in parallel blocks.
+///
+/// # Errors
+/// As [`packing_json`].
+pub(crate) fn packing_json_writer<'a>(
+    packing: &'a Packing,
+    metrics: &Metrics,
+    run: &'a RunInfo<'a>,
+) -> Result<Writer<'a>, OutputError> {
     // Lengths in mm: rows unscaled.
     let e = Export::new(packing, run.materials, 1.0)?;
     let n = e.len();
-    let mut t = Text::with_lines(n + 64);
+    let mut head = Vec::new();
+    let mut t = Lines::new(&mut head);
     t.line(format_args!("{{"));
     t.line(format_args!("  \"units\": \"mm\","));
     domain(&mut t, &packing.domain)?;
@@ -225,21 +240,12 @@ pub fn packing_json(
         t.line(format_args!("  \"disks\": [],"));
     } else {
         t.line(format_args!("  \"disks\": ["));
-        for d in e.rows() {
-            let disk = DiskJson {
-                id: d.id,
-                x: d.x.0,
-                y: d.y.0,
-                r: d.r.0,
-                shape: packing.grains.get(d.id).map(ShapeJson::of),
-                material: d
-                    .material
-                    .and_then(|m| run.materials.get(m))
-                    .map(|m| m.name.as_str()),
-            };
-            let comma = if d.id + 1 < n { "," } else { "" };
-            t.line(format_args!("    {}{comma}", compact(&disk)?));
-        }
+    }
+    // Writing to a Vec cannot fail.
+    let _ = t.finish();
+    let mut tail = Vec::new();
+    let mut t = Lines::new(&mut tail);
+    if n > 0 {
         t.line(format_args!("  ],"));
     }
     t.line(format_args!(
@@ -247,5 +253,31 @@ pub fn packing_json(
         nested(&summary(packing, metrics, run))?
     ));
     t.line(format_args!("}}"));
-    Ok(t.into_bytes())
+    let _ = t.finish();
+    let materials = run.materials;
+    Ok(Box::new(move |out| {
+        out.write_all(&head)?;
+        write_rows(out, n, |id, b| {
+            let d = e.row(id);
+            let disk = DiskJson {
+                id,
+                x: d.x.0,
+                y: d.y.0,
+                r: d.r.0,
+                shape: packing.grains.get(id).map(ShapeJson::of),
+                material: d
+                    .material
+                    .and_then(|m| materials.get(m))
+                    .map(|m| m.name.as_str()),
+            };
+            b.extend_from_slice(b"    ");
+            // Serialising these plain records to a Vec cannot fail.
+            let _ = serde_json::to_writer(&mut *b, &disk);
+            if id + 1 < n {
+                b.push(b',');
+            }
+            b.push(b'\n');
+        })?;
+        out.write_all(&tail)
+    }))
 }

@@ -1,12 +1,19 @@
 //! `packing.lammps`: a LAMMPS / LIGGGHTS data file (`atom_style sphere`;
 //! `atom_style body rounded/polygon` for particles that are not disks).
 
-use super::common::{Export, Num, Text, VERSION, density, labels, type_count, type_id};
+use std::io::Write as _;
+
+use rayon::prelude::*;
+
+use super::common::{
+    Export, Lines, Num, VERSION, Writer, bytes, density, labels, push_num, type_count, type_id,
+};
 use super::outline::{Moments, Rounded, turned};
 use crate::geometry::Point;
 use crate::layering::Material;
 use crate::names::ConfigName;
 use crate::output::OutputError;
+use crate::output::digits::push_int;
 use crate::output::format::{ExportOptions, LengthUnit};
 use crate::packer::Packing;
 
@@ -81,13 +88,35 @@ pub fn lammps_data(
     materials: &[Material],
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
+    Ok(bytes(lammps_data_writer(packing, materials, opts)?))
+}
+
+/// [`lammps_data`] checked, left to be written where the file goes.
+///
+/// # Errors
+/// As [`lammps_data`].
+pub(crate) fn lammps_data_writer<'a>(
+    packing: &'a Packing,
+    materials: &'a [Material],
+    opts: &'a ExportOptions,
+) -> Result<Writer<'a>, OutputError> {
     let e = Export::dem(packing, materials, opts)?;
-    if !packing.grains.is_empty() {
-        return Ok(body_data(&e, materials, opts));
-    }
+    Ok(Box::new(move |out| {
+        let mut t = Lines::new(out);
+        if packing.grains.is_empty() {
+            sphere_data(&mut t, &e, materials, opts);
+        } else {
+            body_data(&mut t, &e, materials, opts);
+        }
+        t.finish()
+    }))
+}
+
+/// The `atom_style sphere` data file of a packing of disks (see
+/// [`lammps_data`]).
+fn sphere_data(t: &mut Lines<'_>, e: &Export<'_>, materials: &[Material], opts: &ExportOptions) {
     let n = e.len();
     let rho = opts.units.density_per_kg_m3();
-    let mut t = Text::with_lines(n + 24);
     let title = format!(
         "gapack {VERSION}: {n} disks, atom_style sphere, lengths in {} ({}), density in kg/{}^3",
         opts.units.config_name(),
@@ -95,8 +124,8 @@ pub fn lammps_data(
         opts.units.config_name()
     );
     header(
-        &mut t,
-        &e,
+        t,
+        e,
         materials,
         &Header {
             title,
@@ -109,19 +138,23 @@ pub fn lammps_data(
         t.line(format_args!(""));
         t.line(format_args!("Atoms # sphere"));
         t.line(format_args!(""));
-        for d in e.rows() {
-            t.line(format_args!(
-                "{} {} {} {} {} {} 0",
-                d.id + 1,
-                type_id(d.material),
-                d.d,
-                Num(density(materials, d.material, opts) * rho),
-                d.x,
-                d.y
-            ));
-        }
+        // `id type diameter density x y 0`
+        t.rows(n, |id, b| {
+            let d = e.row(id);
+            push_int(b, id + 1);
+            b.push(b' ');
+            push_int(b, type_id(d.material));
+            b.push(b' ');
+            push_num(b, d.d.0);
+            b.push(b' ');
+            push_num(b, density(materials, d.material, opts) * rho);
+            b.push(b' ');
+            push_num(b, d.x.0);
+            b.push(b' ');
+            push_num(b, d.y.0);
+            b.extend_from_slice(b" 0\n");
+        });
     }
-    Ok(t.into_bytes())
 }
 
 /// What a gapack data file for `read_data` (LAMMPS or LIGGGHTS) says in its
@@ -145,7 +178,7 @@ pub(super) struct Header<'a> {
 /// `# periodic cell: boundary p p p` (a data file has no boundary keyword:
 /// the input script sets it), `h.after`, then `# type i = name` per
 /// material. One header for every such file, so that they all agree.
-pub(super) fn header(t: &mut Text, e: &Export<'_>, materials: &[Material], h: &Header<'_>) {
+pub(super) fn header(t: &mut Lines<'_>, e: &Export<'_>, materials: &[Material], h: &Header<'_>) {
     let s = e.s;
     let (lo, hi) = e.extent();
     let r = e.r_max();
@@ -188,31 +221,64 @@ pub(super) fn units_style(opts: &ExportOptions) -> &'static str {
 /// Vertices on one line of a body in the data file.
 const VERTICES_PER_LINE: usize = 4;
 
+/// A particle as a LAMMPS body: its rounded polygon, the polygon's
+/// vertices in world axes about the centre, its slab's mass and area
+/// moments (world axes).
+struct Body {
+    rounded: Rounded,
+    world: Vec<Point>,
+    mass: f64,
+    moments: Moments,
+}
+
+impl Body {
+    /// Particle `id` of `e` as a body, `rho` the density's factor to the
+    /// file's unit.
+    fn of(
+        e: &Export<'_>,
+        id: usize,
+        materials: &[Material],
+        opts: &ExportOptions,
+        rho: f64,
+    ) -> Self {
+        let grain = &e.packing.grains[id];
+        let rounded = Rounded::of(&grain.outline);
+        let world = turned(grain, &rounded.core);
+        let moments = Moments::of(&turned(grain, &rounded.fine()));
+        let density = density(materials, e.row(id).material, opts) * rho;
+        let mass = density * moments.area * e.s * e.s;
+        Body {
+            rounded,
+            world,
+            mass,
+            moments,
+        }
+    }
+}
+
 /// The `atom_style body rounded/polygon` data file of a packing with grains
-/// (see [`lammps_data`]).
-fn body_data(e: &Export<'_>, materials: &[Material], opts: &ExportOptions) -> Vec<u8> {
+/// (see [`lammps_data`]): each body made where its rows are written, so
+/// that only a few blocks of them are held at once.
+fn body_data(t: &mut Lines<'_>, e: &Export<'_>, materials: &[Material], opts: &ExportOptions) {
     let packing = e.packing;
     let (s, n) = (e.s, e.len());
     let rho = opts.units.density_per_kg_m3();
-    let bodies: Vec<(Rounded, Vec<Point>)> = packing
+    let (nmin, nmax) = packing
         .grains
-        .iter()
+        .par_iter()
         .map(|g| {
-            let r = Rounded::of(&g.outline);
-            let world = turned(g, &r.core);
-            (r, world)
+            let k = turned(g, &Rounded::of(&g.outline).core).len();
+            (k, k)
         })
-        .collect();
-    let counts = bodies.iter().map(|(_, w)| w.len());
-    let (nmin, nmax) = (counts.clone().min().unwrap_or(3), counts.max().unwrap_or(3));
-    let mut t = Text::with_lines(n * 60 + 32);
+        .reduce_with(|a, b| (a.0.min(b.0), a.1.max(b.1)))
+        .unwrap_or((3, 3));
     let title = format!(
         "gapack {VERSION}: {n} particles, atom_style body rounded/polygon {nmin} {nmax}, lengths in {} ({}), mass in kg per length unit of thickness",
         opts.units.config_name(),
         units_style(opts)
     );
     header(
-        &mut t,
+        t,
         e,
         materials,
         &Header {
@@ -228,40 +294,39 @@ fn body_data(e: &Export<'_>, materials: &[Material], opts: &ExportOptions) -> Ve
         },
     );
     if n == 0 {
-        return t.into_bytes();
+        return;
     }
-    // Mass and area moments about the centre (world axes), per body.
-    let slabs: Vec<(f64, Moments)> = bodies
-        .iter()
-        .zip(e.rows())
-        .map(|((r, _), d)| {
-            let fine = r.fine();
-            let grain = &packing.grains[d.id];
-            let m = Moments::of(&turned(grain, &fine));
-            let density = density(materials, d.material, opts) * rho;
-            (density * m.area * s * s, m)
-        })
-        .collect();
     t.line(format_args!(""));
     t.line(format_args!("Atoms # body"));
     t.line(format_args!(""));
-    for (d, (mass, _)) in e.rows().zip(&slabs) {
-        t.line(format_args!(
+    t.rows(n, |id, b| {
+        let d = e.row(id);
+        let body = Body::of(e, id, materials, opts, rho);
+        // Writing to a Vec cannot fail.
+        let _ = writeln!(
+            b,
             "{} {} 1 {} {} {} 0",
             d.id + 1,
             type_id(d.material),
-            Num(*mass),
+            Num(body.mass),
             d.x,
             d.y
-        ));
-    }
+        );
+    });
     t.line(format_args!(""));
     t.line(format_args!("Bodies"));
     t.line(format_args!(""));
-    for ((d, (mass, m)), (r, world)) in e.rows().zip(&slabs).zip(&bodies) {
+    t.rows(n, |id, b| {
+        let Body {
+            rounded,
+            world,
+            mass,
+            moments: m,
+        } = Body::of(e, id, materials, opts, rho);
         let k = world.len();
-        t.line(format_args!("{} 1 {}", d.id + 1, 6 + 3 * k + 1));
-        t.line(format_args!("{k}"));
+        // Writing to a Vec cannot fail.
+        let _ = writeln!(b, "{} 1 {}", id + 1, 6 + 3 * k + 1);
+        let _ = writeln!(b, "{k}");
         // Per unit area, times the mass: second moments in the file's unit.
         let per = if m.area > 0.0 {
             mass / m.area * s * s
@@ -269,23 +334,23 @@ fn body_data(e: &Export<'_>, materials: &[Material], opts: &ExportOptions) -> Ve
             0.0
         };
         let (ixx, iyy, ixy) = (per * m.yy, per * m.xx, -per * m.xy);
-        t.line(format_args!(
+        let _ = writeln!(
+            b,
             "{} {} {} {} 0 0",
             Num(ixx),
             Num(iyy),
             Num(ixx + iyy),
             Num(ixy)
-        ));
+        );
         // Several vertices a line: LAMMPS reads a body's numbers as one
         // stream, but refuses bodies of more than 32 lines.
         for chunk in world.chunks(VERTICES_PER_LINE) {
-            let line: Vec<String> = chunk
-                .iter()
-                .map(|p| format!("{} {} 0", Num(p.x * s), Num(p.y * s)))
-                .collect();
-            t.line(format_args!("{}", line.join(" ")));
+            for (j, p) in chunk.iter().enumerate() {
+                let sep = if j == 0 { "" } else { " " };
+                let _ = write!(b, "{sep}{} {} 0", Num(p.x * s), Num(p.y * s));
+            }
+            b.push(b'\n');
         }
-        t.line(format_args!("{}", Num(2.0 * r.rounding * s)));
-    }
-    t.into_bytes()
+        let _ = writeln!(b, "{}", Num(2.0 * rounded.rounding * s));
+    });
 }

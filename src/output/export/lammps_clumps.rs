@@ -4,7 +4,9 @@
 //! file saying how its code runs them.
 
 use super::clumps::clumps;
-use super::common::{Export, Num, Text, VERSION, density, type_id};
+use std::io::Write as _;
+
+use super::common::{Export, Lines, Num, VERSION, Writer, bytes, density, type_id};
 use super::lammps::{Header, header, units_style};
 use crate::layering::Material;
 use crate::names::ConfigName;
@@ -60,7 +62,7 @@ pub fn lammps_clumps_data(
     materials: &[Material],
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
-    clumps_data(packing, materials, opts, Code::Lammps)
+    Ok(bytes(clumps_data(packing, materials, opts, Code::Lammps)?))
 }
 
 /// File name of the LIGGGHTS data file of clumps.
@@ -115,6 +117,36 @@ pub fn liggghts_clumps_data(
     materials: &[Material],
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
+    Ok(bytes(clumps_data(
+        packing,
+        materials,
+        opts,
+        Code::Liggghts,
+    )?))
+}
+
+/// [`lammps_clumps_data`] checked, left to be written where the file goes.
+///
+/// # Errors
+/// As [`lammps_clumps_data`].
+pub(crate) fn lammps_clumps_data_writer<'a>(
+    packing: &'a Packing,
+    materials: &'a [Material],
+    opts: &'a ExportOptions,
+) -> Result<Writer<'a>, OutputError> {
+    clumps_data(packing, materials, opts, Code::Lammps)
+}
+
+/// [`liggghts_clumps_data`] checked, left to be written where the file
+/// goes.
+///
+/// # Errors
+/// As [`liggghts_clumps_data`].
+pub(crate) fn liggghts_clumps_data_writer<'a>(
+    packing: &'a Packing,
+    materials: &'a [Material],
+    opts: &'a ExportOptions,
+) -> Result<Writer<'a>, OutputError> {
     clumps_data(packing, materials, opts, Code::Liggghts)
 }
 
@@ -150,20 +182,35 @@ enum Code {
 }
 
 /// The data file of clumps for `code` (see [`lammps_clumps_data`] and
-/// [`liggghts_clumps_data`]).
-fn clumps_data(
-    packing: &Packing,
+/// [`liggghts_clumps_data`]), checked, left to be written.
+fn clumps_data<'a>(
+    packing: &'a Packing,
+    materials: &'a [Material],
+    opts: &'a ExportOptions,
+    code: Code,
+) -> Result<Writer<'a>, OutputError> {
+    let e = Export::dem(packing, materials, opts)?;
+    Ok(Box::new(move |out| {
+        let mut t = Lines::new(out);
+        write_clumps(&mut t, &e, materials, opts, code);
+        t.finish()
+    }))
+}
+
+/// The data file of clumps for `code`, for the checked export `e`.
+fn write_clumps(
+    t: &mut Lines<'_>,
+    e: &Export<'_>,
     materials: &[Material],
     opts: &ExportOptions,
     code: Code,
-) -> Result<Vec<u8>, OutputError> {
-    let e = Export::dem(packing, materials, opts)?;
+) {
+    let packing = e.packing;
     let s = e.s;
     let all = clumps(packing, &opts.clumps);
     let atoms = all.disks();
     let rho = opts.units.density_per_kg_m3();
     let u = opts.units.config_name();
-    let mut t = Text::with_lines(atoms + 24);
     let summary = format!("clumps: {}", all.summary(&opts.clumps));
     let (what, before, after) = match code {
         Code::Lammps => (
@@ -186,8 +233,8 @@ fn clumps_data(
         units_style(opts)
     );
     header(
-        &mut t,
-        &e,
+        t,
+        e,
         materials,
         &Header {
             title,
@@ -200,23 +247,34 @@ fn clumps_data(
         t.line(format_args!(""));
         t.line(format_args!("Atoms # hybrid"));
         t.line(format_args!(""));
-        let mut id = 0usize;
-        for (row, clump) in e.rows().zip(&all.clumps) {
+        // The first atom id of each clump's spheres.
+        let first: Vec<usize> = all
+            .clumps
+            .iter()
+            .scan(1, |next, clump| {
+                let id = *next;
+                *next += clump.disks.len();
+                Some(id)
+            })
+            .collect();
+        t.rows(e.len(), |i, b| {
+            let (row, clump) = (e.row(i), &all.clumps[i]);
             let ty = type_id(row.material);
             let rho = Num(density(materials, row.material, opts) * rho);
-            for &(c, r) in &clump.disks {
-                id += 1;
-                t.line(format_args!(
-                    "{id} {ty} {} {} 0 {} {rho} {}",
+            for (k, &(c, r)) in clump.disks.iter().enumerate() {
+                // Writing to a Vec cannot fail.
+                let _ = writeln!(
+                    b,
+                    "{} {ty} {} {} 0 {} {rho} {}",
+                    first[i] + k,
                     Num(c.x * s),
                     Num(c.y * s),
                     Num(2.0 * r * s),
                     row.id + 1
-                ));
+                );
             }
-        }
+        });
     }
-    Ok(t.into_bytes())
 }
 
 #[cfg(test)]

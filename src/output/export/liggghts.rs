@@ -1,9 +1,11 @@
 //! `packing.superquadric.data` and `packing.superquadric.in`: superellipse
 //! particles for LIGGGHTS' `atom_style superquadric`.
 
-use super::common::{Export, Num, Text, VERSION, density, type_id};
+use std::io::Write as _;
+
+use super::common::{Export, Lines, Num, VERSION, Writer, bytes, density, type_id};
 use super::lammps::{Header, header};
-use super::outline::superquadrics;
+use super::outline::{Superquadric, superquadrics};
 use crate::layering::Material;
 use crate::names::ConfigName;
 use crate::output::OutputError;
@@ -32,7 +34,7 @@ pub fn superquadric_data(
     materials: &[Material],
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
-    Ok(superquadric_files(packing, materials, opts)?.0)
+    Ok(bytes(superquadric_data_writer(packing, materials, opts)?))
 }
 
 /// The `set … quat` commands of [`superquadric_files`].
@@ -44,7 +46,41 @@ pub fn superquadric_input(
     materials: &[Material],
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
-    Ok(superquadric_files(packing, materials, opts)?.1)
+    Ok(bytes(superquadric_input_writer(packing, materials, opts)?))
+}
+
+/// [`superquadric_data`] checked, left to be written where the file goes.
+///
+/// # Errors
+/// As [`superquadric_files`].
+pub(crate) fn superquadric_data_writer<'a>(
+    packing: &'a Packing,
+    materials: &'a [Material],
+    opts: &'a ExportOptions,
+) -> Result<Writer<'a>, OutputError> {
+    let (e, shapes) = superquadric_files(packing, materials, opts)?;
+    Ok(Box::new(move |out| {
+        let mut t = Lines::new(out);
+        write_data(&mut t, &e, &shapes, materials, opts);
+        t.finish()
+    }))
+}
+
+/// [`superquadric_input`] checked, left to be written where the file goes.
+///
+/// # Errors
+/// As [`superquadric_files`].
+pub(crate) fn superquadric_input_writer<'a>(
+    packing: &'a Packing,
+    materials: &'a [Material],
+    opts: &ExportOptions,
+) -> Result<Writer<'a>, OutputError> {
+    superquadric_files(packing, materials, opts)?;
+    Ok(Box::new(move |out| {
+        let mut t = Lines::new(out);
+        write_input(&mut t, packing);
+        t.finish()
+    }))
 }
 
 /// The packed particles (superellipses with alpha = beta >= 2) as a
@@ -74,11 +110,11 @@ pub fn superquadric_input(
 /// rounded polygon, or a superellipse whose exponents differ or are below
 /// 2; [`OutputError::UnknownMaterial`] if a particle's material is not in
 /// a non-empty `materials`.
-fn superquadric_files(
-    packing: &Packing,
-    materials: &[Material],
+fn superquadric_files<'a>(
+    packing: &'a Packing,
+    materials: &'a [Material],
     opts: &ExportOptions,
-) -> Result<(Vec<u8>, Vec<u8>), OutputError> {
+) -> Result<(Export<'a>, Vec<Superquadric>), OutputError> {
     if packing.grains.is_empty() {
         return Err(OutputError::Unsupported {
             format: FORMAT,
@@ -88,17 +124,28 @@ fn superquadric_files(
     }
     let shapes = superquadrics(&packing.grains, FORMAT)?;
     let e = Export::dem(packing, materials, opts)?;
+    Ok((e, shapes))
+}
+
+/// The data file of the particles of `e`, `shapes` their superquadrics
+/// (see [`superquadric_files`]).
+fn write_data(
+    t: &mut Lines<'_>,
+    e: &Export<'_>,
+    shapes: &[Superquadric],
+    materials: &[Material],
+    opts: &ExportOptions,
+) {
     let (s, n) = (e.s, e.len());
     let rho = opts.units.density_per_kg_m3();
-    let mut t = Text::with_lines(n + 24);
     let title = format!(
         "gapack {VERSION}: {n} superquadrics, atom_style superquadric, lengths in {}, density in kg/{}^3, shapez = {THICKNESS_REL} min(shapex, shapey)",
         opts.units.config_name(),
         opts.units.config_name()
     );
     header(
-        &mut t,
-        &e,
+        t,
+        e,
         materials,
         &Header {
             title,
@@ -110,8 +157,11 @@ fn superquadric_files(
     t.line(format_args!(""));
     t.line(format_args!("Atoms"));
     t.line(format_args!(""));
-    for (d, q) in e.rows().zip(&shapes) {
-        t.line(format_args!(
+    t.rows(n, |id, b| {
+        let (d, q) = (e.row(id), &shapes[id]);
+        // Writing to a Vec cannot fail.
+        let _ = writeln!(
+            b,
             "{} {} {} {} {} {} {} {} {} {} 0",
             d.id + 1,
             type_id(d.material),
@@ -123,18 +173,23 @@ fn superquadric_files(
             Num(q.n),
             d.x,
             d.y
-        ));
-    }
-    let mut input = Text::with_lines(n + 4);
-    input.line(format_args!(
+        );
+    });
+}
+
+/// The `set … quat` commands turning each particle of `packing` (see
+/// [`superquadric_files`]).
+fn write_input(t: &mut Lines<'_>, packing: &Packing) {
+    t.line(format_args!(
         "# gapack {VERSION}: each particle's orientation, a turn about z by its angle (degrees); include after read_data {SUPERQUADRIC_DATA}"
     ));
-    for (i, g) in packing.grains.iter().enumerate() {
-        input.line(format_args!(
+    t.rows(packing.grains.len(), |i, b| {
+        // Writing to a Vec cannot fail.
+        let _ = writeln!(
+            b,
             "set atom {} quat 0 0 1 {}",
             i + 1,
-            Num(g.angle.to_degrees())
-        ));
-    }
-    Ok((t.into_bytes(), input.into_bytes()))
+            Num(packing.grains[i].angle.to_degrees())
+        );
+    });
 }

@@ -1,10 +1,13 @@
 //! `packing.mercury.data`: a MercuryDPM 2D data file.
 
-use super::common::{Export, Num, Text, VERSION, extent};
+use std::io::Write as _;
+
+use super::common::{Export, Lines, Num, VERSION, Writer, bytes, extent, push_num};
 use super::liggghts::THICKNESS_REL;
-use super::outline::superquadrics;
+use super::outline::{Superquadric, superquadrics};
 use crate::layering::Material;
 use crate::output::OutputError;
+use crate::output::digits::push_int;
 use crate::output::format::ExportOptions;
 use crate::packer::Packing;
 
@@ -76,13 +79,38 @@ pub fn mercury_data(
     materials: &[Material],
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
+    Ok(bytes(mercury_data_writer(packing, materials, opts)?))
+}
+
+/// [`mercury_data`] checked, left to be written where the file goes.
+///
+/// # Errors
+/// As [`mercury_data`].
+pub(crate) fn mercury_data_writer<'a>(
+    packing: &'a Packing,
+    materials: &'a [Material],
+    opts: &ExportOptions,
+) -> Result<Writer<'a>, OutputError> {
     let e = Export::dem(packing, materials, opts)?;
     if !packing.grains.is_empty() {
-        return superquadric_table(&e);
+        let shapes = superquadrics(&packing.grains, "mercury")?;
+        return Ok(Box::new(move |out| {
+            let mut t = Lines::new(out);
+            superquadric_table(&mut t, &e, &shapes);
+            t.finish()
+        }));
     }
+    Ok(Box::new(move |out| {
+        let mut t = Lines::new(out);
+        disk_table(&mut t, &e);
+        t.finish()
+    }))
+}
+
+/// The table of the disks of `e` (see [`mercury_data`]).
+fn disk_table(t: &mut Lines<'_>, e: &Export<'_>) {
     let (s, n) = (e.s, e.len());
     let (lo, hi) = e.extent();
-    let mut t = Text::with_lines(n + 1);
     t.line(format_args!(
         "{n} 0 {} {} {} {}",
         Num(lo.x * s),
@@ -90,25 +118,26 @@ pub fn mercury_data(
         Num(hi.x * s),
         Num(hi.y * s)
     ));
-    for d in e.rows() {
-        t.line(format_args!(
-            "{} {} 0 0 {} 0 0 {}",
-            d.x,
-            d.y,
-            d.r,
-            d.material.unwrap_or(0)
-        ));
-    }
-    Ok(t.into_bytes())
+    // `x y 0 0 r 0 0 species`
+    t.rows(n, |id, b| {
+        let d = e.row(id);
+        push_num(b, d.x.0);
+        b.push(b' ');
+        push_num(b, d.y.0);
+        b.extend_from_slice(b" 0 0 ");
+        push_num(b, d.r.0);
+        b.extend_from_slice(b" 0 0 ");
+        push_int(b, d.material.unwrap_or(0));
+        b.push(b'\n');
+    });
 }
 
-/// The superquadric table of a packing with grains (see [`mercury_data`]).
-fn superquadric_table(e: &Export<'_>) -> Result<Vec<u8>, OutputError> {
+/// The superquadric table of a packing with grains, `shapes` its
+/// superquadrics (see [`mercury_data`]).
+fn superquadric_table(t: &mut Lines<'_>, e: &Export<'_>, shapes: &[Superquadric]) {
     let packing = e.packing;
-    let shapes = superquadrics(&packing.grains, "mercury")?;
     let (s, n) = (e.s, e.len());
     let (lo, hi) = extent(packing);
-    let mut t = Text::with_lines(n + 2);
     t.line(format_args!(
         "# gapack {VERSION}: {n} superquadrics for SuperQuadricParticle (not a MercuryDPM data file): x y z q0 q1 q2 q3 a b c eps1 eps2 species"
     ));
@@ -119,10 +148,13 @@ fn superquadric_table(e: &Export<'_>) -> Result<Vec<u8>, OutputError> {
         Num(hi.x * s),
         Num(hi.y * s)
     ));
-    for ((d, q), g) in e.rows().zip(&shapes).zip(&packing.grains) {
+    t.rows(n, |id, b| {
+        let (d, q, g) = (e.row(id), &shapes[id], &packing.grains[id]);
         let (sin, cos) = (0.5 * g.angle).sin_cos();
         let eps = 2.0 / q.n;
-        t.line(format_args!(
+        // Writing to a Vec cannot fail.
+        let _ = writeln!(
+            b,
             "{} {} 0 {} 0 0 {} {} {} {} {} {} {}",
             d.x,
             d.y,
@@ -134,7 +166,6 @@ fn superquadric_table(e: &Export<'_>) -> Result<Vec<u8>, OutputError> {
             Num(eps),
             Num(eps),
             d.material.unwrap_or(0)
-        ));
-    }
-    Ok(t.into_bytes())
+        );
+    });
 }

@@ -1,7 +1,10 @@
 //! `packing.p2dat`: a PFC2D command file (PFC 6 / 7 syntax).
 
 use super::clumps::clumps;
-use super::common::{Export, Num, Text, VERSION, density, labels};
+use std::io::Write as _;
+
+use super::common::{Export, Lines, Num, VERSION, Writer, bytes, density, labels, push_num};
+use crate::output::digits::push_int;
 use nalgebra::Vector2;
 
 use crate::geometry::{Point, Shape};
@@ -76,7 +79,29 @@ pub fn pfc_commands(
     materials: &[Material],
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
+    Ok(bytes(pfc_commands_writer(packing, materials, opts)?))
+}
+
+/// [`pfc_commands`] checked, left to be written where the file goes.
+///
+/// # Errors
+/// As [`pfc_commands`].
+pub(crate) fn pfc_commands_writer<'a>(
+    packing: &'a Packing,
+    materials: &'a [Material],
+    opts: &'a ExportOptions,
+) -> Result<Writer<'a>, OutputError> {
     let e = Export::dem(packing, materials, opts)?;
+    Ok(Box::new(move |out| {
+        let mut t = Lines::new(out);
+        write_commands(&mut t, &e, materials, opts);
+        t.finish()
+    }))
+}
+
+/// The commands of [`pfc_commands`], for the checked export `e`.
+fn write_commands(t: &mut Lines<'_>, e: &Export<'_>, materials: &[Material], opts: &ExportOptions) {
+    let packing = e.packing;
     let (s, n) = (e.s, e.len());
     let rho = opts.units.density_per_kg_m3();
     let groups = if materials.is_empty() {
@@ -98,7 +123,6 @@ pub fn pfc_commands(
 
     let grains = !packing.grains.is_empty();
     let clumped = grains.then(|| clumps(packing, &opts.clumps));
-    let mut t = Text::with_lines(n + groups.len() + 16);
     match &clumped {
         None => t.line(format_args!(
             "; gapack {VERSION}: {n} disks for PFC2D, lengths in {u}, density in kg/{u}^3",
@@ -135,35 +159,44 @@ pub fn pfc_commands(
     };
     match &clumped {
         None => {
-            for d in e.rows() {
-                t.line(format_args!(
-                    "ball create id {} position-x {} position-y {} radius {} group '{}'",
-                    d.id + 1,
-                    d.x,
-                    d.y,
-                    d.r,
-                    group_of(&d)
-                ));
-            }
+            // `ball create id … position-x … position-y … radius … group '…'`
+            t.rows(n, |id, b| {
+                let d = e.row(id);
+                b.extend_from_slice(b"ball create id ");
+                push_int(b, id + 1);
+                b.extend_from_slice(b" position-x ");
+                push_num(b, d.x.0);
+                b.extend_from_slice(b" position-y ");
+                push_num(b, d.y.0);
+                b.extend_from_slice(b" radius ");
+                push_num(b, d.r.0);
+                b.extend_from_slice(b" group '");
+                b.extend_from_slice(group_of(&d).as_bytes());
+                b.extend_from_slice(b"'\n");
+            });
         }
         Some(all) => {
-            for (d, clump) in e.rows().zip(&all.clumps) {
-                t.line(format_args!(
+            t.rows(n, |id, b| {
+                let (d, clump) = (e.row(id), &all.clumps[id]);
+                // Writing to a Vec cannot fail.
+                let _ = writeln!(
+                    b,
                     "clump create id {} group '{}' calculate {CLUMP_PRECISION} pebbles {} ...",
                     d.id + 1,
                     group_of(&d),
                     clump.disks.len()
-                ));
+                );
                 let last = clump.disks.len().saturating_sub(1);
                 for (k, &(c, r)) in clump.disks.iter().enumerate() {
-                    t.line(format_args!(
+                    let _ = writeln!(
+                        b,
                         "  {} {}{}",
                         Num(r * s),
                         point(c.x, c.y),
                         if k < last { " ..." } else { "" }
-                    ));
+                    );
                 }
-            }
+            });
         }
     }
     let body = if grains { "clump" } else { "ball" };
@@ -178,7 +211,7 @@ pub fn pfc_commands(
         t.line(format_args!(
             "; periodic cell: no wall, the balls crossing its edges meet their neighbours across them"
         ));
-        return Ok(t.into_bytes());
+        return;
     }
     let inset = if packing.boundary.is_empty() {
         0.0
@@ -212,7 +245,6 @@ pub fn pfc_commands(
             }
         }
     }
-    Ok(t.into_bytes())
 }
 
 /// The smallest clearance of a packed disk from the domain's outline (mm,

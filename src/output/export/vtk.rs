@@ -1,12 +1,17 @@
 //! `packing.vtk` and `boundary.vtk`: the packing and its domain for ParaView
 //! (legacy VTK, ASCII POLYDATA).
 
-use super::common::{Export, Num, Text, VERSION, density};
+use std::io::Write as _;
+
+use rayon::prelude::*;
+
+use super::common::{Export, Lines, Num, VERSION, Writer, bytes, density, push_num};
 use crate::geometry::{Grain, Outline, Point};
 use crate::layering::Material;
 use crate::names::ConfigName;
 use crate::output::OutputError;
 use crate::output::csv::GrainColumns;
+use crate::output::digits::push_int;
 use crate::output::format::ExportOptions;
 use crate::output::svg::CIRCLE_SEGMENTS;
 use crate::packer::Packing;
@@ -58,27 +63,53 @@ pub fn packing_vtk(
     materials: &[Material],
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
+    Ok(bytes(packing_vtk_writer(packing, materials, opts)?))
+}
+
+/// [`packing_vtk`] checked, left to be written where the file goes.
+///
+/// # Errors
+/// As [`packing_vtk`].
+pub(crate) fn packing_vtk_writer<'a>(
+    packing: &'a Packing,
+    materials: &'a [Material],
+    opts: &'a ExportOptions,
+) -> Result<Writer<'a>, OutputError> {
     // Lengths in mm: rows unscaled.
     let e = Export::new(packing, materials, 1.0)?;
-    if !packing.grains.is_empty() {
-        return Ok(particles_vtk(&e, materials, opts));
-    }
+    Ok(Box::new(move |out| {
+        let mut t = Lines::new(out);
+        if packing.grains.is_empty() {
+            disks_vtk(&mut t, &e, materials, opts);
+        } else {
+            particles_vtk(&mut t, &e, materials, opts);
+        }
+        t.finish()
+    }))
+}
+
+/// `packing.vtk` for disks (see [`packing_vtk`]).
+fn disks_vtk(t: &mut Lines<'_>, e: &Export<'_>, materials: &[Material], opts: &ExportOptions) {
     let n = e.len();
-    let mut t = Text::with_lines(6 * n + 16);
-    head(&mut t, packing, &format!("{n} disks"));
+    head(t, e.packing, &format!("{n} disks"));
     t.line(format_args!("POINTS {n} double"));
-    for d in e.rows() {
-        t.line(format_args!("{} {} 0", d.x, d.y));
-    }
+    t.rows(n, |i, b| {
+        let d = e.row(i);
+        push_num(b, d.x.0);
+        b.push(b' ');
+        push_num(b, d.y.0);
+        b.extend_from_slice(b" 0\n");
+    });
     t.line(format_args!("VERTICES {n} {}", 2 * n));
-    for i in 0..n {
-        t.line(format_args!("1 {i}"));
-    }
+    t.rows(n, |i, b| {
+        b.extend_from_slice(b"1 ");
+        push_int(b, i);
+        b.push(b'\n');
+    });
     t.line(format_args!("POINT_DATA {n}"));
-    scalars(&mut t, "radius", "double", e.rows().map(|d| d.r));
-    scalars(&mut t, "diameter", "double", e.rows().map(|d| d.d));
-    material_scalars(&mut t, &e, materials, opts);
-    Ok(t.into_bytes())
+    scalars(t, "radius", "double", n, |i, b| push_num(b, e.row(i).r.0));
+    scalars(t, "diameter", "double", n, |i, b| push_num(b, e.row(i).d.0));
+    material_scalars(t, e, materials, opts);
 }
 
 /// Points of the polygon each particle is drawn as in `packing.vtk` (a
@@ -86,7 +117,7 @@ pub fn packing_vtk(
 pub(crate) const PARTICLE_SEGMENTS: usize = 64;
 
 /// The title, format and dataset lines, and a periodic cell's field data.
-fn head(t: &mut Text, packing: &Packing, what: &str) {
+fn head(t: &mut Lines<'_>, packing: &Packing, what: &str) {
     t.line(format_args!("# vtk DataFile Version 3.0"));
     let (lo, hi) = packing.domain.bounds();
     let cell = format!("{} {} {} {}", Num(lo.x), Num(hi.x), Num(lo.y), Num(hi.y));
@@ -110,61 +141,75 @@ fn head(t: &mut Text, packing: &Packing, what: &str) {
     }
 }
 
+/// The polygon particle `i` of `packing` is drawn as, in world
+/// coordinates.
+fn outline_of(packing: &Packing, i: usize) -> Vec<Point> {
+    let (disk, grain) = (&packing.disks[i], &packing.grains[i]);
+    let turned = grain.turned();
+    grain
+        .outline
+        .boundary(PARTICLE_SEGMENTS)
+        .into_iter()
+        .map(|p| disk.c + turned.to_world(p))
+        .collect()
+}
+
 /// `packing.vtk` for particles that are not disks: one polygon cell per
-/// particle (see [`packing_vtk`]).
-fn particles_vtk(e: &Export<'_>, materials: &[Material], opts: &ExportOptions) -> Vec<u8> {
+/// particle (see [`packing_vtk`]), each polygon made where its rows are
+/// written.
+fn particles_vtk(t: &mut Lines<'_>, e: &Export<'_>, materials: &[Material], opts: &ExportOptions) {
     let packing = e.packing;
     let n = e.len();
-    let outlines: Vec<Vec<Point>> = packing
-        .disks
+    let counts: Vec<usize> = (0..n)
+        .into_par_iter()
+        .map(|i| outline_of(packing, i).len())
+        .collect();
+    // The first point of each polygon.
+    let first: Vec<usize> = counts
         .iter()
-        .zip(&packing.grains)
-        .map(|(disk, grain)| {
-            let turned = grain.turned();
-            grain
-                .outline
-                .boundary(PARTICLE_SEGMENTS)
-                .into_iter()
-                .map(|p| disk.c + turned.to_world(p))
-                .collect()
+        .scan(0, |next, &k| {
+            let i = *next;
+            *next += k;
+            Some(i)
         })
         .collect();
-    let total: usize = outlines.iter().map(Vec::len).sum();
+    let total: usize = counts.iter().sum();
     let columns = GrainColumns::of(&packing.grains);
-    let mut t = Text::with_lines(total + 12 * n + 32);
     head(
-        &mut t,
+        t,
         packing,
         &format!("{n} particles as polygons of points on their outlines"),
     );
     t.line(format_args!("POINTS {total} double"));
-    for p in outlines.iter().flatten() {
-        t.line(format_args!("{} {} 0", Num(p.x), Num(p.y)));
-    }
+    t.rows(n, |i, b| {
+        for p in outline_of(packing, i) {
+            // Writing to a Vec cannot fail.
+            let _ = writeln!(b, "{} {} 0", Num(p.x), Num(p.y));
+        }
+    });
     t.line(format_args!("POLYGONS {n} {}", n + total));
-    let mut first = 0;
-    for outline in &outlines {
-        let ids: Vec<String> = (first..first + outline.len())
-            .map(|i| i.to_string())
-            .collect();
-        t.line(format_args!("{} {}", outline.len(), ids.join(" ")));
-        first += outline.len();
-    }
+    t.rows(n, |i, b| {
+        push_int(b, counts[i]);
+        for id in first[i]..first[i] + counts[i] {
+            b.push(b' ');
+            push_int(b, id);
+        }
+        b.push(b'\n');
+    });
     t.line(format_args!("CELL_DATA {n}"));
     let grains = &packing.grains;
-    scalars(
-        &mut t,
-        "angle",
-        "double",
-        grains.iter().map(|g| Num(g.angle)),
-    );
+    let num = |b: &mut Vec<u8>, x: f64| {
+        // Writing to a Vec cannot fail.
+        let _ = write!(b, "{}", Num(x));
+    };
+    scalars(t, "angle", "double", n, |i, b| num(b, grains[i].angle));
     let se = |g: &Grain| match g.outline {
         Outline::Superellipse { a, b, alpha, beta } => [a, b, alpha, beta],
         Outline::Polygon { .. } => [0.0; 4],
     };
     if columns.superellipse {
         for (k, name) in ["a", "b", "alpha", "beta"].into_iter().enumerate() {
-            scalars(&mut t, name, "double", grains.iter().map(|g| Num(se(g)[k])));
+            scalars(t, name, "double", n, |i, b| num(b, se(&grains[i])[k]));
         }
     }
     if columns.polygon {
@@ -174,59 +219,58 @@ fn particles_vtk(e: &Export<'_>, materials: &[Material], opts: &ExportOptions) -
             } => (*template, *rounding),
             Outline::Superellipse { .. } => (0, 0.0),
         };
-        scalars(&mut t, "template", "int", grains.iter().map(|g| poly(g).0));
-        scalars(
-            &mut t,
-            "rounding",
-            "double",
-            grains.iter().map(|g| Num(poly(g).1)),
-        );
+        scalars(t, "template", "int", n, |i, b| {
+            push_int(b, poly(&grains[i]).0);
+        });
+        scalars(t, "rounding", "double", n, |i, b| {
+            num(b, poly(&grains[i]).1);
+        });
     }
-    scalars(&mut t, "r", "double", e.rows().map(|d| d.r));
-    scalars(
-        &mut t,
-        "least_width",
-        "double",
-        grains.iter().map(|g| Num(g.outline.least_width())),
-    );
-    material_scalars(&mut t, e, materials, opts);
+    scalars(t, "r", "double", n, |i, b| num(b, e.row(i).r.0));
+    scalars(t, "least_width", "double", n, |i, b| {
+        num(b, grains[i].outline.least_width());
+    });
+    material_scalars(t, e, materials, opts);
     t.line(format_args!("VECTORS centre double"));
-    for d in e.rows() {
-        t.line(format_args!("{} {} 0", d.x, d.y));
-    }
-    t.into_bytes()
+    t.rows(n, |i, b| {
+        let d = e.row(i);
+        let _ = writeln!(b, "{} {} 0", d.x, d.y);
+    });
 }
 
 /// The `material_id` (int: material index + 1, 0 without materials) and
 /// `density` (double, kg/m³) blocks, one value per particle: point data
 /// of the disks, cell data of the polygons.
-fn material_scalars(t: &mut Text, e: &Export<'_>, materials: &[Material], opts: &ExportOptions) {
-    scalars(
-        t,
-        "material_id",
-        "int",
-        e.rows().map(|d| d.material.map_or(0, |m| m + 1)),
-    );
-    scalars(
-        t,
-        "density",
-        "double",
-        e.rows().map(|d| Num(density(materials, d.material, opts))),
-    );
+fn material_scalars(
+    t: &mut Lines<'_>,
+    e: &Export<'_>,
+    materials: &[Material],
+    opts: &ExportOptions,
+) {
+    let n = e.len();
+    scalars(t, "material_id", "int", n, |i, b| {
+        push_int(b, e.row(i).material.map_or(0, |m| m + 1));
+    });
+    scalars(t, "density", "double", n, |i, b| {
+        push_num(b, density(materials, e.row(i).material, opts));
+    });
 }
 
-/// One `SCALARS` block of point or cell data.
-fn scalars<T: std::fmt::Display>(
-    t: &mut Text,
+/// One `SCALARS` block of point or cell data: `n` values, value `i`
+/// appended by `value(i, buffer)`.
+fn scalars(
+    t: &mut Lines<'_>,
     name: &str,
     kind: &str,
-    values: impl Iterator<Item = T>,
+    n: usize,
+    value: impl Fn(usize, &mut Vec<u8>) + Sync,
 ) {
     t.line(format_args!("SCALARS {name} {kind} 1"));
     t.line(format_args!("LOOKUP_TABLE default"));
-    for v in values {
-        t.line(format_args!("{v}"));
-    }
+    t.rows(n, |i, b| {
+        value(i, b);
+        b.push(b'\n');
+    });
 }
 
 /// The domain outline as a legacy VTK file (version 3.0, ASCII POLYDATA):
@@ -236,7 +280,8 @@ fn scalars<T: std::fmt::Display>(
 pub fn boundary_vtk(packing: &Packing) -> Vec<u8> {
     let outline = packing.domain.outline(CIRCLE_SEGMENTS);
     let m = outline.len();
-    let mut t = Text::with_lines(m + 8);
+    let mut bytes = Vec::new();
+    let mut t = Lines::new(&mut bytes);
     t.line(format_args!("# vtk DataFile Version 3.0"));
     t.line(format_args!(
         "gapack {VERSION} domain outline ({}{}), lengths in mm",
@@ -256,5 +301,7 @@ pub fn boundary_vtk(packing: &Packing) -> Vec<u8> {
     let ring: Vec<String> = (0..m).chain(0..1).map(|i| i.to_string()).collect();
     t.line(format_args!("LINES 1 {}", m + 2));
     t.line(format_args!("{} {}", m + 1, ring.join(" ")));
-    t.into_bytes()
+    // Writing to a Vec cannot fail.
+    let _ = t.finish();
+    bytes
 }

@@ -2,10 +2,13 @@
 //! `packing.yade.py`: a script appending clumps, for non-disk particles.
 
 use super::clumps::clumps;
-use super::common::{Export, Num, Text, VERSION, labels};
+use std::io::Write as _;
+
+use super::common::{Export, Lines, Num, VERSION, Writer, bytes, labels, push_num};
 use crate::layering::Material;
 use crate::names::ConfigName;
 use crate::output::OutputError;
+use crate::output::digits::push_int;
 use crate::output::format::ExportOptions;
 use crate::packer::Packing;
 
@@ -52,9 +55,29 @@ pub fn yade_text(
     materials: &[Material],
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
+    Ok(bytes(yade_text_writer(packing, materials, opts)?))
+}
+
+/// [`yade_text`] checked, left to be written where the file goes.
+///
+/// # Errors
+/// As [`yade_text`].
+pub(crate) fn yade_text_writer<'a>(
+    packing: &'a Packing,
+    materials: &'a [Material],
+    opts: &'a ExportOptions,
+) -> Result<Writer<'a>, OutputError> {
     let e = Export::dem(packing, materials, opts)?;
+    Ok(Box::new(move |out| {
+        let mut t = Lines::new(out);
+        write_text(&mut t, &e, materials, opts);
+        t.finish()
+    }))
+}
+
+/// The sphere list of [`yade_text`], for the checked export `e`.
+fn write_text(t: &mut Lines<'_>, e: &Export<'_>, materials: &[Material], opts: &ExportOptions) {
     let n = e.len();
-    let mut t = Text::with_lines(n + 3);
     if materials.is_empty() {
         t.line(format_args!("#format x_y_z_r"));
         t.line(format_args!(
@@ -73,15 +96,21 @@ pub fn yade_text(
             materials.len()
         ));
     }
-    periodic_cell(&mut t, &e);
-    for d in e.rows() {
-        let (x, y, r) = (d.x, d.y, d.r);
-        match d.material {
-            Some(m) => t.line(format_args!("{x} {y} 0 {r} {m}")),
-            None => t.line(format_args!("{x} {y} 0 {r}")),
+    periodic_cell(t, e);
+    // `x y 0 r` and, with materials, ` matId`
+    t.rows(n, |id, b| {
+        let d = e.row(id);
+        push_num(b, d.x.0);
+        b.push(b' ');
+        push_num(b, d.y.0);
+        b.extend_from_slice(b" 0 ");
+        push_num(b, d.r.0);
+        if let Some(m) = d.material {
+            b.push(b' ');
+            push_int(b, m);
         }
-    }
-    Ok(t.into_bytes())
+        b.push(b'\n');
+    });
 }
 
 /// File name of the YADE script of clumps (packings of non-disk particles).
@@ -122,10 +151,31 @@ pub fn yade_script(
     materials: &[Material],
     opts: &ExportOptions,
 ) -> Result<Vec<u8>, OutputError> {
+    Ok(bytes(yade_script_writer(packing, materials, opts)?))
+}
+
+/// [`yade_script`] checked, left to be written where the file goes.
+///
+/// # Errors
+/// As [`yade_script`].
+pub(crate) fn yade_script_writer<'a>(
+    packing: &'a Packing,
+    materials: &'a [Material],
+    opts: &'a ExportOptions,
+) -> Result<Writer<'a>, OutputError> {
     let e = Export::dem(packing, materials, opts)?;
+    Ok(Box::new(move |out| {
+        let mut t = Lines::new(out);
+        write_script(&mut t, &e, materials, opts);
+        t.finish()
+    }))
+}
+
+/// The script of [`yade_script`], for the checked export `e`.
+fn write_script(t: &mut Lines<'_>, e: &Export<'_>, materials: &[Material], opts: &ExportOptions) {
+    let packing = e.packing;
     let (s, n) = (e.s, e.len());
     let all = clumps(packing, &opts.clumps);
-    let mut t = Text::with_lines(n + 16);
     t.line(format_args!(
         "# gapack {VERSION}: {n} particles as {} spheres in clumps for YADE, lengths in {}",
         all.disks(),
@@ -139,21 +189,29 @@ pub fn yade_script(
             materials.len()
         ));
     }
-    periodic_cell(&mut t, &e);
+    periodic_cell(t, e);
     t.line(format_args!(
         "# run with: yade packing.yade.py, or exec(open('packing.yade.py').read()); keep the clumps in the plane: blockedDOFs = 'zXY'"
     ));
     t.line(format_args!("from yade import utils"));
     t.line(format_args!("gapack_data = ["));
-    for (row, clump) in e.rows().zip(&all.clumps) {
+    t.rows(n, |id, b| {
+        let (row, clump) = (e.row(id), &all.clumps[id]);
         let m = row.material.map_or(-1, |m| m as i64);
-        let spheres: Vec<String> = clump
-            .disks
-            .iter()
-            .map(|&(c, r)| format!("({}, {}, {})", Num(c.x * s), Num(c.y * s), Num(r * s)))
-            .collect();
-        t.line(format_args!("({m}, ({},)),", spheres.join(", ")));
-    }
+        // Writing to a Vec cannot fail.
+        let _ = write!(b, "({m}, (");
+        for (k, &(c, r)) in clump.disks.iter().enumerate() {
+            let sep = if k == 0 { "" } else { ", " };
+            let _ = write!(
+                b,
+                "{sep}({}, {}, {})",
+                Num(c.x * s),
+                Num(c.y * s),
+                Num(r * s)
+            );
+        }
+        b.extend_from_slice(b",)),\n");
+    });
     t.line(format_args!("]"));
     t.line(format_args!("def gapack_sphere(x, y, r, m):"));
     t.line(format_args!(
@@ -162,7 +220,6 @@ pub fn yade_script(
     t.line(format_args!(
         "gapack_clumps = [O.bodies.appendClumped([gapack_sphere(x, y, r, m) for x, y, r in spheres])[0] for m, spheres in gapack_data]"
     ));
-    Ok(t.into_bytes())
 }
 
 /// Which `O.materials` id is which material: `0 name, 1 name, …`.
@@ -178,7 +235,7 @@ fn material_ids(materials: &[Material]) -> String {
 /// A periodic cell's comment line, `# periodic cell: O.periodic = True;
 /// O.cell.setBox(w, h, t)` with `t` four times the largest diameter (see
 /// [`yade_text`]); nothing for a domain with walls.
-fn periodic_cell(t: &mut Text, e: &Export<'_>) {
+fn periodic_cell(t: &mut Lines<'_>, e: &Export<'_>) {
     if let Some(cell) = e.packing.domain.period() {
         let (s, depth) = (e.s, 8.0 * e.r_max());
         t.line(format_args!(
