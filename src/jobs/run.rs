@@ -105,9 +105,9 @@ pub struct WellOutcome {
 /// Run `plan`: events to `observer`, stopped by `cancel`, files to `store`.
 ///
 /// # Behavior
-/// Every file is made in memory (a packing's after it has passed an
-/// independent check; its table streamed to the store instead,
-/// [`Store::stage`]) and the run's files go to the store in one
+/// Every file is made after the packing has passed an independent check
+/// (the packing's tables and exports streamed to the store while they are
+/// formatted, [`Store::stage`]; the pictures and small files in memory) and the run's files go to the store in one
 /// [`Store::commit_staged`] at the end, whole or not at all: its files, its
 /// `manifest.json` listing them, and the removal of the files an earlier
 /// run left in the same place that this run did not write. A run that
