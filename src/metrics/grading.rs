@@ -2,8 +2,6 @@
 //! per grading curve (in size-graded mode, each material against its own
 //! curve) and, for a size-graded packing, against the blend of the curves.
 
-use rayon::slice::ParallelSliceMut;
-
 use super::shapes::ShapeMemo;
 use crate::Scene;
 use crate::grading::{Basis, Grading};
@@ -102,10 +100,6 @@ fn by_curve_with(packing: &Packing, scene: &Scene, memo: &mut ShapeMemo) -> Vec<
             if own.is_empty() && graded {
                 0.0
             } else {
-                // Sorted on every thread first: the sort inside then finds
-                // them in order (the same order: sizes equal by value are
-                // equal bit for bit, being positive).
-                own.par_sort_unstable_by(f64::total_cmp);
                 curve.ks_distance_sorting(&mut own)
             }
         })

@@ -11,12 +11,23 @@
 
 use std::ops::ControlFlow;
 
-use rayon::slice::ParallelSliceMut;
-
 use crate::geometry::{Disk, Point};
 
 /// Most size classes (radii spanning 2⁶³ share the last).
 const MAX_CLASSES: usize = 64;
+
+/// Radii within this factor of the finest are all of the first class: the
+/// logarithm of a ratio this far below 2 never rounds up to 1.
+const ONE_CLASS: f64 = 1.999;
+
+/// `x.floor() as i64`, exactly (saturating, 0 for NaN), without the call
+/// to the C library's `floor` a baseline x86-64 build makes: the cell of
+/// every disk and query.
+#[inline]
+fn floor_i64(x: f64) -> i64 {
+    let t = x as i64;
+    t.saturating_sub(i64::from((t as f64) > x))
+}
 
 #[cfg(test)]
 thread_local! {
@@ -24,18 +35,20 @@ thread_local! {
     pub(crate) static VISITED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
 }
 
-/// One size class: its largest radius and its disks keyed (row, column), sorted.
+/// One size class: its largest radius and its disks in cell order.
 struct Class {
     r_max: f64,
     side: f64,
     origin: (f64, f64),
+    /// The last row and column (cells past them are clamped to them).
     rows: i64,
     cols: i64,
-    /// (row, column, disk) of each disk of the class, sorted: 12 bytes a
-    /// disk (rows and columns are at most the class's count).
-    keyed: Vec<(u32, u32, u32)>,
-    /// Where each row's keys begin in `keyed`, and its end last.
-    row_start: Vec<u32>,
+    /// The class's disks, cell by cell (row, then column), each cell's by
+    /// index: 4 bytes a disk.
+    ids: Vec<u32>,
+    /// Where each cell's disks begin in `ids` (cells row by row), and the
+    /// end last: at most about 4 cells a disk, 1 in a dense class.
+    cell_start: Vec<u32>,
 }
 
 /// Disks bucketed by size class and position.
@@ -48,14 +61,16 @@ impl ByRadius {
     /// fewer than 2³² disks).
     ///
     /// # Performance
-    /// Walks `ids` once per size class present, and holds 12 bytes a disk
-    /// (no list of the ids or of the classes' members on the way).
+    /// Walks `ids` three times per size class present, and holds 4 bytes a
+    /// disk and 4 a cell (no list of the ids or of the classes' members on
+    /// the way).
     pub(crate) fn new(disks: &[Disk], ids: impl Iterator<Item = usize> + Clone) -> Self {
-        let r_min = ids
+        let (r_min, r_max) = ids
             .clone()
             .map(|i| disks[i].r)
-            .filter(|r| *r > 0.0)
-            .fold(f64::INFINITY, f64::min);
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| {
+                (if r > 0.0 { lo.min(r) } else { lo }, hi.max(r))
+            });
         let class_of = |r: f64| {
             let k = (r / r_min).log2().floor();
             if k.is_finite() && k > 0.0 {
@@ -65,8 +80,13 @@ impl ByRadius {
             }
         };
         let mut counts = [0usize; MAX_CLASSES];
-        for i in ids.clone() {
-            counts[class_of(disks[i].r)] += 1;
+        if r_max / r_min < ONE_CLASS {
+            // Every disk in the first class, without a logarithm each.
+            counts[0] = ids.clone().count();
+        } else {
+            for i in ids.clone() {
+                counts[class_of(disks[i].r)] += 1;
+            }
         }
         let total: usize = counts.iter().sum();
         let classes = (0..MAX_CLASSES)
@@ -107,10 +127,10 @@ impl ByRadius {
     /// The indexed disks in runs of at most `chunk`: class by class, each
     /// class's in cell order (row, then column), so that disks near in
     /// space are near in this order.
-    pub(crate) fn runs(&self, chunk: usize) -> Vec<&[(u32, u32, u32)]> {
+    pub(crate) fn runs(&self, chunk: usize) -> Vec<&[u32]> {
         self.classes
             .iter()
-            .flat_map(|c| c.keyed.chunks(chunk))
+            .flat_map(|c| c.ids.chunks(chunk))
             .collect()
     }
 
@@ -138,7 +158,11 @@ impl ByRadius {
 }
 
 impl Class {
-    /// The class of the `count` disks `disks[i]`, `i` of `ids`.
+    /// The class of the `count` disks `disks[i]`, `i` of `ids` (in
+    /// increasing order, so that each cell's disks come by index).
+    ///
+    /// # Performance
+    /// A counting sort by cell: two walks of `ids`, no comparison sort.
     fn new(disks: &[Disk], ids: impl Iterator<Item = usize> + Clone, count: usize) -> Self {
         let r_max = ids.clone().fold(0.0f64, |m, i| m.max(disks[i].r));
         let (mut x0, mut y0, mut x1, mut y1) = (
@@ -159,34 +183,56 @@ impl Class {
         if !(side > 0.0 && side.is_finite()) {
             side = 1.0;
         }
-        // At most n rows and columns past the first (more only from a
-        // centre that is not finite, which no query could find anyway).
-        let last = count as i64;
-        let cell = |v: f64, o: f64| (((v - o) / side).floor() as i64).clamp(0, last) as u32;
-        let mut keyed = Vec::with_capacity(count);
-        keyed.extend(ids.map(|i| {
-            let c = disks[i].c;
-            (cell(c.y, y0), cell(c.x, x0), i as u32)
-        }));
-        // The keys are distinct (one disk each): the order is the same
-        // whatever the number of threads.
-        keyed.par_sort_unstable();
-        let (rows, cols) = keyed
-            .iter()
-            .fold((0, 0), |(r, c), &(kr, kc, _)| (r.max(kr), c.max(kc)));
-        let (rows, cols) = (i64::from(rows), i64::from(cols));
-        let row_start = (0..=rows + 1)
-            .map(|row| keyed.partition_point(|&(r, _, _)| i64::from(r) < row) as u32)
-            .collect();
-        Class {
+        // The last row and column: at most n each, and at most about 4n
+        // cells in all (only a centre that is not finite, which no query
+        // could find anyway, could ask for more: it is clamped to the last).
+        let last = |extent: f64| ((extent / side).floor().max(0.0)).min(n) as i64;
+        let (mut rows, mut cols) = (last(y1 - y0), last(x1 - x0));
+        let most = 4 * count as i64 + 4;
+        if (rows + 1).saturating_mul(cols + 1) > most {
+            let root = (n.sqrt().ceil() as i64).max(1);
+            (rows, cols) = (rows.min(root), cols.min(root));
+        }
+        let class = Class {
             r_max,
             side,
             origin: (x0, y0),
             rows,
             cols,
-            keyed,
-            row_start,
+            ids: Vec::new(),
+            cell_start: Vec::new(),
+        };
+        let cell_of = |i: usize| {
+            let c = disks[i].c;
+            let row = class.cell(c.y, y0).clamp(0, rows) as usize;
+            let col = class.cell(c.x, x0).clamp(0, cols) as usize;
+            row * (cols as usize + 1) + col
+        };
+        let cells = (rows as usize + 1) * (cols as usize + 1);
+        let mut cell_start = vec![0u32; cells + 1];
+        for i in ids.clone() {
+            cell_start[cell_of(i) + 1] += 1;
         }
+        for k in 1..cell_start.len() {
+            cell_start[k] += cell_start[k - 1];
+        }
+        let mut ids_sorted = vec![0u32; count];
+        let mut next = cell_start.clone();
+        for i in ids {
+            let slot = &mut next[cell_of(i)];
+            ids_sorted[*slot as usize] = i as u32;
+            *slot += 1;
+        }
+        Class {
+            ids: ids_sorted,
+            cell_start,
+            ..class
+        }
+    }
+
+    /// The cell along one axis of coordinate `v`, origin `o` (not clamped).
+    fn cell(&self, v: f64, o: f64) -> i64 {
+        floor_i64((v - o) / self.side)
     }
 
     /// Visit the disks whose centres lie within `half` of `p` along each
@@ -209,18 +255,19 @@ impl Class {
         f: &mut impl FnMut(usize) -> ControlFlow<()>,
     ) -> ControlFlow<()> {
         let (x0, y0) = self.origin;
-        let cell = |v: f64, o: f64| ((v - o) / self.side).floor() as i64;
-        let (r0, r1) = (cell(y.0, y0).max(0), cell(y.1, y0).min(self.rows));
-        let (c0, c1) = (cell(x.0, x0).max(0), cell(x.1, x0).min(self.cols));
+        let (r0, r1) = (self.cell(y.0, y0).max(0), self.cell(y.1, y0).min(self.rows));
+        let (c0, c1) = (self.cell(x.0, x0).max(0), self.cell(x.1, x0).min(self.cols));
         if r0 > r1 || c0 > c1 {
             return ControlFlow::Continue(());
         }
-        for row in r0..=r1 {
-            let keys = &self.keyed
-                [self.row_start[row as usize] as usize..self.row_start[row as usize + 1] as usize];
-            let lo = keys.partition_point(|&(_, c, _)| i64::from(c) < c0);
-            let hi = lo + keys[lo..].partition_point(|&(_, c, _)| i64::from(c) <= c1);
-            for &(_, _, j) in &keys[lo..hi] {
+        let width = self.cols as usize + 1;
+        for row in r0 as usize..=r1 as usize {
+            let base = row * width;
+            let (lo, hi) = (
+                self.cell_start[base + c0 as usize] as usize,
+                self.cell_start[base + c1 as usize + 1] as usize,
+            );
+            for &j in &self.ids[lo..hi] {
                 #[cfg(test)]
                 VISITED.with(|v| v.set(v.get() + 1));
                 f(j as usize)?;
@@ -235,11 +282,49 @@ mod tests {
     use super::*;
 
     #[test]
+    fn fast_floor_is_floor() {
+        let edges = [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            2.5,
+            -2.5,
+            1e300,
+            -1e300,
+            9.3e18,
+            -9.3e18,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
+            4503599627370495.5,
+            -4503599627370495.5,
+            1.0 - f64::EPSILON,
+            -1.0 + f64::EPSILON,
+        ];
+        let mut bits = 0x9e37_79b9_7f4a_7c15u64;
+        let random = (0..100_000).map(|_| {
+            bits ^= bits << 13;
+            bits ^= bits >> 7;
+            bits ^= bits << 17;
+            f64::from_bits(bits)
+        });
+        for x in edges.into_iter().chain(random) {
+            assert_eq!(floor_i64(x), x.floor() as i64, "{x:e}");
+        }
+    }
+
+    #[test]
     fn far_apart_tiny_disks_keep_the_rows_few() {
         // Cells of 2·r would make 5·10¹¹ rows of a table indexed by row.
         let disks = [Disk::new(0.0, 0.0, 1e-9), Disk::new(0.0, 1000.0, 1e-9)];
         let near = ByRadius::new(&disks, 0..2);
         assert!(near.classes.iter().all(|c| c.rows <= 2 && c.cols <= 2));
+        assert!(near.classes.iter().all(|c| c.cell_start.len() <= 4 * 2 + 5));
         let mut seen = Vec::new();
         near.visit(Point::new(0.0, 500.0), 600.0, |j| seen.push(j));
         seen.sort_unstable();
