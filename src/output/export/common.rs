@@ -219,12 +219,6 @@ impl<'a> Export<'a> {
         }
     }
 
-    /// The packed disks in placement order, lengths scaled.
-    #[cfg(test)]
-    pub(super) fn rows(&self) -> impl Iterator<Item = Row> + '_ {
-        (0..self.len()).map(|id| self.row(id))
-    }
-
     /// Axis-aligned box (mm) holding the domain and every packed disk
     /// whole; a periodic cell's own bounds (its disks cross them, as
     /// periodic images).
