@@ -1,7 +1,9 @@
 //! `gapack bench`: disks per second and peak memory per disk, MX quadtree
 //! against the grid, in one piece and in strips, on square domains with the
 //! Table 3.4 grading; `--seams`, how the seams of strips compare with the bulk
-//! (Table 3.4 and Table 3.1); `--shapes`, particles per second and peak
+//! (Table 3.4 and Table 3.1); `--periodic-edges`, how the edges of periodic
+//! cells, where the front closes on its own images, compare with their
+//! inside; `--shapes`, particles per second and peak
 //! memory per particle for ellipses and superellipses beside disks of the
 //! same grading and domain, measured in the same run.
 //!
@@ -13,7 +15,7 @@
 use std::time::Instant;
 
 use gapack::strips;
-use gapack::{Domain, Grading, IndexKind, PackerSettings, Scene, ShapeSpec, Strips, pack};
+use gapack::{Domain, Grading, IndexKind, PackerSettings, Point, Scene, ShapeSpec, Strips, pack};
 use gapack::{mean_sd, porosity, solid_area};
 
 /// The counting allocator and its two counters.
@@ -306,6 +308,136 @@ pub fn run_seams(side: Option<f64>, seeds: u64) -> anyhow::Result<Vec<SeamRow>> 
     Ok(rows)
 }
 
+/// One zone of `gapack bench --periodic-edges`, over the seeds.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct EdgeRow {
+    /// The grading packed.
+    pub grading: &'static str,
+    /// The periodic cell (mm).
+    pub width_mm: f64,
+    pub height_mm: f64,
+    /// Which zone: the bands along the cell's edges (`EDGE_BAND_MM` wide on
+    /// each side of each edge, as one-band-wide cells), the inside, the
+    /// edges' porosity minus the inside's (per seed), the same bands along
+    /// the two lines through the cell's centre (part of the inside: where
+    /// the pack starts, a row may form), or the whole cell.
+    pub zone: &'static str,
+    /// Mean, standard deviation, least and greatest over the seeds of the
+    /// zone's porosity.
+    pub porosity: f64,
+    pub porosity_sd: f64,
+    pub porosity_min: f64,
+    pub porosity_max: f64,
+    /// Standard deviation of the porosity of the zone's cells (mean over
+    /// the seeds; NaN for the difference and the whole cell).
+    pub cell_sd: f64,
+    /// Mean over the seeds of the zone's coordination and KS distance to
+    /// the grading (NaN for the difference and the whole cell).
+    pub coordination: f64,
+    pub psd_ks: f64,
+    /// Disks in the zone (mean over the seeds).
+    pub disks: f64,
+    /// Mean seconds per packing.
+    pub seconds: f64,
+}
+
+/// Width of the bands along a periodic cell's edges (mm).
+const EDGE_BAND_MM: f64 = 1.0;
+
+/// The cells of `gapack bench --periodic-edges`: (grading name, its
+/// diameters as a table, width, height in mm): the periodic cell of
+/// configs/periodic_pfc.toml (1–1.66 mm uniform), and the thesis' nearly
+/// one-size proppant in the same cell.
+const EDGE_CELLS: [(&str, Table, f64, f64); 2] = [
+    ("1-1.66 mm", &[(1.0, 0.0), (1.66, 100.0)], 50.0, 100.0),
+    ("Table 3.4", gapack::THESIS_TABLE_3_4, 50.0, 100.0),
+];
+
+/// `gapack bench --periodic-edges`: for each cell of [`EDGE_CELLS`] and
+/// seeds 1..=`seeds`, a periodic cell packed by the advancing front, its
+/// porosity in 1 mm cells along the four edges (a band 1 mm wide on each
+/// side of each edge, the images across it counted) against the other
+/// cells, and in the same bands along the lines through its centre.
+pub fn run_periodic_edges(seeds: u64) -> anyhow::Result<Vec<EdgeRow>> {
+    let mut rows = Vec::new();
+    for (name, table, width, height) in EDGE_CELLS {
+        let grading = Grading::from_table(table, Default::default(), Default::default())?;
+        let cell = Domain::periodic_rectangle(width, height)?;
+        let (lo, hi) = cell.bounds();
+        let edges = [
+            [lo, Point::new(hi.x, lo.y)],
+            [Point::new(hi.x, lo.y), hi],
+            [hi, Point::new(lo.x, hi.y)],
+            [Point::new(lo.x, hi.y), lo],
+        ];
+        let scene = Scene::new(cell.clone(), grading).with_walls(gapack::WallMode::Periodic);
+        // The lines through the cell's centre, where the first disk sits and
+        // the pack grows out from.
+        let mid = Point::new((lo.x + hi.x) / 2.0, (lo.y + hi.y) / 2.0);
+        let centre_lines = [
+            [Point::new(lo.x, mid.y), Point::new(hi.x, mid.y)],
+            [Point::new(mid.x, lo.y), Point::new(mid.x, hi.y)],
+        ];
+        // Per seed: edges, inside, centre lines, whole cell, and the seconds.
+        let (mut near, mut away, mut centre, mut whole, mut seconds) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new(), 0.0);
+        for seed in 1..=seeds {
+            let scene = scene.clone().with_seed(seed);
+            let t = Instant::now();
+            let packing = pack(&scene)?;
+            seconds += t.elapsed().as_secs_f64();
+            let [n, a] = gapack::zones(&packing, &scene, &edges, EDGE_BAND_MM / 2.0, 0.0);
+            near.push(n);
+            away.push(a);
+            let [c, _] = gapack::zones(&packing, &scene, &centre_lines, EDGE_BAND_MM / 2.0, 0.0);
+            centre.push(c);
+            whole.push(porosity(solid_area(&packing.disks), cell.area()));
+        }
+        let seconds = seconds / seeds.max(1) as f64;
+        let stats = |v: &[f64]| {
+            let (mean, sd) = mean_sd(v);
+            let min = v.iter().copied().fold(f64::INFINITY, f64::min);
+            let max = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            (mean, sd, min, max)
+        };
+        let row = |zone, p: &[f64], z: Option<&[gapack::Zone]>| {
+            let (porosity, porosity_sd, porosity_min, porosity_max) = stats(p);
+            let of = |f: fn(&gapack::Zone) -> f64| {
+                z.map_or(f64::NAN, |z| {
+                    mean_sd(&z.iter().map(f).collect::<Vec<_>>()).0
+                })
+            };
+            EdgeRow {
+                grading: name,
+                width_mm: width,
+                height_mm: height,
+                zone,
+                porosity,
+                porosity_sd,
+                porosity_min,
+                porosity_max,
+                cell_sd: of(|z| z.cell_sd),
+                coordination: of(|z| z.coordination),
+                psd_ks: of(|z| z.psd_ks),
+                disks: of(|z| z.disks as f64),
+                seconds,
+            }
+        };
+        let p = |z: &[gapack::Zone]| z.iter().map(|z| z.porosity).collect::<Vec<_>>();
+        let diff: Vec<f64> = near
+            .iter()
+            .zip(&away)
+            .map(|(n, a)| n.porosity - a.porosity)
+            .collect();
+        rows.push(row("edges", &p(&near), Some(&near)));
+        rows.push(row("inside", &p(&away), Some(&away)));
+        rows.push(row("edges - inside", &diff, None));
+        rows.push(row("centre lines", &p(&centre), Some(&centre)));
+        rows.push(row("whole cell", &whole, None));
+    }
+    Ok(rows)
+}
+
 /// One measured shape of `gapack bench --shapes`.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct ShapeRow {
@@ -428,13 +560,18 @@ pub struct BenchArgs {
     /// the strips' seams and away from them (seams.csv).
     #[arg(long, conflicts_with_all = ["densify", "ranks"])]
     seams: bool,
+    /// Instead: periodic cells packed by the advancing front, measured in
+    /// 1 mm bands along their edges (where the front closes on its own
+    /// images) and inside (periodic_edges.csv).
+    #[arg(long, conflicts_with_all = ["densify", "ranks", "seams"])]
+    periodic_edges: bool,
     /// Instead: particles per second and peak memory per particle of
     /// ellipses (aspect 1.5) and superellipses (α = β = 4, aspect 2) beside
     /// disks of the same grading and domain, on one core (shapes.csv).
-    #[arg(long, conflicts_with_all = ["densify", "ranks", "seams"])]
+    #[arg(long, conflicts_with_all = ["densify", "ranks", "seams", "periodic_edges"])]
     shapes: bool,
-    /// With --seams: seeds packed (1, 2, …).
-    #[arg(long, default_value_t = 3, value_name = "N", requires = "seams")]
+    /// With --seams or --periodic-edges: seeds packed (1, 2, …).
+    #[arg(long, default_value_t = 3, value_name = "N")]
     seeds: u64,
     /// The side of the square packed (mm). With --ranks (default 110): 110
     /// gives packings of about 50 ms on the reference machine, smaller sides
@@ -663,6 +800,9 @@ pub fn run_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
     if args.seams {
         return seams_command(args);
     }
+    if args.periodic_edges {
+        return periodic_edges_command(args);
+    }
     if args.shapes {
         return shapes_command(args);
     }
@@ -846,5 +986,61 @@ fn seams_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
         .context("cannot write seams.csv")
         .map_err(Failure::Run)?;
     print_line(args.out.join("seams.csv").display());
+    Ok(())
+}
+
+/// `gapack bench --periodic-edges`: print the table, then write periodic_edges.csv.
+fn periodic_edges_command(args: &BenchArgs) -> Result<(), crate::cli::Failure> {
+    use crate::cli::{Failure, print_line};
+    use anyhow::Context;
+    use gapack::jobs::{DirStore, Store};
+    let rows = run_periodic_edges(args.seeds)
+        .context("cannot run the periodic-edges benchmark")
+        .map_err(Failure::Run)?;
+    print_line(format_args!(
+        "{:<10} {:>9} {:<15} {:>17} {:>15} {:>8} {:>6} {:>7} {:>7} {:>8}",
+        "grading",
+        "cell_mm",
+        "zone",
+        "porosity",
+        "min..max",
+        "cell_sd",
+        "coord",
+        "psd_ks",
+        "disks",
+        "seconds"
+    ));
+    for r in &rows {
+        print_line(format_args!(
+            "{:<10} {:>9} {:<15} {:>8.4} ± {:<6.4} {:>7.4}..{:<6.4} {:>8.4} {:>6.3} {:>7.4} {:>7.0} {:>8.3}",
+            r.grading,
+            format!("{}x{}", r.width_mm, r.height_mm),
+            r.zone,
+            r.porosity,
+            r.porosity_sd,
+            r.porosity_min,
+            r.porosity_max,
+            r.cell_sd,
+            r.coordination,
+            r.psd_ks,
+            r.disks,
+            r.seconds
+        ));
+    }
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for row in &rows {
+        w.serialize(row)
+            .context("cannot format periodic_edges.csv")
+            .map_err(Failure::Run)?;
+    }
+    let bytes = w
+        .into_inner()
+        .context("cannot format periodic_edges.csv")
+        .map_err(Failure::Run)?;
+    DirStore::new(&args.out)
+        .write(&[("periodic_edges.csv".to_owned(), bytes)])
+        .context("cannot write periodic_edges.csv")
+        .map_err(Failure::Run)?;
+    print_line(args.out.join("periodic_edges.csv").display());
     Ok(())
 }

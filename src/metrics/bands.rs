@@ -1,11 +1,13 @@
 //! A packing measured near given lines and away from them: whether the
-//! seams of a packing made in parts (`packer.strips`) differ from its bulk.
+//! seams of a packing made in parts (`packer.strips`) differ from its bulk,
+//! or a periodic cell's edges, where its front closes on itself, from its
+//! inside.
 
 use super::contacts::{coordination, visit_near};
 use super::{mean_sd, porosity};
 use crate::Scene;
-use crate::geometry::Point;
 use crate::geometry::predicates::area_disk_box;
+use crate::geometry::{Disk, Point};
 use crate::packer::Packing;
 use crate::packer::index::{Grid, SpatialIndex};
 
@@ -31,10 +33,13 @@ pub struct Zone {
 /// `margin` mm of the domain's bounds (the walls' own disturbance).
 ///
 /// # Behavior
-/// The porosity is measured on square cells one largest diameter wide, each
-/// counted whole in the zone its centre lies in, each disk's area clipped to
-/// the cells exactly ([`area_disk_box`]); a disk belongs to the zone its
-/// centre lies in.
+/// The porosity is measured on square cells one largest diameter wide (at
+/// most `2·half`), each counted whole in the zone its centre lies in, each
+/// disk's area clipped to the cells exactly ([`area_disk_box`]); a disk
+/// belongs to the zone its centre lies in. In a periodic cell the cells
+/// tile it exactly (their sides stretched to fit), so that a band of cells
+/// lines each edge, and the images of the disks across its edges count, in
+/// the solid and in the contacts.
 pub fn zones(
     packing: &Packing,
     scene: &Scene,
@@ -47,48 +52,80 @@ pub fn zones(
         Point::new(lo.x + margin, lo.y + margin),
         Point::new(hi.x - margin, hi.y - margin),
     );
-    let disks = &packing.disks;
-    let r_max = disks.iter().fold(0.0f64, |m, d| m.max(d.r));
-    let cell = (2.0 * r_max).max(f64::MIN_POSITIVE);
+    let domain = &packing.domain;
+    let periodic = domain.is_periodic();
+    let r_max = packing.disks.iter().fold(0.0f64, |m, d| m.max(d.r));
+    let side = if periodic {
+        (2.0 * r_max).min(2.0 * half)
+    } else {
+        2.0 * r_max
+    }
+    .max(f64::MIN_POSITIVE);
+    let count = |extent: f64| {
+        let n = (extent / side).max(0.0);
+        (if periodic { n.ceil() } else { n.floor() }) as usize
+    };
+    let (cols, rows) = (count(hi.x - lo.x), count(hi.y - lo.y));
+    let (cw, ch) = if periodic {
+        (
+            (hi.x - lo.x) / cols.max(1) as f64,
+            (hi.y - lo.y) / rows.max(1) as f64,
+        )
+    } else {
+        (side, side)
+    };
     let near = Near::new(lines, half, lo, hi);
-    let (cols, rows) = (
-        ((hi.x - lo.x) / cell).floor().max(0.0) as usize,
-        ((hi.y - lo.y) / cell).floor().max(0.0) as usize,
-    );
-    let mut solid = vec![0.0; cols * rows];
+    // The packed disks, then (in a periodic cell) their images that reach
+    // within a largest diameter of the cell.
+    let real = packing.disks.len();
+    let mut disks = packing.disks.clone();
+    if periodic {
+        for d in &packing.disks {
+            let reach = d.r + 2.0 * r_max;
+            let (qlo, qhi) = (
+                Point::new(d.c.x - reach, d.c.y - reach),
+                Point::new(d.c.x + reach, d.c.y + reach),
+            );
+            // The shifts `v` that bring the box into the cell: the image
+            // at `c − v` reaches it.
+            for v in domain.image_shifts(qlo, qhi) {
+                if v != nalgebra::Vector2::zeros() {
+                    disks.push(Disk { c: d.c - v, r: d.r });
+                }
+            }
+        }
+    }
+    let (b_lo, b_hi) = domain.bounds();
+    let pad = if periodic { 3.0 * r_max } else { 0.0 };
     let mut grid = Grid::new(
-        packing.domain.bounds().0,
-        packing.domain.bounds().1,
-        Grid::BUCKET_DIAMETERS * cell,
+        Point::new(b_lo.x - pad, b_lo.y - pad),
+        Point::new(b_hi.x + pad, b_hi.y + pad),
+        Grid::BUCKET_DIAMETERS * side,
     );
     for (i, d) in disks.iter().enumerate() {
         grid.insert(i as u32, d.c);
     }
+    let mut solid = vec![0.0; cols * rows];
     // Disks by zone: sizes, contact ends.
     let mut sizes = [Vec::new(), Vec::new()];
     let mut ends = [0usize; 2];
     for (i, d) in disks.iter().enumerate() {
-        let (c0, c1) = (
-            ((d.c.x - d.r - lo.x) / cell).floor().max(0.0) as usize,
-            ((d.c.x + d.r - lo.x) / cell).floor().max(0.0) as usize,
-        );
-        let (r0, r1) = (
-            ((d.c.y - d.r - lo.y) / cell).floor().max(0.0) as usize,
-            ((d.c.y + d.r - lo.y) / cell).floor().max(0.0) as usize,
-        );
+        let at = |v: f64, o: f64, w: f64| ((v - o) / w).floor().max(0.0) as usize;
+        let (c0, c1) = (at(d.c.x - d.r, lo.x, cw), at(d.c.x + d.r, lo.x, cw));
+        let (r0, r1) = (at(d.c.y - d.r, lo.y, ch), at(d.c.y + d.r, lo.y, ch));
         for row in r0..=r1.min(rows.saturating_sub(1)) {
             for col in c0..=c1.min(cols.saturating_sub(1)) {
-                let (x0, y0) = (lo.x + col as f64 * cell, lo.y + row as f64 * cell);
-                solid[row * cols + col] += area_disk_box(d.c, d.r, x0, x0 + cell, y0, y0 + cell);
+                let (x0, y0) = (lo.x + col as f64 * cw, lo.y + row as f64 * ch);
+                solid[row * cols + col] += area_disk_box(d.c, d.r, x0, x0 + cw, y0, y0 + ch);
             }
         }
-        let inside = d.c.x >= lo.x && d.c.x <= hi.x && d.c.y >= lo.y && d.c.y <= hi.y;
+        let inside = i < real && d.c.x >= lo.x && d.c.x <= hi.x && d.c.y >= lo.y && d.c.y <= hi.y;
         if inside {
             let z = usize::from(!near.is_near(d.c));
             sizes[z].push(2.0 * d.r);
             visit_near(
                 &grid,
-                disks,
+                &disks,
                 r_max,
                 i,
                 |_| true,
@@ -102,11 +139,11 @@ pub fn zones(
     for row in 0..rows {
         for col in 0..cols {
             let centre = Point::new(
-                lo.x + (col as f64 + 0.5) * cell,
-                lo.y + (row as f64 + 0.5) * cell,
+                lo.x + (col as f64 + 0.5) * cw,
+                lo.y + (row as f64 + 0.5) * ch,
             );
             let z = usize::from(!near.is_near(centre));
-            cells[z].push(porosity(solid[row * cols + col], cell * cell));
+            cells[z].push(porosity(solid[row * cols + col], cw * ch));
         }
     }
     [0, 1].map(|z| {
@@ -180,5 +217,40 @@ impl<'a> Near<'a> {
             let t = (ap.dot(&ab) / ab.norm_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
             (ap - ab * t).norm() <= self.half
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Domain;
+    use crate::grading::{Basis, Grading};
+
+    #[test]
+    fn a_periodic_cell_counts_the_images_across_its_edges() {
+        // Two unit disks touching across the edge x = 0 of a 10 mm cell:
+        // one centred 0.3 mm from it (the band's), one 1.7 mm from x = 10.
+        let domain = Domain::periodic_rectangle(10.0, 10.0).expect("cell");
+        let packing = Packing::of_disks(
+            domain.clone(),
+            vec![Disk::new(0.3, 5.0, 1.0), Disk::new(8.3, 5.0, 1.0)],
+        );
+        let grading = Grading::uniform(1.0, 2.0, Basis::Number).expect("grading");
+        let scene = Scene::new(domain, grading);
+        let (lo, hi) = (Point::new(0.0, 0.0), Point::new(10.0, 10.0));
+        let edges = [
+            [lo, Point::new(hi.x, lo.y)],
+            [Point::new(hi.x, lo.y), hi],
+            [hi, Point::new(lo.x, hi.y)],
+            [Point::new(lo.x, hi.y), lo],
+        ];
+        let [near, away] = zones(&packing, &scene, &edges, 0.5, 0.0);
+        // 1 mm cells: the ring of 36 along the edges, 64 inside; the part
+        // of the first disk beyond x = 0 is counted at x = 10.
+        let solid = 36.0 * (1.0 - near.porosity) + 64.0 * (1.0 - away.porosity);
+        assert!((solid - 2.0 * std::f64::consts::PI).abs() < 1e-9, "{solid}");
+        // Each touches the other's image.
+        assert_eq!((near.disks, away.disks), (1, 1));
+        assert_eq!((near.coordination, away.coordination), (1.0, 1.0));
     }
 }

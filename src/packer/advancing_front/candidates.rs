@@ -78,8 +78,8 @@ impl<I: SpatialIndex> Front<'_, I> {
         let clear = (2.0 * r * (1.0 - FEASIBLE_REL)).powi(2);
         let (best, room) = {
             self.spots.clear();
-            // Lowest first; in a periodic cell, nearest the first disk first
-            // (see `Front::rank`).
+            // Lowest first; in a periodic cell, lowest rank first (see
+            // `Front::rank`).
             let mut best: Option<(Point, f64)> = None;
             self.outside.clear();
             for i in 0..self.cands.len() {

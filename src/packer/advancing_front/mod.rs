@@ -84,10 +84,12 @@
 //! found being met as that image, so the neighbours, the witnesses and the
 //! holes see across the edges and memory stays one entry per disk; a
 //! centre is wrapped into the cell when the disk is placed. And the winning
-//! candidate is the nearest the first disk's centre (its nearest image),
-//! not the lowest (see `Front::rank`). A domain with walls makes one query
-//! with the zero shift and ranks every candidate 0: the same packings, bit
-//! for bit.
+//! candidate is the one of lowest rank instead of the lowest: the rank
+//! grows a round cluster from the first disk but is flat across the
+//! cell's edges, so that the front runs on into its own images rather than
+//! meeting them face to face (see `Front::rank`). A domain with walls
+//! makes one query with the zero shift and ranks every candidate 0: the
+//! same packings, bit for bit.
 //!
 //! # Files
 //! This file holds the entry points, the generator's state and its loop

@@ -15,16 +15,31 @@ impl<I: SpatialIndex> Front<'_, I> {
     /// The rank of a candidate at `p`, lower first (then lowest, then leftmost:
     /// `candidates::first_of`): 0 everywhere with walls, so the lowest goes
     /// first and the pack deposits layer on layer from the bottom. In a
-    /// periodic cell, the squared distance from the first disk's centre (the
-    /// cell's centre) to the nearest image of `p`: the pack grows out from its
-    /// first disk as a round cluster and closes on its own images along the
-    /// cell's edges, two rough fronts meeting (the 1 mm bands along the edges:
-    /// porosity 0.27 to 0.32, against 0.18 to 0.20 inside; 50 × 100 mm, 1–1.66
-    /// mm, 20 seeds). Filled lowest first, the cell grew from a row of disks
-    /// centred on its bottom edge, which the last layers met like a wall of
-    /// disks: the band below the top edge reached 0.50. Grown as a horizontal
-    /// band (nearest in y only), a row formed along the middle (two bands of
-    /// 0.13 flanked by 0.22).
+    /// periodic cell (`o` the first disk's centre, the cell's centre; `W`,
+    /// `H` the periods; `dx`, `dy` from `o` to `p`) it is
+    /// `−W²·cos(2π·dx/W) − H²·cos(2π·dy/H)`: about `2π²·(dx² + dy²)` near
+    /// `o`, so the pack grows out from its first disk as a round cluster,
+    /// but flat across the cell's edges, where the pack closes on its own
+    /// images. There the lines of equal rank cross the edge at right
+    /// angles: each layer of the front runs on across the edge into its
+    /// own image, as a row continues, instead of two fronts meeting face to
+    /// face along it. The rank is greatest at the cell's corner, where the
+    /// front closes last.
+    ///
+    /// The 1 mm bands along the edges (`gapack bench --periodic-edges`,
+    /// seeds 1–20, 50 × 100 mm of 1–1.66 mm): porosity 0.196–0.216 against
+    /// 0.187 inside (+0.018), where ranking by the squared distance to the
+    /// first disk (a round cluster to the end, its fronts meeting face to
+    /// face along the edges) left 0.275–0.334 against 0.183 (+0.112).
+    /// Tried too: flatter ranks (`|sin|` or `sin²/(sin² + κ)` per axis)
+    /// brought the edges within 0.003–0.008 of the inside but laid a dense
+    /// row along the lines through the first disk (porosity 0.137–0.157 in
+    /// 1 mm bands, against 0.182 with this rank); filling lowest first (x
+    /// wrapping), the last layers met the first row like a wall of disks
+    /// (0.41–0.51 in the 1 mm under it), and a rough first row loosened the
+    /// whole cell (0.194–0.218); grown as a horizontal band (nearest in y
+    /// only), a row formed along the middle (two bands of 0.13 flanked by
+    /// 0.22). Figures: docs/results.md, "Periodic cells: the edges".
     #[inline]
     pub(super) fn rank(&self, p: Point) -> f64 {
         match self.origin {
@@ -32,7 +47,9 @@ impl<I: SpatialIndex> Front<'_, I> {
             Some((o, period)) => {
                 let near = |d: f64, w: f64| d - w * (d / w).round();
                 let (dx, dy) = (near(p.x - o.x, period.x), near(p.y - o.y, period.y));
-                dx * dx + dy * dy
+                let tau = std::f64::consts::TAU;
+                -period.x * period.x * (tau * dx / period.x).cos()
+                    - period.y * period.y * (tau * dy / period.y).cos()
             }
         }
     }
