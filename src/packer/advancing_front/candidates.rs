@@ -330,6 +330,41 @@ impl<I: SpatialIndex> Front<'_, I> {
         }
     }
 
+    /// The spots of a disk of radius `r` at front `f` clear of every
+    /// obstacle and inside the part's region, each with the gap it leaves
+    /// to its third nearest disk (the two it touches aside: how deep it
+    /// nests), into `out`. Judged as [`Front::attempt`] judges them; its
+    /// witnesses are not updated.
+    pub(super) fn nested_spots(&mut self, f: u32, r: f64, out: &mut Vec<(Point, f64)>) {
+        self.gather_neighbours(f, r, 0.0);
+        let front = self.obs[f as usize];
+        let reach = (front.r + 2.0 * r) * (1.0 + WALL_MARGIN_REL);
+        let near_wall = self.near_wall(front.c, reach);
+        self.near_edge = self.near_edge(front.c, reach);
+        self.tangent_candidates(f, r, near_wall);
+        for i in 0..self.cands.len() {
+            let cand = self.cands[i];
+            if !self.feasible(f, &cand, r, near_wall) {
+                continue;
+            }
+            // The three least gaps, to the front and the neighbours (a wall
+            // is not counted: a row starting at one nests in disks).
+            let mut least = [f64::INFINITY; 3];
+            let mut keep = |g: f64| {
+                if g < least[2] {
+                    least[2] = g;
+                    least.sort_unstable_by(f64::total_cmp);
+                }
+            };
+            keep(cand.off.x.hypot(cand.off.y) - front.r - r);
+            for n in &self.near {
+                keep((cand.off.x - n.rel.x).hypot(cand.off.y - n.rel.y) - n.disk.r - r);
+            }
+            self.stats.work += self.near.len() as u64;
+            out.push((cand.at, least[2]));
+        }
+    }
+
     /// Whether a disk centred within `reach` of `c` may meet a wall: never
     /// in a periodic cell.
     pub(super) fn near_wall(&self, c: Point, reach: f64) -> bool {
