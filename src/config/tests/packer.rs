@@ -147,7 +147,7 @@ fn strips_are_auto_a_count_or_one_piece_by_default() {
             .packer
             .strips
     };
-    assert_eq!(strips(""), Strips::Count(1));
+    assert_eq!(strips(""), Strips::Auto);
     assert_eq!(strips("[packer]\nstrips = \"auto\""), Strips::Auto);
     assert_eq!(strips("[packer]\nstrips = 4"), Strips::Count(4));
     let packer = |line: &str| rect("width = 200\nheight = 100", &format!("[packer]\n{line}\n"));

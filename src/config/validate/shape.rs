@@ -515,7 +515,7 @@ impl Validator<'_> {
                 "packer.method = \"{}\"",
                 packer.method.config_name()
             ))
-        } else if packer.strips != Strips::Count(1) {
+        } else if matches!(packer.strips, Strips::Count(n) if n > 1) {
             Some("packer.strips (packing in strips)".to_owned())
         } else if packer.fill == Fill::Right {
             Some("packer.fill = \"right\" (the scene mirrored and packed as disks); leave fill = \"up\"".to_owned())
