@@ -363,10 +363,6 @@ fn methods_walls_and_strips_that_do_not_pack_shapes_are_refused() {
         &unsupported("packer.strips (packing in strips)"),
     );
     fails_with(
-        &with_shape(&format!("{ellipses}[packer]\nstrips = \"auto\"")),
-        &unsupported("packer.strips (packing in strips)"),
-    );
-    fails_with(
         &with_shape(&format!("{ellipses}[packer]\nfill = \"right\"")),
         &unsupported(
             "packer.fill = \"right\" (the scene mirrored and packed as disks); leave fill = \"up\"",
@@ -392,12 +388,14 @@ fn methods_walls_and_strips_that_do_not_pack_shapes_are_refused() {
         &unsupported("walls = \"disks\" (wall disks would need shape-aware wall particles; use walls = \"exact\")")
             .replace("t.toml:7:1", "t.toml:8:1"),
     );
-    // The two methods, both contact rules, periodic cells and circles pack shapes.
+    // The two methods, both contact rules, periodic cells and circles pack
+    // shapes; `strips = "auto"` (the default) packs them in one piece.
     for packer in [
         "method = \"advancing-front\"\ncontacts = 1",
         "contacts = 2",
         "method = \"rsa\"",
         "strips = 1",
+        "strips = \"auto\"",
         "fill = \"up\"",
     ] {
         shape_of(&with_shape(&format!("{ellipses}[packer]\n{packer}")));
