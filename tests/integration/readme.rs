@@ -18,9 +18,12 @@ use std::path::Path;
 use common::{gapack, scratch};
 
 /// The pages whose commands this test runs, from the repository root, in
-/// order: the README, then the pages its sections moved to.
+/// order: the README, then the guide's pages (docs/SUMMARY.md).
 const PAGES: &[&str] = &[
     "README.md",
+    "docs/getting-started.md",
+    "docs/concepts.md",
+    "docs/faq.md",
     "docs/usage.md",
     "docs/shapes.md",
     "docs/optimise.md",
@@ -111,6 +114,26 @@ const ELSEWHERE: &[(&str, &str)] = &[
     (
         "pip install ./python",
         "the Python package: .ci/run installs it so, then runs python/tests (test_readme.py runs the README's Python blocks)",
+    ),
+    (
+        "pip install maturin",
+        "the wheel's builder: .ci/run installs it, builds the wheel and installs it in a fresh virtualenv",
+    ),
+    (
+        "maturin build",
+        "the wheel: .ci/run builds it so and runs python/tests against it in a fresh virtualenv",
+    ),
+    (
+        "pip install dist/",
+        "the wheel: .ci/run installs it so, in a fresh virtualenv",
+    ),
+    (
+        "cargo run --release -- completions ",
+        "a redirect to a file: tests/integration/cli_conventions.rs loads the completions in bash",
+    ),
+    (
+        "cargo run --release -- man ",
+        "a redirect to a file: tests/integration/cli_conventions.rs renders the page with man -l",
     ),
     (
         "python3 examples/python/",
