@@ -4,7 +4,7 @@
 //! as the command line's and the service's do: a [`Plan`] from the config's
 //! text, the job on a thread of its own, its events to a Python callable,
 //! `KeyboardInterrupt` to the job's [`gapack::Cancel`] token, the
-//! [`gapack::jobs::Outcome`] to a [`Packing`] whose numpy arrays are made
+//! [`gapack::jobs::Outcome`] to a `Packing` whose numpy arrays are made
 //! once from the packed disks. The Python half (`gapack/__init__.py`) reads
 //! configs (a path, TOML text or a dict), draws progress bars, turns the
 //! events into warnings and defines the exceptions this module raises.

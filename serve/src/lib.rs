@@ -56,7 +56,7 @@ pub struct Options {
     /// Address to listen on (port 0: any free port). Any address but
     /// loopback needs a token.
     pub listen: SocketAddr,
-    /// Folder of the jobs' files (jobs/<id>/), shared by every front and
+    /// Folder of the jobs' files (`jobs/<id>/`), shared by every front and
     /// worker of one store; and of the SQLite store by default.
     pub data: PathBuf,
     /// The job store's URL (`None`: `sqlite://DATA/gapack.db`).

@@ -67,7 +67,7 @@ pub struct WindowStep {
     pub coordination: f64,
     /// Standard error of the core porosity: the standard deviation of its
     /// blocks' porosities over the square root of their number (NaN with
-    /// fewer than [`MIN_BLOCKS`] blocks).
+    /// fewer than `MIN_BLOCKS` blocks).
     pub spread: f64,
     /// Time to pack and measure this window (s).
     pub seconds: f64,

@@ -178,7 +178,7 @@ impl<'a> PorosityProblem<'a> {
 }
 
 /// Smallest population whose generation 0 holds both ends of the
-/// packing-rule range ([`PINNED_ENDS`] genomes at each).
+/// packing-rule range (`PINNED_ENDS` genomes at each).
 pub const CONCLUSIVE_POPULATION: usize = 2 * PINNED_ENDS;
 
 /// What a search says of its target.

@@ -563,7 +563,7 @@ impl Domain {
     /// Rounding error in a computed point grows with its coordinates, not
     /// with the disks: at 10⁶ mm an ulp is 1.2·10⁻¹⁰ mm. Packed where it
     /// was, a domain that far out lost candidates tangent to two disks to
-    /// [`FEASIBLE_REL`](super::predicates::FEASIBLE_REL) and the packer
+    /// `FEASIBLE_REL` and the packer
     /// stopped after a few disks. Moved by this offset, its coordinates
     /// start at 0 along that axis. The move is exact: every coordinate `x`
     /// of the domain and the lowest `lo` are within a factor of two of each
@@ -670,9 +670,9 @@ impl Domain {
     ///
     /// # Behavior
     /// Exact up to rounding for every shape: a circle through
-    /// [`area_disk_box`](super::predicates::area_disk_box), straight-edged
+    /// `area_disk_box`, straight-edged
     /// shapes by clipping the boundary to the box
-    /// ([`area_polygon_box`](super::predicates::area_polygon_box)). 0 for an
+    /// (`area_polygon_box`). 0 for an
     /// empty box or one that misses the domain.
     ///
     /// # Performance

@@ -24,7 +24,7 @@ impl Grading {
     /// follow any curve.
     ///
     /// # Performance
-    /// Sorts a copy ([`sort_positive`]): O(n) time, O(n) memory; the
+    /// Sorts a copy (`sort_positive`): O(n) time, O(n) memory; the
     /// curve's CDF at each distinct size on every core
     /// ([`Grading::ks_distance_sorting`] sorts the caller's own instead).
     pub fn ks_distance(&self, diameters: &[f64]) -> f64 {

@@ -77,7 +77,7 @@ impl BinAreas {
     /// particle lying across a bin boundary puts its area on both sides as
     /// it really lies (its circle would put too much near its centre, and
     /// the centre's bin all of it). The outline is a polygon of
-    /// [`OUTLINE_POINTS`] points on it, clipped by slabs (x, y) or annuli
+    /// `OUTLINE_POINTS` points on it, clipped by slabs (x, y) or annuli
     /// (radial) exactly, and its pieces scaled so they add up to the
     /// grain's true area (the polygon is inscribed, slightly smaller).
     pub fn of_particles(disks: &[Disk], grains: &[Grain], frame: &Frame, bins: usize) -> Self {

@@ -35,7 +35,7 @@ pub struct Zone {
 /// # Behavior
 /// The porosity is measured on square cells one largest diameter wide (at
 /// most `2·half`), each counted whole in the zone its centre lies in, each
-/// disk's area clipped to the cells exactly ([`area_disk_box`]); a disk
+/// disk's area clipped to the cells exactly (`area_disk_box`); a disk
 /// belongs to the zone its centre lies in. In a periodic cell the cells
 /// tile it exactly (their sides stretched to fit), so that a band of cells
 /// lines each edge, and the images of the disks across its edges count, in

@@ -89,7 +89,7 @@ pub struct PorosityMap {
 /// cells along it) and at most 1/4 of it (at least 4 cells along it); with
 /// no disk it is the 1/200.
 ///
-/// A slender domain (bounds' longer side over [`SLENDER`] times the
+/// A slender domain (bounds' longer side over `SLENDER` times the
 /// shorter, a fracture) gets a profile instead: square cells there would be
 /// far wider than the aperture (125 mm across a 2.3 mm slot) and mostly
 /// outside it. One cell spans the whole width; along the length a cell is
@@ -99,7 +99,7 @@ pub struct PorosityMap {
 ///
 /// Each cell's solid area is exact: the area of every packed disk inside
 /// the cell, in closed form
-/// ([`area_disk_box`](crate::geometry::predicates::area_disk_box)), so the
+/// (`area_disk_box`), so the
 /// cells' solid areas add up to the packing's solid area. A particle that
 /// is not a disk ([`Packing::grains`]) counts as its outline made a
 /// polygon of 64 points of its exact area: whole in a cell, exactly; cut

@@ -89,7 +89,7 @@ pub fn sphericity(outline: &Outline) -> f64 {
 /// # Behavior
 /// A rounded polygon's corners are its arcs, all of radius `rounding`:
 /// rounding / inscribed radius. A superellipse's are found along
-/// [`CORNER_SAMPLES`] outward normals ([`sampled_roundness`]).
+/// `CORNER_SAMPLES` outward normals (`sampled_roundness`).
 pub fn roundness(outline: &Outline) -> f64 {
     match outline {
         Outline::Superellipse { .. } => sampled_roundness(outline),

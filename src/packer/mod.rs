@@ -40,7 +40,7 @@ pub const PEAK_BYTES_PER_DISK: f64 = 100.0;
 /// Estimated peak memory (bytes) to pack `scene`: an upper bound.
 ///
 /// Every particle the scene can hold ([`Scene::max_disks`], a true upper
-/// bound) and every wall disk, times [`peak_bytes_per_particle`]. A run
+/// bound) and every wall disk, times `peak_bytes_per_particle`. A run
 /// with [`Limits::max_memory_bytes`](crate::Limits) counts its obstacles
 /// the same way and stops when they reach the limit.
 pub fn estimated_peak_bytes(scene: &Scene) -> f64 {
@@ -121,7 +121,7 @@ pub fn pack(scene: &Scene) -> Result<Packing, PackError> {
 }
 
 /// [`pack`], telling `progress` how many sizes have been drawn so far, every
-/// [`PROGRESS_STEP`] sizes (advancing front only: the comparison generators
+/// `PROGRESS_STEP` sizes (advancing front only: the comparison generators
 /// do not report), and stopping within a few thousand sizes once `cancel`
 /// is raised. About [`Scene::estimated_disks`] sizes are drawn in all.
 ///

@@ -182,7 +182,7 @@ pub enum PackError {
     },
     /// The smallest disk is too small for floating point to keep it apart
     /// from its neighbours where the domain lies: its diameter is less than
-    /// [`RESOLUTION_REL`] of the largest |coordinate|.
+    /// `RESOLUTION_REL` of the largest |coordinate|.
     #[error(
         "the smallest diameter, {d_min} mm, is less than {RESOLUTION_REL} of the largest coordinate, {coordinate} mm: floating point spaces coordinates there {:.1e} mm apart, too coarse to keep disks from overlapping",
         .coordinate.next_up() - .coordinate

@@ -3,7 +3,7 @@
 //! (docs/ARCHITECTURE.md, "Strips").
 //!
 //! # Behavior
-//! The domain is cut into [`count`] strips, each of [`COLUMNS_PER_STRIP`]
+//! The domain is cut into [`count`] strips, each of `COLUMNS_PER_STRIP`
 //! columns, and the columns into levels: the tiles. The cut depends on the
 //! scene only, never on the machine, so a packing is the same whatever the
 //! number of threads. Each tile is packed by the advancing front from its
@@ -12,7 +12,7 @@
 //! within reach (the tile on its left, and the level below) are fixed
 //! obstacles, and those their own tile left open are the fronts it grows
 //! from (see `PartPacking::open`). A tile is packed once the tile on its
-//! left and those below it are ([`tiles`]).
+//! left and those below it are (`tiles`).
 //!
 //! Why this shape: a front closing sideways on a packed face leaves a layer
 //! of voids along it, each row ending in a gap no size fills (porosity
@@ -124,9 +124,9 @@ pub fn unsupported(scene: &Scene) -> Option<&'static str> {
 /// # Behavior
 /// [`Strips::Auto`] splits scenes of more than [`AUTO_DISKS`] disks
 /// ([`Scene::estimated_disks`]) that allow it into strips of about
-/// [`AUTO_AIM_DIAMETERS`] largest diameters, but at least
-/// [`AUTO_MIN_STRIPS`], none narrower than [`AUTO_WIDTH_DIAMETERS`] nor
-/// holding fewer than about [`STRIP_DISKS`] disks; [`Strips::Count`] into
+/// `AUTO_AIM_DIAMETERS` largest diameters, but at least
+/// `AUTO_MIN_STRIPS`, none narrower than `AUTO_WIDTH_DIAMETERS` nor
+/// holding fewer than about `STRIP_DISKS` disks; [`Strips::Count`] into
 /// that many. The strips are
 /// taken in the frame the front fills in (a scene filled rightwards is cut
 /// across its height).

@@ -84,7 +84,7 @@ impl LayeringMemory {
 
 /// An upper bound of the memory (bytes) a layering run of `settings`
 /// needs on a packing of `scene`: the packing, the bin areas, the GA's
-/// genomes and scores ([`LayeringMemory`]); a size-graded layout
+/// genomes and scores (`LayeringMemory`); a size-graded layout
 /// (`mode = "sizes"`) runs no search, so the packing's alone.
 pub fn layering_peak_bytes(scene: &Scene, settings: &LayeringSettings) -> f64 {
     if settings.mode == LayeringMode::Sizes {

@@ -25,10 +25,10 @@ pub(super) const THICKNESS_REL: f64 = 0.5;
 /// The config name of this format.
 const FORMAT: &str = "liggghts-superquadric";
 
-/// The data file of [`superquadric_files`].
+/// The data file of `superquadric_files`.
 ///
 /// # Errors
-/// As [`superquadric_files`].
+/// As `superquadric_files`.
 pub fn superquadric_data(
     packing: &Packing,
     materials: &[Material],
@@ -37,10 +37,10 @@ pub fn superquadric_data(
     Ok(bytes(superquadric_data_writer(packing, materials, opts)?))
 }
 
-/// The `set … quat` commands of [`superquadric_files`].
+/// The `set … quat` commands of `superquadric_files`.
 ///
 /// # Errors
-/// As [`superquadric_files`].
+/// As `superquadric_files`.
 pub fn superquadric_input(
     packing: &Packing,
     materials: &[Material],

@@ -167,7 +167,7 @@ pub fn packing_png(
 /// A particle that is not a disk is its outline
 /// ([`Outline::boundary`](crate::geometry::Outline::boundary), inscribed
 /// in it) turned by its angle, with 8 to 128 points as it is drawn larger
-/// ([`boundary_points`]: within 0.1 px of the outline), filled and edged as
+/// (`boundary_points`: within 0.1 px of the outline), filled and edged as
 /// a disk is. Such particles are shaded by their area-equivalent diameter
 /// over their own range, or coloured by orientation on a cyclic scale
 /// (0–180° for superellipses, 0–360° when there are polygons), the legend

@@ -78,7 +78,7 @@ pub struct PorosityMapChart {
 
 /// The porosity map of `packing` ([`porosity_map`]) as a chart: on a
 /// slender domain ([`PorosityMap::profile`]) a profile along its length,
-/// [`PLOT_LONG`] × [`PLOT_SHORT`] px, its axes spanning the domain's length
+/// `PLOT_LONG` × `PLOT_SHORT` px, its axes spanning the domain's length
 /// and the porosities'.
 pub fn porosity_map_chart(packing: &Packing) -> PorosityMapChart {
     let map = porosity_map(packing);

@@ -77,7 +77,7 @@ struct Part {
 /// is shown in the title. Above 2000 distinct diameters the packed curve is
 /// evaluated on 2000 points spread over its range instead, which moves a
 /// step by less than a pixel. A size-graded packing is drawn against its
-/// own curves by [`psd_chart_of_scene`].
+/// own curves by `psd_chart_of_scene`.
 pub fn psd_chart(packing: &Packing, grading: Option<&Grading>) -> PsdChart {
     let diameters = sorted_diameters(packing.disks.iter().map(|d| 2.0 * d.r));
     let basis = grading.map_or(Basis::Number, Grading::basis);

@@ -366,7 +366,7 @@ pub(super) struct Part<'a> {
 const WORK_STEP: u64 = 1 << 20;
 
 /// The most work a run may do per disk the domain could hold
-/// ([`Scene::max_disks`]), beyond [`WORK_FLOOR`] (see [`work_budget`]).
+/// ([`Scene::max_disks`]), beyond `WORK_FLOOR` (see [`work_budget`]).
 pub const WORK_PER_DISK: u64 = 1 << 14;
 
 /// Work any run may do, however few disks its domain holds.
@@ -374,7 +374,7 @@ pub(super) const WORK_FLOOR: u64 = 1 << 30;
 
 /// The most work the advancing front may do on `scene` before it stops with
 /// [`PackError::WorkBudget`]: [`WORK_PER_DISK`] per disk the domain could
-/// hold ([`Scene::max_disks`]) and per wall disk, plus [`WORK_FLOOR`].
+/// hold ([`Scene::max_disks`]) and per wall disk, plus `WORK_FLOOR`.
 ///
 /// # Behavior
 /// Work counts neighbours visited in the index and tested against

@@ -96,10 +96,10 @@ pub struct DensifyTrace {
     pub points: Vec<[f64; 2]>,
 }
 
-/// [`pack_densify`], and its convergence.
+/// `pack_densify`, and its convergence.
 ///
 /// # Errors
-/// As [`pack_densify`]; the trace is returned either way (without points
+/// As `pack_densify`; the trace is returned either way (without points
 /// if the run stopped before its first step).
 pub fn densify_traced(
     scene: &Scene,

@@ -40,8 +40,8 @@ const SPREAD: [u32; TILE_SIDE as usize] = {
 /// A leaf is known by its Morton code: the bits of its column and row
 /// interleaved, so each node of the tree is a range of codes and the four
 /// children of a node are its four quarters. The tree is implicit: the
-/// leaves of each tile (a node [`TILE_SIDE`] leaves on a side, the lowest
-/// [`TILE_LEVELS`] levels) are consecutive in Morton order, and the tiles
+/// leaves of each tile (a node `TILE_SIDE` leaves on a side, the lowest
+/// `TILE_LEVELS` levels) are consecutive in Morton order, and the tiles
 /// follow one another row by row over the domain's bounding rectangle, so
 /// a leaf's slot is computed, not found by descending. Each slot heads the
 /// leaf's bucket, a list through `next` (one entry per item), newest first.
