@@ -47,26 +47,27 @@ fn from_git() -> Option<String> {
     let commit = git(&["rev-parse", "--short=12", "HEAD"])?;
     // HEAD names the branch (in a worktree it lives in the worktree's own
     // git dir, which `--git-path` finds); a commit moves the branch's ref,
-    // loose or packed.
+    // a loose file (written in its folder when it was packed) or a line of
+    // packed-refs.
     for name in ["HEAD", "packed-refs"] {
-        watch(git(&["rev-parse", "--git-path", name]));
+        watch(git(&["rev-parse", "--git-path", name]), false);
     }
     if let Some(branch) = git(&["symbolic-ref", "-q", "HEAD"]) {
-        watch(git(&["rev-parse", "--git-path", &branch]));
+        watch(git(&["rev-parse", "--git-path", &branch]), true);
     }
     Some(commit)
 }
 
 /// Rebuild when the git file at `path` (relative to this folder) changes;
-/// for a file not there (a packed ref), its folder, where a commit writes
-/// it (cargo would rerun every build for a missing path).
-fn watch(path: Option<String>) {
+/// when it is not there, nothing (cargo would rerun every build for a
+/// missing path), or with `or_folder` its folder, where it will be written.
+fn watch(path: Option<String>, or_folder: bool) {
     let Some(path) = path else { return };
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(path);
     let watched = if path.exists() {
         Some(path.as_path())
     } else {
-        path.parent().filter(|dir| dir.exists())
+        path.parent().filter(|dir| or_folder && dir.exists())
     };
     if let Some(watched) = watched {
         println!("cargo:rerun-if-changed={}", watched.display());

@@ -102,11 +102,17 @@ fn bash_loads_the_completions_and_completes_subcommands() {
         .expect("run bash");
     let stdout = stdout_of(&out);
     assert!(
-        stdout.lines().next().is_some_and(|l| l.starts_with("complete ") && l.ends_with(" gapack")),
+        stdout
+            .lines()
+            .next()
+            .is_some_and(|l| l.starts_with("complete ") && l.ends_with(" gapack")),
         "{stdout}"
     );
     // `opt` completes to the subcommand and its alias, and nothing else.
-    let replies: Vec<&str> = stdout.lines().filter_map(|l| l.strip_prefix("reply ")).collect();
+    let replies: Vec<&str> = stdout
+        .lines()
+        .filter_map(|l| l.strip_prefix("reply "))
+        .collect();
     assert!(replies.contains(&"optimise"), "{stdout}");
     assert!(replies.iter().all(|r| r.starts_with("opt")), "{stdout}");
 }
@@ -159,9 +165,19 @@ fn man_renders_the_page_and_writes_one_per_command() {
     let dir = scratch("conventions-man");
     let page = gapack(&dir, &["man"]);
     let roff = stdout_of(&page);
-    assert!(roff.starts_with(".ie") || roff.contains(".TH gapack"), "{roff}");
+    assert!(
+        roff.starts_with(".ie") || roff.contains(".TH gapack"),
+        "{roff}"
+    );
     if let Some(shown) = render(&page.stdout) {
-        for words in ["NAME", "gapack", "SUBCOMMANDS", "optimise", "Exit status", "130"] {
+        for words in [
+            "NAME",
+            "gapack",
+            "SUBCOMMANDS",
+            "optimise",
+            "Exit status",
+            "130",
+        ] {
             assert!(shown.contains(words), "no {words} in\n{shown}");
         }
     }
@@ -171,14 +187,25 @@ fn man_renders_the_page_and_writes_one_per_command() {
         .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
         .collect();
     names.sort();
-    for name in ["gapack.1", "gapack-pack.1", "gapack-verify.1", "gapack-user-add.1"] {
+    for name in [
+        "gapack.1",
+        "gapack-pack.1",
+        "gapack-verify.1",
+        "gapack-user-add.1",
+    ] {
         assert!(names.iter().any(|n| n == name), "{name} in {names:?}");
     }
-    assert!(!names.iter().any(|n| n.starts_with("gapack-help")), "{names:?}");
+    assert!(
+        !names.iter().any(|n| n.starts_with("gapack-help")),
+        "{names:?}"
+    );
     assert_eq!(listed.lines().count(), names.len(), "{listed}");
     let pack = fs::read(dir.join("pages/gapack-pack.1")).expect("gapack-pack.1");
     if let Some(shown) = render(&pack) {
-        assert!(shown.contains("gapack-pack") && shown.contains("--json"), "{shown}");
+        assert!(
+            shown.contains("gapack-pack") && shown.contains("--json"),
+            "{shown}"
+        );
     }
     let _ = fs::remove_dir_all(&dir);
 }
@@ -187,11 +214,18 @@ fn man_renders_the_page_and_writes_one_per_command() {
 fn pack_json_is_its_summary() {
     let dir = scratch("conventions-pack-json");
     fs::write(dir.join("small.toml"), SMALL).unwrap();
-    let out = gapack(&dir, &["pack", "small.toml", "--out", "o", "--json", "--timings"]);
+    let out = gapack(
+        &dir,
+        &["pack", "small.toml", "--out", "o", "--json", "--timings"],
+    );
     let object = json_object(&out);
     assert_holds_summary(&object, &dir.join("o"), "pack");
     // The timings went to stderr, with nothing else on stdout.
-    assert!(text(&out.stderr).contains("timings: "), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("timings: "),
+        "{}",
+        text(&out.stderr)
+    );
     // The human lines are the object's.
     let plain = stdout_of(&gapack(&dir, &["pack", "small.toml", "--out", "o"]));
     let lines: Vec<&str> = plain.lines().collect();
@@ -209,7 +243,10 @@ fn optimise_json_is_its_summary() {
          stagnation = 100\nmax_evaluations = 12\n"
     );
     fs::write(dir.join("search.toml"), config).unwrap();
-    let object = json_object(&gapack(&dir, &["optimise", "search.toml", "--out", "o", "--json"]));
+    let object = json_object(&gapack(
+        &dir,
+        &["optimise", "search.toml", "--out", "o", "--json"],
+    ));
     assert_holds_summary(&object, &dir.join("o"), "optimise");
     for key in ["best_porosity", "target_porosity", "verdict", "evaluations"] {
         assert!(object.contains_key(key), "{key}");
@@ -225,7 +262,10 @@ fn layer_json_is_its_summary() {
          [layering]\naxis = \"y\"\nbins = 4\nprofile = \"linear\"\n"
     );
     fs::write(dir.join("layers.toml"), config).unwrap();
-    let object = json_object(&gapack(&dir, &["layer", "layers.toml", "--out", "o", "--json"]));
+    let object = json_object(&gapack(
+        &dir,
+        &["layer", "layers.toml", "--out", "o", "--json"],
+    ));
     assert_holds_summary(&object, &dir.join("o"), "layer");
     assert!(object["profile_rms_error"].is_f64(), "{object:?}");
     let _ = fs::remove_dir_all(&dir);
@@ -234,7 +274,11 @@ fn layer_json_is_its_summary() {
 #[test]
 fn validate_json_is_the_plan_it_prints() {
     let dir = scratch("conventions-validate-json");
-    fs::write(dir.join("small.toml"), format!("{SMALL}[optimise]\ntarget_porosity = 0.3\n")).unwrap();
+    fs::write(
+        dir.join("small.toml"),
+        format!("{SMALL}[optimise]\ntarget_porosity = 0.3\n"),
+    )
+    .unwrap();
     let args = ["validate", "small.toml", "--job", "pack", "--seed", "9"];
     let object = json_object(&gapack(&dir, &[&args[..], &["--json"]].concat()));
     assert_eq!(object["config"], "small.toml");
@@ -244,7 +288,12 @@ fn validate_json_is_the_plan_it_prints() {
     assert_eq!(object["out"], "out/small");
     // pack ignores the [optimise] table, and says so.
     let warnings = object["warnings"].as_array().unwrap();
-    assert!(warnings.iter().any(|w| w.as_str().unwrap().contains("[optimise]")), "{warnings:?}");
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.as_str().unwrap().contains("[optimise]")),
+        "{warnings:?}"
+    );
     let plain = stdout_of(&gapack(&dir, &args));
     let mut expected = vec!["small.toml: valid".to_owned()];
     for line in object["plan"].as_array().unwrap() {
@@ -263,7 +312,10 @@ fn validate_json_is_the_plan_it_prints() {
 fn verify_json_tells_the_findings_and_keeps_the_exit_code() {
     let dir = scratch("conventions-verify-json");
     fs::write(dir.join("small.toml"), SMALL).unwrap();
-    stdout_of(&gapack(&dir, &["pack", "small.toml", "--out", "o", "--quiet"]));
+    stdout_of(&gapack(
+        &dir,
+        &["pack", "small.toml", "--out", "o", "--quiet"],
+    ));
     let args = ["verify", "o/packing.csv", "--config", "small.toml"];
     let object = json_object(&gapack(&dir, &[&args[..], &["--json"]].concat()));
     let summary = read_object(&dir.join("o/summary.json"));
@@ -285,13 +337,19 @@ fn verify_json_tells_the_findings_and_keeps_the_exit_code() {
 
     // Two disks one on the other: not valid, exit 1, the object still printed.
     fs::write(dir.join("bad.csv"), "x,y,r\n5,5,1\n5.5,5,1\n").unwrap();
-    let out = gapack(&dir, &["verify", "bad.csv", "--config", "small.toml", "--json"]);
+    let out = gapack(
+        &dir,
+        &["verify", "bad.csv", "--config", "small.toml", "--json"],
+    );
     assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
     let object = json_object(&out);
     assert_eq!(object["valid"], false);
     assert_eq!(object["verdict"], "FAILED");
     assert_eq!(object["overlaps"], 1);
-    assert!(object["deepest_overlap"].as_f64().unwrap() > 0.2, "{object:?}");
+    assert!(
+        object["deepest_overlap"].as_f64().unwrap() > 0.2,
+        "{object:?}"
+    );
     assert!(text(&out.stderr).contains("not valid"));
     let _ = fs::remove_dir_all(&dir);
 }
@@ -356,21 +414,33 @@ fn colour_follows_the_flag_no_color_and_the_terminal() {
         let with = |flag: &[&'static str]| [flag, args].concat();
         let always = stderr(&with(&["--color", "always"]), &[]);
         assert!(esc(&always), "{args:?}: {always}");
-        assert!(esc(&stderr(&with(&["--color=always"]), &[("NO_COLOR", "1")])));
+        assert!(esc(&stderr(
+            &with(&["--color=always"]),
+            &[("NO_COLOR", "1")]
+        )));
         assert!(!esc(&stderr(&with(&["--color", "never"]), &[])), "{args:?}");
         assert!(!esc(&stderr(args, &[("NO_COLOR", "1")])), "{args:?}");
         // auto, through a pipe: none.
         assert!(!esc(&stderr(args, &[])), "{args:?}");
         // auto on a terminal: colour, unless NO_COLOR is set (empty counts as unset).
         let shown = stderr_on_terminal(&dir, args, &[]);
-        assert!(esc(&shown) && shown.contains("error"), "{args:?}: {shown:?}");
+        assert!(
+            esc(&shown) && shown.contains("error"),
+            "{args:?}: {shown:?}"
+        );
         assert!(esc(&stderr_on_terminal(&dir, args, &[("NO_COLOR", "")])));
         let plain = stderr_on_terminal(&dir, args, &[("NO_COLOR", "1")]);
-        assert!(!esc(&plain) && plain.contains("error"), "{args:?}: {plain:?}");
+        assert!(
+            !esc(&plain) && plain.contains("error"),
+            "{args:?}: {plain:?}"
+        );
         let never = stderr_on_terminal(&dir, &with(&["--color", "never"]), &[]);
         assert!(!esc(&never), "{args:?}: {never:?}");
     }
-    let bad = Command::new(BIN).args(["--color", "red", "pack"]).output().unwrap();
+    let bad = Command::new(BIN)
+        .args(["--color", "red", "pack"])
+        .output()
+        .unwrap();
     assert_eq!(bad.status.code(), Some(2));
     let _ = fs::remove_dir_all(&dir);
 }
@@ -411,10 +481,19 @@ fn version_names_the_commit() {
 
 /// The codes of the lines `  N    meaning` after `Exit status:` in `--help`.
 fn codes_in_help(help: &str) -> Vec<u32> {
-    let after = help.split("Exit status:").nth(1).expect("an exit status block");
+    let after = help
+        .split("Exit status:")
+        .nth(1)
+        .expect("an exit status block");
     after
         .lines()
-        .filter_map(|l| l.strip_prefix("  ")?.split_whitespace().next()?.parse().ok())
+        .filter_map(|l| {
+            l.strip_prefix("  ")?
+                .split_whitespace()
+                .next()?
+                .parse()
+                .ok()
+        })
         .collect()
 }
 
@@ -425,7 +504,10 @@ fn help_and_usage_list_the_same_exit_codes() {
     assert_eq!(codes, [0, 1, 2, 101, 130], "{help}");
     let usage = fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/usage.md"))
         .expect("docs/usage.md");
-    let table = usage.split("### Exit codes").nth(1).expect("an exit codes section");
+    let table = usage
+        .split("### Exit codes")
+        .nth(1)
+        .expect("an exit codes section");
     let documented: Vec<u32> = table
         .lines()
         .filter_map(|l| l.strip_prefix("| ")?.split(' ').next()?.parse().ok())
@@ -433,7 +515,10 @@ fn help_and_usage_list_the_same_exit_codes() {
     assert_eq!(documented, codes);
     // The codes are the ones returned: bad input 2, a failed verify 1.
     let dir = scratch("conventions-exit");
-    assert_eq!(gapack(&dir, &["pack", "nowhere.toml"]).status.code(), Some(2));
+    assert_eq!(
+        gapack(&dir, &["pack", "nowhere.toml"]).status.code(),
+        Some(2)
+    );
     assert_eq!(gapack(&dir, &["--bogus"]).status.code(), Some(2));
     assert_eq!(gapack(&dir, &["--help"]).status.code(), Some(0));
     let _ = fs::remove_dir_all(&dir);

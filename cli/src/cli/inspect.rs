@@ -8,7 +8,6 @@ use anyhow::{Context, anyhow};
 use clap::Args;
 use gapack::config::Config;
 use gapack::config::ConfigName;
-use serde::Serialize;
 use gapack::fracture::{Extent, Well};
 use gapack::layering::Material;
 use gapack::output::{
@@ -21,6 +20,7 @@ use gapack::output::{
 };
 use gapack::{Check, GradingCheck, MIN_GRADING_DISKS, OVERLAP_REL, check, check_particles_sized};
 use gapack::{Domain, Packing, Point, Scene, bounds_of_disks, grading_sizes, psd_ks};
+use serde::Serialize;
 
 use super::{Failure, load_config, print_line, report};
 use gapack::jobs::{DirStore, Store};

@@ -231,8 +231,8 @@ fn result_json(
             .map_err(Failure::Run)?;
         for (key, value) in written.0 {
             // The file is pretty-printed: its tables on one line.
-            let value = RawValue::from_string(compact(value.get()))
-                .map_err(|e| Failure::Run(e.into()))?;
+            let value =
+                RawValue::from_string(compact(value.get())).map_err(|e| Failure::Run(e.into()))?;
             entries.0.push((key, value));
         }
     }
@@ -296,19 +296,6 @@ impl<'de> Deserialize<'de> for Entries {
             }
         }
         deserializer.deserialize_map(Visit)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::compact;
-
-    #[test]
-    fn compact_drops_the_space_between_tokens_only() {
-        let pretty = "{\n  \"a b\": [\n    1.5e-15,\n    \"x \\\" y\"\n  ],\n  \"c\": {}\n}";
-        assert_eq!(compact(pretty), r#"{"a b":[1.5e-15,"x \" y"],"c":{}}"#);
-        let value: serde_json::Value = serde_json::from_str(pretty).unwrap();
-        assert_eq!(serde_json::to_string(&value).unwrap(), compact(pretty));
     }
 }
 
