@@ -1,16 +1,14 @@
 //! `gapack`: the command line, a thin layer over the library's jobs: clap
 //! arguments → a [`Plan`], Ctrl-C and SIGTERM → its cancel token, events →
-//! progress bars, the [`Outcome`] → result lines, the error → exit code 0
-//! (success, or stopped with what was finished written), 1 (the run
-//! failed), 2 (bad input: arguments or config) or 130 (stopped before
-//! anything was finished).
+//! progress bars, the [`Outcome`] → result lines (or one JSON object), the
+//! error → an exit code ([`EXIT_CODES`]).
 
 mod bench;
 mod cli;
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{ColorChoice, CommandFactory, FromArgMatches, Parser, Subcommand};
 use gapack::jobs::JobKind;
 
 use cli::Failure;
@@ -22,10 +20,35 @@ use cli::job::{JobArgs, ValidateArgs, run_job, run_validate};
 #[global_allocator]
 static ALLOCATOR: bench::counting::PeakAlloc = bench::counting::PeakAlloc;
 
+/// `gapack --version`: the version Cargo builds (one place: Cargo.toml)
+/// and the commit it was built from (`build.rs`).
+const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (commit ",
+    env!("GAPACK_BUILD_COMMIT"),
+    ")"
+);
+
+/// The exit codes, as `gapack --help` and docs/usage.md list them.
+const EXIT_CODES: &str = "\
+Exit status:
+  0    success; also a run stopped by Ctrl-C or SIGTERM that wrote what it
+       had finished (a note on stderr says so)
+  1    the run failed (packing, checking or writing), or `gapack verify`
+       found the packing not valid
+  2    bad input: unknown command or option, bad option value, unreadable
+       or invalid config, a packing table that cannot be read
+  101  an internal error (a panic): a bug, please report it
+  130  stopped by Ctrl-C or SIGTERM before anything was finished";
+
 /// Dense 2D disk packings for DEM simulations.
 #[derive(Parser)]
-#[command(name = "gapack", version, about)]
+#[command(name = "gapack", version = VERSION, about, after_help = EXIT_CODES)]
 struct Cli {
+    /// When to colour help, errors and warnings: auto (on a terminal,
+    /// unless NO_COLOR is set), always or never.
+    #[arg(long, global = true, value_enum, value_name = "WHEN", default_value_t = ColorChoice::Auto)]
+    color: ColorChoice,
     #[command(subcommand)]
     command: Command,
 }
@@ -89,10 +112,27 @@ enum Command {
     /// Add, revoke or list the service's users.
     #[command(subcommand)]
     User(cli::serve::UserCommand),
+    /// Print the shell completion script of bash, zsh, fish, powershell or
+    /// elvish (e.g. `source <(gapack completions bash)`).
+    Completions(cli::docs::CompletionsArgs),
+    /// Print the manual page (roff: `gapack man | man -l -`), or write one
+    /// page per command with --dir.
+    Man(cli::docs::ManArgs),
 }
 
 fn main() -> ExitCode {
-    let result = match Cli::parse().command {
+    // `--color` is read ahead of clap so that clap's own errors follow it.
+    let colour = cli::colour::choice_in(std::env::args_os());
+    let command = Cli::command().color(colour);
+    let cli = match command
+        .try_get_matches()
+        .and_then(|matches| Cli::from_arg_matches(&matches))
+    {
+        Ok(cli) => cli,
+        Err(e) => e.exit(),
+    };
+    cli::colour::init(cli.color);
+    let result = match cli.command {
         Command::Pack(args) => run_job(JobKind::Pack, &args),
         Command::Optimise(args) => run_job(JobKind::Optimise, &args),
         Command::Layer(args) => run_job(JobKind::Layer, &args),
@@ -107,20 +147,22 @@ fn main() -> ExitCode {
         Command::Serve(args) => cli::serve::run(&args),
         Command::Worker(args) => cli::serve::run_worker(&args),
         Command::User(command) => cli::serve::run_user(&command),
+        Command::Completions(args) => cli::docs::run_completions(&args, Cli::command()),
+        Command::Man(args) => cli::docs::run_man(&args, Cli::command()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(failure) => {
             let code = exit_code(&failure);
             let (Failure::Input(err) | Failure::Run(err) | Failure::Stopped(err)) = failure;
-            eprintln!("error: {err:#}");
+            eprintln!("{} {err:#}", cli::colour::error());
             ExitCode::from(code)
         }
     }
 }
 
 /// 2 for bad input, 1 for a failed run, 130 for a run stopped before
-/// anything was finished.
+/// anything was finished ([`EXIT_CODES`]).
 fn exit_code(failure: &Failure) -> u8 {
     match failure {
         Failure::Input(_) => 2,

@@ -7,6 +7,7 @@ mod common;
 mod binary_outputs;
 mod browser;
 mod cli;
+mod cli_conventions;
 mod clumps;
 mod compare;
 mod configs;

@@ -20,6 +20,7 @@ use gapack::output::{
 };
 use gapack::{Check, GradingCheck, MIN_GRADING_DISKS, OVERLAP_REL, check, check_particles_sized};
 use gapack::{Domain, Packing, Point, Scene, bounds_of_disks, grading_sizes, psd_ks};
+use serde::Serialize;
 
 use super::{Failure, load_config, print_line, report};
 use gapack::jobs::{DirStore, Store};
@@ -38,6 +39,10 @@ pub struct VerifyArgs {
     /// No findings printed: the exit code alone says (0 valid, 1 not).
     #[arg(long)]
     quiet: bool,
+    /// Print the verdict and what was checked as one JSON object on stdout
+    /// (docs/usage.md); the exit code is the same.
+    #[arg(long, conflicts_with = "quiet")]
+    json: bool,
 }
 
 /// `gapack export` arguments.
@@ -106,17 +111,15 @@ pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
     }
     let mut lines = findings(&result, &table, scene.domain.is_periodic());
     lines.splice(0..0, domain_note);
-    let verdict = match (result.valid() && result.grading_kept(), result.grading) {
-        (false, _) => "FAILED",
-        (true, GradingCheck::TooFewDisks(_)) => "valid, grading not checked",
-        (true, _) => "valid",
-    };
-    if !args.quiet {
+    let verdict = Verdict::of(&result, args.packing.display().to_string(), origin, lines);
+    if args.json {
+        print_line(serde_json::to_value(&verdict).map_err(|e| Failure::Run(e.into()))?);
+    } else if !args.quiet {
         print_line(format_args!(
-            "{} against {origin}: {verdict}",
-            args.packing.display(),
+            "{} against {}: {}",
+            verdict.packing, verdict.config, verdict.verdict
         ));
-        for line in &lines {
+        for line in &verdict.findings {
             print_line(format_args!("  {line}"));
         }
     }
@@ -134,6 +137,90 @@ pub fn run_verify(args: &VerifyArgs) -> Result<(), Failure> {
         )));
     }
     Ok(())
+}
+
+/// What `gapack verify` says of a packing: the verdict line and the
+/// findings under it, and with `--json` the figures they are made of.
+#[derive(Serialize)]
+struct Verdict {
+    /// The packing's CSV as named on the command line.
+    packing: String,
+    /// The config as named on the command line.
+    config: String,
+    /// `valid`, `valid, grading not checked` or `FAILED`.
+    verdict: &'static str,
+    /// No malformed disk, no overlap, none outside, and the grading kept
+    /// (or not checked): exit code 0.
+    valid: bool,
+    /// Particles in the table.
+    particles: usize,
+    /// With a non-finite position or a size that is not positive.
+    malformed: usize,
+    /// Pairs overlapping beyond the tolerance (a lower bound when
+    /// `overlaps_complete` is false).
+    overlaps: usize,
+    /// Whether `overlaps` counts every overlapping pair.
+    overlaps_complete: bool,
+    /// The deepest overlap beyond the tolerance, relative to the radii
+    /// sum; null without one.
+    deepest_overlap: Option<f64>,
+    /// Disks reaching outside the domain (centres outside a periodic cell).
+    outside: usize,
+    /// How far the farthest one reaches outside (mm); null without one.
+    farthest_outside: Option<f64>,
+    /// Domain area (mm²).
+    domain_area: f64,
+    /// Area of the particles (mm²).
+    solid_area: f64,
+    /// 1 − solid_area / domain_area.
+    porosity: f64,
+    /// `measured`, `too few disks` or `not asked` (size-graded packings are
+    /// measured against each material's curve).
+    grading: &'static str,
+    /// KS distance of the sizes to the grading; null when not measured.
+    psd_ks: Option<f64>,
+    /// The largest KS distance sampling noise explains here.
+    ks_limit: f64,
+    /// `psd_ks` ≤ `ks_limit`, or the grading not measured.
+    grading_kept: bool,
+    /// The lines printed under the verdict.
+    findings: Vec<String>,
+}
+
+impl Verdict {
+    fn of(c: &Check, packing: String, config: String, findings: Vec<String>) -> Verdict {
+        let verdict = match (c.valid() && c.grading_kept(), c.grading) {
+            (false, _) => "FAILED",
+            (true, GradingCheck::TooFewDisks(_)) => "valid, grading not checked",
+            (true, _) => "valid",
+        };
+        let grading = match c.grading {
+            GradingCheck::Measured(_) => "measured",
+            GradingCheck::TooFewDisks(_) => "too few disks",
+            _ => "not asked",
+        };
+        Verdict {
+            packing,
+            config,
+            verdict,
+            valid: c.valid() && c.grading_kept(),
+            particles: c.particles,
+            malformed: c.malformed,
+            overlaps: c.overlaps,
+            overlaps_complete: c.overlaps_complete,
+            deepest_overlap: c.worst_overlap.map(|(_, _, depth)| depth),
+            outside: c.outside,
+            farthest_outside: c.worst_outside.map(|(_, by)| by),
+            domain_area: c.domain_area,
+            solid_area: c.solid_area,
+            porosity: c.porosity,
+            grading,
+            psd_ks: c.grading.ks(),
+            ks_limit: c.ks_limit,
+            grading_kept: c.grading_kept(),
+            findings,
+        }
+    }
 }
 
 /// `gapack export`: an existing packing in the DEM and viewer formats the

@@ -6,12 +6,20 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
+use anyhow::Context;
 use clap::Args;
 #[cfg(feature = "mpi")]
 use gapack::farm::Farm;
-use gapack::jobs::{self, Cancel, DirStore, JobError, JobKind, Outcome, Plan, Request, Summary};
+use gapack::jobs::{
+    self, Cancel, DirStore, JobError, JobKind, Outcome, Plan, Request, Store, Summary,
+};
+use gapack::output::SUMMARY_JSON;
+use serde::de::{MapAccess, Visitor};
+use serde::{Deserialize, Serialize};
+use serde_json::value::{RawValue, to_raw_value};
+use serde_json::{Map, Value};
 
-use super::{Failure, ProgressObserver, load_text, report};
+use super::{Failure, ProgressObserver, load_text, print_line, report};
 
 /// Options of every job.
 #[derive(Args)]
@@ -29,6 +37,12 @@ pub struct JobArgs {
     /// Neither progress bar nor result line.
     #[arg(long)]
     quiet: bool,
+    /// Print the result as one JSON object on stdout instead of its lines:
+    /// the job, its folder, its files and result lines, and the figures of
+    /// the summary.json it wrote (docs/usage.md); progress and notes stay
+    /// on stderr.
+    #[arg(long, conflicts_with = "quiet")]
+    json: bool,
     /// Also print where the run's time went: packing, measuring, and the
     /// check with every file written, in wall-clock seconds.
     #[arg(long)]
@@ -71,6 +85,9 @@ pub struct ValidateArgs {
     /// Describe the scene even if it is over the config's [limits].
     #[arg(long)]
     force: bool,
+    /// Print the plan as one JSON object on stdout (docs/usage.md).
+    #[arg(long)]
+    json: bool,
 }
 
 fn job_kind(name: &str) -> Result<JobKind, String> {
@@ -134,32 +151,163 @@ pub fn run_job(kind: JobKind, args: &JobArgs) -> Result<(), Failure> {
     // `main` returns. Without a handler a signal would end the process
     // where it stands: say so rather than run unprotected in silence.
     if let Err(e) = ctrlc::set_handler(move || handler.cancel()) {
-        eprintln!("warning: cannot catch Ctrl-C and SIGTERM ({e}); they will end gapack at once");
+        eprintln!(
+            "{} cannot catch Ctrl-C and SIGTERM ({e}); they will end gapack at once",
+            super::colour::warning()
+        );
     }
     let mut observer = ProgressObserver::new(args.quiet);
     let outcome = jobs::run(&plan, &mut observer, &cancel, &mut store);
     observer.finish();
-    tell(outcome, args)
+    tell(kind, outcome, &store, args)
 }
 
-/// The result lines of a job's outcome, or its failure.
-fn tell(outcome: Result<Outcome, JobError>, args: &JobArgs) -> Result<(), Failure> {
+/// The result lines of a job's outcome (or its JSON object), or its failure.
+fn tell(
+    kind: JobKind,
+    outcome: Result<Outcome, JobError>,
+    store: &DirStore,
+    args: &JobArgs,
+) -> Result<(), Failure> {
     let outcome = outcome.map_err(|e| match e {
         JobError::Cancelled => Failure::Stopped(e.into()),
         e => super::failure(e),
     })?;
-    for line in Summary::of(&outcome, &outcome.location).lines {
-        report(args.quiet, || line);
-    }
-    if args.timings
-        && let Some(line) = outcome.timings_line()
-    {
-        super::print_line(line);
+    let summary = Summary::of(&outcome, &outcome.location);
+    let timings = if args.timings {
+        outcome.timings_line()
+    } else {
+        None
+    };
+    if args.json {
+        print_line(result_json(kind, &outcome, &summary, store)?);
+        // Nothing but the object on stdout.
+        if let Some(line) = timings {
+            eprintln!("{line}");
+        }
+    } else {
+        for line in summary.lines {
+            report(args.quiet, || line);
+        }
+        if let Some(line) = timings {
+            print_line(line);
+        }
     }
     if !args.quiet {
         super::hint::after_stop(&outcome, args.config.as_deref(), args.seed, args.force);
     }
     Ok(())
+}
+
+/// A job's result as one JSON object (`--json`): `job` and `out` (its
+/// folder), the entries of the `summary.json` it wrote in that folder, in
+/// its order and as written (its numbers' digits are copied, not parsed
+/// and printed again), then those of the job's [`Summary`] (`files`,
+/// `interrupted`, `lines`, and its figures, which `summary.json` holds
+/// alike: they take the file's place). A job whose runs each have a
+/// folder of their own (a batch of wells, a study) has no `summary.json`
+/// at the top: its object is the [`Summary`]'s, and the runs' files are in
+/// `files`.
+fn result_json(
+    kind: JobKind,
+    outcome: &Outcome,
+    summary: &Summary,
+    store: &DirStore,
+) -> Result<String, Failure> {
+    let raw = |text: &str| to_raw_value(text).map_err(|e| Failure::Run(e.into()));
+    let mut entries = Entries(vec![
+        ("job".to_owned(), raw(kind.name())?),
+        ("out".to_owned(), raw(&outcome.location)?),
+    ]);
+    if outcome.files.iter().any(|f| f == SUMMARY_JSON) {
+        let bytes = store
+            .read(SUMMARY_JSON)
+            .map_err(anyhow::Error::from)
+            .and_then(|b| b.context("it is gone"))
+            .with_context(|| format!("cannot read {}/{SUMMARY_JSON}", outcome.location))
+            .map_err(Failure::Run)?;
+        let written: Entries = serde_json::from_slice(&bytes)
+            .with_context(|| format!("{}/{SUMMARY_JSON}: not a JSON object", outcome.location))
+            .map_err(Failure::Run)?;
+        for (key, value) in written.0 {
+            // The file is pretty-printed: its tables on one line.
+            let value =
+                RawValue::from_string(compact(value.get())).map_err(|e| Failure::Run(e.into()))?;
+            entries.0.push((key, value));
+        }
+    }
+    let own: Entries = serde_json::to_string(summary)
+        .and_then(|text| serde_json::from_str(&text))
+        .map_err(|e| Failure::Run(e.into()))?;
+    for (key, value) in own.0 {
+        match entries.0.iter_mut().find(|(k, _)| *k == key) {
+            Some(entry) => entry.1 = value,
+            None => entries.0.push((key, value)),
+        }
+    }
+    serde_json::to_string(&entries).map_err(|e| Failure::Run(e.into()))
+}
+
+/// JSON text without the whitespace between its tokens (strings kept whole).
+fn compact(json: &str) -> String {
+    let mut out = String::with_capacity(json.len());
+    let (mut in_string, mut escaped) = (false, false);
+    for c in json.chars() {
+        if in_string {
+            out.push(c);
+            if escaped {
+                escaped = false;
+            } else if c == '\\' {
+                escaped = true;
+            } else if c == '"' {
+                in_string = false;
+            }
+        } else if !c.is_ascii_whitespace() {
+            in_string = c == '"';
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// A JSON object's entries in their order, each value as its JSON text.
+struct Entries(Vec<(String, Box<RawValue>)>);
+
+impl Serialize for Entries {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.collect_map(self.0.iter().map(|(k, v)| (k, v)))
+    }
+}
+
+impl<'de> Deserialize<'de> for Entries {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Visit;
+        impl<'de> Visitor<'de> for Visit {
+            type Value = Entries;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a JSON object")
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Entries, A::Error> {
+                let mut entries = Vec::new();
+                while let Some(entry) = map.next_entry()? {
+                    entries.push(entry);
+                }
+                Ok(Entries(entries))
+            }
+        }
+        deserializer.deserialize_map(Visit)
+    }
+}
+
+/// The JSON object `value` serialises to.
+fn object_of(value: &impl Serialize) -> Result<Map<String, Value>, Failure> {
+    match serde_json::to_value(value) {
+        Ok(Value::Object(map)) => Ok(map),
+        Ok(other) => Err(Failure::Run(anyhow::anyhow!(
+            "expected a JSON object, made {other}"
+        ))),
+        Err(e) => Err(Failure::Run(e.into())),
+    }
 }
 
 /// The plan of the job `args` ask for.
@@ -185,7 +333,10 @@ fn run_ranks(plan: &Plan, args: &JobArgs, ranks: &super::ranks::Ranks) -> Result
         }
     };
     if let Err(e) = ctrlc::set_handler(raise) {
-        eprintln!("warning: cannot catch Ctrl-C and SIGTERM ({e}); they will end gapack at once");
+        eprintln!(
+            "{} cannot catch Ctrl-C and SIGTERM ({e}); they will end gapack at once",
+            super::colour::warning()
+        );
     }
     if !leads {
         let mut store = jobs::MemoryStore::default();
@@ -198,7 +349,26 @@ fn run_ranks(plan: &Plan, args: &JobArgs, ranks: &super::ranks::Ranks) -> Result
     let outcome = jobs::run_on(plan, &mut observer, &cancel, &mut store, ranks);
     observer.finish();
     ranks.done();
-    tell(outcome, args)
+    tell(plan.kind, outcome, &store, args)
+}
+
+/// What `gapack validate` says of a config: valid, and the plan of the run.
+#[derive(Serialize)]
+struct Validation {
+    /// The config as named on the command line.
+    config: String,
+    /// Always true: a config that is not valid fails with exit code 2.
+    valid: bool,
+    /// The job the run would be.
+    job: &'static str,
+    /// The seed it would use.
+    seed: u64,
+    /// The folder it would write.
+    out: String,
+    /// The plan, a line each (as printed under `<config>: valid`).
+    plan: Vec<String>,
+    /// The warnings among them, without their `warning: ` prefix.
+    warnings: Vec<String>,
 }
 
 /// `gapack validate`: the plan the run would execute, without running it.
@@ -211,9 +381,36 @@ pub fn run_validate(args: &ValidateArgs) -> Result<(), Failure> {
     };
     let plan = Plan::load(&text, &origin, &request).map_err(super::failure)?;
     let out = jobs::output_dir(args.out.as_deref(), &plan.config, Some(&args.config));
-    report(false, || format!("{origin}: valid"));
-    for line in plan.describe(&out.display().to_string()) {
-        report(false, || format!("  {line}"));
+    let out = out.display().to_string();
+    let validation = Validation {
+        plan: plan.describe(&out),
+        config: origin,
+        valid: true,
+        job: plan.kind.name(),
+        seed: plan.seed(),
+        out,
+        warnings: plan.warnings.iter().map(|w| w.message.clone()).collect(),
+    };
+    if args.json {
+        print_line(Value::Object(object_of(&validation)?));
+        return Ok(());
+    }
+    print_line(format_args!("{}: valid", validation.config));
+    for line in &validation.plan {
+        print_line(format_args!("  {line}"));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::compact;
+
+    #[test]
+    fn compact_drops_the_space_between_tokens_only() {
+        let pretty = "{\n  \"a b\": [\n    1.5e-15,\n    \"x \\\" y\"\n  ],\n  \"c\": {}\n}";
+        assert_eq!(compact(pretty), r#"{"a b":[1.5e-15,"x \" y"],"c":{}}"#);
+        let value: serde_json::Value = serde_json::from_str(pretty).unwrap();
+        assert_eq!(serde_json::to_string(&value).unwrap(), compact(pretty));
+    }
 }

@@ -1,6 +1,8 @@
 //! What the subcommands share: reading a config, the failure → exit code
 //! mapping, the result line, and the progress bars drawn from job events.
 
+pub mod colour;
+pub mod docs;
 pub mod hint;
 pub mod inspect;
 pub mod job;
@@ -72,14 +74,24 @@ static STDOUT_GONE: AtomicBool = AtomicBool::new(false);
 /// still exits 1). Any other write error is said once on stderr, then
 /// stdout is dropped the same way: a finished run is not failed for it.
 pub fn print_line(line: impl Display) {
+    print_bytes(format!("{line}\n").as_bytes());
+}
+
+/// Write `bytes` to stdout as they are (a script, a manual page), closed
+/// pipes and write errors handled as [`print_line`] says.
+pub fn print_bytes(bytes: &[u8]) {
     if STDOUT_GONE.load(Ordering::Relaxed) {
         return;
     }
     let mut out = std::io::stdout().lock();
-    if let Err(e) = writeln!(out, "{line}").and_then(|()| out.flush()) {
+    if let Err(e) = out.write_all(bytes).and_then(|()| out.flush()) {
         STDOUT_GONE.store(true, Ordering::Relaxed);
         if e.kind() != ErrorKind::BrokenPipe {
-            let _ = writeln!(std::io::stderr(), "warning: cannot write to stdout: {e}");
+            let _ = writeln!(
+                std::io::stderr(),
+                "{} cannot write to stdout: {e}",
+                colour::warning()
+            );
         }
     }
 }
@@ -171,7 +183,9 @@ impl Observer for ProgressObserver {
                 self.bar.set_message(label.clone());
                 self.bar.inc(1);
             }
-            Event::Warning(w) => self.bar.suspend(|| eprintln!("warning: {}", w.message)),
+            Event::Warning(w) => self
+                .bar
+                .suspend(|| eprintln!("{} {}", colour::warning(), w.message)),
             _ => {}
         }
     }
