@@ -131,7 +131,16 @@ def to_pandas(packing):
     n = len(packing)
     columns = {"id": np.arange(n, dtype=np.int64), "x": packing.x, "y": packing.y, "r": packing.r}
     if packing.angle is not None:
-        for name in ("angle", "a", "b", "alpha", "beta", "template"):
+        # As packing.csv: a superellipse's columns when there are any, a
+        # polygon's template when there are any (its vertices and rounding
+        # are in packing.csv).
+        template = np.asarray(packing.template)
+        names = ["angle"]
+        if (template < 0).any():
+            names += ["a", "b", "alpha", "beta"]
+        if (template >= 0).any():
+            names.append("template")
+        for name in names:
             columns[name] = getattr(packing, name)
     if packing.material is not None:
         names = [m["name"] for m in packing.materials]
@@ -189,9 +198,10 @@ def from_pandas(df, domain=None, config=None, seed=None):
     m = _column(df, "material")
     if m is not None:
         column = df[m]
-        if hasattr(column, "cat"):
+        pd = _need("pandas", "Packing.from_pandas")
+        if isinstance(column.dtype, pd.CategoricalDtype):
             names = [str(v) for v in column.astype(str)]
-        elif np.issubdtype(column.dtype, np.integer):
+        elif pd.api.types.is_integer_dtype(column.dtype):
             material = np.ascontiguousarray(column.to_numpy(), dtype=np.int64)
         else:
             names = [str(v) for v in column]
@@ -271,7 +281,7 @@ def plot(packing, ax=None, color_by="material", **kw):
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
     if legend:
-        ax.legend(handles=legend, loc="upper right", fontsize="small")
+        ax.legend(handles=legend, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")
     elif values is not None and "facecolors" not in kw:
         label = {"r": "radius (mm)", "diameter": "diameter (mm)"}.get(key, key)
         ax.figure.colorbar(collection, ax=ax, label=label, shrink=0.8)
