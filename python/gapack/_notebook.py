@@ -32,6 +32,21 @@ class Summary(dict):
 
     __slots__ = ()
 
+    # The figures every packing's summary has, typed for editors and type
+    # checkers (annotations only: the values are the dict's).
+    gapack_version: str
+    config: str
+    seed: int
+    particles: int
+    domain_area: float
+    solid_area: float
+    porosity: float
+    psd_ks: float
+    grading_kept: bool
+    max_overlap: float
+    coordination: float
+    seconds: float
+
     def __getattr__(self, name: str) -> Any:
         try:
             return self[name]

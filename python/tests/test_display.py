@@ -95,6 +95,11 @@ def test_the_summary_reads_by_key_and_by_attribute(square, layered):
                 assert getattr(getattr(s, key), inner) == s[key][inner]
     assert json.loads(json.dumps(s)) == s
     assert dict(s) == s and "porosity" in dir(s)
+    # The typed figures are in every run's summary, of their types.
+    for run in (square, layered):
+        for key, kind in gapack.Summary.__annotations__.items():
+            kind = {"str": str, "int": int, "float": (int, float), "bool": bool}[kind]
+            assert isinstance(getattr(run.summary, key), kind), key
     with pytest.raises(AttributeError, match="no 'nonesuch'"):
         s.nonesuch
     assert layered.summary.profile_rms_error <= layered.summary.baseline_rms_error
