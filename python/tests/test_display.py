@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 import gapack
-from conftest import SQUARE
+from conftest import ROOT, SQUARE
 
 LAYERED = """\
 seed = 1
@@ -300,3 +300,14 @@ def test_progress_is_a_notebook_widget_in_a_notebook(monkeypatch):
     assert gapack._bar_class() is tqdm.std.tqdm
     shell.kernel = None
     assert not gapack._in_notebook() and gapack._bar_class() is auto
+
+
+def test_the_version_is_set_in_one_place():
+    """The installed distribution's version is the extension's, which is
+    the crate's (python/Cargo.toml): pyproject.toml reads it from there."""
+    from importlib.metadata import version
+
+    assert version("gapack") == gapack.__version__
+    cargo = (ROOT / "python" / "Cargo.toml").read_text()
+    assert f'\nversion = "{gapack.__version__}"\n' in cargo
+    assert 'dynamic = ["version"]' in (ROOT / "python" / "pyproject.toml").read_text()
