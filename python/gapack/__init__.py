@@ -33,6 +33,7 @@ from ._config import load as _load
 from ._config import to_toml
 from ._errors import ConfigError, GapackError, GapackWarning, InputError, Interrupted
 from ._gapack import Packing
+from ._notebook import Summary
 
 __version__ = _gapack.__version__
 
@@ -49,6 +50,7 @@ __all__ = [
     "run",
     "to_toml",
     "Packing",
+    "Summary",
     "FORMATS",
     "GapackError",
     "ConfigError",
@@ -248,6 +250,33 @@ def _job(kind, config, seed, on_generation, force, progress, on_interrupt) -> Pa
     return packing
 
 
+def _in_notebook() -> bool:
+    """Whether this runs in a Jupyter kernel (a notebook), not a terminal."""
+    ipython = sys.modules.get("IPython")
+    shell = ipython.get_ipython() if ipython is not None else None
+    return shell is not None and getattr(shell, "kernel", None) is not None
+
+
+def _bar_class():
+    """The progress bar's class, or ``None`` without tqdm: in a notebook
+    with ipywidgets, tqdm's notebook widget (``tqdm.notebook``); in one
+    without, tqdm's text bar (the widget would fail); elsewhere
+    ``tqdm.auto``'s choice."""
+    try:
+        if not _in_notebook():
+            from tqdm.auto import tqdm
+
+            return tqdm
+        try:
+            import ipywidgets  # noqa: F401
+            from tqdm.notebook import tqdm
+        except ImportError:
+            from tqdm.std import tqdm
+        return tqdm
+    except ImportError:
+        return None
+
+
 def _shown() -> bool:
     """Whether a progress bar would be seen: a terminal, or a notebook."""
     if "ipykernel" in sys.modules:
@@ -270,13 +299,7 @@ class _Events:
         self.on_generation = on_generation
         if progress is None:
             progress = _shown()
-        self.tqdm = None
-        if progress:
-            try:
-                from tqdm.auto import tqdm
-            except ImportError:
-                tqdm = None
-            self.tqdm = tqdm
+        self.tqdm = _bar_class() if progress else None
         self.bar = None
         self.stage = None
 

@@ -104,7 +104,7 @@ fn run(
         Ok(outcome) => outcome,
         Err(e) => return Err(interrupt.unwrap_or_else(|| job_error(py, e))),
     };
-    let packing = Packing::new(py, plan, outcome, path, &store, warnings)?;
+    let packing = Packing::new(py, plan, outcome, (text.to_owned(), path), &store, warnings)?;
     Ok((packing, interrupt.is_some()))
 }
 

@@ -2,14 +2,17 @@
 //! disks as numpy arrays, and the files it writes on demand.
 
 use std::path::PathBuf;
+use std::sync::OnceLock;
 
-use gapack::jobs::{self, DirStore, MemoryStore, Outcome, Plan, Report};
-use gapack::output::SUMMARY_JSON;
-use gapack::{Disk, Grain, Outline, Packing as Packed};
-use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
+use gapack::jobs::{
+    self, Cancel, DirStore, Job, JobKind, MemoryStore, Outcome, Plan, Report, Request,
+};
+use gapack::output::{Colouring, SUMMARY_JSON, packing_png_coloured};
+use gapack::{Disk, Grain, Outline, Packing as Packed, Scene};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyBytes, PyDict, PyList, PyType};
 
 use crate::convert;
 use crate::errors::{gapack_error, job_error};
@@ -32,6 +35,8 @@ pub(crate) struct Packing {
     outcome: Outcome,
     /// The config's file, if it came from one (names the default folder).
     path: Option<PathBuf>,
+    /// The config's TOML text, as the run read it.
+    text: String,
     x: Py<PyArray1<f64>>,
     y: Py<PyArray1<f64>>,
     r: Py<PyArray1<f64>>,
@@ -41,6 +46,8 @@ pub(crate) struct Packing {
     summary: Py<PyAny>,
     history: Option<Py<PyDict>>,
     warnings: Vec<String>,
+    /// The picture a notebook shows (`_repr_png_`), drawn on first demand.
+    picture: OnceLock<Vec<u8>>,
 }
 
 /// The shape columns of a packing of particles that are not disks, as
@@ -97,6 +104,24 @@ fn packed_mut(report: &mut Report) -> Option<&mut Packed> {
     }
 }
 
+/// The colouring named `name`, as `[output] colour` names them (and
+/// `radius` or `diameter` for `size`).
+fn colouring(name: &str) -> PyResult<Colouring> {
+    match name {
+        "size" | "radius" | "diameter" => Ok(Colouring::Size),
+        "material" => Ok(Colouring::Material),
+        "orientation" => Ok(Colouring::Orientation),
+        _ => Err(PyValueError::new_err(format!(
+            "color_by: \"material\", \"size\" or \"orientation\", got {name:?}"
+        ))),
+    }
+}
+
+/// The function `name` of the package's notebook half (`gapack/_notebook.py`).
+fn notebook<'py>(py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+    py.import("gapack._notebook")?.getattr(name)
+}
+
 /// `array`, read-only.
 fn frozen<'py, T: numpy::Element>(array: Bound<'py, PyArray1<T>>) -> PyResult<Py<PyArray1<T>>> {
     let flags = PyDict::new(array.py());
@@ -111,7 +136,7 @@ impl Packing {
         py: Python<'_>,
         plan: Plan,
         mut outcome: Outcome,
-        path: Option<PathBuf>,
+        (text, path): (String, Option<PathBuf>),
         store: &MemoryStore,
         warnings: Vec<String>,
     ) -> PyResult<Packing> {
@@ -150,9 +175,15 @@ impl Packing {
         let Some(summary) = store.files.get(SUMMARY_JSON) else {
             return Err(gapack_error(py, "the job wrote no summary.json"));
         };
+        // Every table of it a `gapack.Summary`: a dict, read by key or attribute.
+        let hook = PyDict::new(py);
+        hook.set_item(
+            "object_hook",
+            py.import("gapack._notebook")?.getattr("Summary")?,
+        )?;
         let summary = py
             .import("json")?
-            .call_method1("loads", (String::from_utf8_lossy(summary),))?
+            .call_method("loads", (String::from_utf8_lossy(summary),), Some(&hook))?
             .unbind();
         Ok(Packing {
             x: frozen(PyArray1::from_vec(py, x))?,
@@ -163,10 +194,36 @@ impl Packing {
             plan,
             outcome,
             path,
+            text,
             summary,
             history,
             warnings,
+            picture: OnceLock::new(),
         })
+    }
+
+    /// The scene the packing was made from: a search's own (the sizes it
+    /// found), else the config's.
+    fn scene(&self) -> &Scene {
+        match &self.outcome.report {
+            Report::Optimise { scene, .. } => scene,
+            _ => &self.plan.config.scene,
+        }
+    }
+
+    /// The PNG drawing of `packing.png`, coloured as `colour` asks
+    /// (`None`: as the config's `[output] colour`).
+    fn draw(&self, py: Python<'_>, colour: Option<Colouring>) -> PyResult<Vec<u8>> {
+        let mut outcome = self.whole(py)?;
+        let Some(packed) = packed_mut(&mut outcome.report) else {
+            return Err(gapack_error(py, "the job returned no packing"));
+        };
+        let scene = self.scene();
+        let diameters = (scene.d_min(), scene.d_max());
+        let materials = &self.plan.config.materials;
+        let colour = colour.or(self.plan.config.output.colour);
+        py.detach(|| packing_png_coloured(packed, materials, diameters, colour))
+            .map_err(|e| gapack_error(py, &format!("cannot draw the packing: {e}")))
     }
 
     /// The outcome with its disks and materials read back from the arrays.
@@ -312,6 +369,12 @@ impl Packing {
         self.plan.seed()
     }
 
+    /// The config's TOML text, as the run read it.
+    #[getter]
+    fn toml(&self) -> &str {
+        &self.text
+    }
+
     /// The config's name: its path as given, `<string>` or `<dict>`.
     #[getter]
     fn config(&self) -> &str {
@@ -368,6 +431,175 @@ impl Packing {
             jobs::write(plan, &outcome, &output, &mut store)
         })
         .map_err(|e| job_error(py, e))
+    }
+
+    /// The packing as a PNG image (bytes), drawn as `write` draws
+    /// `packing.png`: 1600 px on the longer side, a legend strip below.
+    /// `color_by`: `"material"`, `"size"` (`"radius"`, `"diameter"`) or
+    /// `"orientation"` (particles that are not disks); `None`: as the
+    /// config's `[output] colour` (by material when there are materials).
+    #[pyo3(signature = (color_by=None))]
+    fn png<'py>(&self, py: Python<'py>, color_by: Option<&str>) -> PyResult<Bound<'py, PyBytes>> {
+        let colour = color_by.map(colouring).transpose()?;
+        let png = self.draw(py, colour)?;
+        Ok(PyBytes::new(py, &png))
+    }
+
+    /// The picture Jupyter shows: [`png`](Self::png) with the config's
+    /// colouring, drawn once and kept.
+    fn _repr_png_<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
+        if let Some(png) = self.picture.get() {
+            return Ok(PyBytes::new(py, png));
+        }
+        let png = self.draw(py, None)?;
+        Ok(PyBytes::new(py, self.picture.get_or_init(|| png)))
+    }
+
+    /// The picture inline and a table of the key figures, for Jupyter.
+    fn _repr_html_<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        notebook(slf.py(), "html")?.call1((slf,))
+    }
+
+    /// Draw the particles on a matplotlib axes (a new figure's when `ax` is
+    /// `None`), filled by `color_by` (`"material"`, `"radius"`, or any
+    /// column of `to_pandas()`); other keywords go to the collection.
+    /// Returns the axes. matplotlib is optional: an `ImportError` saying so
+    /// when it is missing.
+    #[pyo3(signature = (ax=None, color_by="material", **kw))]
+    fn plot<'py>(
+        slf: &Bound<'py, Self>,
+        ax: Option<Bound<'py, PyAny>>,
+        color_by: &str,
+        kw: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        notebook(slf.py(), "plot")?.call((slf, ax, color_by), kw)
+    }
+
+    /// The particles as a pandas DataFrame, one row per particle with the
+    /// columns of `packing.csv` (`id`, `x`, `y`, `r`, the shape columns,
+    /// `material` as a categorical of the materials' names).
+    fn to_pandas<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        notebook(slf.py(), "to_pandas")?.call1((slf,))
+    }
+
+    /// A packing of the disks of a DataFrame (`x`, `y`, `r` and optionally
+    /// `material`, names or indices), in `domain` (a dict shaped like the
+    /// config's `[domain]` table) or `config` (a config, whose domain,
+    /// grading and materials are used); by default the config that
+    /// `to_pandas` recorded in `df.attrs`. Checked and measured as a run's
+    /// packing: overlapping disks or disks outside raise `GapackError`.
+    #[classmethod]
+    #[pyo3(signature = (df, domain=None, *, config=None, seed=None))]
+    fn from_pandas<'py>(
+        cls: &Bound<'py, PyType>,
+        df: Bound<'py, PyAny>,
+        domain: Option<Bound<'py, PyAny>>,
+        config: Option<Bound<'py, PyAny>>,
+        seed: Option<u64>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        notebook(cls.py(), "from_pandas")?.call1((df, domain, config, seed))
+    }
+
+    /// The packing of disks made elsewhere, `x`, `y`, `r` (mm) and their
+    /// `material` indices, against the config `text` (named `origin`) as a
+    /// pack job's: measured, checked and its summary made as a run's.
+    /// `material` holds each disk's index into the config's materials, or
+    /// `material_names` each disk's material by name.
+    #[staticmethod]
+    #[pyo3(signature = (x, y, r, text, origin, seed=None, material=None, material_names=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn _from_arrays(
+        py: Python<'_>,
+        x: PyReadonlyArray1<'_, f64>,
+        y: PyReadonlyArray1<'_, f64>,
+        r: PyReadonlyArray1<'_, f64>,
+        text: &str,
+        origin: &str,
+        seed: Option<u64>,
+        material: Option<PyReadonlyArray1<'_, i64>>,
+        material_names: Option<Vec<String>>,
+    ) -> PyResult<Packing> {
+        let (x, y, r) = (x.as_slice()?, y.as_slice()?, r.as_slice()?);
+        if x.len() != y.len() || x.len() != r.len() {
+            return Err(PyValueError::new_err("x, y and r must have one length"));
+        }
+        let request = Request {
+            seed,
+            ..Request::new(JobKind::Pack)
+        };
+        let mut plan = Plan::load(text, origin, &request).map_err(|e| job_error(py, e))?;
+        if matches!(plan.job, Job::Wells { .. }) {
+            return Err(PyValueError::new_err(
+                "a [fracture] config packs wells, not one domain: give a [domain] table",
+            ));
+        }
+        let known = &plan.config.materials;
+        let count = known.len();
+        let indices: Vec<i64> = match (material, material_names) {
+            (Some(m), _) => m.as_slice()?.to_vec(),
+            (None, Some(names)) => names
+                .iter()
+                .map(|name| {
+                    known
+                        .iter()
+                        .position(|m| &m.name == name)
+                        .map(|i| i as i64)
+                        .ok_or_else(|| {
+                            let all: Vec<&str> = known.iter().map(|m| m.name.as_str()).collect();
+                            PyValueError::new_err(format!(
+                                "material {name:?} is not among the config's materials ({})",
+                                all.join(", ")
+                            ))
+                        })
+                })
+                .collect::<PyResult<_>>()?,
+            (None, None) => Vec::new(),
+        };
+        if !indices.is_empty() && indices.len() != x.len() {
+            return Err(PyValueError::new_err(
+                "material must have the disks' length",
+            ));
+        }
+        let materials = indices
+            .iter()
+            .map(|&i| {
+                u16::try_from(i)
+                    .ok()
+                    .filter(|&i| usize::from(i) < count)
+                    .ok_or_else(|| {
+                        PyValueError::new_err(format!(
+                            "material {i}: the config has {count} materials"
+                        ))
+                    })
+            })
+            .collect::<PyResult<Vec<u16>>>()?;
+        let disks: Vec<Disk> = x
+            .iter()
+            .zip(y)
+            .zip(r)
+            .map(|((&x, &y), &r)| Disk::new(x, y, r))
+            .collect();
+        let mut packed = Packed::of_disks(plan.config.scene.domain.clone(), disks);
+        packed.materials = materials;
+        let mut quiet = plan.clone();
+        quiet.config.output.formats.clear();
+        let (outcome, store) = py
+            .detach(|| {
+                let outcome = Outcome::of_packing(&quiet, packed, &Cancel::new())?;
+                let mut store = MemoryStore::default();
+                jobs::write(&quiet, &outcome, &quiet.config.output, &mut store)?;
+                Ok((outcome, store))
+            })
+            .map_err(|e| job_error(py, e))?;
+        plan.warnings.clear();
+        Packing::new(
+            py,
+            plan,
+            outcome,
+            (text.to_owned(), None),
+            &store,
+            Vec::new(),
+        )
     }
 
     fn __len__(&self, py: Python<'_>) -> usize {

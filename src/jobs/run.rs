@@ -51,6 +51,33 @@ pub struct Outcome {
     pub steps: Vec<StepTime>,
 }
 
+impl Outcome {
+    /// Disks placed elsewhere (a table read back, a packing edited by hand)
+    /// as the outcome of `plan`'s pack job: measured against the plan's
+    /// scene, nothing written yet, no time spent. A front end hands it to
+    /// [`write`] to render a packing it did not make; [`write`] checks it
+    /// first, as it checks every packing.
+    ///
+    /// # Errors
+    /// [`JobError::Cancelled`] once `cancel` is raised.
+    pub fn of_packing(plan: &Plan, packing: Packing, cancel: &Cancel) -> Result<Outcome, JobError> {
+        let metrics = crate::metrics::measure_cancellable(&packing, &plan.config.scene, cancel)?;
+        Ok(Outcome {
+            kind: JobKind::Pack,
+            location: plan.origin.clone(),
+            interrupted: false,
+            files: Vec::new(),
+            notes: Vec::new(),
+            report: Report::Pack {
+                packing,
+                metrics,
+                seconds: 0.0,
+            },
+            steps: Vec::new(),
+        })
+    }
+}
+
 /// One step of a run and the wall-clock seconds it took: how a front end
 /// shows where a long run spends its time.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -540,5 +567,61 @@ mod tests {
         let plain = text.replace(r#","notes":["#, r#","x":["#);
         let read = Manifest::from_bytes(plain.as_bytes()).expect("reads");
         assert!(read.notes.is_empty());
+    }
+
+    /// Disks packed by a run, handed back as a packing made elsewhere,
+    /// measure and write as that run's: the same porosity and count in
+    /// `summary.json`; overlapping disks are refused when written.
+    #[test]
+    fn a_packing_made_elsewhere_is_measured_and_checked_as_a_run() {
+        let text = "seed = 2\n[domain]\nshape = \"rectangle\"\nwidth = 12\nheight = 8\n[grading]\nuniform = [1.0, 2.0]\n";
+        let plan =
+            Plan::load(text, "t.toml", &super::super::Request::new(JobKind::Pack)).expect("plans");
+        let mut quiet = plan.clone();
+        quiet.config.output.formats.clear();
+        let mut store = super::super::MemoryStore::default();
+        let ran = run(
+            &quiet,
+            &mut super::super::Silent,
+            &Cancel::new(),
+            &mut store,
+        )
+        .expect("packs");
+        let Report::Pack {
+            packing, metrics, ..
+        } = &ran.report
+        else {
+            panic!("a pack report")
+        };
+        let again = Packing::of_disks(packing.domain.clone(), packing.disks.clone());
+        let outcome = Outcome::of_packing(&quiet, again, &Cancel::new()).expect("measures");
+        let Report::Pack { metrics: found, .. } = &outcome.report else {
+            panic!("a pack report")
+        };
+        assert_eq!(found.particles, metrics.particles);
+        assert!((found.porosity - metrics.porosity).abs() < 1e-12);
+        let mut out = super::super::MemoryStore::default();
+        write(&quiet, &outcome, &quiet.config.output, &mut out).expect("writes");
+        assert!(out.files.contains_key(crate::output::SUMMARY_JSON));
+        let mut piled = packing.disks.clone();
+        piled.push(piled[0]);
+        let piled = Outcome::of_packing(
+            &quiet,
+            Packing::of_disks(packing.domain.clone(), piled),
+            &Cancel::new(),
+        )
+        .expect("measures");
+        let mut out = super::super::MemoryStore::default();
+        assert!(write(&quiet, &piled, &quiet.config.output, &mut out).is_err());
+        let raised = Cancel::new();
+        raised.cancel();
+        assert!(matches!(
+            Outcome::of_packing(
+                &quiet,
+                Packing::of_disks(packing.domain.clone(), Vec::new()),
+                &raised
+            ),
+            Err(JobError::Cancelled)
+        ));
     }
 }
