@@ -304,10 +304,14 @@ def test_progress_is_a_notebook_widget_in_a_notebook(monkeypatch):
 
 def test_the_version_is_set_in_one_place():
     """The installed distribution's version is the extension's, which is
-    the crate's (python/Cargo.toml): pyproject.toml reads it from there."""
+    the workspace's (Cargo.toml's [workspace.package], inherited by every
+    crate): pyproject.toml reads it from there."""
     from importlib.metadata import version
 
     assert version("gapack") == gapack.__version__
-    cargo = (ROOT / "python" / "Cargo.toml").read_text()
-    assert f'\nversion = "{gapack.__version__}"\n' in cargo
+    workspace = (ROOT / "Cargo.toml").read_text()
+    assert f'[workspace.package]\nversion = "{gapack.__version__}"\n' in workspace
+    for crate in (".", "cli", "serve", "python", "benchmarks"):
+        cargo = (ROOT / crate / "Cargo.toml").read_text()
+        assert "\nversion.workspace = true\n" in cargo, crate
     assert 'dynamic = ["version"]' in (ROOT / "python" / "pyproject.toml").read_text()

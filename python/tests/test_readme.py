@@ -1,7 +1,7 @@
 """The README's "From Python" section runs as written: its Python blocks,
 in order, in one namespace, in a clean folder holding a copy of configs/;
 its shell lines are run elsewhere (tests/integration/readme.rs names where:
-`pip install ./python` by .ci/run, the porosity study by test_examples.py)."""
+the install by .ci/run, from the wheel; the porosity study by test_examples.py)."""
 
 from __future__ import annotations
 

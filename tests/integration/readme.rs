@@ -113,7 +113,7 @@ const ELSEWHERE: &[(&str, &str)] = &[
     ),
     (
         "pip install ./python",
-        "the Python package: .ci/run installs it so, then runs python/tests (test_readme.py runs the README's Python blocks)",
+        "the Python package from the checkout: .ci/run builds the same sources as a wheel, installs it in a fresh virtualenv and runs python/tests against it (test_readme.py runs the README's Python blocks)",
     ),
     (
         "pip install maturin",
@@ -129,11 +129,11 @@ const ELSEWHERE: &[(&str, &str)] = &[
     ),
     (
         "cargo run --release -- completions ",
-        "a redirect to a file: tests/integration/cli_conventions.rs loads the completions in bash",
+        "the completion scripts: tests/integration/cli_conventions.rs loads bash's in bash and checks the others",
     ),
     (
         "cargo run --release -- man ",
-        "a redirect to a file: tests/integration/cli_conventions.rs renders the page with man -l",
+        "the manual: tests/integration/cli_conventions.rs renders it with man -l and writes the pages with --dir",
     ),
     (
         "python3 examples/python/",
