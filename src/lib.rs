@@ -55,10 +55,11 @@ pub use geometry::{
 pub use grading::{
     Basis, Grading, GradingError, Interpolation, THESIS_TABLE_3_1, THESIS_TABLE_3_4,
 };
+pub use metrics::meshless;
 pub use metrics::{
-    AskedFamily, AskedOrientation, Fabric, Figures, Metrics, PorosityMap, ShapeAsked, ShapeStats,
-    Zone, enclosing_radius, grading_sizes, inscribed_radius, long_axis, mean_sd, measure, porosity,
-    porosity_map, psd_ks, roundness, shape_stats, solid_area, sphericity, zones,
+    AskedFamily, AskedOrientation, Fabric, Figures, H6Stats, Metrics, PorosityMap, ShapeAsked,
+    ShapeStats, Zone, enclosing_radius, grading_sizes, inscribed_radius, long_axis, mean_sd,
+    measure, porosity, porosity_map, psd_ks, roundness, shape_stats, solid_area, sphericity, zones,
 };
 pub use packer::index::{Grid, MxQuadtree, SpatialIndex};
 pub use packer::strips;

@@ -297,6 +297,7 @@ pub(crate) struct RawOutput {
     pub clump_max_disks: Option<Spanned<i64>>,
     pub colour: Option<Spanned<String>>,
     pub vtp_compression: Option<Spanned<String>>,
+    pub per_particle: Option<Spanned<Vec<Spanned<String>>>>,
 }
 
 /// `[compare]`: the methods `gapack compare` runs, and how many seeds.

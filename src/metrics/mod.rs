@@ -14,6 +14,7 @@ mod bands;
 mod contacts;
 mod grading;
 mod grains;
+pub mod meshless;
 pub(crate) mod near;
 mod porosity_map;
 mod shapes;
@@ -23,6 +24,7 @@ pub use bands::{Zone, zones};
 pub use contacts::coordination;
 pub(crate) use contacts::visit_near;
 pub use grading::{Blend, curve_diameters, grading_sizes, psd_ks, psd_ks_blend, psd_ks_by_curve};
+pub use meshless::H6Stats;
 pub use porosity_map::{PorosityMap, porosity_map};
 pub use shapes::{
     AskedFamily, AskedOrientation, Fabric, Figures, ShapeAsked, ShapeStats, enclosing_radius,
@@ -101,6 +103,12 @@ pub struct Metrics {
     /// are not disks, a certified empty circle: its radius is the least
     /// lower bound of the GJK distances from its centre.
     pub largest_hole: f64,
+    /// The distribution of h6 / d: each particle's meshless support size
+    /// (the distance from its centre to its 6th nearest neighbour's, the
+    /// minimum image in a periodic cell) over its own diameter
+    /// (area-equivalent for particles that are not disks), with the h5 and
+    /// h7 means ([`meshless`]); `None` with fewer than 7 particles.
+    pub h6_over_d: Option<H6Stats>,
     /// The particles' shapes, when they are not disks ([`Packing::grains`]);
     /// `None` for disks. Not in this struct's own JSON: `summary.json`
     /// records it as its `particle_shape` object.
@@ -247,6 +255,7 @@ pub fn measure_cancellable(
         settler: (usize::MAX, Vector2::zeros()),
     };
     let largest_hole = largest_hole_of_disks(packing, clear, scene.d_min(), cancel)?;
+    let h6_over_d = meshless::h6_stats_with(domain, &all, &near, nb, cancel)?;
     Ok(Metrics {
         particles: n,
         domain_area,
@@ -266,6 +275,7 @@ pub fn measure_cancellable(
         local_windows,
         local_windows_clipped,
         largest_hole,
+        h6_over_d,
         shapes: None,
     })
 }
@@ -299,6 +309,9 @@ fn measure_grains(packing: &Packing, scene: &Scene, cancel: &Cancel) -> Result<M
     let mut clear = voids::GrainClearance::new(packing, &mut memo);
     let largest_hole = largest_hole(packing, &mut clear, scene.d_min(), cancel)?;
     let stats = shapes::stats_for(&packing.grains, scene.shape.as_ref(), &mut memo);
+    // The particles' centres and area-equivalent radii, indexed as disks.
+    let near = ByRadius::new(disks, 0..disks.len());
+    let h6_over_d = meshless::h6_stats_with(&packing.domain, disks, &near, 0, cancel)?;
     let n = disks.len();
     Ok(Metrics {
         particles: n,
@@ -314,6 +327,7 @@ fn measure_grains(packing: &Packing, scene: &Scene, cancel: &Cancel) -> Result<M
         local_windows,
         local_windows_clipped,
         largest_hole,
+        h6_over_d,
         shapes: stats,
     })
 }

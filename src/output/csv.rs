@@ -15,6 +15,7 @@ use crate::ga::Generation;
 use crate::geometry::{Grain, Outline};
 use crate::layering::{Material, ProfileRow};
 use crate::metrics::ShapeStats;
+use crate::output::format::ParticleColumn;
 use crate::packer::Packing;
 use crate::stability::{StabilityRun, Status};
 
@@ -483,6 +484,11 @@ pub(crate) fn vertex_list(vertices: &[crate::geometry::Point]) -> String {
 /// particle's own axes as `x1 y1;x2 y2;…`, counter-clockwise about the
 /// centroid); `material` comes last as for disks.
 ///
+/// The per-particle `columns` (`[output] per_particle`, e.g. `h6`) come
+/// last, after `material`, in their order: a reader of the table without
+/// them finds its columns where they were, and without them the table is
+/// as it was. NaN is written `NaN`.
+///
 /// Numbers use Rust's shortest round-trip formatting, so they read back
 /// exactly and the same packing always gives the same bytes.
 ///
@@ -496,6 +502,7 @@ pub(crate) fn vertex_list(vertices: &[crate::geometry::Point]) -> String {
 pub fn write_packing_csv(
     packing: &Packing,
     materials: &[Material],
+    columns: &[ParticleColumn],
     out: &mut dyn Write,
 ) -> io::Result<()> {
     let named = !materials.is_empty();
@@ -507,6 +514,7 @@ pub fn write_packing_csv(
     if named {
         header.push("material");
     }
+    header.extend(columns.iter().map(|c| c.name));
     out.write_all(header.join(",").as_bytes())?;
     out.write_all(b"\n")?;
     // Each material's cell, quoted as CSV needs, once.
@@ -514,6 +522,7 @@ pub fn write_packing_csv(
         .iter()
         .map(|m| csv_cell(&m.name))
         .collect::<io::Result<Vec<_>>>()?;
+    // The row's end: its material, its per-particle columns, the newline.
     let material = |id: usize, buf: &mut Vec<u8>| {
         if named {
             let m = packing.materials.get(id).map_or(0, |&m| usize::from(m));
@@ -521,6 +530,10 @@ pub fn write_packing_csv(
             if let Some(name) = names.get(m) {
                 buf.extend_from_slice(name);
             }
+        }
+        for c in columns {
+            buf.push(b',');
+            push_f64(buf, c.at(id));
         }
         buf.push(b'\n');
     };
@@ -649,7 +662,7 @@ mod tests {
             )
         };
         let mut bytes = Vec::new();
-        write_packing_csv(&packing, &[], &mut bytes).expect("csv");
+        write_packing_csv(&packing, &[], &[], &mut bytes).expect("csv");
         let text = String::from_utf8(bytes).expect("utf-8");
         assert_eq!(
             text,
@@ -661,6 +674,53 @@ mod tests {
             .and_then(|l| l.split(',').nth(1))
             .map_or(0.0, |v| v.parse().unwrap_or(0.0));
         assert_eq!(x, 0.1 + 0.2);
+    }
+
+    #[test]
+    fn per_particle_columns_come_last_and_leave_the_rest_unchanged() {
+        let material = Material {
+            name: "sand, fine".to_owned(),
+            properties: Vec::new(),
+        };
+        for kind in [0, 3] {
+            let packing = random_packing(9, kind, 300);
+            let n = packing.disks.len();
+            let mut values: Vec<f64> = (0..n).map(|i| i as f64 * 0.1 + 1e-7).collect();
+            values[0] = f64::NAN;
+            let columns = [
+                ParticleColumn {
+                    name: "h6",
+                    values: values.clone(),
+                },
+                ParticleColumn {
+                    name: "extra",
+                    values: vec![2.5; n],
+                },
+            ];
+            let materials = std::slice::from_ref(&material);
+            let (mut plain, mut with) = (Vec::new(), Vec::new());
+            write_packing_csv(&packing, materials, &[], &mut plain).expect("plain");
+            write_packing_csv(&packing, materials, &columns, &mut with).expect("with");
+            let (plain, with) = (
+                String::from_utf8(plain).expect("utf-8"),
+                String::from_utf8(with).expect("utf-8"),
+            );
+            assert_eq!(plain.lines().count(), with.lines().count());
+            for (k, (a, b)) in plain.lines().zip(with.lines()).enumerate() {
+                let end = if k == 0 {
+                    ",h6,extra".to_owned()
+                } else {
+                    let v = values[k - 1];
+                    let cell = if v.is_nan() {
+                        "NaN".to_owned()
+                    } else {
+                        v.to_string()
+                    };
+                    format!(",{cell},2.5")
+                };
+                assert_eq!(b, format!("{a}{end}"), "kind {kind}, line {k}");
+            }
+        }
     }
 
     /// A random packing: disks, superellipses, rounded polygons or both,
@@ -747,7 +807,7 @@ mod tests {
                     let mut old = Vec::new();
                     write_packing_csv_display(&packing, materials, &mut old).expect("old");
                     let mut new = Vec::new();
-                    pool.install(|| write_packing_csv(&packing, materials, &mut new))
+                    pool.install(|| write_packing_csv(&packing, materials, &[], &mut new))
                         .expect("new");
                     let (old, new) = (
                         String::from_utf8(old).expect("utf-8"),

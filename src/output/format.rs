@@ -142,6 +142,56 @@ impl ConfigName for VtpCompression {
     }
 }
 
+/// A per-particle figure `[output] per_particle` adds to `packing.csv`
+/// (a last column), `packing.vtp` (a point array) and `packing.npz` (an
+/// array), each under its config name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PerParticle {
+    /// The meshless support size h6 (mm): the distance from the particle's
+    /// centre to its 6th nearest neighbour's ([`crate::meshless::h6`]).
+    H6,
+}
+
+/// The names `[output] per_particle` takes.
+pub(crate) const PER_PARTICLE: Names<PerParticle> = Names {
+    what: "per-particle column",
+    entries: &[("h6", PerParticle::H6)],
+};
+
+impl ConfigName for PerParticle {
+    fn config_name(&self) -> &'static str {
+        PER_PARTICLE.name_of(*self)
+    }
+}
+
+/// A per-particle column a run adds to its tables: its name and one value
+/// per packed particle, in placement order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParticleColumn {
+    /// Its name: the header of `packing.csv`, the array's name elsewhere.
+    pub name: &'static str,
+    /// One value per packed particle.
+    pub values: Vec<f64>,
+}
+
+impl ParticleColumn {
+    /// The column `what` of `packing`.
+    pub fn of(what: PerParticle, packing: &crate::Packing) -> Self {
+        let values = match what {
+            PerParticle::H6 => crate::meshless::h6(packing),
+        };
+        ParticleColumn {
+            name: what.config_name(),
+            values,
+        }
+    }
+
+    /// Value `i`, NaN beyond the values.
+    pub(crate) fn at(&self, i: usize) -> f64 {
+        self.values.get(i).copied().unwrap_or(f64::NAN)
+    }
+}
+
 /// Settings shared by the DEM exports.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ExportOptions {
@@ -215,6 +265,9 @@ pub struct OutputSettings {
     pub colour: Option<Colouring>,
     /// How `packing.vtp` stores its arrays (`vtp_compression`).
     pub vtp_compression: VtpCompression,
+    /// Per-particle figures added to `packing.csv`, `.vtp` and `.npz`
+    /// (`per_particle`), each once, in config order; none by default.
+    pub per_particle: Vec<PerParticle>,
 }
 
 impl OutputSettings {
@@ -232,6 +285,7 @@ impl Default for OutputSettings {
             export: ExportOptions::default(),
             colour: None,
             vtp_compression: VtpCompression::None,
+            per_particle: Vec::new(),
         }
     }
 }

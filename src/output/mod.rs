@@ -28,9 +28,13 @@ pub use export::{
 pub use export::{
     boundary_vtk, esys_geometry, lammps_clumps_data, lammps_data, liggghts_clumps_data,
     mercury_data, packing_json, packing_vtk, pfc_commands, superquadric_data, superquadric_input,
-    write_packing_npz, write_packing_vtp, write_packing_vtp_with, yade_script, yade_text,
+    write_packing_npz, write_packing_npz_with, write_packing_vtp, write_packing_vtp_with,
+    yade_script, yade_text,
 };
-pub use format::{ClumpOptions, ExportOptions, Format, LengthUnit, OutputSettings, VtpCompression};
+pub use format::{
+    ClumpOptions, ExportOptions, Format, LengthUnit, OutputSettings, ParticleColumn, PerParticle,
+    VtpCompression,
+};
 pub use json::{
     FractureSummary, LayeringDetails, LayeringSummary, OptimiseSummary, SUMMARY_JSON, SearchWindow,
     ShapeFound, WindowSummary, summary_json,
@@ -51,7 +55,7 @@ pub(crate) use csv::{
     WellRow, WellShape, wells_csv,
 };
 pub(crate) use export::PACKING_JSON;
-pub(crate) use format::{FORMATS, UNITS, VTP_COMPRESSIONS};
+pub(crate) use format::{FORMATS, PER_PARTICLE, UNITS, VTP_COMPRESSIONS};
 pub(crate) use plot::{
     COLOURINGS, PACKING_PNG, POROSITY_MAP_PNG, POROSITY_MAP_SVG, PSD_PNG, PSD_SVG, variant_label,
 };

@@ -900,7 +900,7 @@ mod tests {
             ..Packing::of_disks(Domain::rectangle(10.0, 10.0).expect("valid"), disks)
         };
         let mut bytes = Vec::new();
-        write_packing_csv(&packing, &[], &mut bytes).expect("csv");
+        write_packing_csv(&packing, &[], &[], &mut bytes).expect("csv");
         let text = String::from_utf8(bytes).expect("utf-8");
         assert!(text.starts_with("id,x,y,r,angle,a,b,alpha,beta,template,rounding,vertices\n"));
         assert!(

@@ -17,10 +17,10 @@ use super::export::{
     SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, YADE_SCRIPT, YADE_TEXT, boundary_vtk,
     esys_geometry_writer, lammps_clumps_data_writer, lammps_data_writer,
     liggghts_clumps_data_writer, mercury_data_writer, packing_json_writer, packing_vtk_writer,
-    pfc_commands_writer, superquadric_data_writer, superquadric_input_writer, write_packing_npz,
-    write_packing_vtp_with, yade_script_writer, yade_text_writer,
+    pfc_commands_writer, superquadric_data_writer, superquadric_input_writer,
+    write_packing_npz_with, write_packing_vtp_with, yade_script_writer, yade_text_writer,
 };
-use super::format::{Format, OutputSettings};
+use super::format::{Format, OutputSettings, ParticleColumn};
 use super::json::{FractureSummary, LayeringSummary, OptimiseSummary, SUMMARY_JSON, summary_json};
 use super::plot::{
     Asked, AskedShape, ORIENTATION_PNG, ORIENTATION_SVG, SHAPE_PNG, SHAPE_SVG, orientation_rose,
@@ -247,6 +247,8 @@ pub(crate) fn render_outputs(
 /// held in memory. Those files are checked here, before any is written
 /// (an unknown material, particles a format does not take), so that a
 /// stream can only fail to write. The others are made, on all cores.
+/// The columns of `[output] per_particle` are computed here, once, for
+/// the tables that carry them.
 ///
 /// # Errors
 /// [`OutputError::Invalid`] when the packing fails the check, or another
@@ -262,9 +264,20 @@ pub fn render_output_bodies<'a>(
     let opts = &out.export;
     let mut tasks = Tasks::new(out);
     tasks.add(SUMMARY_JSON, || summary_json(packing, metrics, run));
+    // `[output] per_particle`: computed once, shared by the tables.
+    let tables = [Format::Csv, Format::Vtp, Format::Npz];
+    let columns: Arc<[ParticleColumn]> = if tables.iter().any(|&f| out.wants(f)) {
+        out.per_particle
+            .iter()
+            .map(|&what| ParticleColumn::of(what, packing))
+            .collect()
+    } else {
+        Arc::new([])
+    };
     if out.wants(Format::Csv) {
+        let columns = Arc::clone(&columns);
         tasks.stream(PACKING_CSV, move |w| {
-            write_packing_csv(packing, materials, w)
+            write_packing_csv(packing, materials, &columns, w)
         });
     }
     if out.wants(Format::Json) {
@@ -276,13 +289,15 @@ pub fn render_output_bodies<'a>(
     }
     if out.wants(Format::Vtp) {
         let compression = out.vtp_compression;
+        let columns = Arc::clone(&columns);
         tasks.stream(PACKING_VTP, move |w| {
-            write_packing_vtp_with(packing, materials, compression, w)
+            write_packing_vtp_with(packing, materials, compression, &columns, w)
         });
     }
     if out.wants(Format::Npz) {
+        let columns = Arc::clone(&columns);
         tasks.stream(PACKING_NPZ, move |w| {
-            write_packing_npz(packing, materials, w)
+            write_packing_npz_with(packing, materials, &columns, w)
         });
     }
     if out.wants(Format::Lammps) {

@@ -354,6 +354,12 @@ fn check_run(out: &Path, names: &[&str]) {
         })
         .collect();
     let material = materials(&csv, names);
+    // `[output] per_particle`: float64 columns after `material`.
+    let extra: Vec<(&str, Values)> = ["h6"]
+        .into_iter()
+        .filter(|c| csv.has(c))
+        .map(|c| (c, f8(csv.f64_bits(c))))
+        .collect();
 
     let (points, vtp) = read_vtp(&out.join("packing.vtp"));
     assert_eq!(points, n);
@@ -383,7 +389,7 @@ fn check_run(out: &Path, names: &[&str]) {
     assert_eq!(*get("connectivity"), int64(ids.clone()));
     assert_eq!(*get("offsets"), int64(ids.iter().map(|i| i + 1).collect()));
     assert_eq!(*get("material"), i4(material.clone()));
-    for (name, values) in &shapes {
+    for (name, values) in shapes.iter().chain(&extra) {
         assert_eq!(get(name), values, "vtp {name}");
     }
     let mut expected = vec![
@@ -394,7 +400,7 @@ fn check_run(out: &Path, names: &[&str]) {
         "offsets",
         "radius",
     ];
-    expected.extend(shapes.iter().map(|(c, _)| *c));
+    expected.extend(shapes.iter().chain(&extra).map(|(c, _)| *c));
     expected.sort_unstable();
     assert_eq!(vtp.keys().map(String::as_str).collect::<Vec<_>>(), expected);
 
@@ -402,6 +408,7 @@ fn check_run(out: &Path, names: &[&str]) {
     let mut want = vec![("x", f8(x)), ("y", f8(y)), ("r", f8(csv.f64_bits("r")))];
     want.extend(shapes);
     want.push(("material", i4(material)));
+    want.extend(extra);
     let got: Vec<(&str, &Values)> = npz.iter().map(|(k, v)| (k.as_str(), v)).collect();
     let want: Vec<(&str, &Values)> = want.iter().map(|(k, v)| (*k, v)).collect();
     assert_eq!(got, want);
@@ -518,4 +525,46 @@ fn material_indices_follow_the_config() {
         used.contains(&0) && used.contains(&1),
         "both materials packed"
     );
+}
+
+/// `per_particle = ["h6"]`: the last column of `packing.csv`, the rest of
+/// the table as without it byte for byte, the same values in `packing.vtp`
+/// and `packing.npz` (by [`check_run`]), each the distance to the 6th
+/// nearest centre of the table, for disks and for superellipses.
+#[test]
+fn h6_is_the_last_column_and_the_sixth_nearest_centre() {
+    let disks = "seed = 4\n[domain]\nshape = \"rectangle\"\nwidth = 16\nheight = 12\n\
+                 [grading]\nuniform = [0.6, 1.4]\n";
+    let shapes = "seed = 6\n[domain]\nshape = \"rectangle\"\nwidth = 14\nheight = 10\n\
+                  [grading]\nuniform = [1.0, 1.6]\n\
+                  [shape]\nkind = \"superellipse\"\naspect = [1.2, 2.0]\norientation = \"random\"\n";
+    for (name, config) in [("h6-disks", disks), ("h6-shapes", shapes)] {
+        let plain = run_and_check(&format!("{name}-plain"), "pack", config, &[]);
+        let with = run_and_check_with(name, "pack", config, &[], "per_particle = [\"h6\"]\n");
+        assert!(!plain.has("h6"));
+        assert_eq!(with.header.last().map(String::as_str), Some("h6"));
+        assert_eq!(with.header[..with.header.len() - 1], plain.header[..]);
+        for (a, b) in plain.rows.iter().zip(&with.rows) {
+            assert_eq!(b[..b.len() - 1], a[..]);
+        }
+        let (x, y) = (with.f64_bits("x"), with.f64_bits("y"));
+        let c: Vec<(f64, f64)> = x
+            .iter()
+            .zip(&y)
+            .map(|(&x, &y)| (f64::from_bits(x), f64::from_bits(y)))
+            .collect();
+        for (i, h6) in with.f64_bits("h6").into_iter().enumerate() {
+            let mut d: Vec<f64> = (0..c.len())
+                .filter(|&j| j != i)
+                .map(|j| ((c[i].0 - c[j].0).powi(2) + (c[i].1 - c[j].1).powi(2)).sqrt())
+                .collect();
+            d.sort_by(f64::total_cmp);
+            let h6 = f64::from_bits(h6);
+            assert!(
+                (h6 - d[5]).abs() <= 1e-12 * d[5],
+                "{name}, particle {i}: {h6} against {}",
+                d[5]
+            );
+        }
+    }
 }

@@ -404,3 +404,114 @@ fn strips_give_the_same_packing_on_any_number_of_threads() {
         .collect();
     assert_ne!(whole, one);
 }
+
+/// The `k`-th smallest centre distance from each particle to the others, by
+/// every pair: in a periodic cell the least over the images one period
+/// each way (the minimum image), computed as the library does, so that
+/// the two agree bit for bit.
+fn kth_by_every_pair(packing: &gapack::Packing, k: usize) -> Vec<f64> {
+    let disks = &packing.disks;
+    let (lo, hi) = packing.domain.bounds();
+    // A domain with walls: the zero shift alone.
+    let shifts: Vec<_> = match packing.domain.period() {
+        Some(p) => packing.domain.image_shifts(lo - p, hi + p).collect(),
+        None => packing.domain.image_shifts(lo, hi).collect(),
+    };
+    (0..disks.len())
+        .map(|i| {
+            let mut d: Vec<f64> = (0..disks.len())
+                .filter(|&j| j != i)
+                .map(|j| {
+                    shifts
+                        .iter()
+                        .map(|&v| {
+                            let c = disks[j].c;
+                            let at = if v.x == 0.0 && v.y == 0.0 { c } else { c + v };
+                            (disks[i].c - at).norm()
+                        })
+                        .fold(f64::INFINITY, f64::min)
+                })
+                .collect();
+            d.sort_by(f64::total_cmp);
+            k.checked_sub(1)
+                .and_then(|m| d.get(m).copied())
+                .unwrap_or(f64::NAN)
+        })
+        .collect()
+}
+
+/// A packing for the k-nearest test: a real one (a small scene packed,
+/// with walls or in a periodic cell), or disks dropped at random
+/// (overlapping, clustered or sparse, as few as one).
+fn knn_packing_strategy() -> impl Strategy<Value = gapack::Packing> {
+    prop_oneof![
+        (
+            6.0..25.0f64,
+            6.0..25.0f64,
+            0.3..1.0f64,
+            1.0..4.0f64,
+            any::<bool>(),
+            any::<u64>()
+        )
+            .prop_map(|(w, h, d, spread, periodic, seed)| {
+                let walls = if periodic {
+                    WallMode::Periodic
+                } else {
+                    WallMode::Disks
+                };
+                let grading = Grading::uniform(d, d * spread, Default::default()).unwrap();
+                pack(&common::scene(
+                    Domain::rectangle(w, h).unwrap(),
+                    grading,
+                    walls,
+                    seed,
+                ))
+                .unwrap()
+            }),
+        (
+            1usize..250,
+            0.5..30.0f64,
+            0.5..30.0f64,
+            any::<bool>(),
+            any::<u64>()
+        )
+            .prop_map(|(n, w, h, periodic, seed)| {
+                let domain = if periodic {
+                    Domain::periodic_rectangle(w, h).unwrap()
+                } else {
+                    Domain::rectangle(w, h).unwrap()
+                };
+                let disks = (0..n)
+                    .map(|i| {
+                        gapack::Disk::new(
+                            w * frac(seed, 3 * i),
+                            h * frac(seed, 3 * i + 1),
+                            0.01 + 0.5 * frac(seed, 3 * i + 2),
+                        )
+                    })
+                    .collect();
+                gapack::Packing::of_disks(domain, disks)
+            }),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 96, rng_seed: rng_seed(), ..ProptestConfig::default() })]
+
+    /// h5, h6 and h7 (and the first and a far neighbour) are the k-th
+    /// smallest distances of every pair, to the bit, wall disks excluded,
+    /// minimum images in a periodic cell; NaN with k particles or fewer.
+    #[test]
+    fn hk_is_the_brute_force_kth_nearest(packing in knn_packing_strategy()) {
+        for k in [1, 5, 6, 7, 12] {
+            let fast = gapack::meshless::hk(&packing, k);
+            let slow = kth_by_every_pair(&packing, k);
+            prop_assert_eq!(fast.len(), packing.disks.len());
+            for (i, (a, b)) in fast.iter().zip(&slow).enumerate() {
+                prop_assert_eq!(a.to_bits(), b.to_bits(), "k {}, particle {}: {} against {}", k, i, a, b);
+            }
+        }
+        let h6 = gapack::meshless::h6(&packing);
+        prop_assert_eq!(h6.iter().filter(|v| v.is_nan()).count(), if packing.disks.len() < 7 { packing.disks.len() } else { 0 });
+    }
+}

@@ -195,3 +195,51 @@ fn output_colour_is_taken_when_it_applies() {
         );
     }
 }
+
+/// `per_particle`: known names, each once, and only where a table holds
+/// them; none by default.
+#[test]
+fn output_per_particle_is_read_and_checked() {
+    let plain = parse(&rect("width = 20\nheight = 30", ""), "t.toml").unwrap();
+    assert!(plain.output.per_particle.is_empty());
+    let config = parse(
+        &rect(
+            "width = 20\nheight = 30",
+            "[output]\nper_particle = [\"h6\"]",
+        ),
+        "t.toml",
+    )
+    .unwrap();
+    assert_eq!(config.output.per_particle, [crate::output::PerParticle::H6]);
+    fails_with(
+        &rect(
+            "width = 20\nheight = 30",
+            "[output]\nper_particle = [\"h6\", \"h7\"]",
+        ),
+        "t.toml:8:23: output.per_particle[1]: unknown per-particle column \"h7\"; valid: h6",
+    );
+    fails_with(
+        &rect(
+            "width = 20\nheight = 30",
+            "[output]\nper_particle = [\"h6\", \"h6\"]",
+        ),
+        "t.toml:8:23: output.per_particle[1]: \"h6\" is given twice",
+    );
+    fails_with(
+        &rect(
+            "width = 20\nheight = 30",
+            "[output]\nformats = [\"vtk\"]\nper_particle = [\"h6\"]",
+        ),
+        "t.toml:9:16: output.per_particle: the columns go into packing.csv, packing.vtp and packing.npz, and formats asks for none of them: add \"csv\", \"vtp\" or \"npz\" to formats",
+    );
+    // An empty list asks for nothing, whatever the formats.
+    let none = parse(
+        &rect(
+            "width = 20\nheight = 30",
+            "[output]\nformats = []\nper_particle = []",
+        ),
+        "t.toml",
+    )
+    .unwrap();
+    assert!(none.output.per_particle.is_empty());
+}

@@ -1,13 +1,16 @@
 //! `[output]`: the directory, known format names given once, the export
-//! settings, the pictures' colouring, the compression of `packing.vtp`.
+//! settings, the pictures' colouring, the compression of `packing.vtp`,
+//! the per-particle columns added to the tables.
 
 use toml::Spanned;
 
 use super::Validator;
 use crate::config::error::ConfigError;
 use crate::config::raw::{RawOutput, Table};
+use crate::names::Names;
 use crate::output::{
-    COLOURINGS, ClumpOptions, Colouring, FORMATS, OutputSettings, UNITS, VTP_COMPRESSIONS,
+    COLOURINGS, ClumpOptions, Colouring, FORMATS, Format, OutputSettings, PER_PARTICLE, UNITS,
+    VTP_COMPRESSIONS,
 };
 
 impl Validator<'_> {
@@ -38,29 +41,19 @@ impl Validator<'_> {
             settings.dir = Some(dir.get_ref().clone());
         }
         if let Some(formats) = &o.formats {
-            let mut out = Vec::new();
-            for (i, name) in formats.get_ref().iter().enumerate() {
-                let key = format!("output.formats[{i}]");
-                let format =
-                    FORMATS
-                        .get(name.get_ref())
-                        .ok_or_else(|| ConfigError::UnknownName {
-                            at: self.at(&name.span()),
-                            key: key.clone(),
-                            what: FORMATS.what,
-                            given: format!("{:?}", name.get_ref()),
-                            valid: FORMATS.valid(),
-                        })?;
-                if out.contains(&format) {
-                    return Err(ConfigError::NotApplicable {
-                        at: self.at(&name.span()),
-                        key,
-                        reason: format!("{:?} is given twice", name.get_ref()),
-                    });
-                }
-                out.push(format);
+            settings.formats = self.names_once(&FORMATS, "output.formats", formats)?;
+        }
+        if let Some(columns) = &o.per_particle {
+            settings.per_particle =
+                self.names_once(&PER_PARTICLE, "output.per_particle", columns)?;
+            let tables = [Format::Csv, Format::Vtp, Format::Npz];
+            if !settings.per_particle.is_empty() && !tables.iter().any(|&f| settings.wants(f)) {
+                return Err(ConfigError::NotApplicable {
+                    at: self.at(&columns.span()),
+                    key: "output.per_particle".to_owned(),
+                    reason: "the columns go into packing.csv, packing.vtp and packing.npz, and formats asks for none of them: add \"csv\", \"vtp\" or \"npz\" to formats".to_owned(),
+                });
             }
-            settings.formats = out;
         }
         if let Some(v) = &o.density {
             settings.export.density = self.positive("output.density", v)?;
@@ -108,5 +101,38 @@ impl Validator<'_> {
             settings.colour = Some(colour);
         }
         Ok(settings)
+    }
+
+    /// The values of the array `key`, each a name of `names` given once,
+    /// in order; an unknown or repeated name is refused at its place
+    /// (`key[i]`).
+    fn names_once<T: Copy + PartialEq>(
+        &self,
+        names: &Names<T>,
+        key: &str,
+        given: &Spanned<Vec<Spanned<String>>>,
+    ) -> Result<Vec<T>, ConfigError> {
+        let mut out = Vec::new();
+        for (i, name) in given.get_ref().iter().enumerate() {
+            let key = format!("{key}[{i}]");
+            let value = names
+                .get(name.get_ref())
+                .ok_or_else(|| ConfigError::UnknownName {
+                    at: self.at(&name.span()),
+                    key: key.clone(),
+                    what: names.what,
+                    given: format!("{:?}", name.get_ref()),
+                    valid: names.valid(),
+                })?;
+            if out.contains(&value) {
+                return Err(ConfigError::NotApplicable {
+                    at: self.at(&name.span()),
+                    key,
+                    reason: format!("{:?} is given twice", name.get_ref()),
+                });
+            }
+            out.push(value);
+        }
+        Ok(out)
     }
 }

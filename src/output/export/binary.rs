@@ -8,6 +8,7 @@ use std::io::{self, Write};
 use crate::geometry::{Grain, Outline};
 use crate::layering::Material;
 use crate::output::csv::GrainColumns;
+use crate::output::format::ParticleColumn;
 use crate::packer::Packing;
 
 /// Values per chunk: the buffer an array is formatted into before it is
@@ -202,6 +203,14 @@ pub(super) fn shape_arrays(packing: &Packing) -> Vec<Array<'_>> {
         }));
     }
     arrays
+}
+
+/// The per-particle `columns` of `[output] per_particle`, as float64
+/// arrays under their names.
+pub(super) fn extra_arrays(columns: &[ParticleColumn]) -> impl Iterator<Item = Array<'_>> {
+    columns
+        .iter()
+        .map(|c| Array::f64(c.name, c.values.len(), |i| c.at(i)))
 }
 
 /// The per-particle columns: `x`, `y`, `r` (mm; for particles that are

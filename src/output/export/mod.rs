@@ -33,7 +33,7 @@ pub use liggghts::{SUPERQUADRIC_DATA, SUPERQUADRIC_INPUT, superquadric_data, sup
 pub(crate) use liggghts::{superquadric_data_writer, superquadric_input_writer};
 pub(crate) use mercury::mercury_data_writer;
 pub use mercury::{MERCURY_DATA, mercury_data};
-pub use npz::{PACKING_NPZ, write_packing_npz};
+pub use npz::{PACKING_NPZ, write_packing_npz, write_packing_npz_with};
 pub(crate) use pfc::pfc_commands_writer;
 pub use pfc::{PFC_COMMANDS, pfc_commands};
 pub(crate) use vtk::packing_vtk_writer;

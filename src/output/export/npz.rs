@@ -3,8 +3,9 @@
 
 use std::io::{self, Write};
 
-use super::binary::{Array, columns};
+use super::binary::{Array, columns as packing_columns, extra_arrays};
 use crate::layering::Material;
+use crate::output::format::ParticleColumn;
 use crate::packer::Packing;
 
 /// File name of the packing as numpy arrays.
@@ -47,7 +48,24 @@ pub fn write_packing_npz(
     materials: &[Material],
     out: &mut dyn Write,
 ) -> io::Result<()> {
-    write_npz(&columns(packing, materials), ZIP32_MAX, out)
+    write_packing_npz_with(packing, materials, &[], out)
+}
+
+/// [`write_packing_npz`] with the per-particle `columns` (`[output]
+/// per_particle`) as float64 arrays after `material`, in their order
+/// (`h6.npy`).
+///
+/// # Errors
+/// The I/O error of `out`.
+pub fn write_packing_npz_with(
+    packing: &Packing,
+    materials: &[Material],
+    columns: &[ParticleColumn],
+    out: &mut dyn Write,
+) -> io::Result<()> {
+    let mut arrays = packing_columns(packing, materials);
+    arrays.extend(extra_arrays(columns));
+    write_npz(&arrays, ZIP32_MAX, out)
 }
 
 /// One entry as the central directory lists it.

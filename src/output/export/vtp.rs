@@ -6,10 +6,11 @@ use std::io::{self, Write};
 
 use rayon::prelude::*;
 
-use super::binary::{Array, Kind, material, shape_arrays};
+use super::binary::{Array, Kind, extra_arrays, material, shape_arrays};
 use super::common::VERSION;
 use crate::layering::Material;
 use crate::output::digits::write_blocks;
+use crate::output::format::ParticleColumn;
 use crate::output::format::VtpCompression;
 use crate::packer::Packing;
 
@@ -44,10 +45,12 @@ pub fn write_packing_vtp(
     materials: &[Material],
     out: &mut dyn Write,
 ) -> io::Result<()> {
-    write_packing_vtp_with(packing, materials, VtpCompression::None, out)
+    write_packing_vtp_with(packing, materials, VtpCompression::None, &[], out)
 }
 
-/// [`write_packing_vtp`], the arrays stored as `compression` asks.
+/// [`write_packing_vtp`], the arrays stored as `compression` asks, with
+/// the per-particle `columns` (`[output] per_particle`) as Float64 point
+/// data after `id`, in their order.
 ///
 /// With [`VtpCompression::Zlib`] the file is as VTK's own writer makes it
 /// with `vtkZLibDataCompressor`: the `VTKFile` element names the
@@ -70,6 +73,7 @@ pub fn write_packing_vtp_with(
     packing: &Packing,
     materials: &[Material],
     compression: VtpCompression,
+    columns: &[ParticleColumn],
     out: &mut dyn Write,
 ) -> io::Result<()> {
     let disks = &packing.disks;
@@ -80,6 +84,7 @@ pub fn write_packing_vtp_with(
     point_data.extend(shape_arrays(packing));
     point_data.push(material(packing, materials));
     point_data.push(Array::new("id", Kind::I64, 1, n, index(0)));
+    point_data.extend(extra_arrays(columns));
     let points = Array::new("Points", Kind::F64, 3, n, |i, buf| {
         for v in [disks[i].c.x, disks[i].c.y, 0.0] {
             buf.extend_from_slice(&v.to_le_bytes());
