@@ -445,6 +445,23 @@ impl Packing {
         Ok(PyBytes::new(py, &png))
     }
 
+    /// The meshless support size of each particle (mm, in the order of
+    /// `x`): the distance from its centre to its `k`-th nearest
+    /// neighbour's centre, h6 by default, as `[output] per_particle =
+    /// ["h6"]` writes it; found with the measures' own neighbour index,
+    /// periodic images counted once. NaN for every particle of a packing
+    /// of `k` particles or fewer.
+    #[pyo3(signature = (k=6))]
+    fn h6<'py>(&self, py: Python<'py>, k: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let mut outcome = self.whole(py)?;
+        let Some(packed) = packed_mut(&mut outcome.report) else {
+            return Err(gapack_error(py, "the job returned no packing"));
+        };
+        let packed = &*packed;
+        let h = py.detach(|| gapack::meshless::hk(packed, k));
+        Ok(PyArray1::from_vec(py, h))
+    }
+
     /// The picture Jupyter shows: [`png`](Self::png) with the config's
     /// colouring, drawn once and kept.
     fn _repr_png_<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
