@@ -46,7 +46,7 @@ pub(super) struct Cand {
     pub(super) at: Point,
     pub(super) off: Point,
     /// Index in `near` of the neighbour whose halo it lies on (`u32::MAX`: a wall's).
-    src: u32,
+    pub(super) src: u32,
 }
 
 impl<I: SpatialIndex> Front<'_, I> {
@@ -93,7 +93,7 @@ impl<I: SpatialIndex> Front<'_, I> {
                 }
                 let p = cand.at;
                 self.spots.push(p);
-                let key = self.key(f, &cand, r);
+                let key = self.key(&cand, r);
                 if best.is_none_or(|(b, bk)| first_of(key, p, bk, b).is_lt()) {
                     best = Some((p, key));
                 }

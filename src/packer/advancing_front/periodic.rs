@@ -58,46 +58,47 @@ impl<I: SpatialIndex> Front<'_, I> {
         }
     }
 
-    /// The key of a feasible candidate of radius `r` at front `f`, lower
-    /// first (then lowest, then leftmost: `candidates::first_of`): 0 with
-    /// walls, so the lowest goes first and the pack deposits layer on layer
-    /// from the bottom. In a periodic cell, the rank over `2π²` (about the
-    /// squared distance to the first disk, in mm²) plus [`NEST_WEIGHT`]
-    /// times the gap the disk would leave to its third nearest disk (the
-    /// front and the disk it touches aside; at most its diameter): where
+    /// The key of a feasible candidate of radius `r`, lower first (then
+    /// lowest, then leftmost: `candidates::first_of`): 0 with walls, so the
+    /// lowest goes first and the pack deposits layer on layer from the
+    /// bottom. In a periodic cell, the rank over `2π²` (about the squared
+    /// distance to the first disk, in mm²) plus [`NEST_WEIGHT`] times the
+    /// gap the disk would leave to its nearest disk but the two it touches
+    /// (the front and the neighbour; at most its diameter): where
     /// the rank is steep, near the first disk, the front grows in rank
     /// order; where it is flat, where the front closes on itself, the spot
     /// that nests deepest goes first.
     #[inline]
-    pub(super) fn key(&self, f: u32, cand: &Cand, r: f64) -> f64 {
+    pub(super) fn key(&self, cand: &Cand, r: f64) -> f64 {
         if self.origin.is_none() {
             return 0.0;
         }
-        let front = self.obs[f as usize];
-        let mut least = [f64::INFINITY; 3];
-        let mut keep = |g: f64| {
-            if g < least[2] {
-                least[2] = g;
-                least.sort_unstable_by(f64::total_cmp);
+        // The least gap to a neighbour other than the one it touches, at
+        // most a diameter: a neighbour whose centre is farther than that
+        // gap reaches needs no square root.
+        let mut gap = 2.0 * r;
+        for (i, n) in self.near.iter().enumerate() {
+            let (dx, dy) = (cand.off.x - n.rel.x, cand.off.y - n.rel.y);
+            let reach = gap + n.disk.r + r;
+            let d2 = dx * dx + dy * dy;
+            if d2 < reach * reach && i != cand.src as usize {
+                gap = gap.min(d2.sqrt() - n.disk.r - r);
             }
-        };
-        keep(cand.off.x.hypot(cand.off.y) - front.r - r);
-        for n in &self.near {
-            keep((cand.off.x - n.rel.x).hypot(cand.off.y - n.rel.y) - n.disk.r - r);
         }
         self.tests.set(self.tests.get() + self.near.len() as u64);
         let pi2 = 2.0 * std::f64::consts::PI * std::f64::consts::PI;
-        self.rank(cand.at) / pi2 + NEST_WEIGHT * least[2].min(2.0 * r)
+        self.rank(cand.at) / pi2 + NEST_WEIGHT * gap
     }
 }
 
-/// Weight (mm) of a candidate's gap to its third nearest disk in its key
-/// ([`Front::key`]), against its rank over `2π²` (mm²): 1 mm of gap
-/// outweighs the rank's difference between two spots a diameter apart
-/// within about 5 mm of the first disk, or wherever the rank is flat.
-/// With 3, 10 and 30 mm the cells' porosity came out alike (5 seeds of
-/// both gradings of `gapack bench --periodic-edges`, 0.1874–0.1878 and
-/// 0.1788–0.1814, against 0.1879 and 0.1806 ranked by the rank alone).
+/// Weight (mm) of a candidate's gap to its nearest disk but the two it
+/// touches in its key ([`Front::key`]), against its rank over `2π²` (mm²):
+/// 0.1 mm of gap outweighs the rank's difference between two spots a
+/// diameter apart about 0.4 mm from the first disk, and more wherever the
+/// rank is flat. With 3, 10 and 30 mm the whole cell's porosity came out
+/// 0.1878, 0.1874 and 0.1878 (1–1.66 mm) and 0.1814, 0.1788 and 0.1788
+/// (Table 3.4) against 0.1879 and 0.1806 by the rank alone (the cells of
+/// `gapack bench --periodic-edges`, seeds 1–5; docs/results.md).
 const NEST_WEIGHT: f64 = 10.0;
 
 /// `c` moved by the lattice shift `v`; `c` itself, bit for bit, for the
