@@ -64,7 +64,8 @@ impl<I: SpatialIndex> Front<'_, I> {
     /// bottom. In a periodic cell, the rank over `2π²` (about the squared
     /// distance to the first disk, in mm²) plus [`NEST_WEIGHT`] times the
     /// gap the disk would leave to its nearest disk but the two it touches
-    /// (the front and the neighbour; at most its diameter): where
+    /// (the front and the neighbour), among the front's neighbours and at
+    /// most its diameter: where
     /// the rank is steep, near the first disk, the front grows in rank
     /// order; where it is flat, where the front closes on itself, the spot
     /// that nests deepest goes first.
