@@ -28,12 +28,13 @@ impl<I: SpatialIndex> Front<'_, I> {
     /// the lines through the first disk (where a row may form) and those
     /// where the front closes on itself all lie a quarter period from the
     /// cell's edges: the edges of the cell exported cut the packing where
-    /// it is as the bulk. With `o` at the cell's centre the front closed on
-    /// itself along the edges, and most at the corners (`gapack bench
-    /// --periodic-edges`, 5 seeds, 1 mm bands: porosity 0.018 and 0.024
-    /// above the inside's, a 5 mm square at each corner 0.068 and 0.055
-    /// above it); a periodic cell has no physical edge, so only where its
-    /// edges fall changes.
+    /// it is as the bulk (`gapack bench --periodic-edges`, 20 seeds, 1 mm
+    /// bands: the edges −0.003 and 0.000 from the inside's porosity, the
+    /// lines where the front closes 0.017 and 0.024 above it). With `o` at
+    /// the cell's centre the front closed on itself along the edges (0.018
+    /// and 0.024 above the inside), most at the corners (5 mm squares 0.068
+    /// and 0.055 above it, seeds 1–5); a periodic cell has no physical
+    /// edge, so only where its edges fall changes.
     ///
     /// Tried before: ranking by the squared distance to the first disk (a
     /// round cluster to the end, its fronts meeting face to face) left the
