@@ -129,8 +129,10 @@ pub struct EdgeRow {
     /// Which zone: the bands along the cell's edges (`EDGE_BAND_MM` wide on
     /// each side of each edge, as one-band-wide cells), the inside, the
     /// edges' porosity minus the inside's (per seed), the same bands along
-    /// the two lines through the cell's centre (part of the inside: where
-    /// the pack starts, a row may form), or the whole cell.
+    /// the two lines through the cell's centre, along the two lines half a
+    /// period from the first disk (where the front closes on itself; the
+    /// edges themselves when the first disk sits at the centre), or the
+    /// whole cell.
     pub zone: &'static str,
     /// Mean, standard deviation, least and greatest over the seeds of the
     /// zone's porosity.
@@ -167,7 +169,8 @@ const EDGE_CELLS: [(&str, Table, f64, f64); 2] = [
 /// seeds 1..=`seeds`, a periodic cell packed by the advancing front, its
 /// porosity in 1 mm cells along the four edges (a band 1 mm wide on each
 /// side of each edge, the images across it counted) against the other
-/// cells, and in the same bands along the lines through its centre.
+/// cells, and in the same bands along the lines through its centre and
+/// along those half a period from its first disk.
 pub fn run_periodic_edges(seeds: u64) -> anyhow::Result<Vec<EdgeRow>> {
     let mut rows = Vec::new();
     for (name, table, width, height) in EDGE_CELLS {
@@ -181,16 +184,24 @@ pub fn run_periodic_edges(seeds: u64) -> anyhow::Result<Vec<EdgeRow>> {
             [Point::new(lo.x, hi.y), lo],
         ];
         let scene = Scene::new(cell.clone(), grading).with_walls(gapack::WallMode::Periodic);
-        // The lines through the cell's centre, where the first disk sits and
-        // the pack grows out from.
-        let mid = Point::new((lo.x + hi.x) / 2.0, (lo.y + hi.y) / 2.0);
-        let centre_lines = [
-            [Point::new(lo.x, mid.y), Point::new(hi.x, mid.y)],
-            [Point::new(mid.x, lo.y), Point::new(mid.x, hi.y)],
-        ];
-        // Per seed: edges, inside, centre lines, whole cell, and the seconds.
-        let (mut near, mut away, mut centre, mut whole, mut seconds) =
-            (Vec::new(), Vec::new(), Vec::new(), Vec::new(), 0.0);
+        // The two lines through a point, across the cell.
+        let lines_through = |p: Point| {
+            [
+                [Point::new(lo.x, p.y), Point::new(hi.x, p.y)],
+                [Point::new(p.x, lo.y), Point::new(p.x, hi.y)],
+            ]
+        };
+        let centre_lines = lines_through(Point::new((lo.x + hi.x) / 2.0, (lo.y + hi.y) / 2.0));
+        // Per seed: edges, inside, centre lines, closure lines, whole cell,
+        // and the seconds.
+        let (mut near, mut away, mut centre, mut closure, mut whole, mut seconds) = (
+            Vec::new(),
+            Vec::new(),
+            Vec::new(),
+            Vec::new(),
+            Vec::new(),
+            0.0,
+        );
         for seed in 1..=seeds {
             let scene = scene.clone().with_seed(seed);
             let t = Instant::now();
@@ -201,6 +212,20 @@ pub fn run_periodic_edges(seeds: u64) -> anyhow::Result<Vec<EdgeRow>> {
             away.push(a);
             let [c, _] = gapack::zones(&packing, &scene, &centre_lines, EDGE_BAND_MM / 2.0, 0.0);
             centre.push(c);
+            // Half a period from the first disk, where the front closes last.
+            let first = packing.disks.first().map_or(lo, |d| d.c);
+            let last = cell.wrap(Point::new(
+                first.x + (hi.x - lo.x) / 2.0,
+                first.y + (hi.y - lo.y) / 2.0,
+            ));
+            let [c, _] = gapack::zones(
+                &packing,
+                &scene,
+                &lines_through(last),
+                EDGE_BAND_MM / 2.0,
+                0.0,
+            );
+            closure.push(c);
             whole.push(porosity(solid_area(&packing.disks), cell.area()));
         }
         let seconds = seconds / seeds.max(1) as f64;
@@ -243,6 +268,7 @@ pub fn run_periodic_edges(seeds: u64) -> anyhow::Result<Vec<EdgeRow>> {
         rows.push(row("inside", &p(&away), Some(&away)));
         rows.push(row("edges - inside", &diff, None));
         rows.push(row("centre lines", &p(&centre), Some(&centre)));
+        rows.push(row("closure lines", &p(&closure), Some(&closure)));
         rows.push(row("whole cell", &whole, None));
     }
     Ok(rows)

@@ -43,10 +43,10 @@ pub(super) struct Near {
 /// origin are unchanged, bit for bit).
 #[derive(Clone, Copy)]
 pub(super) struct Cand {
-    at: Point,
-    off: Point,
+    pub(super) at: Point,
+    pub(super) off: Point,
     /// Index in `near` of the neighbour whose halo it lies on (`u32::MAX`: a wall's).
-    src: u32,
+    pub(super) src: u32,
 }
 
 impl<I: SpatialIndex> Front<'_, I> {
@@ -78,8 +78,8 @@ impl<I: SpatialIndex> Front<'_, I> {
         let clear = (2.0 * r * (1.0 - FEASIBLE_REL)).powi(2);
         let (best, room) = {
             self.spots.clear();
-            // Lowest first; in a periodic cell, lowest rank first (see
-            // `Front::rank`).
+            // Lowest first; in a periodic cell, lowest key first (see
+            // `Front::key`).
             let mut best: Option<(Point, f64)> = None;
             self.outside.clear();
             for i in 0..self.cands.len() {
@@ -93,7 +93,7 @@ impl<I: SpatialIndex> Front<'_, I> {
                 }
                 let p = cand.at;
                 self.spots.push(p);
-                let key = self.rank(p);
+                let key = self.key(&cand, r);
                 if best.is_none_or(|(b, bk)| first_of(key, p, bk, b).is_lt()) {
                     best = Some((p, key));
                 }
@@ -379,7 +379,8 @@ impl<I: SpatialIndex> Front<'_, I> {
     }
 }
 
-/// Order candidates by rank ([`Front::rank`]), then lowest first, then leftmost.
+/// Order candidates by key ([`Front::key`]) or rank ([`Front::rank`]), then
+/// lowest first, then leftmost.
 #[inline]
 fn first_of(rank_a: f64, a: Point, rank_b: f64, b: Point) -> std::cmp::Ordering {
     rank_a.total_cmp(&rank_b).then_with(|| lowest_first(a, b))

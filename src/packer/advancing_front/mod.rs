@@ -76,18 +76,21 @@
 //!
 //! # Periodic cells
 //! With `walls = "periodic"` there is no wall and no reflex corner: the
-//! first disk sits at the cell's centre and the second touches it (the
-//! only disk placed with one contact in a dense pack); every later one is
-//! placed as above, with two changes. Every index query is made once per
+//! first disk sits a quarter period from the cell's low corner in x and
+//! y (see `Front::rank`) and the second touches it (the only disk placed
+//! with one contact in a dense pack); every later one is placed as above,
+//! with two changes. Every index query is made once per
 //! lattice shift whose images may meet its box ([`Domain::image_shifts`]:
 //! one query inside the cell, two or four near its edges), each obstacle
 //! found being met as that image, so the neighbours, the witnesses and the
 //! holes see across the edges and memory stays one entry per disk; a
 //! centre is wrapped into the cell when the disk is placed. And the winning
-//! candidate is the one of lowest rank instead of the lowest: the rank
-//! grows a round cluster from the first disk but is flat across the
-//! cell's edges, so that the front runs on into its own images rather than
-//! meeting them face to face (see `Front::rank`). A domain with walls
+//! candidate is the one of lowest key instead of the lowest: a rank that
+//! grows a round cluster from the first disk but is flat across the lines
+//! half a period from it, so that the front runs on into its own images
+//! rather than meeting them face to face (see `Front::rank`), plus a
+//! weight on how loosely the spot nests, which decides where the rank is
+//! flat, where the front closes on itself (see `Front::key`). A domain with walls
 //! makes one query with the zero shift and ranks every candidate 0: the
 //! same packings, bit for bit.
 //!
@@ -97,7 +100,7 @@
 //! `candidates` (the two-contact attempt: neighbours, candidates, their
 //! feasibility, the lowest clear one), `closure` (witnesses, bounds and
 //! parked fronts), `one_contact` (one-contact placement and a loose pack's
-//! last hole), `periodic` (lattice images and the rank) and `seed` (the
+//! last hole), `periodic` (lattice images, the rank and the key) and `seed` (the
 //! first disks).
 //!
 //! [`PackerSettings::one_contact_share`]: super::PackerSettings::one_contact_share
@@ -436,8 +439,9 @@ struct Front<'a, I> {
     walls: Vec<Wall>,
     /// A periodic cell: no walls, and every obstacle is met with its images.
     periodic: bool,
-    /// In a periodic cell, the first disk's centre (the cell's centre) and
-    /// the periods: candidates nearest it go first (see `Front::rank`).
+    /// In a periodic cell, the first disk's centre (a quarter period from
+    /// the cell's low corner) and the periods: candidates nearest it go
+    /// first (see `Front::rank`).
     origin: Option<(Point, Vector2<f64>)>,
     /// Obstacles by id: wall disks or reflex corners first, then packed disks.
     obs: Vec<Disk>,
@@ -598,7 +602,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
             origin: domain
                 .period()
                 .filter(|_| scene.walls == WallMode::Periodic)
-                .map(|period| (domain.centroid(), period)),
+                .map(|period| (domain.bounds().0 + period / 4.0, period)),
             obs,
             coverer: vec![u32::MAX; runs.len()],
             runs,
@@ -635,7 +639,7 @@ impl<'a, I: SpatialIndex> Front<'a, I> {
     /// sizes fit nowhere); in a part, with which disks stay open.
     fn pack(mut self, mut genes: impl Iterator<Item = f64>) -> Result<PartPacking, PackError> {
         if self.periodic {
-            // The first two sizes: one disk at the cell's corner, the next
+            // The first two sizes: one disk at the rank's origin, the next
             // touching it (no wall offers a second contact yet).
             for u in genes.by_ref() {
                 self.stats.sizes_drawn += 1;

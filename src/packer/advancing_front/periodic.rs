@@ -1,45 +1,50 @@
 //! Periodic cells (see "Periodic cells" in [`super`]): every index query
-//! met once per lattice image of the obstacles, and the rank that grows the
+//! met once per lattice image of the obstacles, and the key that grows the
 //! pack out from its first disk. With walls, one query with the zero shift
-//! and rank 0 everywhere: the same packings as without them.
+//! and key 0 everywhere: the same packings as without them.
 
 use std::ops::ControlFlow;
 
 use nalgebra::Vector2;
 
+use super::candidates::Cand;
 use super::{Front, Indexed};
 use crate::geometry::{Domain, Point};
 use crate::packer::index::SpatialIndex;
 
 impl<I: SpatialIndex> Front<'_, I> {
-    /// The rank of a candidate at `p`, lower first (then lowest, then leftmost:
-    /// `candidates::first_of`): 0 everywhere with walls, so the lowest goes
-    /// first and the pack deposits layer on layer from the bottom. In a
-    /// periodic cell (`o` the first disk's centre, the cell's centre; `W`,
-    /// `H` the periods; `dx`, `dy` from `o` to `p`) it is
-    /// `−W²·cos(2π·dx/W) − H²·cos(2π·dy/H)`: about `2π²·(dx² + dy²)` near
-    /// `o`, so the pack grows out from its first disk as a round cluster,
-    /// but flat across the cell's edges, where the pack closes on its own
-    /// images. There the lines of equal rank cross the edge at right
-    /// angles: each layer of the front runs on across the edge into its
-    /// own image, as a row continues, instead of two fronts meeting face to
-    /// face along it. The rank is greatest at the cell's corner, where the
-    /// front closes last.
+    /// The rank of a point `p`: 0 everywhere with walls. In a periodic cell
+    /// (`o` the first disk's centre; `W`, `H` the periods; `dx`, `dy` from
+    /// `o` to `p`) it is `−W²·cos(2π·dx/W) − H²·cos(2π·dy/H)`: about
+    /// `2π²·(dx² + dy²)` near `o`, so the pack grows out from its first
+    /// disk as a round cluster, but flat across the lines half a period
+    /// from `o`, where the pack closes on its own images. There the lines
+    /// of equal rank cross at right angles: each layer of the front runs on
+    /// into its own image, as a row continues, instead of two fronts
+    /// meeting face to face. The rank is greatest half a period from `o` in
+    /// both x and y, where the front closes last.
     ///
-    /// The 1 mm bands along the edges (`gapack bench --periodic-edges`,
-    /// seeds 1–20, 50 × 100 mm of 1–1.66 mm): porosity 0.196–0.216 against
-    /// 0.187 inside (+0.018), where ranking by the squared distance to the
-    /// first disk (a round cluster to the end, its fronts meeting face to
-    /// face along the edges) left 0.275–0.334 against 0.183 (+0.112).
-    /// Tried too: flatter ranks (`|sin|` or `sin²/(sin² + κ)` per axis)
-    /// brought the edges within 0.003–0.008 of the inside but laid a dense
-    /// row along the lines through the first disk (porosity 0.137–0.157 in
-    /// 1 mm bands, against 0.182 with this rank); filling lowest first (x
-    /// wrapping), the last layers met the first row like a wall of disks
-    /// (0.41–0.51 in the 1 mm under it), and a rough first row loosened the
-    /// whole cell (0.194–0.218); grown as a horizontal band (nearest in y
-    /// only), a row formed along the middle (two bands of 0.13 flanked by
-    /// 0.22). Figures: docs/results.md, "Periodic cells: the edges".
+    /// `o` lies a quarter period from the cell's low corner in x and y, so
+    /// the lines through the first disk (where a row may form) and those
+    /// where the front closes on itself all lie a quarter period from the
+    /// cell's edges: the edges of the cell exported cut the packing where
+    /// it is as the bulk (`gapack bench --periodic-edges`, 20 seeds, 1 mm
+    /// bands: the edges −0.003 and 0.000 from the inside's porosity, the
+    /// lines where the front closes 0.017 and 0.024 above it). With `o` at
+    /// the cell's centre the front closed on itself along the edges (0.018
+    /// and 0.024 above the inside), most at the corners (5 mm squares 0.068
+    /// and 0.055 above it, seeds 1–5); a periodic cell has no physical
+    /// edge, so only where its edges fall changes.
+    ///
+    /// Tried before: ranking by the squared distance to the first disk (a
+    /// round cluster to the end, its fronts meeting face to face) left the
+    /// edges 0.11 looser than the inside; flatter ranks (`|sin|` or
+    /// `sin²/(sin² + κ)` per axis) laid a dense row along the lines through
+    /// the first disk (porosity 0.137–0.157 in 1 mm bands, against 0.182);
+    /// filling lowest first (x wrapping), the last layers met the first row
+    /// like a wall of disks (0.41–0.51 in the 1 mm under it); grown as a
+    /// horizontal band (nearest in y only), a row formed along the middle.
+    /// Figures: docs/results.md, "Periodic cells: the edges".
     #[inline]
     pub(super) fn rank(&self, p: Point) -> f64 {
         match self.origin {
@@ -53,7 +58,50 @@ impl<I: SpatialIndex> Front<'_, I> {
             }
         }
     }
+
+    /// The key of a feasible candidate of radius `r`, lower first (then
+    /// lowest, then leftmost: `candidates::first_of`): 0 with walls, so the
+    /// lowest goes first and the pack deposits layer on layer from the
+    /// bottom. In a periodic cell, the rank over `2π²` (about the squared
+    /// distance to the first disk, in mm²) plus [`NEST_WEIGHT`] times the
+    /// gap the disk would leave to its nearest disk but the two it touches
+    /// (the front and the neighbour), among the front's neighbours and at
+    /// most its diameter: where
+    /// the rank is steep, near the first disk, the front grows in rank
+    /// order; where it is flat, where the front closes on itself, the spot
+    /// that nests deepest goes first.
+    #[inline]
+    pub(super) fn key(&self, cand: &Cand, r: f64) -> f64 {
+        if self.origin.is_none() {
+            return 0.0;
+        }
+        // The least gap to a neighbour other than the one it touches, at
+        // most a diameter: a neighbour whose centre is farther than that
+        // gap reaches needs no square root.
+        let mut gap = 2.0 * r;
+        for (i, n) in self.near.iter().enumerate() {
+            let (dx, dy) = (cand.off.x - n.rel.x, cand.off.y - n.rel.y);
+            let reach = gap + n.disk.r + r;
+            let d2 = dx * dx + dy * dy;
+            if d2 < reach * reach && i != cand.src as usize {
+                gap = gap.min(d2.sqrt() - n.disk.r - r);
+            }
+        }
+        self.tests.set(self.tests.get() + self.near.len() as u64);
+        let pi2 = 2.0 * std::f64::consts::PI * std::f64::consts::PI;
+        self.rank(cand.at) / pi2 + NEST_WEIGHT * gap
+    }
 }
+
+/// Weight (mm) of a candidate's gap to its nearest disk but the two it
+/// touches in its key ([`Front::key`]), against its rank over `2π²` (mm²):
+/// 0.1 mm of gap outweighs the rank's difference between two spots a
+/// diameter apart about 0.4 mm from the first disk, and more wherever the
+/// rank is flat. With 3, 10 and 30 mm the whole cell's porosity came out
+/// 0.1878, 0.1874 and 0.1878 (1–1.66 mm) and 0.1814, 0.1788 and 0.1788
+/// (Table 3.4) against 0.1879 and 0.1806 by the rank alone (the cells of
+/// `gapack bench --periodic-edges`, seeds 1–5; docs/results.md).
+const NEST_WEIGHT: f64 = 10.0;
 
 /// `c` moved by the lattice shift `v`; `c` itself, bit for bit, for the
 /// zero shift (every obstacle of a domain with walls).

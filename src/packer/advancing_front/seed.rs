@@ -1,7 +1,7 @@
 //! Where a run's first disks go, before there is a front to place them
 //! at: with exact walls the lowest wall–wall tangency (a part's lowest spot,
-//! on its side if need be), in a periodic cell its centre and then beside
-//! the first disk.
+//! on its side if need be), in a periodic cell the rank's origin (see
+//! `Front::rank`) and then beside the first disk.
 
 use super::periodic::{any_image, image};
 use super::{Front, PackError, lowest_first};
@@ -62,8 +62,8 @@ impl<I: SpatialIndex> Front<'_, I> {
         Ok(false)
     }
 
-    /// Periodic cell: put a disk of radius `r` at the cell's centre when
-    /// it is empty, or touching the first disk on its right when that is
+    /// Periodic cell: put a disk of radius `r` at the rank's origin (a
+    /// quarter period from the cell's low corner) when it is empty, or touching the first disk on its right when that is
     /// the only one; `false` otherwise, or if the spot is not clear of
     /// every image.
     ///
@@ -71,7 +71,9 @@ impl<I: SpatialIndex> Front<'_, I> {
     /// As [`Front::place`].
     fn seed_cell(&mut self, r: f64, tag: u16) -> Result<bool, PackError> {
         let p = match &self.obs[self.first_packed..] {
-            [] => self.scene.domain.centroid(),
+            [] => self
+                .origin
+                .map_or_else(|| self.scene.domain.centroid(), |(o, _)| o),
             [first] => Point::new(first.c.x + first.r + r, first.c.y),
             _ => return Ok(false),
         };
