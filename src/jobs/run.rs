@@ -694,7 +694,8 @@ mod tests {
             let (measured, ahead) = job
                 .measure_packing("", &packing, output, &Cancel::new(), |_| Ok(metrics))
                 .expect("measured and staged");
-            assert_eq!(measured, metrics);
+            // NaN in a small packing's figures: compared as printed.
+            assert_eq!(format!("{measured:?}"), format!("{metrics:?}"));
             let staged = listing(&dir);
             assert_eq!(staged.len(), 2, "packing.csv and .vtp staged: {staged:?}");
             assert!(staged.iter().all(|n| n.starts_with('.')), "{staged:?}");
