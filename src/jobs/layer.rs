@@ -7,12 +7,12 @@ use super::error::JobError;
 use super::event::{Event, Stage};
 use super::plan::{Plan, Planning};
 use super::registry::{Job, Report};
-use super::run::{Running, Step, generation};
+use super::run::{Running, generation};
 use super::wells::whole_fracture;
 use crate::cancel::Cancel;
 use crate::ga::{Layered, StopReason};
 use crate::layering::LayeringSettings;
-use crate::metrics::{Metrics, measure};
+use crate::metrics::{Metrics, measure_cancellable};
 use crate::names::ConfigName;
 use crate::output::{LayeringDetails, LayeringReport, LayeringSummary, OutputSettings, RunInfo};
 use crate::packer::Packing;
@@ -47,7 +47,11 @@ pub(super) fn run(
     let (mut packing, seconds) = job.pack_scene(scene, "the scene", cancel)?;
     let layered = lay_out(job, &packing, settings, cancel);
     packing.materials = layered.assignment.clone();
-    let metrics = job.timed(Step::Measure, || measure(&packing, scene));
+    // The layout is done: a cancel now no longer stops the run.
+    let (metrics, ahead) =
+        job.measure_packing("", &packing, &config.output, &Cancel::new(), |stop| {
+            measure_cancellable(&packing, scene, stop)
+        })?;
     let interrupted = layered.stop == Some(StopReason::Interrupted);
     let report = Report::Layer {
         packing,
@@ -55,7 +59,7 @@ pub(super) fn run(
         layered,
         seconds,
     };
-    job.write_report(&report, &config.output)?;
+    job.write_report(&report, &config.output, ahead)?;
     Ok((report, interrupted))
 }
 

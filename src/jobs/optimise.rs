@@ -13,7 +13,7 @@ use super::event::{Event, Observer, Stage, Warning, WarningKind};
 use super::layer::{lay_out, layering_line, layering_report};
 use super::plan::{Plan, Planning};
 use super::registry::{Job, Report};
-use super::run::{CHECKPOINT_JSON, Running, Step, generation, single_material};
+use super::run::{CHECKPOINT_JSON, Running, generation, single_material};
 use super::store::{Store, StoreError};
 use super::wells::whole_fracture;
 use crate::cancel::Cancel;
@@ -22,7 +22,7 @@ use crate::ga::{
     self, Checkpoint, Generation, Layered, OptimiseError, OptimiseObserver, OptimiseSettings,
     Optimised, Start, StopReason, TargetWarning, TargetWarningKind, Verdict,
 };
-use crate::metrics::{Metrics, measure};
+use crate::metrics::{Metrics, measure_cancellable};
 use crate::output::{OptimiseSummary, OutputSettings, RunInfo, SearchWindow, ShapeFound};
 
 /// The optimise job's rules: it needs an `[optimise]` table.
@@ -99,7 +99,11 @@ pub(super) fn run(
         Some(l) => packing.materials = l.assignment.clone(),
         None => single_material(&mut packing, config),
     }
-    let metrics = job.timed(Step::Measure, || measure(&packing, &best_scene));
+    // The search is over: a cancel now no longer stops the run.
+    let (metrics, ahead) =
+        job.measure_packing("", &packing, &config.output, &Cancel::new(), |stop| {
+            measure_cancellable(&packing, &best_scene, stop)
+        })?;
     if let Some(warning) = warning {
         job.event(Event::Warning(warning_of(warning)));
     }
@@ -163,7 +167,7 @@ pub(super) fn run(
         resumable,
         seconds,
     };
-    job.write_report(&report, &config.output)?;
+    job.write_report(&report, &config.output, ahead)?;
     if let Some(e) = save_failed {
         return Err(JobError::Checkpoint(e));
     }

@@ -5,7 +5,7 @@ use super::describe::{Words, pack_line};
 use super::error::JobError;
 use super::plan::{Plan, Planning};
 use super::registry::{Job, Report};
-use super::run::{Running, Step};
+use super::run::Running;
 use crate::cancel::Cancel;
 use crate::metrics::{Metrics, measure_cancellable};
 use crate::output::{OutputSettings, RunInfo};
@@ -35,17 +35,18 @@ pub(super) fn plan(p: &mut Planning<'_>) -> Job {
 pub(super) fn run(job: &mut Running<'_>, cancel: &Cancel) -> Result<(Report, bool), JobError> {
     let plan = job.plan;
     let scene = &plan.config.scene;
+    let output = &plan.config.output;
     let (packing, seconds) = job.pack_scene(scene, "the scene", cancel)?;
     // A cancel while measuring writes nothing, as one while packing.
-    let metrics = job.timed(Step::Measure, || {
-        measure_cancellable(&packing, scene, cancel)
+    let (metrics, ahead) = job.measure_packing("", &packing, output, cancel, |stop| {
+        measure_cancellable(&packing, scene, stop)
     })?;
     let report = Report::Pack {
         packing,
         metrics,
         seconds,
     };
-    job.write_report(&report, &plan.config.output)?;
+    job.write_report(&report, output, ahead)?;
     Ok((report, false))
 }
 

@@ -12,14 +12,14 @@ use super::registry::{Job, JobKind, Report};
 use super::store::{Staged, Store, StoreError};
 use crate::Method;
 use crate::cancel::{Cancel, Cancelled};
-use crate::check::{KS_MARGIN, grading_kept, ks_limit};
+use crate::check::{Check, KS_MARGIN, grading_kept, ks_limit};
 use crate::config::Config;
 use crate::farm::{Farm, Local};
 use crate::ga::Generation;
 use crate::metrics::Metrics;
 use crate::output::{
-    Body, FILE_NAMES, Format, OutputError, OutputSettings, RunInfo, SVG_MAX_BYTES, WellRow,
-    packing_svg_note, render_output_bodies,
+    Body, FILE_NAMES, Format, OutputError, OutputSettings, RunInfo, SVG_MAX_BYTES, Stream, WellRow,
+    check_packing, confirm, packing_streams, packing_svg_note, render_measured_bodies,
 };
 use crate::packer::{PackError, Packing, pack_observed};
 
@@ -98,7 +98,9 @@ pub enum Step {
     Pack,
     /// Measuring the packing (`metrics::measure`).
     Measure,
-    /// The independent check, rendering every file and committing them.
+    /// The independent check, rendering every file and committing them:
+    /// the time after packing not spent measuring (the check and the
+    /// packing's largest files are made while it is measured).
     Write,
 }
 
@@ -225,7 +227,11 @@ pub fn write(
     // The warnings were told when the job ran.
     let mut silent = super::Silent;
     let mut job = Running::new(plan, &mut silent, store, &Local);
-    job.write_report(&outcome.report, output)?;
+    let Some((packing, metrics, _)) = outcome.report.run_info(plan, output) else {
+        return Err(not_one_packing(plan));
+    };
+    let (_, ahead) = job.measure_packing("", packing, output, &Cancel::new(), |_| Ok(*metrics))?;
+    job.write_report(&outcome.report, output, ahead)?;
     job.finish(outcome.interrupted)
 }
 
@@ -282,14 +288,6 @@ impl<'p> Running<'p> {
         }
     }
 
-    /// `work`, its wall-clock time added to `step`'s.
-    pub fn timed<T>(&mut self, step: Step, work: impl FnOnce() -> T) -> T {
-        let start = std::time::Instant::now();
-        let done = work();
-        self.spent(step, start.elapsed().as_secs_f64());
-        done
-    }
-
     /// The plan's config.
     pub fn config(&self) -> &'p Config {
         &self.plan.config
@@ -329,18 +327,79 @@ impl<'p> Running<'p> {
         Ok(())
     }
 
-    /// Check, render and write one packing's outputs.
+    /// Measure `packing` by `measure` on a thread of its own, while this
+    /// one stages in the store, under `folder`, the packing's files that
+    /// do not read the measures ([`packing_streams`], as `output` asks),
+    /// then checks it ([`check_packing`], independent of the measures):
+    /// the largest files are written and the check made while the packing
+    /// is measured. Nothing is committed:
+    /// [`Running::write_packing`] adds them to the run's files once the
+    /// check passes, and they are removed if it fails or the run stops.
+    /// `measure` is given a token raised when `cancel` is or the staging
+    /// fails, which stops the staging too.
+    ///
+    /// # Errors
+    /// [`JobError::Cancelled`] when `cancel` stops the work; an output or
+    /// store error when a file cannot be made or staged.
+    pub fn measure_packing(
+        &mut self,
+        folder: &str,
+        packing: &Packing,
+        output: &OutputSettings,
+        cancel: &Cancel,
+        measure: impl FnOnce(&Cancel) -> Result<Metrics, Cancelled> + Send,
+    ) -> Result<(Metrics, Ahead), JobError> {
+        let start = std::time::Instant::now();
+        let plan = self.plan;
+        let streams = packing_streams(packing, &plan.config.materials, output)?;
+        // Either side that fails stops the other.
+        let stop = cancel.child();
+        let store = &mut *self.store;
+        let (side, ahead) = std::thread::scope(|s| {
+            let side = s.spawn(|| {
+                let begun = std::time::Instant::now();
+                let metrics = measure(&stop);
+                if metrics.is_err() {
+                    stop.cancel();
+                }
+                (metrics, begun.elapsed().as_secs_f64())
+            });
+            let ahead = stage_streams(store, folder, streams, &stop).and_then(|staged| {
+                let check = check_packing(packing, &stop)?;
+                Ok(Ahead { check, staged })
+            });
+            if ahead.is_err() {
+                stop.cancel();
+            }
+            (side.join(), ahead)
+        });
+        let (metrics, measured) = match side {
+            Ok(side) => side,
+            Err(panic) => std::panic::resume_unwind(panic),
+        };
+        self.spent(Step::Measure, measured);
+        let after = start.elapsed().as_secs_f64() - measured;
+        self.spent(Step::Write, after.max(0.0));
+        if cancel.is_cancelled() {
+            return Err(JobError::Cancelled);
+        }
+        // A side stopped without a cancel was stopped by the other's failure.
+        let ahead = ahead?;
+        Ok((metrics?, ahead))
+    }
+
+    /// Check, render and write one packing's outputs: those staged while
+    /// it was measured (`ahead`, [`Running::measure_packing`]) and the others.
     pub fn write_packing(
         &mut self,
         folder: &str,
         packing: &Packing,
         metrics: &Metrics,
         run: &RunInfo<'_>,
+        ahead: Ahead,
     ) -> Result<(), JobError> {
         let start = std::time::Instant::now();
-        let files =
-            render_output_bodies(packing, metrics, run).map_err(|e| relaxation_hint(e, run))?;
-        let written = self.write_bodies(folder, files);
+        let written = self.write_confirmed(folder, packing, metrics, run, ahead);
         self.spent(Step::Write, start.elapsed().as_secs_f64());
         written?;
         self.notes
@@ -365,22 +424,41 @@ impl<'p> Running<'p> {
         Ok(())
     }
 
+    /// [`Running::write_packing`]'s files, untimed: none unless the
+    /// packing passes the check ([`confirm`]); a file staged ahead is
+    /// removed when `ahead` is dropped.
+    fn write_confirmed(
+        &mut self,
+        folder: &str,
+        packing: &Packing,
+        metrics: &Metrics,
+        run: &RunInfo<'_>,
+        ahead: Ahead,
+    ) -> Result<(), JobError> {
+        let confirmed = confirm(metrics, &ahead.check).map_err(|e| relaxation_hint(e, run))?;
+        let files = render_measured_bodies(packing, metrics, run, &confirmed)?;
+        for staged in ahead.staged {
+            self.files.push(staged.name().to_owned());
+            self.pending.push(staged);
+        }
+        self.write_bodies(folder, files)
+    }
+
     /// Check, render and write the files of a one-packing report (`pack`,
-    /// `layer`, `optimise`) as `output` asks: the one place a report
-    /// becomes its run's files, during the run and in [`write`].
+    /// `layer`, `optimise`) as `output` asks, with those staged `ahead`
+    /// as its packing was measured: the one place a report becomes its
+    /// run's files, during the run and in [`write`].
     pub fn write_report(
         &mut self,
         report: &Report,
         output: &OutputSettings,
+        ahead: Ahead,
     ) -> Result<(), JobError> {
         let plan = self.plan;
         let Some((packing, metrics, run)) = report.run_info(plan, output) else {
-            return Err(JobError::Input(format!(
-                "the {} job's files are written by the job itself; only a pack, layer or optimise outcome is written again",
-                plan.kind.name()
-            )));
+            return Err(not_one_packing(plan));
         };
-        self.write_packing("", packing, metrics, &run)
+        self.write_packing("", packing, metrics, &run, ahead)
     }
 
     /// Pack `scene` with progress events; a cancel is [`JobError::Cancelled`].
@@ -485,6 +563,74 @@ fn picture_notes(
         .collect()
 }
 
+/// A packing's check and its files staged while it was measured
+/// ([`Running::measure_packing`]), for [`Running::write_packing`]; the
+/// staged files are removed if this is dropped.
+pub(super) struct Ahead {
+    check: Check,
+    staged: Vec<Staged>,
+}
+
+/// Bytes a staged stream writes between two polls of its token.
+const POLL_BYTES: usize = 1 << 20;
+
+/// Stage each of `streams` in `store` under `folder`, in order; a stream
+/// fails once `stop` is raised (polled every [`POLL_BYTES`] bytes).
+fn stage_streams(
+    store: &mut dyn Store,
+    folder: &str,
+    streams: Vec<(&'static str, Stream<'_>)>,
+    stop: &Cancel,
+) -> Result<Vec<Staged>, JobError> {
+    streams
+        .into_iter()
+        .map(|(name, write)| {
+            let mut polled = |out: &mut dyn std::io::Write| {
+                write(&mut Polled {
+                    out,
+                    stop,
+                    since: POLL_BYTES,
+                })
+            };
+            Ok(store.stage(&format!("{folder}{name}"), &mut polled)?)
+        })
+        .collect()
+}
+
+/// A writer that fails once its token is raised, polled every
+/// [`POLL_BYTES`] bytes (the first write included).
+struct Polled<'w> {
+    out: &'w mut dyn std::io::Write,
+    stop: &'w Cancel,
+    since: usize,
+}
+
+impl std::io::Write for Polled<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        if self.since >= POLL_BYTES {
+            self.since = 0;
+            if self.stop.is_cancelled() {
+                return Err(std::io::Error::other("stopped"));
+            }
+        }
+        let n = self.out.write(buf)?;
+        self.since += n;
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.out.flush()
+    }
+}
+
+/// The refusal to write again the files of a job that writes its own.
+fn not_one_packing(plan: &Plan) -> JobError {
+    JobError::Input(format!(
+        "the {} job's files are written by the job itself; only a pack, layer or optimise outcome is written again",
+        plan.kind.name()
+    ))
+}
+
 /// A generation record as an event.
 pub(super) fn generation(stage: Stage, g: &Generation) -> Event {
     Event::Generation {
@@ -531,6 +677,100 @@ impl From<Cancelled> for JobError {
 mod tests {
     use super::*;
     use crate::geometry::{Disk, Domain};
+
+    /// A plan of a 10 mm square writing its table and VTP file, a fresh
+    /// folder for its files, and a packing of two disks, overlapping or apart.
+    fn staged_run(name: &str, overlapping: bool) -> (Plan, std::path::PathBuf, Packing) {
+        let text = "[domain]\nshape = \"rectangle\"\nwidth = 10\nheight = 10\n\
+            [grading]\nconstant = 1.0\n[output]\nformats = [\"csv\", \"vtp\"]\n";
+        let plan =
+            Plan::load(text, "t.toml", &super::super::Request::new(JobKind::Pack)).expect("plans");
+        let dir = std::env::temp_dir().join(format!("gapack-ahead-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("scratch dir");
+        let second = if overlapping { 2.5 } else { 5.0 };
+        let packing = Packing::of_disks(
+            Domain::rectangle(10.0, 10.0).expect("square"),
+            vec![Disk::new(2.0, 2.0, 1.0), Disk::new(second, 2.0, 1.0)],
+        );
+        (plan, dir, packing)
+    }
+
+    /// The names in `dir`, sorted.
+    fn listing(dir: &std::path::Path) -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .expect("listed")
+            .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+
+    /// The packing's files are staged while it is measured, but a packing
+    /// that then fails the check leaves none of them, nor any other file;
+    /// one that passes has them committed with the others.
+    #[test]
+    fn files_staged_while_measuring_are_committed_only_after_the_check() {
+        for overlapping in [true, false] {
+            let (plan, dir, packing) = staged_run(&format!("check-{overlapping}"), overlapping);
+            let metrics = crate::measure(&packing, &plan.config.scene);
+            let mut store = super::super::DirStore::new(&dir);
+            let mut silent = super::super::Silent;
+            let mut job = Running::new(&plan, &mut silent, &mut store, &Local);
+            let output = &plan.config.output;
+            let (measured, ahead) = job
+                .measure_packing("", &packing, output, &Cancel::new(), |_| Ok(metrics))
+                .expect("measured and staged");
+            // NaN in a small packing's figures: compared as printed.
+            assert_eq!(format!("{measured:?}"), format!("{metrics:?}"));
+            let staged = listing(&dir);
+            assert_eq!(staged.len(), 2, "packing.csv and .vtp staged: {staged:?}");
+            assert!(staged.iter().all(|n| n.starts_with('.')), "{staged:?}");
+            let run = RunInfo::new(&plan.config.scene, "t.toml", 0.0, output);
+            let written = job.write_packing("", &packing, &metrics, &run, ahead);
+            if overlapping {
+                let err = written.expect_err("the check refuses an overlap");
+                let JobError::Output(OutputError::Invalid(faults)) = &err else {
+                    panic!("{err:?}");
+                };
+                assert!(faults.contains("overlapping pairs"), "{faults}");
+                drop(job);
+                assert_eq!(listing(&dir), Vec::<String>::new(), "nothing left");
+            } else {
+                written.expect("written");
+                job.finish(false).expect("committed");
+                assert_eq!(
+                    listing(&dir),
+                    [
+                        "manifest.json",
+                        "packing.csv",
+                        "packing.vtp",
+                        "summary.json"
+                    ]
+                );
+            }
+            let _ = std::fs::remove_dir_all(&dir);
+        }
+    }
+
+    /// A cancel while the packing is measured stops the run with nothing
+    /// left of the files staged beside the measures.
+    #[test]
+    fn a_cancel_while_measuring_leaves_no_staged_file() {
+        let (plan, dir, packing) = staged_run("cancel", false);
+        let mut store = super::super::DirStore::new(&dir);
+        let mut silent = super::super::Silent;
+        let mut job = Running::new(&plan, &mut silent, &mut store, &Local);
+        let cancel = Cancel::new();
+        let done = job.measure_packing("", &packing, &plan.config.output, &cancel, |stop| {
+            cancel.cancel();
+            stop.check()?;
+            Ok(crate::measure(&packing, &plan.config.scene))
+        });
+        assert!(matches!(done, Err(JobError::Cancelled)), "{:?}", done.err());
+        assert_eq!(listing(&dir), Vec::<String>::new(), "nothing left");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 
     /// A huge packing's `packing.svg` is said to hold an image, with its
     /// folder, when the SVG is asked for; the real limit is far above a

@@ -11,13 +11,13 @@ use super::error::JobError;
 use super::event::{Event, Observer, Stage, Warning};
 use super::plan::Plan;
 use super::registry::Report;
-use super::run::{Running, Step, WellOutcome, single_material};
+use super::run::{Running, WellOutcome, single_material};
 use super::store::{Staged, StoreError};
 use crate::cancel::Cancel;
 use crate::config::Config;
 use crate::farm::{self, Local};
 use crate::fracture::{Extent, MM_PER_M, Well, Window, WindowError, settle};
-use crate::metrics::measure;
+use crate::metrics::measure_cancellable;
 use crate::output::{
     FractureSummary, RunInfo, WELLS_CSV, WellRow, WellShape, WindowSummary, wells_csv,
 };
@@ -237,13 +237,20 @@ fn well(
             )
         }
     };
-    let metrics = job.timed(Step::Measure, || measure(&packing, &scene));
+    // A well packed is finished: a cancel now no longer stops it.
+    let (metrics, ahead) = job.measure_packing(
+        &folder,
+        &packing,
+        &plan.config.output,
+        &Cancel::new(),
+        |stop| measure_cancellable(&packing, &scene, stop),
+    )?;
     let run = RunInfo {
         materials: &plan.config.materials,
         fracture: Some(fracture_summary(well, extent, window.as_ref())),
         ..RunInfo::new(&scene, &plan.origin, seconds, &plan.config.output)
     };
-    job.write_packing(&folder, &packing, &metrics, &run)?;
+    job.write_packing(&folder, &packing, &metrics, &run, ahead)?;
     let f = well.fracture;
     let mut row = WellRow {
         well: well.name.clone(),

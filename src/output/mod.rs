@@ -61,8 +61,8 @@ pub(crate) use plot::{
 };
 pub(crate) use run::{
     Body, COMPARE_PNG, COMPARE_SVG, CONVERGENCE_PNG, CONVERGENCE_SVG, PROFILE_PNG, PROFILE_SVG,
-    STABILITY_PNG, STABILITY_SVG, WINDOW_PNG, WINDOW_SVG, render_compare, render_output_bodies,
-    render_stability,
+    STABILITY_PNG, STABILITY_SVG, Stream, WINDOW_PNG, WINDOW_SVG, check_packing, confirm,
+    packing_streams, render_compare, render_measured_bodies, render_stability,
 };
 pub(crate) use svg::{PACKING_SVG, SVG_MAX_BYTES, packing_svg_note};
 pub(crate) use sweep_table::{SWEEP_PNG, SWEEP_SVG, read_sweep_csv, render_sweep};

@@ -33,7 +33,10 @@ use super::plot::{
 };
 use super::svg::{PACKING_SVG, SVG_MAX_BYTES, packing_svg_note, packing_svg_within, svg_of_png};
 use crate::Scene;
+use crate::cancel::{Cancel, Cancelled};
+#[cfg(test)]
 use crate::check::check_particles;
+use crate::check::{Check, check_cancellable};
 use crate::compare::CompareRun;
 use crate::ga::Generation;
 use crate::geometry::Outline;
@@ -218,9 +221,10 @@ impl<'a> RunInfo<'a> {
 /// against the target (`psd`), its local porosity (`porosity_map`) and the
 /// run's charts.
 ///
-/// Everything is rendered in memory, after the packing has passed an
-/// independent check; a store then writes the files as one atomic set.
-/// [`render_output_bodies`] leaves the packing's table to be streamed.
+/// Everything is rendered in memory, after the packing has passed the
+/// independent check ([`confirm`]). A run streams the packing's own files
+/// instead ([`packing_streams`]) and makes the others
+/// ([`render_measured_bodies`]).
 ///
 /// # Errors
 /// [`OutputError::Invalid`] when the packing fails the check, or another
@@ -231,8 +235,13 @@ pub(crate) fn render_outputs(
     metrics: &Metrics,
     run: &RunInfo<'_>,
 ) -> Result<Files, OutputError> {
-    render_output_bodies(packing, metrics, run)?
+    let check = check_particles(&packing.disks, &packing.grains, &packing.domain, None);
+    let confirmed = confirm(metrics, &check)?;
+    let streams = packing_streams(packing, run.materials, run.output)?
         .into_iter()
+        .map(|(name, write)| (name.to_owned(), Body::Stream(write)));
+    streams
+        .chain(render_measured_bodies(packing, metrics, run, &confirmed)?)
         .map(|(name, body)| {
             let bytes = body.into_bytes(&name)?;
             Ok((name, bytes))
@@ -240,30 +249,26 @@ pub(crate) fn render_outputs(
         .collect()
 }
 
-/// Every file of a run ([`RunInfo`]), but the files as large as the packing
-/// (`packing.csv`, `packing.json`, `packing.vtp`, `packing.npz` and every
-/// DEM export) come as [`Body::Stream`]s that write them from the packing
-/// where they go: the store streams them to disk, and no copy of them is
-/// held in memory. Those files are checked here, before any is written
-/// (an unknown material, particles a format does not take), so that a
-/// stream can only fail to write. The others are made, on all cores.
+/// The files of a packing that do not read its measures, as `out` asks,
+/// each a stream that writes it from the packing where it goes (the store
+/// streams it to disk; no copy is held in memory): `packing.csv`,
+/// `packing.vtk`, `packing.vtp`, `packing.npz` and every DEM export. They
+/// are checked here (an unknown material, particles a format does not
+/// take), so that a stream can only fail to write. A run stages them while
+/// the packing is measured and checked, and commits them only once
+/// [`confirm`] has passed; [`render_measured_bodies`] makes the others.
 /// The columns of `[output] per_particle` are computed here, once, for
 /// the tables that carry them.
 ///
 /// # Errors
-/// [`OutputError::Invalid`] when the packing fails the check, or another
-/// [`OutputError`] when a file cannot be made.
-pub fn render_output_bodies<'a>(
+/// [`OutputError`] when a file cannot be made of this packing.
+pub fn packing_streams<'a>(
     packing: &'a Packing,
-    metrics: &'a Metrics,
-    run: &'a RunInfo<'a>,
-) -> Result<Vec<(String, Body<'a>)>, OutputError> {
-    confirm(packing, metrics)?;
-    let out = run.output;
-    let materials = run.materials;
+    materials: &'a [Material],
+    out: &'a OutputSettings,
+) -> Result<Vec<(&'static str, Stream<'a>)>, OutputError> {
     let opts = &out.export;
-    let mut tasks = Tasks::new(out);
-    tasks.add(SUMMARY_JSON, || summary_json(packing, metrics, run));
+    let mut streams: Vec<(&'static str, Stream<'a>)> = Vec::new();
     // `[output] per_particle`: computed once, shared by the tables.
     let tables = [Format::Csv, Format::Vtp, Format::Npz];
     let columns: Arc<[ParticleColumn]> = if tables.iter().any(|&f| out.wants(f)) {
@@ -276,73 +281,97 @@ pub fn render_output_bodies<'a>(
     };
     if out.wants(Format::Csv) {
         let columns = Arc::clone(&columns);
-        tasks.stream(PACKING_CSV, move |w| {
-            write_packing_csv(packing, materials, &columns, w)
-        });
-    }
-    if out.wants(Format::Json) {
-        tasks.stream(PACKING_JSON, packing_json_writer(packing, metrics, run)?);
+        streams.push((
+            PACKING_CSV,
+            Box::new(move |w| write_packing_csv(packing, materials, &columns, w)),
+        ));
     }
     if out.wants(Format::Vtk) {
-        tasks.stream(PACKING_VTK, packing_vtk_writer(packing, materials, opts)?);
-        tasks.add(BOUNDARY_VTK, || Ok(boundary_vtk(packing)));
+        let write = packing_vtk_writer(packing, materials, opts)?;
+        streams.push((PACKING_VTK, Box::new(write)));
     }
     if out.wants(Format::Vtp) {
         let compression = out.vtp_compression;
         let columns = Arc::clone(&columns);
-        tasks.stream(PACKING_VTP, move |w| {
-            write_packing_vtp_with(packing, materials, compression, &columns, w)
-        });
+        streams.push((
+            PACKING_VTP,
+            Box::new(move |w| {
+                write_packing_vtp_with(packing, materials, compression, &columns, w)
+            }),
+        ));
     }
     if out.wants(Format::Npz) {
         let columns = Arc::clone(&columns);
-        tasks.stream(PACKING_NPZ, move |w| {
-            write_packing_npz_with(packing, materials, &columns, w)
-        });
+        streams.push((
+            PACKING_NPZ,
+            Box::new(move |w| write_packing_npz_with(packing, materials, &columns, w)),
+        ));
     }
     if out.wants(Format::Lammps) {
-        tasks.stream(LAMMPS_DATA, lammps_data_writer(packing, materials, opts)?);
+        let write = lammps_data_writer(packing, materials, opts)?;
+        streams.push((LAMMPS_DATA, Box::new(write)));
     }
     if out.wants(Format::Yade) {
         if packing.grains.is_empty() {
-            tasks.stream(YADE_TEXT, yade_text_writer(packing, materials, opts)?);
+            let write = yade_text_writer(packing, materials, opts)?;
+            streams.push((YADE_TEXT, Box::new(write)));
         } else {
-            tasks.stream(YADE_SCRIPT, yade_script_writer(packing, materials, opts)?);
+            let write = yade_script_writer(packing, materials, opts)?;
+            streams.push((YADE_SCRIPT, Box::new(write)));
         }
     }
     if out.wants(Format::Pfc) {
-        tasks.stream(PFC_COMMANDS, pfc_commands_writer(packing, materials, opts)?);
+        let write = pfc_commands_writer(packing, materials, opts)?;
+        streams.push((PFC_COMMANDS, Box::new(write)));
     }
     if out.wants(Format::Mercury) {
-        tasks.stream(MERCURY_DATA, mercury_data_writer(packing, materials, opts)?);
+        let write = mercury_data_writer(packing, materials, opts)?;
+        streams.push((MERCURY_DATA, Box::new(write)));
     }
     if out.wants(Format::LiggghtsSuperquadric) {
-        tasks.stream(
-            SUPERQUADRIC_DATA,
-            superquadric_data_writer(packing, materials, opts)?,
-        );
-        tasks.stream(
-            SUPERQUADRIC_INPUT,
-            superquadric_input_writer(packing, materials, opts)?,
-        );
+        let data = superquadric_data_writer(packing, materials, opts)?;
+        streams.push((SUPERQUADRIC_DATA, Box::new(data)));
+        let input = superquadric_input_writer(packing, materials, opts)?;
+        streams.push((SUPERQUADRIC_INPUT, Box::new(input)));
     }
     if out.wants(Format::Esys) {
-        tasks.stream(
-            ESYS_GEOMETRY,
-            esys_geometry_writer(packing, materials, opts)?,
-        );
+        let write = esys_geometry_writer(packing, materials, opts)?;
+        streams.push((ESYS_GEOMETRY, Box::new(write)));
     }
     if out.wants(Format::LammpsClumps) {
-        tasks.stream(
-            LAMMPS_CLUMPS_DATA,
-            lammps_clumps_data_writer(packing, materials, opts)?,
-        );
+        let write = lammps_clumps_data_writer(packing, materials, opts)?;
+        streams.push((LAMMPS_CLUMPS_DATA, Box::new(write)));
     }
     if out.wants(Format::LiggghtsClumps) {
-        tasks.stream(
-            LIGGGHTS_CLUMPS_DATA,
-            liggghts_clumps_data_writer(packing, materials, opts)?,
-        );
+        let write = liggghts_clumps_data_writer(packing, materials, opts)?;
+        streams.push((LIGGGHTS_CLUMPS_DATA, Box::new(write)));
+    }
+    Ok(streams)
+}
+
+/// The files of a run ([`RunInfo`]) but those of [`packing_streams`]:
+/// `summary.json` and `packing.json` (streamed where it goes, as large as
+/// the packing), which read `metrics`, and the pictures, charts and small
+/// tables, made on all cores. `_confirmed` proves that the packing and
+/// its measures passed the check.
+///
+/// # Errors
+/// [`OutputError`] when a file cannot be made.
+pub fn render_measured_bodies<'a>(
+    packing: &'a Packing,
+    metrics: &'a Metrics,
+    run: &'a RunInfo<'a>,
+    _confirmed: &Confirmed,
+) -> Result<Vec<(String, Body<'a>)>, OutputError> {
+    let out = run.output;
+    let materials = run.materials;
+    let mut tasks = Tasks::new(out);
+    tasks.add(SUMMARY_JSON, || summary_json(packing, metrics, run));
+    if out.wants(Format::Json) {
+        tasks.stream(PACKING_JSON, packing_json_writer(packing, metrics, run)?);
+    }
+    if out.wants(Format::Vtk) {
+        tasks.add(BOUNDARY_VTK, || Ok(boundary_vtk(packing)));
     }
     let diameters = (run.scene.d_min(), run.scene.d_max());
     tasks.packing(packing, materials, diameters, || {
@@ -388,13 +417,37 @@ pub fn render_output_bodies<'a>(
 /// recomputes from the disks (both sum the same areas, in other orders).
 const SUMMARY_AGREEMENT: f64 = 1e-9;
 
-/// The check made before any packing is written, independent of the
-/// generator and of [`crate::measure`]: [`crate::check::check`] must find no
-/// overlap and no disk outside the domain, `metrics` must report no overlap
-/// with the wall disks either, and its counts and porosity must match the
-/// disks.
-fn confirm(packing: &Packing, metrics: &Metrics) -> Result<(), OutputError> {
-    let c = check_particles(&packing.disks, &packing.grains, &packing.domain, None);
+/// Proof that a packing and its measures passed [`confirm`], which
+/// [`render_measured_bodies`] asks for.
+#[derive(Debug)]
+pub struct Confirmed(());
+
+/// The independent check of a packing that [`confirm`] reads, stopped by
+/// `cancel`: a pair search over its own index, independent of the
+/// generator and of [`crate::measure`] (a run makes it beside the measures).
+///
+/// # Errors
+/// [`Cancelled`] when `cancel` stops it.
+pub fn check_packing(packing: &Packing, cancel: &Cancel) -> Result<Check, Cancelled> {
+    check_cancellable(
+        &packing.disks,
+        &packing.grains,
+        &packing.domain,
+        None,
+        None,
+        cancel,
+    )
+}
+
+/// The check made before any packing is written: `check`, the packing's
+/// [`check_packing`], must find no overlap and no disk outside the
+/// domain, `metrics` must report no overlap with the wall disks either,
+/// and its counts and porosity must match the disks.
+///
+/// # Errors
+/// [`OutputError::Invalid`] naming the faults.
+pub fn confirm(metrics: &Metrics, check: &Check) -> Result<Confirmed, OutputError> {
+    let c = check;
     let mut faults = Vec::new();
     if c.malformed > 0 {
         faults.push(format!("{} malformed disks", c.malformed));
@@ -431,7 +484,7 @@ fn confirm(packing: &Packing, metrics: &Metrics) -> Result<(), OutputError> {
         ));
     }
     if faults.is_empty() {
-        Ok(())
+        Ok(Confirmed(()))
     } else {
         Err(OutputError::Invalid(faults.join("; ")))
     }
