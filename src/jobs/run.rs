@@ -355,15 +355,15 @@ impl<'p> Running<'p> {
         // Either side that fails stops the other.
         let stop = cancel.child();
         let store = &mut *self.store;
-        let (side, ahead) = std::thread::scope(|s| {
-            let side = s.spawn(|| {
-                let begun = std::time::Instant::now();
-                let metrics = measure(&stop);
-                if metrics.is_err() {
-                    stop.cancel();
-                }
-                (metrics, begun.elapsed().as_secs_f64())
-            });
+        let side = || {
+            let begun = std::time::Instant::now();
+            let metrics = measure(&stop);
+            if metrics.is_err() {
+                stop.cancel();
+            }
+            (metrics, begun.elapsed().as_secs_f64())
+        };
+        let ahead = |store: &mut dyn Store| {
             let ahead = stage_streams(store, folder, streams, &stop).and_then(|staged| {
                 let check = check_packing(packing, &stop)?;
                 Ok(Ahead { check, staged })
@@ -371,8 +371,22 @@ impl<'p> Running<'p> {
             if ahead.is_err() {
                 stop.cancel();
             }
-            (side.join(), ahead)
-        });
+            ahead
+        };
+        let (side, ahead) = if rayon::current_thread_index().is_some() {
+            // On a worker of rayon's pool (the runs of a sweep, a batch or
+            // a search): a thread waited for there would hold a worker the
+            // measure's own parallel loops may be queued behind, so the
+            // two sides run one after the other.
+            let measured = side();
+            (Ok(measured), ahead(store))
+        } else {
+            std::thread::scope(|s| {
+                let measuring = s.spawn(side);
+                let ahead = ahead(store);
+                (measuring.join(), ahead)
+            })
+        };
         let (metrics, measured) = match side {
             Ok(side) => side,
             Err(panic) => std::panic::resume_unwind(panic),

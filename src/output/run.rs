@@ -295,9 +295,7 @@ pub fn packing_streams<'a>(
         let columns = Arc::clone(&columns);
         streams.push((
             PACKING_VTP,
-            Box::new(move |w| {
-                write_packing_vtp_with(packing, materials, compression, &columns, w)
-            }),
+            Box::new(move |w| write_packing_vtp_with(packing, materials, compression, &columns, w)),
         ));
     }
     if out.wants(Format::Npz) {
