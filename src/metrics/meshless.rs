@@ -276,7 +276,7 @@ impl<'a> Search<'a> {
                         cancel.check()?;
                     }
                     let i = i as usize;
-                    if i < self.first || (i - self.first) % stride != 0 {
+                    if i < self.first || !(i - self.first).is_multiple_of(stride) {
                         continue;
                     }
                     self.nearest(i, k, &mut best);
@@ -344,17 +344,16 @@ impl<'a> Search<'a> {
 /// (`best`, ascending by distance then index). `once`: a particle may be
 /// offered again (another periodic image) and keeps its least distance.
 fn offer(best: &mut Vec<(f64, u32)>, k: usize, dist: f64, j: u32, once: bool) {
-    if once {
-        if let Some(at) = best.iter().position(|e| e.1 == j) {
-            if dist < best[at].0 {
-                best.remove(at);
-            } else {
-                return;
-            }
+    if once && let Some(at) = best.iter().position(|e| e.1 == j) {
+        if dist < best[at].0 {
+            best.remove(at);
+        } else {
+            return;
         }
     }
     if best.len() == k {
-        if !(dist < best[k - 1].0) {
+        // Not nearer (or NaN): not among the k.
+        if dist.partial_cmp(&best[k - 1].0) != Some(std::cmp::Ordering::Less) {
             return;
         }
         best.pop();
