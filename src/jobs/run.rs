@@ -55,7 +55,7 @@ impl Outcome {
     /// Disks placed elsewhere (a table read back, a packing edited by hand)
     /// as the outcome of `plan`'s pack job: measured against the plan's
     /// scene, nothing written yet, no time spent. A front end hands it to
-    /// [`write`] to render a packing it did not make; [`write`] checks it
+    /// [`write()`] to render a packing it did not make; [`write()`] checks it
     /// first, as it checks every packing.
     ///
     /// # Errors

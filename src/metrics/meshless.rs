@@ -10,7 +10,7 @@
 //! periodic cell each other particle counts once, at its minimum-image
 //! distance (its own images are not neighbours).
 //!
-//! The neighbour index is the measure's own ([`ByRadius`], `near.rs`), not
+//! The neighbour index is the measure's own (`ByRadius`, `near.rs`), not
 //! the packer's MX quadtree: [`super::measure`] has already built it over
 //! the finished packing (no third index, no second copy), it buckets
 //! each size class by its own largest radius so that a coarse particle
@@ -97,7 +97,7 @@ pub struct H6Stats {
 /// each value is the `k`-th smallest of exactly computed distances.
 ///
 /// # Performance
-/// One index over the particles ([`ByRadius`]) and a search per particle
+/// One index over the particles (`ByRadius`) and a search per particle
 /// in boxes doubling from about two of its diameters: O(n) in a dense
 /// packing, in parallel.
 pub fn hk(packing: &Packing, k: usize) -> Vec<f64> {
