@@ -101,10 +101,9 @@ pub struct H6Stats {
 /// in boxes doubling from about two of its diameters: O(n) in a dense
 /// packing, in parallel.
 pub fn hk(packing: &Packing, k: usize) -> Vec<f64> {
-    match hk_cancellable(packing, k, &Cancel::new()) {
-        Ok(h) => h,
-        Err(_) => unreachable!("a new token is never raised"),
-    }
+    // A new token is never raised; were it, every value would be undefined.
+    hk_cancellable(packing, k, &Cancel::new())
+        .unwrap_or_else(|_| vec![f64::NAN; packing.disks.len()])
 }
 
 /// [`hk`] with `k` = 6: the meshless support size h6 of each particle.
