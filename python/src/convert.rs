@@ -303,12 +303,7 @@ pub(crate) fn verify(
             Some(m.iter().map(|&i| i as u16).collect())
         }
     };
-    let disks: Vec<Disk> = x
-        .iter()
-        .zip(y)
-        .zip(r)
-        .map(|((&x, &y), &r)| Disk::new(x, y, r))
-        .collect();
+    let disks = disks_of(x, y, r);
     // Superellipses: angle, a, b, alpha, beta, each of the length of x (an
     // outline its constructor refuses is a malformed particle).
     let grains: Vec<Grain> = match &shapes {
@@ -395,4 +390,13 @@ pub(crate) fn verify(
     told.set_item("psd_ks", result.grading.ks())?;
     told.set_item("ks_limit", result.ks_limit)?;
     Ok(told.into_any().unbind())
+}
+
+/// The disks of the columns `x`, `y` and `r` (of one length).
+pub(crate) fn disks_of(x: &[f64], y: &[f64], r: &[f64]) -> Vec<Disk> {
+    x.iter()
+        .zip(y)
+        .zip(r)
+        .map(|((&x, &y), &r)| Disk::new(x, y, r))
+        .collect()
 }

@@ -590,12 +590,7 @@ impl Packing {
                     })
             })
             .collect::<PyResult<Vec<u16>>>()?;
-        let disks: Vec<Disk> = x
-            .iter()
-            .zip(y)
-            .zip(r)
-            .map(|((&x, &y), &r)| Disk::new(x, y, r))
-            .collect();
+        let disks = crate::convert::disks_of(x, y, r);
         let mut packed = Packed::of_disks(plan.config.scene.domain.clone(), disks);
         packed.materials = materials;
         let mut quiet = plan.clone();

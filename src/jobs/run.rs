@@ -691,6 +691,7 @@ impl From<Cancelled> for JobError {
 mod tests {
     use super::*;
     use crate::geometry::{Disk, Domain};
+    use crate::jobs::store::tests::listing;
 
     /// A plan of a 10 mm square writing its table and VTP file, a fresh
     /// folder for its files, and a packing of two disks, overlapping or apart.
@@ -708,16 +709,6 @@ mod tests {
             vec![Disk::new(2.0, 2.0, 1.0), Disk::new(second, 2.0, 1.0)],
         );
         (plan, dir, packing)
-    }
-
-    /// The names in `dir`, sorted.
-    fn listing(dir: &std::path::Path) -> Vec<String> {
-        let mut names: Vec<String> = std::fs::read_dir(dir)
-            .expect("listed")
-            .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
-            .collect();
-        names.sort();
-        names
     }
 
     /// The packing's files are staged while it is measured, but a packing

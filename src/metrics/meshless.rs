@@ -410,71 +410,9 @@ fn percentile(values: &mut [f64], q: f64) -> f64 {
 mod tests {
     use super::*;
 
-    /// The `k`-th smallest distance from each particle to the others, by
-    /// every pair (minimum image over the shifts of one period each way).
-    fn brute(packing: &Packing, k: usize) -> Vec<f64> {
-        let disks = &packing.disks;
-        let shifts: Vec<_> = match packing.domain.period() {
-            Some(p) => {
-                let (lo, hi) = packing.domain.bounds();
-                packing.domain.image_shifts(lo - p, hi + p).collect()
-            }
-            None => vec![nalgebra::Vector2::zeros()],
-        };
-        (0..disks.len())
-            .map(|i| {
-                let mut d: Vec<f64> = (0..disks.len())
-                    .filter(|&j| j != i)
-                    .map(|j| {
-                        shifts
-                            .iter()
-                            .map(|&v| {
-                                let c = disks[j].c;
-                                let at = if v.x == 0.0 && v.y == 0.0 { c } else { c + v };
-                                (disks[i].c - at).norm()
-                            })
-                            .fold(f64::INFINITY, f64::min)
-                    })
-                    .collect();
-                d.sort_by(f64::total_cmp);
-                kth(&d.iter().map(|&x| (x, 0)).collect::<Vec<_>>(), k)
-            })
-            .collect()
-    }
-
-    fn scattered(domain: Domain, n: usize, seed: u64) -> Packing {
-        use rand::{Rng, SeedableRng};
-        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(seed);
-        let (lo, hi) = domain.bounds();
-        let disks = (0..n)
-            .map(|_| {
-                Disk::new(
-                    rng.gen_range(lo.x..hi.x),
-                    rng.gen_range(lo.y..hi.y),
-                    rng.gen_range(0.05..0.8),
-                )
-            })
-            .collect();
-        Packing::of_disks(domain, disks)
-    }
-
-    #[test]
-    fn hk_is_the_kth_distance_of_every_pair() {
-        for seed in 0..4 {
-            for domain in [
-                Domain::rectangle(30.0, 20.0).unwrap(),
-                Domain::periodic_rectangle(30.0, 20.0).unwrap(),
-                Domain::periodic_rectangle(3.0, 40.0).unwrap(),
-            ] {
-                let packing = scattered(domain, 300 + 100 * seed as usize, seed);
-                for k in [1, 5, 6, 7, 20] {
-                    let fast: Vec<u64> = hk(&packing, k).iter().map(|v| v.to_bits()).collect();
-                    let slow: Vec<u64> = brute(&packing, k).iter().map(|v| v.to_bits()).collect();
-                    assert_eq!(fast, slow, "seed {seed}, k {k}");
-                }
-            }
-        }
-    }
+    // Every pair against the index: `hk_is_the_brute_force_kth_nearest`
+    // in the integration tests (random, packed and periodic, k 1 to 12).
+    use crate::metrics::tests::scattered;
 
     #[test]
     fn h6_is_undefined_below_seven_particles() {

@@ -1102,7 +1102,7 @@ mod tests {
 
     /// `n` disks of radii 0.1 to 0.8 mm dropped at random in the bounds of
     /// `domain` (overlapping one another and the walls).
-    fn scattered(domain: crate::Domain, n: usize, seed: u64) -> Packing {
+    pub(super) fn scattered(domain: crate::Domain, n: usize, seed: u64) -> Packing {
         use rand::{Rng, SeedableRng};
         let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(seed);
         let (lo, hi) = domain.bounds();

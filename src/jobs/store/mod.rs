@@ -537,7 +537,7 @@ impl Store for MemoryStore {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
     #[test]
@@ -586,7 +586,7 @@ mod tests {
     }
 
     /// The names in `dir`, sorted.
-    pub(super) fn listing(dir: &Path) -> Vec<String> {
+    pub(in crate::jobs) fn listing(dir: &Path) -> Vec<String> {
         let mut names: Vec<String> = fs::read_dir(dir)
             .expect("listed")
             .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
