@@ -131,8 +131,8 @@ pub struct EdgeRow {
     /// edges' porosity minus the inside's (per seed), the same bands along
     /// the two lines through the cell's centre, along the two lines half a
     /// period from the first disk (where the front closes on itself; the
-    /// edges themselves when the first disk sits at the centre), or the
-    /// whole cell.
+    /// edges themselves when the first disk sits at the centre), their
+    /// porosity minus the inside's (per seed), or the whole cell.
     pub zone: &'static str,
     /// Mean, standard deviation, least and greatest over the seeds of the
     /// zone's porosity.
@@ -269,6 +269,12 @@ pub fn run_periodic_edges(seeds: u64) -> anyhow::Result<Vec<EdgeRow>> {
         rows.push(row("edges - inside", &diff, None));
         rows.push(row("centre lines", &p(&centre), Some(&centre)));
         rows.push(row("closure lines", &p(&closure), Some(&closure)));
+        let diff: Vec<f64> = closure
+            .iter()
+            .zip(&away)
+            .map(|(c, a)| c.porosity - a.porosity)
+            .collect();
+        rows.push(row("closure - inside", &diff, None));
         rows.push(row("whole cell", &whole, None));
     }
     Ok(rows)
