@@ -477,7 +477,7 @@ fn search_pairs(
     cancel: &Cancel,
 ) -> Result<(particles::Pairs, bool), Cancelled> {
     let ids = || firsts.iter().map(|&i| i as usize);
-    let near = ByRadius::new(disks, firsts);
+    let near = ByRadius::new(disks, ids());
     let r_max = ids().fold(0.0f64, |m, i| m.max(disks[i].r));
     let met = AtomicBool::new(false);
     // Fixed chunks of the groups, each with its own counts: sums

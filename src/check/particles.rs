@@ -122,7 +122,7 @@ pub(super) fn pairs(
         return Ok(out);
     }
     let ids = || ok.iter().map(|&i| i as usize);
-    let near = ByRadius::new(reach, ok);
+    let near = ByRadius::new(reach, ids());
     let r_max = ids().fold(0.0f64, |m, i| m.max(reach[i].r));
     let mut search = Search::default();
     for a in ids() {

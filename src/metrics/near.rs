@@ -10,9 +10,6 @@
 //! generator's spatial indexes: the independent check relies on it too.
 
 use std::ops::ControlFlow;
-use std::sync::atomic::{AtomicU32, Ordering};
-
-use rayon::prelude::*;
 
 use crate::geometry::{Disk, Point};
 
@@ -59,99 +56,21 @@ pub(crate) struct ByRadius {
     classes: Vec<Class>,
 }
 
-/// Disks an index holds: a range of them, or those listed (in increasing
-/// order).
-#[derive(Clone, Copy)]
-pub(crate) enum Ids<'a> {
-    Span(usize, usize),
-    Listed(&'a [u32]),
-}
-
-impl Ids<'_> {
-    fn len(self) -> usize {
-        match self {
-            Ids::Span(start, end) => end.saturating_sub(start),
-            Ids::Listed(ids) => ids.len(),
-        }
-    }
-
-    /// The ids in order, as a parallel iterator.
-    fn par(self) -> impl IndexedParallelIterator<Item = usize> {
-        (0..self.len()).into_par_iter().map(move |k| match self {
-            Ids::Span(start, _) => start + k,
-            Ids::Listed(ids) => ids[k] as usize,
-        })
-    }
-}
-
-impl From<std::ops::Range<usize>> for Ids<'_> {
-    fn from(range: std::ops::Range<usize>) -> Self {
-        Ids::Span(range.start, range.end)
-    }
-}
-
-impl<'a> From<&'a [u32]> for Ids<'a> {
-    fn from(ids: &'a [u32]) -> Self {
-        Ids::Listed(ids)
-    }
-}
-
-/// Disks a task of the parallel build takes, at least: small indexes (a
-/// search's windows) stay on one thread.
-const PAR_MIN: usize = 1 << 12;
-
-/// Cells a task of [`sort_cells`] takes.
-const SORT_CELLS: usize = 1 << 12;
-
-/// Sort each cell's ids (`ids[cell_start[c]..cell_start[c + 1]]`) in
-/// place, in parallel over runs of cells.
-fn sort_cells(ids: &mut [u32], cell_start: &[u32]) {
-    let cells = cell_start.len() - 1;
-    let mut runs = Vec::with_capacity(cells.div_ceil(SORT_CELLS));
-    let mut rest = ids;
-    for first in (0..cells).step_by(SORT_CELLS) {
-        let end = (first + SORT_CELLS).min(cells);
-        let len = (cell_start[end] - cell_start[first]) as usize;
-        let (run, tail) = rest.split_at_mut(len);
-        runs.push((first, end, run));
-        rest = tail;
-    }
-    runs.into_par_iter().for_each(|(first, end, run)| {
-        let base = cell_start[first] as usize;
-        for c in first..end {
-            let (lo, hi) = (
-                cell_start[c] as usize - base,
-                cell_start[c + 1] as usize - base,
-            );
-            if hi - lo > 1 {
-                run[lo..hi].sort_unstable();
-            }
-        }
-    });
-}
-
 impl ByRadius {
     /// Bucket `disks[i]` for each `i` of `ids` (finite centres and radii;
     /// fewer than 2³² disks).
     ///
     /// # Performance
-    /// Walks `ids` in parallel three times per size class present, and
-    /// holds 4 bytes a disk and 8 a cell while it builds (no list of the
-    /// ids or of the classes' members on the way).
-    pub(crate) fn new<'a>(disks: &[Disk], ids: impl Into<Ids<'a>>) -> Self {
-        let ids = ids.into();
+    /// Walks `ids` three times per size class present, and holds 4 bytes a
+    /// disk and 4 a cell (no list of the ids or of the classes' members on
+    /// the way).
+    pub(crate) fn new(disks: &[Disk], ids: impl Iterator<Item = usize> + Clone) -> Self {
         let (r_min, r_max) = ids
-            .par()
-            .with_min_len(PAR_MIN)
+            .clone()
             .map(|i| disks[i].r)
-            .fold(
-                || (f64::INFINITY, f64::NEG_INFINITY),
-                |(lo, hi), r| (if r > 0.0 { lo.min(r) } else { lo }, hi.max(r)),
-            )
-            .reduce(
-                || (f64::INFINITY, f64::NEG_INFINITY),
-                |a, b| (a.0.min(b.0), a.1.max(b.1)),
-            );
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| {
+                (if r > 0.0 { lo.min(r) } else { lo }, hi.max(r))
+            });
         let class_of = |r: f64| {
             let k = (r / r_min).log2().floor();
             if k.is_finite() && k > 0.0 {
@@ -160,38 +79,25 @@ impl ByRadius {
                 0
             }
         };
-        let counts = if r_max / r_min < ONE_CLASS {
+        let mut counts = [0usize; MAX_CLASSES];
+        if r_max / r_min < ONE_CLASS {
             // Every disk in the first class, without a logarithm each.
-            let mut counts = [0usize; MAX_CLASSES];
-            counts[0] = ids.len();
-            counts
+            counts[0] = ids.clone().count();
         } else {
-            ids.par()
-                .with_min_len(PAR_MIN)
-                .fold(
-                    || [0usize; MAX_CLASSES],
-                    |mut counts, i| {
-                        counts[class_of(disks[i].r)] += 1;
-                        counts
-                    },
-                )
-                .reduce(
-                    || [0usize; MAX_CLASSES],
-                    |mut a, b| {
-                        a.iter_mut().zip(b).for_each(|(a, b)| *a += b);
-                        a
-                    },
-                )
-        };
+            for i in ids.clone() {
+                counts[class_of(disks[i].r)] += 1;
+            }
+        }
         let total: usize = counts.iter().sum();
         let classes = (0..MAX_CLASSES)
             .filter(|&k| counts[k] > 0)
             .map(|k| {
                 if counts[k] == total {
                     // One class: its members without a class test each.
-                    Class::new(disks, ids, |_| true, total)
+                    Class::new(disks, ids.clone(), total)
                 } else {
-                    Class::new(disks, ids, |i| class_of(disks[i].r) == k, counts[k])
+                    let members = ids.clone().filter(|&i| class_of(disks[i].r) == k);
+                    Class::new(disks, members, counts[k])
                 }
             })
             .collect();
@@ -252,51 +158,23 @@ impl ByRadius {
 }
 
 impl Class {
-    /// The class of the `count` disks `disks[i]`, `i` of `ids` that `keep`
-    /// takes; each cell's disks by index.
+    /// The class of the `count` disks `disks[i]`, `i` of `ids` (in
+    /// increasing order, so that each cell's disks come by index).
     ///
     /// # Performance
-    /// A counting sort by cell in parallel: the counts and the places
-    /// taken by atomic adds, then each cell's few disks sorted by index,
-    /// so the table is the same whatever the number of threads. No
-    /// comparison sort of the whole.
-    fn new(
-        disks: &[Disk],
-        ids: Ids<'_>,
-        keep: impl Fn(usize) -> bool + Sync,
-        count: usize,
-    ) -> Self {
-        let members = || ids.par().with_min_len(PAR_MIN).filter(|&i| keep(i));
-        let none = || {
-            (
-                0.0f64,
-                f64::INFINITY,
-                f64::INFINITY,
-                f64::NEG_INFINITY,
-                f64::NEG_INFINITY,
-            )
-        };
-        let (r_max, x0, y0, x1, y1) = members()
-            .map(|i| disks[i])
-            .fold(none, |(r, x0, y0, x1, y1), d| {
-                let c = d.c;
-                (
-                    r.max(d.r),
-                    x0.min(c.x),
-                    y0.min(c.y),
-                    x1.max(c.x),
-                    y1.max(c.y),
-                )
-            })
-            .reduce(none, |a, b| {
-                (
-                    a.0.max(b.0),
-                    a.1.min(b.1),
-                    a.2.min(b.2),
-                    a.3.max(b.3),
-                    a.4.max(b.4),
-                )
-            });
+    /// A counting sort by cell: two walks of `ids`, no comparison sort.
+    fn new(disks: &[Disk], ids: impl Iterator<Item = usize> + Clone, count: usize) -> Self {
+        let r_max = ids.clone().fold(0.0f64, |m, i| m.max(disks[i].r));
+        let (mut x0, mut y0, mut x1, mut y1) = (
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        );
+        for i in ids.clone() {
+            let c = disks[i].c;
+            (x0, y0, x1, y1) = (x0.min(c.x), y0.min(c.y), x1.max(c.x), y1.max(c.y));
+        }
         // Cells of a sparse class hold about one disk each, and no class
         // spans more rows or columns than it has disks.
         let n = count as f64;
@@ -331,23 +209,20 @@ impl Class {
             row * (cols as usize + 1) + col
         };
         let cells = (rows as usize + 1) * (cols as usize + 1);
-        let counts: Vec<AtomicU32> = (0..=cells).map(|_| AtomicU32::new(0)).collect();
-        members().for_each(|i| {
-            counts[cell_of(i) + 1].fetch_add(1, Ordering::Relaxed);
-        });
-        let mut cell_start: Vec<u32> = counts.into_iter().map(AtomicU32::into_inner).collect();
+        let mut cell_start = vec![0u32; cells + 1];
+        for i in ids.clone() {
+            cell_start[cell_of(i) + 1] += 1;
+        }
         for k in 1..cell_start.len() {
             cell_start[k] += cell_start[k - 1];
         }
-        let next: Vec<AtomicU32> = cell_start.iter().map(|&s| AtomicU32::new(s)).collect();
-        let placed: Vec<AtomicU32> = (0..count).map(|_| AtomicU32::new(0)).collect();
-        members().for_each(|i| {
-            let slot = next[cell_of(i)].fetch_add(1, Ordering::Relaxed);
-            placed[slot as usize].store(i as u32, Ordering::Relaxed);
-        });
-        drop(next);
-        let mut ids_sorted: Vec<u32> = placed.into_iter().map(AtomicU32::into_inner).collect();
-        sort_cells(&mut ids_sorted, &cell_start);
+        let mut ids_sorted = vec![0u32; count];
+        let mut next = cell_start.clone();
+        for i in ids {
+            let slot = &mut next[cell_of(i)];
+            ids_sorted[*slot as usize] = i as u32;
+            *slot += 1;
+        }
         Class {
             ids: ids_sorted,
             cell_start,
