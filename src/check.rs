@@ -33,7 +33,7 @@ use rayon::prelude::*;
 use crate::cancel::{Cancel, Cancelled};
 use crate::geometry::{Disk, Domain, Grain, Outline, Turned};
 use crate::grading::Grading;
-use crate::metrics::near::ByRadius;
+use crate::metrics::near::{ByRadius, SharedIndex};
 use crate::metrics::{porosity, solid_area};
 
 /// The KS distance beyond the sampling noise of n sizes (1.36/√n, the 95 %
@@ -169,7 +169,7 @@ impl Check {
 /// and [`Check::overlaps`] is then a lower bound
 /// ([`Check::overlaps_complete`]).
 pub fn check(disks: &[Disk], domain: &Domain, grading: Option<&Grading>) -> Check {
-    never_stopped(run(disks, &[], domain, grading, None, &Cancel::new()))
+    never_stopped(run(disks, &[], domain, grading, None, None, &Cancel::new()))
 }
 
 /// Check particles of any shape in `domain`: `disks[i]` the centre and
@@ -212,7 +212,15 @@ pub fn check_particles(
     domain: &Domain,
     grading: Option<&Grading>,
 ) -> Check {
-    never_stopped(run(disks, grains, domain, grading, None, &Cancel::new()))
+    never_stopped(run(
+        disks,
+        grains,
+        domain,
+        grading,
+        None,
+        None,
+        &Cancel::new(),
+    ))
 }
 
 /// [`check_particles`] with the grading checked on `sizes[i]`, the size of
@@ -232,6 +240,7 @@ pub fn check_particles_sized(
         domain,
         grading,
         Some(sizes),
+        None,
         &Cancel::new(),
     ))
 }
@@ -252,7 +261,23 @@ pub fn check_cancellable(
     sizes: Option<&[f64]>,
     cancel: &Cancel,
 ) -> Result<Check, Cancelled> {
-    run(disks, grains, domain, grading, sizes, cancel)
+    run(disks, grains, domain, grading, sizes, None, cancel)
+}
+
+/// [`check_cancellable`] of disks (no grains, no grading) whose pair
+/// search takes its index from `shared` when it is theirs and every disk
+/// is well formed: the index a measure of the same packing uses, built
+/// once for both. The search itself stays the check's own.
+///
+/// # Errors
+/// [`Cancelled`] when `cancel` stops it.
+pub(crate) fn check_sharing(
+    disks: &[Disk],
+    domain: &Domain,
+    shared: &SharedIndex<'_>,
+    cancel: &Cancel,
+) -> Result<Check, Cancelled> {
+    run(disks, &[], domain, None, None, Some(shared), cancel)
 }
 
 /// The result of a check whose token is never raised and has no deadline.
@@ -265,13 +290,14 @@ fn never_stopped(check: Result<Check, Cancelled>) -> Check {
 
 /// The check of [`check`], [`check_particles`] and
 /// [`check_particles_sized`]: grains empty for disks, sizes `None` for
-/// the diameters 2·r.
+/// the diameters 2·r, the disks' index from `shared` where it serves.
 fn run(
     disks: &[Disk],
     grains: &[Grain],
     domain: &Domain,
     grading: Option<&Grading>,
     sizes: Option<&[f64]>,
+    shared: Option<&SharedIndex<'_>>,
     cancel: &Cancel,
 ) -> Result<Check, Cancelled> {
     let shaped = !grains.is_empty();
@@ -334,7 +360,7 @@ fn run(
     let p = if shaped {
         particles::pairs(disks, &turned, &reach, &ok, domain, cancel)?
     } else {
-        overlapping_pairs(disks, &ok, domain, cancel)?
+        overlapping_pairs(disks, &ok, domain, shared, cancel)?
     };
     let (overlaps, worst_overlap, pairs_certified) = (p.overlaps, p.worst, p.certified);
     let overlaps_complete = p.complete;
@@ -442,6 +468,7 @@ fn overlapping_pairs(
     disks: &[Disk],
     ok: &[u32],
     domain: &Domain,
+    shared: Option<&SharedIndex<'_>>,
     cancel: &Cancel,
 ) -> Result<particles::Pairs, Cancelled> {
     if ok.len() < 2 && !domain.is_periodic() {
@@ -456,28 +483,41 @@ fn overlapping_pairs(
     // disks (the usual one) needs no sort of them. When that search meets
     // a copy, or stops short (it may have missed one), the disks are
     // searched again with the copies grouped.
-    let (pairs, copies) = search_pairs(disks, ok, None, domain, cancel)?;
+    // Every disk well formed: the shared index is the one this search
+    // would build (every disk, in order).
+    let shared = shared
+        .filter(|_| ok.len() == disks.len())
+        .and_then(|s| s.of(disks));
+    let (pairs, copies) = search_pairs(disks, ok, None, domain, shared, cancel)?;
     if !copies && pairs.complete {
         return Ok(pairs);
     }
     let groups = Groups::of(disks, ok);
-    Ok(search_pairs(disks, &groups.firsts, Some(&groups), domain, cancel)?.0)
+    Ok(search_pairs(disks, &groups.firsts, Some(&groups), domain, None, cancel)?.0)
 }
 
 /// The pair search of [`overlapping_pairs`] over the disks `firsts`
 /// (each standing for its group in `groups`, or for itself alone), and
 /// whether it met two identical disks (always false with groups). With
 /// each disk alone, the first copy met stops the search: its other
-/// figures are then of no use.
+/// figures are then of no use. `near`, when given, indexes `firsts`.
 fn search_pairs(
     disks: &[Disk],
     firsts: &[u32],
     groups: Option<&Groups>,
     domain: &Domain,
+    near: Option<&ByRadius>,
     cancel: &Cancel,
 ) -> Result<(particles::Pairs, bool), Cancelled> {
     let ids = || firsts.iter().map(|&i| i as usize);
-    let near = ByRadius::new(disks, ids());
+    let own;
+    let near = match near {
+        Some(near) => near,
+        None => {
+            own = ByRadius::new(disks, ids());
+            &own
+        }
+    };
     let r_max = ids().fold(0.0f64, |m, i| m.max(disks[i].r));
     let met = AtomicBool::new(false);
     // Fixed chunks of the groups, each with its own counts: sums
@@ -505,7 +545,7 @@ fn search_pairs(
                 let at = Partners {
                     disks,
                     groups,
-                    near: &near,
+                    near,
                     r_max,
                     domain,
                 };

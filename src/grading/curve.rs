@@ -443,6 +443,24 @@ impl Grading {
         }
     }
 
+    /// [`Grading::cdf_left`] and [`Grading::cdf`] at `d`, bit for bit,
+    /// the curve interpolated once where they agree: everywhere but at a
+    /// piece's ends (the KS sweep asks both at every distinct size).
+    pub(super) fn cdf_limits(&self, d: f64) -> (f64, f64) {
+        let i = self.pieces.partition_point(|p| p.d_lo <= d);
+        let piece = i.checked_sub(1).and_then(|j| self.pieces.get(j));
+        // The left limit looks for `d_lo < d` and `d > d_hi`: it differs
+        // only where `d` is the found piece's end (the pieces are sorted,
+        // so no other piece starts at `d`).
+        match piece {
+            Some(p) if p.d_lo == d || p.d_hi == d => (self.cdf_left(d), self.cdf(d)),
+            _ => {
+                let value = self.cdf(d);
+                (value, value)
+            }
+        }
+    }
+
     /// The left limit of the CDF at `d`: the fraction strictly finer than `d`.
     pub(super) fn cdf_left(&self, d: f64) -> f64 {
         if d.is_nan() {
@@ -682,6 +700,39 @@ mod tests {
                 assert!(g.cdf_left(d) <= c);
                 prev = c;
             }
+        }
+    }
+
+    #[test]
+    fn cdf_limits_are_the_two_limits_bit_for_bit() {
+        let gap = Grading::from_table(
+            &[(1.0, 0.0), (2.0, 50.0), (3.0, 50.0), (3.0, 100.0)],
+            Interpolation::Linear,
+            Basis::Number,
+        )
+        .expect("valid");
+        for g in all_gradings().into_iter().chain([gap]) {
+            let (lo, hi) = (g.d_min(), g.d_max());
+            // A grid, and every piece's ends and their neighbours: the
+            // table's points and steps, where the two limits part.
+            let mut ds: Vec<f64> = (0..=2_000)
+                .map(|i| lo * 0.9 + (hi * 1.1 - lo * 0.9) * f64::from(i) / 2_000.0)
+                .collect();
+            for p in &g.pieces {
+                for d in [p.d_lo, p.d_hi] {
+                    ds.extend([d.next_down(), d, d.next_up()]);
+                }
+            }
+            let mut parted = 0;
+            for d in ds {
+                let (left, at) = g.cdf_limits(d);
+                assert_eq!(left.to_bits(), g.cdf_left(d).to_bits(), "{g:?} at {d}");
+                assert_eq!(at.to_bits(), g.cdf(d).to_bits(), "{g:?} at {d}");
+                parted += usize::from(left != at);
+            }
+            // A curve with a step parts its limits there.
+            let steps = g.pieces.iter().any(|p| p.shape == Shape::Atom);
+            assert!(!steps || parted > 0, "{g:?}");
         }
     }
 

@@ -73,9 +73,8 @@ impl Grading {
                     } else {
                         through / total
                     };
-                    distance = distance
-                        .max((before - self.cdf_left(d)).abs())
-                        .max((after - self.cdf(d)).abs());
+                    let (left, at) = self.cdf_limits(d);
+                    distance = distance.max((before - left).abs()).max((after - at).abs());
                     below = through;
                 }
                 distance

@@ -12,7 +12,7 @@ use super::wells::whole_fracture;
 use crate::cancel::Cancel;
 use crate::ga::{Layered, StopReason};
 use crate::layering::LayeringSettings;
-use crate::metrics::{Metrics, measure_cancellable};
+use crate::metrics::{Metrics, measure_sharing};
 use crate::names::ConfigName;
 use crate::output::{LayeringDetails, LayeringReport, LayeringSummary, OutputSettings, RunInfo};
 use crate::packer::Packing;
@@ -48,10 +48,13 @@ pub(super) fn run(
     let layered = lay_out(job, &packing, settings, cancel);
     packing.materials = layered.assignment.clone();
     // The layout is done: a cancel now no longer stops the run.
-    let (metrics, ahead) =
-        job.measure_packing("", &packing, &config.output, &Cancel::new(), |stop| {
-            measure_cancellable(&packing, scene, stop)
-        })?;
+    let (metrics, ahead) = job.measure_packing(
+        "",
+        &packing,
+        &config.output,
+        &Cancel::new(),
+        |shared, stop| measure_sharing(&packing, scene, Some(shared), stop),
+    )?;
     let interrupted = layered.stop == Some(StopReason::Interrupted);
     let report = Report::Layer {
         packing,

@@ -22,7 +22,7 @@ use crate::ga::{
     self, Checkpoint, Generation, Layered, OptimiseError, OptimiseObserver, OptimiseSettings,
     Optimised, Start, StopReason, TargetWarning, TargetWarningKind, Verdict,
 };
-use crate::metrics::{Metrics, measure_cancellable};
+use crate::metrics::{Metrics, measure_sharing};
 use crate::output::{OptimiseSummary, OutputSettings, RunInfo, SearchWindow, ShapeFound};
 
 /// The optimise job's rules: it needs an `[optimise]` table.
@@ -100,10 +100,13 @@ pub(super) fn run(
         None => single_material(&mut packing, config),
     }
     // The search is over: a cancel now no longer stops the run.
-    let (metrics, ahead) =
-        job.measure_packing("", &packing, &config.output, &Cancel::new(), |stop| {
-            measure_cancellable(&packing, &best_scene, stop)
-        })?;
+    let (metrics, ahead) = job.measure_packing(
+        "",
+        &packing,
+        &config.output,
+        &Cancel::new(),
+        |shared, stop| measure_sharing(&packing, &best_scene, Some(shared), stop),
+    )?;
     if let Some(warning) = warning {
         job.event(Event::Warning(warning_of(warning)));
     }

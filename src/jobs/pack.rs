@@ -7,7 +7,7 @@ use super::plan::{Plan, Planning};
 use super::registry::{Job, Report};
 use super::run::Running;
 use crate::cancel::Cancel;
-use crate::metrics::{Metrics, measure_cancellable};
+use crate::metrics::{Metrics, measure_sharing};
 use crate::output::{OutputSettings, RunInfo};
 
 /// The pack job's rules: the search and the layout are other jobs'; a
@@ -38,8 +38,8 @@ pub(super) fn run(job: &mut Running<'_>, cancel: &Cancel) -> Result<(Report, boo
     let output = &plan.config.output;
     let (packing, seconds) = job.pack_scene(scene, "the scene", cancel)?;
     // A cancel while measuring writes nothing, as one while packing.
-    let (metrics, ahead) = job.measure_packing("", &packing, output, cancel, |stop| {
-        measure_cancellable(&packing, scene, stop)
+    let (metrics, ahead) = job.measure_packing("", &packing, output, cancel, |shared, stop| {
+        measure_sharing(&packing, scene, Some(shared), stop)
     })?;
     let report = Report::Pack {
         packing,

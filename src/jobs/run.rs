@@ -17,6 +17,7 @@ use crate::config::Config;
 use crate::farm::{Farm, Local};
 use crate::ga::Generation;
 use crate::metrics::Metrics;
+use crate::metrics::near::SharedIndex;
 use crate::output::{
     Body, FILE_NAMES, Format, OutputError, OutputSettings, RunInfo, SVG_MAX_BYTES, Stream, WellRow,
     check_packing, confirm, packing_streams, packing_svg_note, render_measured_bodies,
@@ -230,7 +231,8 @@ pub fn write(
     let Some((packing, metrics, _)) = outcome.report.run_info(plan, output) else {
         return Err(not_one_packing(plan));
     };
-    let (_, ahead) = job.measure_packing("", packing, output, &Cancel::new(), |_| Ok(*metrics))?;
+    let (_, ahead) =
+        job.measure_packing("", packing, output, &Cancel::new(), |_, _| Ok(*metrics))?;
     job.write_report(&outcome.report, output, ahead)?;
     job.finish(outcome.interrupted)
 }
@@ -327,16 +329,19 @@ impl<'p> Running<'p> {
         Ok(())
     }
 
-    /// Measure `packing` by `measure` on a thread of its own, while this
-    /// one stages in the store, under `folder`, the packing's files that
-    /// do not read the measures ([`packing_streams`], as `output` asks),
-    /// then checks it ([`check_packing`], independent of the measures):
-    /// the largest files are written and the check made while the packing
-    /// is measured. Nothing is committed:
-    /// [`Running::write_packing`] adds them to the run's files once the
-    /// check passes, and they are removed if it fails or the run stops.
-    /// `measure` is given a token raised when `cancel` is or the staging
-    /// fails, which stops the staging too.
+    /// Measure `packing` by `measure` and check it ([`check_packing`],
+    /// independent of the measures) on threads of their own, while this one
+    /// stages in the store, under `folder`, the packing's files that do not
+    /// read the measures ([`packing_streams`], as `output` asks): the
+    /// largest files are written and the check made while the packing is
+    /// measured, the three sides' serial steps (the measure's sort and
+    /// index, the check's index, the files' copy to disk) side by side.
+    /// Nothing is committed: [`Running::write_packing`] adds the files to
+    /// the run's once the check passes, and they are removed if it fails
+    /// or the run stops. `measure` is given the disks' neighbour index the
+    /// check shares ([`SharedIndex`]: built once, by the first to ask),
+    /// and each side a token raised when `cancel` is or another side
+    /// fails, which stops them all.
     ///
     /// # Errors
     /// [`JobError::Cancelled`] when `cancel` stops the work; an output or
@@ -347,45 +352,55 @@ impl<'p> Running<'p> {
         packing: &Packing,
         output: &OutputSettings,
         cancel: &Cancel,
-        measure: impl FnOnce(&Cancel) -> Result<Metrics, Cancelled> + Send,
+        measure: impl FnOnce(&SharedIndex<'_>, &Cancel) -> Result<Metrics, Cancelled> + Send,
     ) -> Result<(Metrics, Ahead), JobError> {
         let start = std::time::Instant::now();
         let plan = self.plan;
         let streams = packing_streams(packing, &plan.config.materials, output)?;
-        // Either side that fails stops the other.
+        // Any side that fails stops the others.
         let stop = cancel.child();
         let store = &mut *self.store;
+        let shared = SharedIndex::new(&packing.disks);
         let side = || {
             let begun = std::time::Instant::now();
-            let metrics = measure(&stop);
+            let metrics = measure(&shared, &stop);
             if metrics.is_err() {
                 stop.cancel();
             }
             (metrics, begun.elapsed().as_secs_f64())
         };
-        let ahead = |store: &mut dyn Store| {
-            let ahead = stage_streams(store, folder, streams, &stop).and_then(|staged| {
-                let check = check_packing(packing, &stop)?;
-                Ok(Ahead { check, staged })
-            });
-            if ahead.is_err() {
+        let checking = || {
+            let check = check_packing(packing, &shared, &stop);
+            if check.is_err() {
                 stop.cancel();
             }
-            ahead
+            check
         };
-        let (side, ahead) = if rayon::current_thread_index().is_some() {
+        let staging = |store: &mut dyn Store| {
+            let staged = stage_streams(store, folder, streams, &stop);
+            if staged.is_err() {
+                stop.cancel();
+            }
+            staged
+        };
+        let (side, check, staged) = if rayon::current_thread_index().is_some() {
             // On a worker of rayon's pool (the runs of a sweep, a batch or
             // a search): a thread waited for there would hold a worker the
             // measure's own parallel loops may be queued behind, so the
-            // two sides run one after the other.
+            // sides run one after the other.
             let measured = side();
-            (Ok(measured), ahead(store))
+            (Ok(measured), Ok(checking()), staging(store))
         } else {
             std::thread::scope(|s| {
                 let measuring = s.spawn(side);
-                let ahead = ahead(store);
-                (measuring.join(), ahead)
+                let checked = s.spawn(checking);
+                let staged = staging(store);
+                (measuring.join(), checked.join(), staged)
             })
+        };
+        let check = match check {
+            Ok(check) => check,
+            Err(panic) => std::panic::resume_unwind(panic),
         };
         let (metrics, measured) = match side {
             Ok(side) => side,
@@ -397,8 +412,12 @@ impl<'p> Running<'p> {
         if cancel.is_cancelled() {
             return Err(JobError::Cancelled);
         }
-        // A side stopped without a cancel was stopped by the other's failure.
-        let ahead = ahead?;
+        // A side stopped without a cancel was stopped by another's failure:
+        // the staging's own error first (the others fail only by a cancel).
+        let ahead = Ahead {
+            staged: staged?,
+            check: check?,
+        };
         Ok((metrics?, ahead))
     }
 
@@ -724,7 +743,7 @@ mod tests {
             let mut job = Running::new(&plan, &mut silent, &mut store, &Local);
             let output = &plan.config.output;
             let (measured, ahead) = job
-                .measure_packing("", &packing, output, &Cancel::new(), |_| Ok(metrics))
+                .measure_packing("", &packing, output, &Cancel::new(), |_, _| Ok(metrics))
                 .expect("measured and staged");
             // NaN in a small packing's figures: compared as printed.
             assert_eq!(format!("{measured:?}"), format!("{metrics:?}"));
@@ -767,7 +786,7 @@ mod tests {
         let mut silent = super::super::Silent;
         let mut job = Running::new(&plan, &mut silent, &mut store, &Local);
         let cancel = Cancel::new();
-        let done = job.measure_packing("", &packing, &plan.config.output, &cancel, |stop| {
+        let done = job.measure_packing("", &packing, &plan.config.output, &cancel, |_, stop| {
             cancel.cancel();
             stop.check()?;
             Ok(crate::measure(&packing, &plan.config.scene))

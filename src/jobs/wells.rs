@@ -17,7 +17,7 @@ use crate::cancel::Cancel;
 use crate::config::Config;
 use crate::farm::{self, Local};
 use crate::fracture::{Extent, MM_PER_M, Well, Window, WindowError, settle};
-use crate::metrics::measure_cancellable;
+use crate::metrics::measure_sharing;
 use crate::output::{
     FractureSummary, RunInfo, WELLS_CSV, WellRow, WellShape, WindowSummary, wells_csv,
 };
@@ -243,7 +243,7 @@ fn well(
         &packing,
         &plan.config.output,
         &Cancel::new(),
-        |stop| measure_cancellable(&packing, &scene, stop),
+        |shared, stop| measure_sharing(&packing, &scene, Some(shared), stop),
     )?;
     let run = RunInfo {
         materials: &plan.config.materials,

@@ -44,7 +44,7 @@ use nalgebra::Vector2;
 
 use crate::geometry::{Disk, Point};
 use crate::packer::Packing;
-use near::ByRadius;
+use near::{ByRadius, SharedIndex};
 
 /// Disks or samples between two polls of the cancel token.
 const POLL_EVERY: usize = 1024;
@@ -150,6 +150,21 @@ pub fn measure_cancellable(
     scene: &Scene,
     cancel: &Cancel,
 ) -> Result<Metrics, Cancelled> {
+    measure_sharing(packing, scene, None, cancel)
+}
+
+/// [`measure_cancellable`] with the disks' neighbour index taken from
+/// `shared` when it is theirs (a packing without wall disks), and built
+/// there for the check beside it if not yet.
+///
+/// # Errors
+/// [`Cancelled`] once `cancel` is raised or its deadline passes.
+pub(crate) fn measure_sharing(
+    packing: &Packing,
+    scene: &Scene,
+    shared: Option<&SharedIndex<'_>>,
+    cancel: &Cancel,
+) -> Result<Metrics, Cancelled> {
     cancel.check()?;
     if !packing.grains.is_empty() {
         return measure_grains(packing, scene, cancel);
@@ -163,7 +178,8 @@ pub fn measure_cancellable(
         .chain(&packing.boundary)
         .fold(0.0f64, |m, d| m.max(d.r));
 
-    // First, while no index is held: it sorts a list of the diameters.
+    // First, while the measure holds no index of its own: it sorts a list
+    // of the diameters (a check beside it builds the shared index then).
     let psd_ks = psd_ks(packing, scene);
 
     // One index over wall disks then packed disks: the packed disks
@@ -177,7 +193,14 @@ pub fn measure_cancellable(
 
     // Neighbours by size class: a grid sized by the largest radius makes a
     // wide grading's fine disks visit cells full of fine disks.
-    let near = ByRadius::new(&all, 0..all.len());
+    let own;
+    let near = match shared.and_then(|s| s.of(&all)) {
+        Some(near) => near,
+        None => {
+            own = ByRadius::new(&all, 0..all.len());
+            &own
+        }
+    };
     let touched = Bits::new(all.len());
     let periodic = domain.is_periodic();
     // Fixed runs of the disks in cell order (neighbours in space near in
@@ -244,18 +267,18 @@ pub fn measure_cancellable(
         local_porosity(packing, r_max, |boxes| {
             boxes
                 .par_iter()
-                .map(|&b| disks_in_box(domain, &near, &all, nb, r_max, b))
+                .map(|&b| disks_in_box(domain, near, &all, nb, r_max, b))
                 .collect()
         });
     let clear = DiskClearance {
         packing,
-        near: &near,
+        near,
         all: &all,
         r_max,
         settler: (usize::MAX, Vector2::zeros()),
     };
     let largest_hole = largest_hole_of_disks(packing, clear, scene.d_min(), cancel)?;
-    let h6_over_d = meshless::h6_stats_with(domain, &all, &near, nb, cancel)?;
+    let h6_over_d = meshless::h6_stats_with(domain, &all, near, nb, cancel)?;
     Ok(Metrics {
         particles: n,
         domain_area,
@@ -635,6 +658,10 @@ fn hole_step(extent: nalgebra::Vector2<f64>, disks: usize, d_min: f64) -> f64 {
         .max(per_disk)
 }
 
+/// One row in this many of the largest-hole grid gives the search its
+/// first clearance to beat.
+const HOLE_SEED_STRIDE: usize = if cfg!(test) { 3 } else { 32 };
+
 /// Sample rows of the largest-hole grid one task scans.
 const HOLE_STRIP_ROWS: usize = 8;
 
@@ -695,7 +722,8 @@ struct Samples<'a> {
     step: f64,
     nx: usize,
     ny: usize,
-    /// Which samples lie strictly inside a disk (none known: no bits).
+    /// Which samples lie nearer than the cover's gap to a disk (none
+    /// known: no bits).
     inside: Bits,
 }
 
@@ -718,11 +746,12 @@ impl<'a> Samples<'a> {
         })
     }
 
-    /// Mark the samples that lie strictly inside a disk of the packing
-    /// (disks only: a sample inside an area-equivalent disk may lie
-    /// outside the particle), in one parallel pass over the disks; at
-    /// most about 4097² samples ([`hole_step`]'s floor), a bit each.
-    fn cover(&mut self, cancel: &Cancel) -> Result<(), Cancelled> {
+    /// Mark the samples nearer than `gap` (at least 0) to a disk of the
+    /// packing, whose clearance is then below `gap` (disks only: a sample
+    /// inside an area-equivalent disk may lie outside the particle), in
+    /// one parallel pass over the disks; at most about 4097² samples
+    /// ([`hole_step`]'s floor), a bit each.
+    fn cover(&mut self, gap: f64, cancel: &Cancel) -> Result<(), Cancelled> {
         let (lo, step, nx, ny) = (self.lo, self.step, self.nx, self.ny);
         let inside = Bits::new((nx + 1) * (ny + 1));
         let index = |v: f64, n: usize| (v.max(0.0) as usize).min(n);
@@ -730,15 +759,17 @@ impl<'a> Samples<'a> {
         disks.par_chunks(CHUNK).try_for_each(|chunk| {
             cancel.check()?;
             for d in chunk {
-                let (x0, x1) = ((d.c.x - d.r - lo.x) / step, (d.c.x + d.r - lo.x) / step);
-                let (y0, y1) = ((d.c.y - d.r - lo.y) / step, (d.c.y + d.r - lo.y) / step);
+                let reach = d.r + gap;
+                let (x0, x1) = ((d.c.x - reach - lo.x) / step, (d.c.x + reach - lo.x) / step);
+                let (y0, y1) = ((d.c.y - reach - lo.y) / step, (d.c.y + reach - lo.y) / step);
                 if x1 < 0.0 || y1 < 0.0 {
                     continue;
                 }
                 for iy in index(y0.ceil(), ny)..=index(y1.floor(), ny) {
                     for ix in index(x0.ceil(), nx)..=index(x1.floor(), nx) {
                         let p = Point::new(lo.x + ix as f64 * step, lo.y + iy as f64 * step);
-                        if (p - d.c).norm() < d.r {
+                        // The clearance's own expression: at most this.
+                        if (p - d.c).norm() - d.r < gap {
                             inside.set(iy * (nx + 1) + ix);
                         }
                     }
@@ -773,8 +804,9 @@ impl<'a> Samples<'a> {
                 // equal to that may still come first in row order).
                 let known = found.get();
                 let floor = known.map_or(best.0, |g| best.0.max(g.next_down()));
-                // A sample inside a disk has a negative clearance: once a
-                // sample has a clearance of zero or more, it cannot win.
+                // A covered sample's clearance is below the cover's gap
+                // (0, or the seed that `found` then holds): once a sample
+                // has a clearance of that or more, it cannot win.
                 if (best.0 >= 0.0 || known.is_some()) && self.inside.get(iy * (self.nx + 1) + ix) {
                     continue;
                 }
@@ -862,8 +894,8 @@ fn largest_hole(
     Ok(refine(best, clear, samples.step, d_min))
 }
 
-/// [`largest_hole`] among disks, the samples inside a disk skipped and
-/// the rows scanned in strips of [`HOLE_STRIP_ROWS`] in parallel: the
+/// [`largest_hole`] among disks, the samples nearer to a disk than a
+/// first clearance found on a few rows skipped and the rows scanned in strips of [`HOLE_STRIP_ROWS`] in parallel: the
 /// strips' best samples are combined in row order (the first of equals),
 /// so the hole is the serial scan's, bit for bit, whatever the threads.
 fn largest_hole_of_disks(
@@ -875,9 +907,26 @@ fn largest_hole_of_disks(
     let Some(mut samples) = Samples::new(packing, d_min) else {
         return Ok(0.0);
     };
-    samples.cover(cancel)?;
-    let found = Found::default();
     let rows = samples.ny + 1;
+    // A first exact clearance from every HOLE_SEED_STRIDE-th row: no
+    // sample nearer than it to a disk can win, so the cover marks those
+    // too and the scan skips them without a query.
+    let seeding = Found::default();
+    // The middle row among them: the first and last lie on a wall.
+    let seeds = ((rows / 2) % HOLE_SEED_STRIDE..rows)
+        .step_by(HOLE_SEED_STRIDE)
+        .collect::<Vec<_>>()
+        .into_par_iter()
+        .map(|iy| samples.scan(&mut clear.clone(), iy..iy + 1, &seeding, cancel))
+        .collect::<Result<Vec<_>, Cancelled>>()?;
+    // The largest of the rows' bests is the exact clearance of some
+    // sample: the hole is at least that (see `Samples::scan`).
+    let seed = seeds.iter().fold(f64::NEG_INFINITY, |m, s| m.max(s.0));
+    let found = Found::default();
+    if seed >= 0.0 {
+        found.offer(seed);
+    }
+    samples.cover(seed.max(0.0), cancel)?;
     let strips = (0..rows.div_ceil(HOLE_STRIP_ROWS))
         .into_par_iter()
         .map(|k| {
@@ -1147,6 +1196,30 @@ mod tests {
             // each figure is printed.
             assert_eq!(format!("{one:?}"), format!("{four:?}"));
             assert!(one.largest_hole > 0.0, "{one:?}");
+        }
+    }
+
+    #[test]
+    fn the_cover_marks_the_samples_nearer_than_its_gap() {
+        let (scene, packing) = packed("exact", 3);
+        for gap in [0.0, 0.05, 0.3] {
+            let mut samples = Samples::new(&packing, scene.d_min()).unwrap();
+            samples.cover(gap, &Cancel::new()).unwrap();
+            let (nx, ny) = (samples.nx, samples.ny);
+            let mut marked = 0;
+            for iy in 0..=ny {
+                for ix in 0..=nx {
+                    let p = Point::new(
+                        samples.lo.x + ix as f64 * samples.step,
+                        samples.lo.y + iy as f64 * samples.step,
+                    );
+                    let near = packing.disks.iter().any(|d| (p - d.c).norm() - d.r < gap);
+                    assert_eq!(samples.inside.get(iy * (nx + 1) + ix), near, "{gap} {p:?}");
+                    marked += usize::from(near);
+                }
+            }
+            let all = (nx + 1) * (ny + 1);
+            assert!(marked > all / 2 && marked < all, "{gap}: {marked} of {all}");
         }
     }
 

@@ -36,13 +36,14 @@ use crate::Scene;
 use crate::cancel::{Cancel, Cancelled};
 #[cfg(test)]
 use crate::check::check_particles;
-use crate::check::{Check, check_cancellable};
+use crate::check::{Check, check_cancellable, check_sharing};
 use crate::compare::CompareRun;
 use crate::ga::Generation;
 use crate::geometry::Outline;
 use crate::geometry::predicates::OVERLAP_REL;
 use crate::grading::Grading;
 use crate::layering::{Material, ProfileRow};
+use crate::metrics::near::SharedIndex;
 use crate::metrics::{Metrics, shape_series, shape_stats};
 use crate::packer::Packing;
 use crate::scene::{Axis, Profile};
@@ -421,12 +422,22 @@ const SUMMARY_AGREEMENT: f64 = 1e-9;
 pub struct Confirmed(());
 
 /// The independent check of a packing that [`confirm`] reads, stopped by
-/// `cancel`: a pair search over its own index, independent of the
-/// generator and of [`crate::measure`] (a run makes it beside the measures).
+/// `cancel`: a pair search of its own, independent of the generator and
+/// of [`crate::measure`]'s (a run makes it beside the measures). For
+/// disks, the neighbour index comes from `shared`, the one the measure
+/// uses, when it is theirs: the disks bucketed by size class and
+/// position once for both.
 ///
 /// # Errors
 /// [`Cancelled`] when `cancel` stops it.
-pub fn check_packing(packing: &Packing, cancel: &Cancel) -> Result<Check, Cancelled> {
+pub(crate) fn check_packing(
+    packing: &Packing,
+    shared: &SharedIndex<'_>,
+    cancel: &Cancel,
+) -> Result<Check, Cancelled> {
+    if packing.grains.is_empty() {
+        return check_sharing(&packing.disks, &packing.domain, shared, cancel);
+    }
     check_cancellable(
         &packing.disks,
         &packing.grains,
