@@ -2,8 +2,9 @@
 //! containment, porosity and grading fidelity.
 //!
 //! Nothing here uses the generator's bookkeeping or its spatial indexes: the
-//! disks are bucketed afresh by size class and sorted cell keys
-//! ([`ByRadius`]), and every pair within reach is tested. A packing that passes has no two disks
+//! disks are bucketed afresh by size class and cell ([`ByRadius`]; a run
+//! shares that bucketing with its measure, built once for both), and
+//! every pair within reach is tested. A packing that passes has no two disks
 //! overlapping by more than [`OVERLAP_REL`] of their radii sum and no disk
 //! outside the domain by more than [`OVERLAP_REL`] of the largest diameter.
 //!
