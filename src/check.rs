@@ -265,20 +265,21 @@ pub fn check_cancellable(
     run(disks, grains, domain, grading, sizes, None, cancel)
 }
 
-/// [`check_cancellable`] of disks (no grains, no grading) whose pair
-/// search takes its index from `shared` when it is theirs and every disk
-/// is well formed: the index a measure of the same packing uses, built
-/// once for both. The search itself stays the check's own.
+/// [`check_cancellable`] without a grading, whose pair search of disks
+/// takes its index from `shared` when it is theirs and every disk is
+/// well formed: the index a measure of the same packing uses, built once
+/// for both. The search itself stays the check's own.
 ///
 /// # Errors
 /// [`Cancelled`] when `cancel` stops it.
 pub(crate) fn check_sharing(
     disks: &[Disk],
+    grains: &[Grain],
     domain: &Domain,
     shared: &SharedIndex<'_>,
     cancel: &Cancel,
 ) -> Result<Check, Cancelled> {
-    run(disks, &[], domain, None, None, Some(shared), cancel)
+    run(disks, grains, domain, None, None, Some(shared), cancel)
 }
 
 /// The result of a check whose token is never raised and has no deadline.

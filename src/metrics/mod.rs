@@ -895,8 +895,8 @@ fn largest_hole(
 }
 
 /// [`largest_hole`] among disks, the samples nearer to a disk than a
-/// first clearance found on a few rows skipped and the rows scanned in strips of [`HOLE_STRIP_ROWS`] in parallel: the
-/// strips' best samples are combined in row order (the first of equals),
+/// first clearance found on a few rows skipped and the rows scanned in
+/// strips of [`HOLE_STRIP_ROWS`] in parallel: the strips' best samples are combined in row order (the first of equals),
 /// so the hole is the serial scan's, bit for bit, whatever the threads.
 fn largest_hole_of_disks(
     packing: &Packing,
@@ -914,9 +914,8 @@ fn largest_hole_of_disks(
     let seeding = Found::default();
     // The middle row among them: the first and last lie on a wall.
     let seeds = ((rows / 2) % HOLE_SEED_STRIDE..rows)
-        .step_by(HOLE_SEED_STRIDE)
-        .collect::<Vec<_>>()
         .into_par_iter()
+        .step_by(HOLE_SEED_STRIDE)
         .map(|iy| samples.scan(&mut clear.clone(), iy..iy + 1, &seeding, cancel))
         .collect::<Result<Vec<_>, Cancelled>>()?;
     // The largest of the rows' bests is the exact clearance of some

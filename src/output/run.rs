@@ -36,7 +36,7 @@ use crate::Scene;
 use crate::cancel::{Cancel, Cancelled};
 #[cfg(test)]
 use crate::check::check_particles;
-use crate::check::{Check, check_cancellable, check_sharing};
+use crate::check::{Check, check_sharing};
 use crate::compare::CompareRun;
 use crate::ga::Generation;
 use crate::geometry::Outline;
@@ -435,15 +435,11 @@ pub(crate) fn check_packing(
     shared: &SharedIndex<'_>,
     cancel: &Cancel,
 ) -> Result<Check, Cancelled> {
-    if packing.grains.is_empty() {
-        return check_sharing(&packing.disks, &packing.domain, shared, cancel);
-    }
-    check_cancellable(
+    check_sharing(
         &packing.disks,
         &packing.grains,
         &packing.domain,
-        None,
-        None,
+        shared,
         cancel,
     )
 }
